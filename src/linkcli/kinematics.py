@@ -1,0 +1,270 @@
+"""The planar four-bar, vectorized over angles and over candidate populations (numpy only).
+
+Conventions (SPEC section 1): A0 at the origin, B0 = (d, 0); a = input, b = coupler,
+c = output, d = ground. Loop closure a e^{i phi} + b e^{i theta} = d + c e^{i psi}.
+With rho = |A B0| and theta_rho the direction of B0 -> A,
+
+    cos(alpha) = (rho^2 + c^2 - b^2) / (2 rho c),   psi = theta_rho -+ alpha  (open / crossed)
+    cos(mu)    = (b^2 + c^2 - rho^2) / (2 b c)       (transmission angle at B)
+
+Velocities and accelerations are the closed-form derivatives of the loop equation
+(Norton, Design of Machinery, ch. 6-7):
+
+    w3 = a w2 sin(psi - phi) / (b sin(theta - psi)),  w4 = a w2 sin(phi - theta) / (c sin(psi - theta))
+
+Every function broadcasts: lengths of shape (N, 1) against angles of shape (M,) give (N, M).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+TWO_PI = 2.0 * np.pi
+# |cos alpha| up to 1 + ASSEMBLY_SLACK still assembles (clipped): round-off at a toggle.
+ASSEMBLY_SLACK = 1e-12
+
+
+@dataclass
+class Pose:
+    """The linkage at input angles phi: every array has the broadcast shape."""
+
+    phi: np.ndarray
+    psi: np.ndarray  # output angle
+    theta: np.ndarray  # coupler angle (direction A -> B)
+    mu: np.ndarray  # transmission angle, [0, pi]
+    rho: np.ndarray  # |A B0|
+    valid: np.ndarray  # bool: the linkage assembles here
+
+    def coupler_point(self, a, px, py):
+        """Coupler point P = A + px e^{i theta} + py i e^{i theta}, local frame."""
+        ax, ay = a * np.cos(self.phi), a * np.sin(self.phi)
+        ct, st = np.cos(self.theta), np.sin(self.theta)
+        return ax + px * ct - py * st, ay + px * st + py * ct
+
+
+def wrap(angle):
+    """Angles in (-pi, pi]."""
+    out = np.mod(np.asarray(angle, dtype=float) + np.pi, TWO_PI) - np.pi
+    return np.where(out <= -np.pi, out + TWO_PI, out)
+
+
+def branch_sign(branch) -> float:
+    """-1 for the open branch (psi = theta_rho - alpha), +1 for crossed."""
+    if isinstance(branch, str):
+        return -1.0 if branch == "open" else 1.0
+    return np.asarray(branch, dtype=float)
+
+
+def pose(a, b, c, d, phi, branch="open") -> Pose:
+    """Closure of the loop at input angles phi on a branch (SPEC section 1).
+
+    `branch` is "open", "crossed", or an array of signs (-1 open, +1 crossed) that
+    broadcasts like the lengths. Where the linkage cannot assemble, `valid` is False and
+    the angles are those of the nearest toggle (finite, never NaN).
+    """
+    a, b, c, d, phi = (np.asarray(v, dtype=float) for v in (a, b, c, d, phi))
+    ax, ay = a * np.cos(phi), a * np.sin(phi)
+    rx, ry = ax - d, ay
+    rho = np.hypot(rx, ry)
+    theta_rho = np.arctan2(ry, rx)
+    safe_rho = np.where(rho > 0.0, rho, 1.0)
+    cos_alpha = (rho * rho + c * c - b * b) / (2.0 * safe_rho * c)
+    valid = (np.abs(cos_alpha) <= 1.0 + ASSEMBLY_SLACK) & (rho > 0.0)
+    alpha = np.arccos(np.clip(cos_alpha, -1.0, 1.0))
+    psi = theta_rho + branch_sign(branch) * alpha
+    bx = d + c * np.cos(psi) - ax
+    by = c * np.sin(psi) - ay
+    theta = np.arctan2(by, bx)
+    cos_mu = (b * b + c * c - rho * rho) / (2.0 * b * c)
+    mu = np.arccos(np.clip(cos_mu, -1.0, 1.0))
+    return Pose(phi=np.broadcast_to(phi, psi.shape), psi=psi, theta=theta, mu=mu,
+                rho=rho, valid=np.broadcast_to(valid, psi.shape))
+
+
+def velocities(a, b, c, p: Pose, w2):
+    """Angular velocities (w3 coupler, w4 output) for input speed w2 (closed form).
+
+    Infinite at a toggle (sin(psi - theta) = 0): returned as inf, never NaN.
+    """
+    s = np.sin(p.psi - p.theta)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        w3 = a * w2 * np.sin(p.psi - p.phi) / (b * -s)
+        w4 = a * w2 * np.sin(p.phi - p.theta) / (c * s)
+    return w3, w4
+
+
+def accelerations(a, b, c, p: Pose, w2, alpha2=0.0):
+    """Angular accelerations (alpha3, alpha4) from the differentiated loop equation.
+
+    i b a3 e^{i theta} - i c a4 e^{i psi} = K, K = -a(i alpha2 - w2^2) e^{i phi}
+    + b w3^2 e^{i theta} - c w4^2 e^{i psi}; project on e^{i psi} and e^{i theta}.
+    """
+    w3, w4 = velocities(a, b, c, p, w2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        kx = (a * w2 * w2 * np.cos(p.phi) + a * alpha2 * np.sin(p.phi)
+              + b * w3 * w3 * np.cos(p.theta) - c * w4 * w4 * np.cos(p.psi))
+        ky = (a * w2 * w2 * np.sin(p.phi) - a * alpha2 * np.cos(p.phi)
+              + b * w3 * w3 * np.sin(p.theta) - c * w4 * w4 * np.sin(p.psi))
+        s = np.sin(p.theta - p.psi)
+        re_psi = kx * np.cos(p.psi) + ky * np.sin(p.psi)
+        re_theta = kx * np.cos(p.theta) + ky * np.sin(p.theta)
+        a3 = -re_psi / (b * s)
+        a4 = re_theta / (c * -s)
+    return a3, a4
+
+
+# ---------------------------------------------------------------- Grashof class
+
+GRASHOF_CLASSES = ("crank-rocker", "rocker-crank", "double-crank", "double-rocker",
+                   "change-point", "triple-rocker")
+CHANGE_POINT_RTOL = 1e-9
+
+
+def grashof_code(a, b, c, d):
+    """Index into GRASHOF_CLASSES, vectorized: s + l vs p + q and which link is shortest."""
+    links = np.stack(np.broadcast_arrays(*(np.asarray(v, float) for v in (a, b, c, d))))
+    srt = np.sort(links, axis=0)
+    s_plus_l = srt[0] + srt[3]
+    p_plus_q = srt[1] + srt[2]
+    shortest = np.argmin(links, axis=0)  # 0 input, 1 coupler, 2 output, 3 ground
+    by_shortest = np.array([0, 3, 1, 2])[shortest]
+    change = np.abs(s_plus_l - p_plus_q) <= CHANGE_POINT_RTOL * p_plus_q
+    return np.where(change, 4, np.where(s_plus_l > p_plus_q, 5, by_shortest))
+
+
+def grashof(a, b, c, d) -> dict:
+    """Grashof class of one linkage with the figures that decide it."""
+    names = {"input": a, "coupler": b, "output": c, "ground": d}
+    order = sorted(names, key=lambda k: (names[k], ("input", "coupler", "output", "ground").index(k)))
+    vals = sorted(names.values())
+    return {
+        "class": GRASHOF_CLASSES[int(grashof_code(a, b, c, d))],
+        "shortest": order[0],
+        "longest": order[-1],
+        "s_plus_l": vals[0] + vals[3],
+        "p_plus_q": vals[1] + vals[2],
+    }
+
+
+# ---------------------------------------------------------------- range of motion
+
+def input_arcs(a, b, c, d):
+    """Reachable input angles: None if the input turns fully, [] if it never assembles,
+    else a list of arcs (lo, hi), each running counter-clockwise from lo to hi (rad).
+
+    rho^2 = a^2 + d^2 - 2 a d cos(phi) must lie in [(b - c)^2, (b + c)^2].
+    """
+    u_hi = (a * a + d * d - (b - c) ** 2) / (2 * a * d)  # cos(phi) <= u_hi
+    u_lo = (a * a + d * d - (b + c) ** 2) / (2 * a * d)  # cos(phi) >= u_lo
+    if u_lo <= -1.0 and u_hi >= 1.0:
+        return None
+    if u_lo > u_hi or u_lo > 1.0 or u_hi < -1.0:
+        return []
+    if u_hi >= 1.0:  # one arc through phi = 0
+        g = float(np.arccos(u_lo))
+        return [(-g, g)]
+    if u_lo <= -1.0:  # one arc through phi = 180
+        g = float(np.arccos(u_hi))
+        return [(g, TWO_PI - g)]
+    g1, g2 = float(np.arccos(u_hi)), float(np.arccos(u_lo))
+    return [(g1, g2), (-g2, -g1)]
+
+
+def arc_contains(arc, phi) -> bool:
+    lo, hi = arc
+    return (np.mod(phi - lo, TWO_PI) <= (hi - lo) + 1e-12)
+
+
+def choose_arc(arcs, near=None):
+    """The arc holding angle `near` (default: the upper one, or the first)."""
+    if near is not None:
+        for arc in arcs:
+            if arc_contains(arc, near):
+                return arc
+    return arcs[0]
+
+
+def transmission_extremes(a, b, c, d, lo, hi):
+    """(mu_min, phi_at_min, mu_max, phi_at_max) over the input arc lo -> hi (ccw).
+
+    mu grows with rho and rho^2 = a^2 + d^2 - 2 a d cos(phi) is extreme only at phi = 0
+    and phi = pi, so the extremes lie at the arc ends or at those two angles: no sampling.
+    """
+    cands = [lo, hi] + [x for x in (0.0, np.pi) if arc_contains((lo, hi), x)]
+    phi = np.array(cands)
+    rho2 = a * a + d * d - 2 * a * d * np.cos(phi)
+    mu = np.arccos(np.clip((b * b + c * c - rho2) / (2 * b * c), -1.0, 1.0))
+    i, j = int(np.argmin(mu)), int(np.argmax(mu))
+    return float(mu[i]), float(phi[i]), float(mu[j]), float(phi[j])
+
+
+def collinear_inputs(a, b, c, d, branch):
+    """Input angles where crank and coupler are collinear on the branch (output extremes).
+
+    |A0 B| = a + b (extended) or |a - b| (folded); triangle A0 B0 B gives the angle of B,
+    the sign is the one whose closure on the branch actually puts B there.
+    """
+    out = {}
+    for name, length in (("extended", a + b), ("folded", abs(a - b))):
+        cos_g = (length * length + d * d - c * c) / (2 * length * d) if length > 0 else 2.0
+        if abs(cos_g) > 1.0 + 1e-12:
+            continue
+        g = float(np.arccos(np.clip(cos_g, -1, 1)))
+        best = None
+        for phi in (g, -g) if name == "extended" else (g + np.pi, -g + np.pi):
+            p = pose(a, b, c, d, phi, branch)
+            if not bool(p.valid):
+                continue
+            bx = d + c * np.cos(p.psi)
+            by = c * np.sin(p.psi)
+            miss = abs(np.hypot(bx, by) - length)
+            if best is None or miss < best[0]:
+                best = (miss, float(wrap(phi)))
+        if best is not None and best[0] <= 1e-7 * max(a, b, c, d):
+            out[name] = best[1]
+    return out
+
+
+def motion(a, b, c, d, branch, near=None) -> dict:
+    """Range of motion: full turn or the arc of the input, output range, swing, time ratio.
+
+    Output extremes are at the arc ends or where crank and coupler are collinear; the
+    quick-return ratio of a crank-rocker is the ratio of the crank arcs between the two
+    collinear positions, reported as >= 1 (Norton, ch. 3).
+    """
+    arcs = input_arcs(a, b, c, d)
+    if arcs == []:
+        return {"assembles": False}
+    full = arcs is None
+    lo, hi = (0.0, TWO_PI) if full else choose_arc(arcs, near)
+    phi = np.linspace(lo, hi, 2049)
+    p = pose(a, b, c, d, phi, branch)
+    psi = np.unwrap(p.psi)
+    out = {"assembles": True, "input_full_turn": full, "input_arc": (lo, hi)}
+    if full and abs(psi[-1] - psi[0]) > np.pi:
+        out["output_full_turn"] = True
+        out["output_range"] = None
+        out["output_swing"] = TWO_PI
+    else:
+        cands = [] if full else [lo, hi]
+        col = collinear_inputs(a, b, c, d, branch)
+        cands += [x for x in col.values() if full or arc_contains((lo, hi), x)]
+        vals = []
+        for x in cands:
+            k = int(np.argmin(np.abs(wrap(phi - x))))
+            v = float(pose(a, b, c, d, x, branch).psi)
+            vals.append(psi[k] + float(wrap(v - psi[k])))
+        vals = vals or [float(psi.min()), float(psi.max())]
+        vals += [float(psi.min()), float(psi.max())]  # never narrower than the samples
+        o_lo, o_hi = min(vals), max(vals)
+        shift = float(wrap(o_lo)) - o_lo
+        out["output_full_turn"] = False
+        out["output_range"] = (o_lo + shift, o_hi + shift)
+        out["output_swing"] = o_hi - o_lo
+        if full and "extended" in col and "folded" in col:
+            t1 = float(np.mod(col["folded"] - col["extended"], TWO_PI))
+            out["time_ratio"] = max(t1, TWO_PI - t1) / min(t1, TWO_PI - t1)
+            out["toggle_inputs"] = (col["extended"], col["folded"])
+    return out

@@ -1,0 +1,100 @@
+"""The keys every problem file shares: title, [units], [solver], [reference], [report],
+[tolerance]. Returns a `Meta`."""
+
+from __future__ import annotations
+
+from linkcli.model import LINKS, Meta, Reference, SolverOptions, Tolerance
+from linkcli.problemfile.reader import Table
+from linkcli.units import ANGLE_UNITS, LENGTH_TO_MM, Units
+
+ALL_SECTIONS = ("lengths", "grashof", "transmission", "motion", "kinematics", "positions",
+                "error", "cylinder", "solver", "tolerance")
+MAX_BUDGET = 10**9
+MAX_SAMPLES = 10_000_000
+
+
+def read_meta(root: Table, kind: str, module) -> Meta:
+    title = root.string("title", None, max_len=200)
+    units = read_units(root)
+    solver = read_solver(root, getattr(module, "METHODS", ("auto",)))
+    reference = read_reference(root)
+    tolerance = read_tolerance(root, units) if getattr(module, "TOLERANCE", False) else None
+    sections = read_sections(root, module.DEFAULT_SECTIONS, module.SECTIONS)
+    if tolerance is not None and "tolerance" not in sections:
+        sections = sections + ("tolerance",)
+    return Meta(path=root.reader.path, type=kind, title=title, units=units, solver=solver,
+                sections=sections, reference=reference, tolerance=tolerance)
+
+
+def read_units(root: Table) -> Units:
+    t = root.table("units")
+    if t is None:
+        return Units()
+    length = t.string("length", "mm", choices=tuple(LENGTH_TO_MM))
+    angle = t.string("angle", "deg", choices=ANGLE_UNITS)
+    return Units(length=length or "mm", angle=angle or "deg")
+
+
+def read_solver(root: Table, methods: tuple[str, ...]) -> SolverOptions:
+    t = root.table("solver")
+    if t is None:
+        return SolverOptions()
+    method = t.string("method", "auto", choices=methods)
+    seed = t.number("seed", 0, integer=True, lo=0, hi=2**32 - 1)
+    budget = t.number("budget", None, integer=True, lo=1, hi=MAX_BUDGET)
+    return SolverOptions(method=method or "auto", seed=seed or 0, budget=budget)
+
+
+def read_reference(root: Table) -> Reference | None:
+    t = root.table("reference")
+    if t is None:
+        return None
+    objective = t.number("objective", nonnegative=True)
+    source = t.string("source", None, max_len=500)
+    return None if objective is None else Reference(objective=objective, source=source)
+
+
+def read_sections(root: Table, default: tuple[str, ...], allowed: tuple[str, ...]) -> tuple[str, ...]:
+    t = root.table("report")
+    if t is None:
+        return tuple(default)
+    value = t.raw("sections", None)
+    if value is None:
+        return tuple(default)
+    if not isinstance(value, list) or not value or not all(isinstance(v, str) for v in value):
+        t.error("sections", f"an array of section names from: {', '.join(allowed)}", value)
+        return tuple(default)
+    bad = [v for v in value if v not in allowed]
+    if bad:
+        import difflib
+        hint = difflib.get_close_matches(bad[0], allowed, n=1, cutoff=0.6)
+        extra = f' (did you mean "{hint[0]}"?)' if hint else ""
+        t.error("sections", f"section names from: {', '.join(allowed)}{extra}", bad[0])
+        return tuple(default)
+    return tuple(s for s in ALL_SECTIONS if s in value)
+
+
+def read_tolerance(root: Table, units: Units) -> Tolerance | None:
+    t = root.table("tolerance")
+    if t is None:
+        return None
+    raw = t.raw("lengths", None)
+    lengths = {}
+    if isinstance(raw, dict):
+        sub = t.table("lengths")
+        for link in LINKS:
+            v = sub.number(link, 0.0, nonnegative=True)
+            lengths[link] = v if v is not None else 0.0
+    elif raw is None:
+        lengths = {k: 0.0 for k in LINKS}
+    else:
+        v = t.number("lengths", nonnegative=True, what="a tolerance >= 0 or a table of them per link")
+        lengths = {k: (v or 0.0) for k in LINKS}
+    distribution = t.string("distribution", "uniform", choices=("uniform", "normal"))
+    clearance = t.number("clearance", 0.0, nonnegative=True)
+    samples = t.number("samples", 20000, integer=True, lo=1, hi=MAX_SAMPLES)
+    allowed = t.number("allowed_error", None, positive=True)
+    if allowed is not None:
+        allowed = units.to_rad(allowed) if root.raw("type") != "path-generation" else allowed
+    return Tolerance(lengths=lengths, distribution=distribution or "uniform", clearance=clearance or 0.0,
+                     samples=samples or 20000, allowed_error=allowed)

@@ -1,0 +1,36 @@
+"""Schema of `type = "precision-position"` (Freudenstein function generation)."""
+
+from __future__ import annotations
+
+from linkcli.model import Meta, PrecisionPositionProblem
+from linkcli.problemfile.reader import Table
+
+DEFAULT_SECTIONS = ("lengths", "grashof", "transmission", "motion", "positions", "error", "solver")
+SECTIONS = ("lengths", "grashof", "transmission", "motion", "kinematics", "positions", "error",
+            "solver", "tolerance")
+METHODS = ("auto", "freudenstein")
+TOLERANCE = True
+MAX_POSITIONS = 1000
+
+
+def parse(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
+    link = root.table("linkage", required=True)
+    ground = link.number("ground", positive=True, what="a positive length") if link else None
+    pos = root.table("positions", required=True)
+    phi = psi = None
+    if pos is not None:
+        phi = pos.number_list("input", min_len=3, max_len=MAX_POSITIONS, what="input angles")
+        psi = pos.number_list("output", min_len=3, max_len=MAX_POSITIONS, what="output angles")
+        if phi is not None and psi is not None and len(phi) != len(psi):
+            pos.error("output", f"one output angle per input angle ({len(phi)})", psi)
+            return None
+    if ground is None or phi is None or psi is None:
+        return None
+    u = meta.units
+    line = root.reader.line_of(("positions", "input"))
+    return PrecisionPositionProblem(
+        meta=meta, ground=ground,
+        input_angles=tuple(u.to_rad(v) for v in phi),
+        output_angles=tuple(u.to_rad(v) for v in psi),
+        lines=(line,),
+    )

@@ -1,0 +1,334 @@
+"""Typed, error-collecting access to a parsed TOML file, with the line of every key.
+
+A `Reader` parses the text with tomllib and finds key lines by a scan of the raw text
+(a key inside an inline table or array resolves to the line of its parent; a line that
+cannot be found is left out rather than guessed). A `Table` hands out checked values
+and records every error instead of raising, so that one run reports all the problems of
+a file; `Reader.finish()` adds the unknown keys (with a "did you mean" hint) and raises
+them all together as `InputErrors`. No numerics here.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import re
+import tomllib
+
+from linkcli.errors import InputError, InputErrors, SchemaError, TomlSyntaxError
+
+MISSING = object()
+MAX_ARRAY = 10_000  # longest array accepted anywhere in a problem file
+
+_HEADER = re.compile(r"^\s*\[\[?\s*([^\]]+?)\s*\]\]?\s*(#.*)?$")
+_KEY = re.compile(r"""^\s*((?:[A-Za-z0-9_\-]+|"[^"]*"|'[^']*')(?:\s*\.\s*(?:[A-Za-z0-9_\-]+|"[^"]*"|'[^']*'))*)\s*=""")
+_INLINE_KEY = re.compile(r"""[{,]\s*([A-Za-z0-9_\-]+|"[^"]*")\s*=""")
+
+
+def _split_key(text: str) -> list[str]:
+    parts = re.findall(r"""[A-Za-z0-9_\-]+|"[^"]*"|'[^']*'""", text)
+    return [p.strip("\"'") for p in parts]
+
+
+def describe(value) -> str:
+    """A found value as the user wrote it, with its TOML type."""
+    if value is MISSING:
+        return "nothing (the key is missing)"
+    if isinstance(value, bool):
+        return f"{str(value).lower()} (boolean)"
+    if isinstance(value, (int, float)):
+        text = repr(value)
+        if isinstance(value, float) and not math.isfinite(value):
+            text = "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
+        return text
+    if isinstance(value, str):
+        short = value if len(value) <= 60 else value[:57] + "..."
+        return f'"{short}" (string)'
+    if isinstance(value, list):
+        return f"an array of {len(value)}"
+    if isinstance(value, dict):
+        return "a table"
+    return type(value).__name__
+
+
+def _line_map(text: str) -> dict[tuple[str, ...], int]:
+    """Key path -> 1-based line, from a scan of the raw text."""
+    lines: dict[tuple[str, ...], int] = {}
+    table: tuple[str, ...] = ()
+    depth = 0  # open brackets of a multi-line array: keys inside belong to its key
+    for n, raw in enumerate(text.splitlines(), start=1):
+        line = raw.split("#", 1)[0] if '"' not in raw and "'" not in raw else raw
+        if depth == 0:
+            m = _HEADER.match(line)
+            if m:
+                table = tuple(_split_key(m.group(1)))
+                lines.setdefault(table, n)
+                continue
+            m = _KEY.match(line)
+            if m:
+                path = table + tuple(_split_key(m.group(1)))
+                lines.setdefault(path, n)
+                rest = line[m.end():]
+                for k in _INLINE_KEY.findall(rest):
+                    lines.setdefault(path + (k.strip('"'),), n)
+                depth = max(0, rest.count("[") - rest.count("]"))
+                continue
+        else:
+            depth = max(0, depth + line.count("[") - line.count("]"))
+    return lines
+
+
+class Reader:
+    """One problem file: its data, its key lines, and the errors found so far."""
+
+    def __init__(self, path: str, text: str | None = None) -> None:
+        self.path = path
+        self.errors: list[InputError] = []
+        self._seen: dict[tuple[str, ...], set[str]] = {}
+        self._tables: dict[tuple[str, ...], dict] = {}
+        if text is None:
+            try:
+                with open(path, "rb") as fh:
+                    raw = fh.read()
+            except OSError as exc:
+                raise InputError("a readable problem file", exc.strerror or str(exc), path=path) from None
+            try:
+                text = raw.decode("utf-8")
+            except UnicodeDecodeError as exc:
+                raise InputError("a UTF-8 text file", f"an undecodable byte at offset {exc.start}", path=path) from None
+        try:
+            self.data = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as exc:
+            msg = str(exc)
+            m = re.search(r"\(at line (\d+), column (\d+)\)", msg)
+            line = int(m.group(1)) if m else None
+            msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", msg)
+            if m:
+                msg += f" (column {m.group(2)})"
+            raise TomlSyntaxError("valid TOML", msg, path=path, line=line) from None
+        except RecursionError:
+            raise TomlSyntaxError("valid TOML", "nesting too deep", path=path) from None
+        self.lines = _line_map(text)
+
+    # -- errors ---------------------------------------------------------------
+    def line_of(self, path: tuple[str, ...]) -> int | None:
+        path = tuple(re.sub(r"\[\d+\]$", "", p) for p in path)
+        for n in range(len(path), 0, -1):
+            if path[:n] in self.lines:
+                return self.lines[path[:n]]
+        return None
+
+    def error(self, path: tuple[str, ...], expected: str, got=MISSING, *, raw_got: str | None = None) -> None:
+        found = raw_got if raw_got is not None else describe(got)
+        self.errors.append(SchemaError(expected, found, path=self.path, line=self.line_of(path),
+                                       key=".".join(path) or None))
+
+    def table(self, name: str | tuple[str, ...], required: bool = False) -> "Table | None":
+        path = (name,) if isinstance(name, str) else tuple(name)
+        node = self.data
+        for part in path:
+            if not isinstance(node, dict) or part not in node:
+                if required:
+                    self.error(path, "a table")
+                return None
+            node = node[part]
+        if not isinstance(node, dict):
+            self.error(path, "a table", node)
+            return None
+        return Table(self, path, node)
+
+    def root(self) -> "Table":
+        return Table(self, (), self.data)
+
+    def mark(self, path: tuple[str, ...], key: str) -> None:
+        self._seen.setdefault(path, set()).add(key)
+        self._tables.setdefault(path, {})
+
+    def register(self, path: tuple[str, ...], data: dict) -> None:
+        self._tables[path] = data
+        self._seen.setdefault(path, set())
+
+    def finish(self) -> None:
+        """Report unknown keys of every table read, then raise everything collected."""
+        for path, data in self._tables.items():
+            seen = self._seen.get(path, set())
+            allowed = self._allowed.get(path, set()) | seen
+            for key in data:
+                if key not in allowed:
+                    hint = difflib.get_close_matches(key, sorted(allowed), n=1, cutoff=0.6)
+                    expected = "a known key" + (f' (did you mean "{hint[0]}"?)' if hint
+                                                else f" (one of: {', '.join(sorted(allowed))})" if allowed else "")
+                    self.error(path + (key,), expected, raw_got=f'unknown key "{key}"')
+        if self.errors:
+            self.errors.sort(key=lambda e: (e.line or 0))
+            raise InputErrors(self.errors)
+
+    @property
+    def _allowed(self) -> dict[tuple[str, ...], set[str]]:
+        return getattr(self, "_allowed_keys", {})
+
+    def allow(self, path: tuple[str, ...], keys) -> None:
+        """Declare keys a table may hold without having been read (optional, skipped)."""
+        if not hasattr(self, "_allowed_keys"):
+            self._allowed_keys = {}
+        self._allowed_keys.setdefault(path, set()).update(keys)
+
+
+class Table:
+    """Checked access to one TOML table; every accessor records its key as known."""
+
+    def __init__(self, reader: Reader, path: tuple[str, ...], data: dict) -> None:
+        self.reader = reader
+        self.path = path
+        self.data = data
+        reader.register(path, data)
+
+    def __contains__(self, key: str) -> bool:
+        return key in self.data
+
+    def keys(self):
+        return self.data.keys()
+
+    def raw(self, key: str, default=MISSING):
+        self.reader.mark(self.path, key)
+        return self.data.get(key, default)
+
+    def error(self, key: str | None, expected: str, got=MISSING, **kw) -> None:
+        self.reader.error(self.path + ((key,) if key else ()), expected, got, **kw)
+
+    def allow(self, *keys: str) -> None:
+        self.reader.allow(self.path, keys)
+
+    def table(self, key: str, required: bool = False) -> "Table | None":
+        value = self.raw(key)
+        if value is MISSING:
+            if required:
+                self.error(key, "a table")
+            return None
+        if not isinstance(value, dict):
+            self.error(key, "a table", value)
+            return None
+        return Table(self.reader, self.path + (key,), value)
+
+    # -- scalars ----------------------------------------------------------------
+    def number(self, key: str, default=MISSING, *, positive: bool = False, nonnegative: bool = False,
+               integer: bool = False, lo: float | None = None, hi: float | None = None,
+               what: str | None = None):
+        """A finite number (bool rejected); None when missing or bad (error recorded)."""
+        value = self.raw(key)
+        if value is MISSING:
+            if default is MISSING:
+                self.error(key, f"{what or self._kind(positive, nonnegative, integer)}")
+                return None
+            return default
+        return self.check_number(key, value, positive=positive, nonnegative=nonnegative,
+                                 integer=integer, lo=lo, hi=hi, what=what)
+
+    def check_number(self, key, value, *, positive=False, nonnegative=False, integer=False,
+                     lo=None, hi=None, what=None, path_suffix=()):
+        kind = what or self._kind(positive, nonnegative, integer)
+        fullkey = key if not path_suffix else f"{key}[{path_suffix[0]}]"
+        bad = (isinstance(value, bool) or not isinstance(value, (int, float))
+               or (integer and not isinstance(value, int))
+               or (isinstance(value, float) and not math.isfinite(value)))
+        if not bad:
+            v = float(value) if not integer else int(value)
+            if (positive and v <= 0) or (nonnegative and v < 0) or (lo is not None and v < lo) or (hi is not None and v > hi):
+                bad = True
+        if bad:
+            if lo is not None or hi is not None:
+                kind += f" in [{'-inf' if lo is None else _fmt(lo)}, {'inf' if hi is None else _fmt(hi)}]"
+            self.reader.error(self.path + (fullkey,), kind, value)
+            return None
+        return int(value) if integer else float(value)
+
+    @staticmethod
+    def _kind(positive, nonnegative, integer) -> str:
+        base = "an integer" if integer else "a number"
+        if positive:
+            return ("a positive integer" if integer else "a positive number")
+        if nonnegative:
+            return ("a non-negative integer" if integer else "a number >= 0")
+        return base
+
+    def string(self, key: str, default=MISSING, choices: tuple[str, ...] | None = None,
+               max_len: int = 2000):
+        value = self.raw(key)
+        if value is MISSING:
+            if default is MISSING:
+                self.error(key, f"one of: {', '.join(choices)}" if choices else "a string")
+                return None
+            return default
+        if not isinstance(value, str) or len(value) > max_len:
+            self.error(key, f"one of: {', '.join(choices)}" if choices
+                       else f"a string of at most {max_len} characters", value)
+            return None
+        if choices is not None and value not in choices:
+            hint = difflib.get_close_matches(value, choices, n=1, cutoff=0.6)
+            extra = f' (did you mean "{hint[0]}"?)' if hint else ""
+            self.error(key, f"one of: {', '.join(choices)}{extra}", value)
+            return None
+        return value
+
+    def boolean(self, key: str, default=MISSING):
+        value = self.raw(key)
+        if value is MISSING:
+            if default is MISSING:
+                self.error(key, "true or false")
+                return None
+            return default
+        if not isinstance(value, bool):
+            self.error(key, "true or false", value)
+            return None
+        return value
+
+    def number_list(self, key: str, default=MISSING, *, min_len: int = 1, max_len: int = MAX_ARRAY,
+                    length: int | None = None, positive: bool = False, what: str = "numbers"):
+        """An array of finite numbers; None when missing or bad."""
+        value = self.raw(key)
+        if value is MISSING:
+            if default is MISSING:
+                self.error(key, f"an array of {what}")
+                return None
+            return default
+        want = (f"an array of {length} {what}" if length is not None
+                else f"an array of {min_len} to {max_len} {what}")
+        if not isinstance(value, list) or (length is not None and len(value) != length) or not (min_len <= len(value) <= max_len):
+            self.error(key, want, value)
+            return None
+        out = []
+        for i, item in enumerate(value):
+            v = self.check_number(key, item, positive=positive, what=f"a {'positive ' if positive else ''}number",
+                                  path_suffix=(str(i),))
+            if v is None:
+                return None
+            out.append(v)
+        return out
+
+    def range(self, key: str, default=MISSING, *, positive: bool = False, nonnegative: bool = False):
+        """A bound: a number (fixed value) or [lo, hi] with lo <= hi; returns (lo, hi)."""
+        value = self.raw(key)
+        if value is MISSING:
+            if default is MISSING:
+                self.error(key, "a number or a range [lo, hi]")
+                return None
+            return default
+        if isinstance(value, list):
+            nums = self.number_list(key, length=2, positive=positive)
+            if nums is None:
+                return None
+            lo, hi = nums
+            if nonnegative and lo < 0:
+                self.error(key, "a range with lo >= 0", value, raw_got=f"[{_fmt(lo)}, {_fmt(hi)}]")
+                return None
+            if lo > hi:
+                self.error(key, "a range [lo, hi] with lo <= hi", raw_got=f"[{_fmt(lo)}, {_fmt(hi)}]")
+                return None
+            return (lo, hi)
+        v = self.check_number(key, value, positive=positive, nonnegative=nonnegative,
+                              what="a number or a range [lo, hi]")
+        return None if v is None else (v, v)
+
+
+def _fmt(x: float) -> str:
+    return repr(int(x)) if float(x).is_integer() else repr(float(x))
