@@ -45,3 +45,21 @@ def load(path: str, text: str | None = None):
     if problem is None:  # a parser returns None only after recording errors
         raise AssertionError(f"{kind} parser returned no problem and no error")
     return problem
+
+
+def load_for_analysis(path: str, text: str | None = None):
+    """`linkcli analyze`: a `type = "linkage"` file or a result file of `synth --format toml`."""
+    from linkcli.problemfile import result_file
+    from linkcli.errors import SchemaError
+    reader = Reader(path, text)
+    if result_file.is_result(reader.data):
+        problem = result_file.parse(reader)
+        if reader.errors or problem is None:
+            raise InputErrors(reader.errors)
+        return problem
+    problem = load(path, text)
+    if problem.meta.type != "linkage":
+        raise SchemaError('type = "linkage" or a result file of synth --format toml',
+                          f'"{problem.meta.type}" (solve it with linkcli synth)', path=path,
+                          line=reader.line_of(("type",)), key="type")
+    return problem

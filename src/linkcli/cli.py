@@ -1,0 +1,257 @@
+"""The command line: synth, analyze, check, bench.
+
+Catches `LinkcliError` only and maps it to exit codes (0 solved, 1 infeasible or not
+converged, 2 bad input; a batch exits with the worst of its files). numpy, scipy and
+rich are imported inside the command bodies, so `--help`, `--version` and `check` stay
+light. `--debug` lets a traceback through.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from enum import Enum
+from pathlib import Path
+from typing import List, Optional
+
+import typer
+
+from linkcli import __version__
+
+app = typer.Typer(add_completion=False, no_args_is_help=True, rich_markup_mode=None,
+                  pretty_exceptions_enable=False,
+                  help="Design planar four-bar linkages from TOML problem files.")
+
+
+class Format(str, Enum):
+    table = "table"
+    json = "json"
+    toml = "toml"
+
+
+EXT = {"table": "txt", "json": "json", "toml": "toml"}
+STATUS_WORDS = {0: "solved", 1: "infeasible or not converged", 2: "bad input"}
+
+
+def _version(value: bool) -> None:
+    if value:
+        typer.echo(f"linkcli {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def main_callback(
+    version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
+                                 help="Show the version and exit."),
+) -> None:
+    """Design planar four-bar linkages from TOML problem files."""
+
+
+def _err(line: str) -> None:
+    sys.stderr.write(line.rstrip("\n") + "\n")
+
+
+def run_one(path: str, mode: str, seed: int | None, debug: bool, timing: bool = False):
+    """Load, solve and analyse one file -> (exit code, report or None, error lines).
+
+    Top-level so that a process pool can run it; returns only picklable data.
+    """
+    from linkcli.errors import LinkcliError
+    try:
+        problem = _load(path, mode)
+        if seed is not None:
+            from dataclasses import replace
+            problem = replace(problem, meta=replace(problem.meta,
+                                                    solver=replace(problem.meta.solver, seed=seed)))
+        if mode == "check":
+            return 0, None, []
+        import time
+
+        from linkcli import analyse
+        from linkcli.solvers import solve
+        t0 = time.perf_counter()
+        solution = solve(problem)
+        seconds = time.perf_counter() - t0
+        report = analyse.build(problem, solution)
+        if timing and "solver" in report:
+            report["solver"]["seconds"] = seconds
+        return solution.status.exit_code, report, []
+    except LinkcliError as exc:
+        if debug:
+            raise
+        lines = exc.lines() if hasattr(exc, "lines") else [str(exc)]
+        return getattr(exc, "exit_code", 1), None, lines
+    except Exception as exc:  # a bug: one line, not a traceback (--debug shows it)
+        if debug:
+            raise
+        return 1, None, [f"{path}: internal error: {type(exc).__name__}: {exc} "
+                         "(run with --debug for the traceback)"]
+
+
+def _load(path: str, mode: str):
+    from linkcli.problemfile import load, load_for_analysis
+    if mode == "analyze":
+        return load_for_analysis(path)
+    return load(path)
+
+
+def _run_all(files: list[str], mode: str, seed, debug, jobs: int, timing: bool = False):
+    if jobs > 1 and len(files) > 1 and not debug:
+        from concurrent.futures import ProcessPoolExecutor
+        with ProcessPoolExecutor(max_workers=jobs) as pool:
+            yield from pool.map(run_one, files, [mode] * len(files), [seed] * len(files),
+                                [debug] * len(files), [timing] * len(files))
+    else:
+        for f in files:
+            yield run_one(f, mode, seed, debug, timing)
+
+
+def _progress(total: int):
+    """A rich progress bar on stderr for batches, silent when stderr is not a terminal."""
+    if total < 2 or not sys.stderr.isatty():
+        return None
+    from rich.console import Console
+    from rich.progress import Progress
+    prog = Progress(console=Console(file=sys.stderr), transient=True)
+    return prog
+
+
+def _solve_command(files: list[Path], mode: str, fmt: Format, out: Optional[Path], seed,
+                   precision: int, jobs: int, plot: Optional[Path], debug: bool, timing: bool) -> int:
+    names = [str(f) for f in files]
+    worst = 0
+    counts = {0: 0, 1: 0, 2: 0}
+    reports: list[dict] = []
+    prog = _progress(len(names))
+    task = None
+    if prog is not None:
+        prog.start()
+        task = prog.add_task("solving", total=len(names))
+    try:
+        for name, (code, report, errors) in zip(names, _run_all(names, mode, seed, debug, jobs, timing)):
+            for line in errors:
+                _err(line)
+            worst = max(worst, code)
+            counts[code] = counts.get(code, 0) + 1
+            if report is None and fmt is Format.json and len(names) > 1:
+                # keep one object per file, in argument order, for scripts
+                reports.append({"file": name, "status": "bad-input" if code == 2 else "error",
+                                "message": "; ".join(errors)})
+                continue
+            if report is not None:
+                reports.append(report)
+                if fmt is Format.table and out is None:
+                    from linkcli.report import print_reports
+                    if prog is not None:
+                        prog.console.print()  # keep the bar below the tables
+                    print_reports([report], precision)
+                    if len(reports) < len(names):
+                        sys.stdout.write("\n")
+            if prog is not None:
+                prog.advance(task)
+    finally:
+        if prog is not None:
+            prog.stop()
+    if out is not None:
+        _write_out([r for r in reports if "type" in r], out, fmt, precision)
+    elif fmt is Format.json:
+        from linkcli.export import to_json
+        sys.stdout.write(to_json(reports if len(names) > 1 else (reports[0] if reports else []), precision))
+    elif fmt is Format.toml and reports:
+        from linkcli.export import to_toml_many
+        sys.stdout.write(to_toml_many(reports, precision))
+    reports = [r for r in reports if "type" in r]
+    if plot is not None and reports:
+        worst = max(worst, _plot(reports, names, plot, mode, seed, debug))
+    if len(names) > 1:
+        _err(f"{len(names)} files: {counts[0]} solved, {counts[1]} infeasible or not converged, "
+             f"{counts[2]} bad input")
+    return worst
+
+
+def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int) -> None:
+    from linkcli.export import to_json, to_toml
+    from linkcli.report import render_text
+    out.mkdir(parents=True, exist_ok=True)
+    for rep in reports:
+        stem = Path(rep["file"]).stem
+        target = out / f"{stem}.{EXT[fmt.value]}"
+        if fmt is Format.json:
+            text = to_json(rep, precision)
+        elif fmt is Format.toml:
+            text = to_toml(rep, precision)
+        else:
+            text = render_text([rep], precision)
+        target.write_text(text, encoding="utf-8")
+
+
+def _plot(reports, names, plot: Path, mode, seed, debug) -> int:
+    try:
+        from linkcli import plot as plotting
+    except ImportError:
+        _err(f"{plot}: expected the plot extra (pip install \"linkcli[plot]\"), found no plotting module")
+        return 2
+    return plotting.plot_command(reports, names, plot, mode, seed, debug)
+
+
+FILES = typer.Argument(..., help="Problem files (TOML).", exists=False)
+FORMAT = typer.Option(Format.table, "--format", "-f", help="Output format.")
+OUT = typer.Option(None, "--out", help="Write one result file per problem into this folder.")
+SEED = typer.Option(None, "--seed", help="Override the files' [solver] seed.", min=0)
+PRECISION = typer.Option(6, "--precision", help="Significant digits in the output.", min=1, max=17)
+JOBS = typer.Option(1, "--jobs", "-j", help="Solve files in N processes (output keeps argument order).", min=1)
+PLOT = typer.Option(None, "--plot", help="Draw the result to FILE.png|FILE.svg (a folder with several files).")
+DEBUG = typer.Option(False, "--debug", help="Show Python tracebacks.")
+TIMING = typer.Option(False, "--timing", help="Add the solver's wall-clock seconds to the report.")
+
+
+@app.command()
+def synth(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
+          seed: Optional[int] = SEED, precision: int = PRECISION, jobs: int = JOBS,
+          plot: Optional[Path] = PLOT, debug: bool = DEBUG, timing: bool = TIMING) -> None:
+    """Solve each problem file and print its report."""
+    raise typer.Exit(_solve_command(files, "synth", format, out, seed, precision, jobs, plot, debug, timing))
+
+
+@app.command()
+def analyze(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
+            precision: int = PRECISION, jobs: int = JOBS, plot: Optional[Path] = PLOT,
+            debug: bool = DEBUG) -> None:
+    """Analyse given linkages: `type = "linkage"` files or results of `synth --format toml`."""
+    raise typer.Exit(_solve_command(files, "analyze", format, out, None, precision, jobs, plot, debug, False))
+
+
+@app.command()
+def check(files: List[Path] = FILES, debug: bool = DEBUG) -> None:
+    """Validate problem files without solving (exit 2 on any error)."""
+    worst = 0
+    for f in files:
+        code, _, errors = run_one(str(f), "check", None, debug)
+        for line in errors:
+            _err(line)
+        if code == 0:
+            _err(f"{f}: ok")
+        worst = max(worst, code)
+    raise typer.Exit(worst)
+
+
+@app.command()
+def bench(files: List[Path] = typer.Argument(None, help="Problem files (default: problems/bench/*.toml)."),
+          format: Format = FORMAT, seeds: int = typer.Option(3, "--seeds", help="Seeds per setting.", min=1),
+          precision: int = typer.Option(4, "--precision", min=1, max=17), debug: bool = DEBUG) -> None:
+    """Time each solver setting against its error on a set of problems (SPEC section 5)."""
+    from linkcli import bench as benchmod
+    raise typer.Exit(benchmod.command([str(f) for f in files or []], format.value, seeds, precision, debug))
+
+
+def main() -> None:
+    """Console-script entry point."""
+    try:
+        app(prog_name="linkcli")
+    except KeyboardInterrupt:
+        _err("interrupted")
+        sys.exit(130)
+
+
+if __name__ == "__main__":
+    main()

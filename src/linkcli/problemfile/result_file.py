@@ -1,0 +1,31 @@
+"""Result files written by `linkcli synth --format toml`, read back as a linkage to analyse.
+
+Only `title`, `[units]` and `[linkage]` are read; the rest of a result file is linkcli's
+own output (status, tables) and is ignored, so a result always round-trips.
+"""
+
+from __future__ import annotations
+
+from linkcli.model import LinkageProblem, Meta
+from linkcli.problemfile.common import read_units
+from linkcli.problemfile.linkage import DEFAULT_SECTIONS, read_fourbar
+from linkcli.problemfile.reader import Reader
+
+
+def is_result(data: dict) -> bool:
+    return isinstance(data, dict) and "status" in data and "linkage" in data
+
+
+def parse(reader: Reader) -> LinkageProblem | None:
+    root = reader.root()
+    title = root.raw("title", None)
+    units = read_units(root)
+    link = root.table("linkage", required=True)
+    fourbar = read_fourbar(link, units) if link else None
+    if link is not None:
+        link.allow("ground_pivot", "ground_angle", "coupler_point")
+    if reader.errors or fourbar is None:
+        return None
+    meta = Meta(path=reader.path, type="linkage", title=title if isinstance(title, str) else None,
+                units=units, sections=DEFAULT_SECTIONS)
+    return LinkageProblem(meta=meta, linkage=fourbar, input_speed=units.to_rad(1.0), steps=360)

@@ -1,0 +1,162 @@
+"""Rich tables for a person: one block per problem, one table per section asked for.
+
+The only module that imports rich. Known sections get tailored tables; any other section
+a solver adds renders generically (a dict as a key/value table, a list of row dicts as a
+table), so new problem types need no change here. Numbers are rounded by export.rounded.
+"""
+
+from __future__ import annotations
+
+import sys
+
+from rich import box
+from rich.console import Console, Group
+from rich.table import Table
+from rich.text import Text
+
+from linkcli.export import rounded
+
+STATUS_STYLE = {"ok": "bold green", "infeasible": "bold yellow", "not-converged": "bold red"}
+KNOWN = ("file", "title", "type", "status", "message", "units", "linkage", "grashof",
+         "transmission", "motion", "kinematics", "positions", "error", "solver", "notes")
+
+
+def console(file=None, width: int | None = None) -> Console:
+    """A console for stdout: the terminal's width when it is one, else 100 columns, no colour."""
+    file = file or sys.stdout
+    tty = hasattr(file, "isatty") and file.isatty()
+    return Console(file=file, width=width if width else (None if tty else 100),
+                   no_color=not tty, highlight=False, soft_wrap=False, emoji=False,
+                   force_terminal=tty, color_system="auto" if tty else None)
+
+
+def fmt(v, digits: int = 6) -> str:
+    if v is None:
+        return "-"
+    if isinstance(v, bool):
+        return "yes" if v else "no"
+    if isinstance(v, float):
+        return f"{v:.{digits}g}"
+    if isinstance(v, list):
+        return "[" + ", ".join(fmt(x, digits) for x in v) + "]"
+    return str(v)
+
+
+def _kv(title: str, rows: list[tuple[str, object]], digits: int) -> Table:
+    t = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, show_header=False, pad_edge=False, show_edge=False)
+    t.add_column("key", style="bold")
+    t.add_column("value")
+    for k, v in rows:
+        t.add_row(k, fmt(v, digits))
+    return t
+
+
+def _rows(title: str, rows: list[dict], digits: int, headers: dict | None = None) -> Table:
+    cols = list(dict.fromkeys(k for r in rows for k in r))
+    t = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
+    for c in cols:
+        t.add_column((headers or {}).get(c, c.replace("_", " ")), justify="right")
+    for r in rows:
+        t.add_row(*(fmt(r.get(c), digits) for c in cols))
+    return t
+
+
+def _generic(name: str, section, digits: int) -> list:
+    title = name.replace("_", " ").capitalize()
+    if isinstance(section, list) and section and all(isinstance(r, dict) for r in section):
+        return [_rows(title, section, digits)]
+    if isinstance(section, dict):
+        flat = [(k.replace("_", " "), v) for k, v in section.items()
+                if not (isinstance(v, (list, dict)) and v and isinstance(v, dict) or
+                        (isinstance(v, list) and v and isinstance(v[0], dict)))]
+        out = [_kv(title, flat, digits)] if flat else []
+        for k, v in section.items():
+            if isinstance(v, dict) and v:
+                out.append(_kv(f"{title}: {k.replace('_', ' ')}", list(v.items()), digits))
+            elif isinstance(v, list) and v and isinstance(v[0], dict):
+                out.append(_rows(f"{title}: {k.replace('_', ' ')}", v, digits))
+        return out
+    return [_kv(title, [(name, section)], digits)]
+
+
+def render(report: dict, digits: int = 6) -> Group:
+    """One problem's block."""
+    r = rounded(report, digits)
+    lu, au = r["units"]["length"], r["units"]["angle"]
+    parts: list = []
+    head = Text()
+    head.append(r.get("title") or r["file"], style="bold")
+    if r.get("title"):
+        head.append(f"  ({r['file']})")
+    head.append(f"  {r['type']}  ")
+    head.append(r["status"], style=STATUS_STYLE.get(r["status"], "bold"))
+    parts.append(head)
+    parts.append(Text(r["message"]))
+    if "linkage" in r:
+        lk = r["linkage"]
+        rows = [(f"{k} ({lu})", lk[k]) for k in ("ground", "input", "coupler", "output")]
+        rows.append(("branch", lk["branch"]))
+        if "coupler_point" in lk:
+            rows += [(f"coupler point ({lu})", lk["coupler_point"]),
+                     (f"ground pivot ({lu})", lk["ground_pivot"]),
+                     (f"ground angle ({au})", lk["ground_angle"])]
+        parts.append(_kv("Link lengths", rows, digits))
+    if "grashof" in r:
+        g = r["grashof"]
+        rel = "<" if g["s_plus_l"] < g["p_plus_q"] else ("=" if g["s_plus_l"] == g["p_plus_q"] else ">")
+        parts.append(_kv("Grashof", [("class", g["class"]), ("shortest", g["shortest"]),
+                                     ("longest", g["longest"]),
+                                     ("s + l vs p + q", f"{fmt(g['s_plus_l'], digits)} {rel} {fmt(g['p_plus_q'], digits)}")],
+                         digits))
+    if "transmission" in r:
+        tr = r["transmission"]
+        t = Table(title=f"Transmission angle ({au})", title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
+        for c in ("over", "min", "at input", "max", "at input"):
+            t.add_column(c, justify="right" if c != "over" else "left")
+        t.add_row("input's range of motion", fmt(tr["min"], digits), fmt(tr["input_at_min"], digits),
+                  fmt(tr["max"], digits), fmt(tr["input_at_max"], digits))
+        if "working_min" in tr:
+            t.add_row("working range (targets)", fmt(tr["working_min"], digits),
+                      fmt(tr["working_input_at_min"], digits), fmt(tr["working_max"], digits),
+                      fmt(tr["working_input_at_max"], digits))
+        parts.append(t)
+    if "motion" in r:
+        parts.append(_kv("Motion", [(k.replace("_", " "), v) for k, v in r["motion"].items()], digits))
+    if "positions" in r:
+        parts.append(_rows("Positions", r["positions"], digits))
+    if "error" in r:
+        parts.append(_kv("Error", [(k.replace("_", " "), v) for k, v in r["error"].items()], digits))
+    if "kinematics" in r:
+        heads = {"input": f"input ({au})", "coupler": f"coupler ({au})", "output": f"output ({au})",
+                 "transmission": f"mu ({au})", "coupler_velocity": f"w coupler ({au}/s)",
+                 "output_velocity": f"w output ({au}/s)", "coupler_acceleration": f"a coupler ({au}/s2)",
+                 "output_acceleration": f"a output ({au}/s2)"}
+        parts.append(_rows("Kinematics", r["kinematics"], digits, heads))
+    for name, section in r.items():
+        if name not in KNOWN:
+            parts.extend(_generic(name, section, digits))
+    if "solver" in r:
+        parts.append(_kv("Solver", [(k.replace("_", " "), v) for k, v in r["solver"].items()], digits))
+    for note in r.get("notes", []):
+        parts.append(Text(f"warning: {note}", style="yellow"))
+    return Group(*parts)
+
+
+def print_reports(reports: list[dict], digits: int, file=None) -> None:
+    con = console(file)
+    for i, rep in enumerate(reports):
+        if i:
+            con.print()
+        con.print(render(rep, digits))
+
+
+def render_text(reports: list[dict], digits: int) -> str:
+    """Plain text of the tables (for --out with the table format)."""
+    import io
+    buf = io.StringIO()
+    con = Console(file=buf, width=100, no_color=True, highlight=False, emoji=False, color_system=None)
+    for i, rep in enumerate(reports):
+        if i:
+            con.print()
+        con.print(render(rep, digits))
+    return buf.getvalue()
