@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 from linkcli.model import Meta, PrecisionPositionProblem
 from linkcli.problemfile.reader import Table
 
@@ -27,6 +29,16 @@ def parse(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
     if ground is None or phi is None or psi is None:
         return None
     u = meta.units
+    full = u.from_rad(2 * math.pi)
+    for key, values in (("input", phi),):  # equal outputs are legitimate (a rocker returns)
+        for i in range(len(values)):
+            for j in range(i + 1, len(values)):
+                gap = abs(values[i] - values[j]) % full
+                if min(gap, full - gap) < 1e-9 * full:
+                    pos.error(key, "distinct angles, one per position",
+                              raw_got=f"positions {i + 1} and {j + 1} at the same angle "
+                                      f"({values[i]:g} and {values[j]:g} {u.angle})")
+                    return None
     line = root.reader.line_of(("positions", "input"))
     return PrecisionPositionProblem(
         meta=meta, ground=ground,

@@ -105,6 +105,7 @@ class Reader:
             msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", msg)
             if m:
                 msg += f" (column {m.group(2)})"
+            msg = "a syntax error: " + msg[:1].lower() + msg[1:]
             raise TomlSyntaxError("valid TOML", msg, path=path, line=line) from None
         except RecursionError:
             raise TomlSyntaxError("valid TOML", "nesting too deep", path=path) from None

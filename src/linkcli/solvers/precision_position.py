@@ -54,7 +54,7 @@ def _check_positions(problem) -> None:
     phi = np.array(problem.input_angles)
     psi = np.array(problem.output_angles)
     path = problem.meta.path
-    for name, ang in (("positions.input", phi), ("positions.output", psi)):
+    for name, ang in (("positions.input", phi),):
         diff = np.abs(wrap(ang[:, None] - ang[None, :]))
         i, j = np.nonzero(np.triu(diff < COINCIDENT, 1))
         if len(i):

@@ -1,0 +1,35 @@
+"""Shared test setup: the --update-goldens option and a CLI runner."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def pytest_addoption(parser):
+    parser.addoption("--update-goldens", action="store_true", default=False,
+                     help="rewrite tests/golden/ and tests/bad/*.txt from the current output")
+
+
+@pytest.fixture
+def update_goldens(request) -> bool:
+    return request.config.getoption("--update-goldens")
+
+
+@pytest.fixture(autouse=True)
+def _run_from_root(monkeypatch):
+    """Every test runs from the repository root, so file names in output are relative."""
+    monkeypatch.chdir(ROOT)
+
+
+def run_cli(*args: str):
+    """Run the linkcli app in-process: (exit code, stdout, stderr)."""
+    from typer.testing import CliRunner
+
+    from linkcli.cli import app
+    result = CliRunner().invoke(app, list(args), catch_exceptions=False)
+    return result.exit_code, result.stdout, result.stderr

@@ -1,0 +1,116 @@
+"""The command line as users and scripts drive it: exit codes, formats, batches,
+determinism, round trips, and what `--version` and `check` import."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import tomllib
+
+import pytest
+
+from conftest import run_cli
+
+
+def test_version_and_help():
+    code, out, _ = run_cli("--version")
+    assert code == 0 and out.startswith("linkcli ")
+    for cmd in ("synth", "analyze", "check", "bench"):
+        code, out, _ = run_cli(cmd, "--help")
+        assert code == 0 and "Usage" in out
+
+
+@pytest.mark.parametrize("args", [["--version"], ["check", "problems/firedoor.toml"], ["--help"]])
+def test_light_commands_import_neither_numpy_nor_scipy(args):
+    code = ("import sys; from linkcli.cli import app\n"
+            "try:\n    app(%r, prog_name='linkcli')\nexcept SystemExit as e:\n    assert e.code == 0, e.code\n"
+            "heavy = [m for m in ('numpy', 'scipy') if m in sys.modules]\n"
+            "assert not heavy, heavy" % (args,))
+    subprocess.run([sys.executable, "-c", code], check=True, capture_output=True)
+
+
+def test_module_entry_point():
+    res = subprocess.run([sys.executable, "-m", "linkcli", "synth", "problems/firedoor.toml", "-f", "json"],
+                         capture_output=True, text=True)
+    assert res.returncode == 0, res.stderr
+    assert json.loads(res.stdout)["linkage"]["input"] == pytest.approx(27.6293)
+
+
+def test_json_keys_follow_the_spec():
+    code, out, _ = run_cli("synth", "problems/firedoor.toml", "--format", "json")
+    rep = json.loads(out)
+    for key in ("file", "title", "type", "status", "message", "units", "linkage", "grashof",
+                "transmission", "motion", "positions", "error", "solver"):
+        assert key in rep
+    assert set(rep["transmission"]) >= {"min", "max", "input_at_min", "input_at_max", "working_min", "working_max"}
+    assert rep["grashof"]["class"] == "crank-rocker"
+    assert rep["transmission"]["input_at_min"] == 0 and rep["transmission"]["input_at_max"] == 180
+    # working range 45..135: mu extremes at its ends (rho grows with phi there)
+    assert rep["transmission"]["working_min"] == pytest.approx(39.0173, abs=1e-4)
+    assert set(rep["solver"]) >= {"method", "seed", "evaluations", "converged"}
+
+
+def test_precision_option_rounds_every_number():
+    _, out, _ = run_cli("synth", "problems/firedoor.toml", "--format", "json", "--precision", "3")
+    assert json.loads(out)["linkage"]["coupler"] == 57.2
+
+
+def test_batch_keeps_order_reports_each_file_and_exits_with_the_worst():
+    code, out, err = run_cli("synth", "problems/firedoor.toml", "tests/bad/zero_length.toml",
+                             "problems/firedoor_motion.toml", "--format", "json")
+    assert code == 2
+    reps = json.loads(out)
+    assert [r["file"] for r in reps] == ["problems/firedoor.toml", "tests/bad/zero_length.toml",
+                                         "problems/firedoor_motion.toml"]
+    assert reps[1]["status"] == "bad-input"
+    assert "tests/bad/zero_length.toml:3: linkage.ground" in err
+    assert err.strip().splitlines()[-1] == "3 files: 2 solved, 0 infeasible or not converged, 1 bad input"
+
+
+def test_jobs_give_the_same_bytes_as_a_serial_run():
+    files = ["problems/firedoor.toml", "problems/firedoor_motion.toml", "tests/bad/syntax.toml"]
+    serial = run_cli("synth", *files, "--format", "json")
+    parallel = run_cli("synth", *files, "--format", "json", "--jobs", "2")
+    assert serial == parallel
+
+
+def test_same_input_same_bytes():
+    first = run_cli("synth", "problems/firedoor.toml", "problems/firedoor_motion.toml")
+    second = run_cli("synth", "problems/firedoor.toml", "problems/firedoor_motion.toml")
+    assert first == second and first[0] == 0
+
+
+def test_toml_result_round_trips_through_analyze(tmp_path):
+    code, _, err = run_cli("synth", "problems/firedoor.toml", "--format", "toml", "--out", str(tmp_path))
+    assert code == 0, err
+    result = tmp_path / "firedoor.toml"
+    data = tomllib.loads(result.read_text())
+    assert data["linkage"]["input"] == pytest.approx(27.6293)
+    code, out, err = run_cli("analyze", str(result), "--format", "json")
+    assert code == 0, err
+    rep = json.loads(out)
+    assert rep["linkage"] == {k: data["linkage"][k] for k in rep["linkage"]}
+    assert rep["grashof"]["class"] == "crank-rocker"
+
+
+def test_analyze_rejects_a_synthesis_problem():
+    code, _, err = run_cli("analyze", "problems/firedoor.toml")
+    assert code == 2 and 'type: expected type = "linkage"' in err
+
+
+def test_unreadable_file_is_bad_input():
+    code, out, err = run_cli("synth", "does/not/exist.toml")
+    assert code == 2 and out == "" and "does/not/exist.toml: expected a readable problem file" in err
+
+
+def test_sections_not_asked_for_are_not_printed():
+    code, out, _ = run_cli("synth", "tests/data/firedoor_lengths_only.toml", "--format", "json")
+    rep = json.loads(out)
+    assert code == 0
+    assert "linkage" in rep and "transmission" not in rep and "positions" not in rep and "motion" not in rep
+
+
+def test_seed_override_is_reported():
+    _, out, _ = run_cli("synth", "problems/firedoor.toml", "--format", "json", "--seed", "7")
+    assert json.loads(out)["solver"]["seed"] == 7
