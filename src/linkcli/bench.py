@@ -1,0 +1,104 @@
+"""`linkcli bench`: run time against error for each problem, solver setting and seed.
+
+Each row: problem, method, budget, seed, seconds (wall clock of the solve alone),
+evaluations, objective, best_known (the file's `[reference] objective`), gap
+((objective - best_known) / |best_known|), status. A problem type's schema module may list
+`BENCH_SETTINGS` as (method, budget) pairs; otherwise every method in `METHODS` is run
+with the file's own budget.
+"""
+
+from __future__ import annotations
+
+import glob
+import os
+import sys
+import time
+from dataclasses import replace
+
+from linkcli.errors import LinkcliError
+
+DEFAULT_GLOB = "problems/bench/*.toml"
+COLUMNS = ("problem", "method", "budget", "seed", "seconds", "evaluations", "objective",
+           "best_known", "gap", "status")
+
+
+def settings_for(problem) -> list[tuple[str, int | None]]:
+    from linkcli.problemfile import type_module
+    module = type_module(problem.meta.type)
+    settings = getattr(module, "BENCH_SETTINGS", None)
+    if settings:
+        return list(settings)
+    return [(m, problem.meta.solver.budget) for m in getattr(module, "METHODS", ("auto",))]
+
+
+def run_problem(path: str, seeds: int) -> list[dict]:
+    """Every setting and seed of one problem file."""
+    from linkcli.analyse import gap
+    from linkcli.problemfile import load
+    from linkcli.solvers import solve
+    problem = load(path)
+    best = problem.meta.reference.objective if problem.meta.reference else None
+    rows = []
+    for method, budget in settings_for(problem):
+        for seed in range(seeds):
+            opts = replace(problem.meta.solver, method=method, seed=seed, budget=budget)
+            p = replace(problem, meta=replace(problem.meta, solver=opts))
+            t0 = time.perf_counter()
+            sol = solve(p)
+            seconds = time.perf_counter() - t0
+            obj = sol.objective
+            rows.append({
+                "problem": path, "method": method, "budget": budget, "seed": seed,
+                "seconds": seconds, "evaluations": sol.solver.get("evaluations"),
+                "objective": obj, "best_known": best,
+                "gap": gap(obj, best) if (obj is not None and best is not None) else None,
+                "status": sol.status.value,
+            })
+    return rows
+
+
+def command(files: list[str], fmt: str, seeds: int, precision: int, debug: bool) -> int:
+    files = files or sorted(glob.glob(DEFAULT_GLOB))
+    if not files:
+        sys.stderr.write(f"{DEFAULT_GLOB}: expected benchmark problem files, found none\n")
+        return 2
+    rows, worst = [], 0
+    for path in files:
+        try:
+            rows.extend(run_problem(path, seeds))
+        except LinkcliError as exc:
+            if debug:
+                raise
+            for line in exc.lines() if hasattr(exc, "lines") else [str(exc)]:
+                sys.stderr.write(line + "\n")
+            worst = max(worst, getattr(exc, "exit_code", 1))
+    if fmt == "json":
+        from linkcli.export import to_json
+        sys.stdout.write(to_json(rows, precision))
+    elif fmt == "toml":
+        from linkcli.export import to_toml
+        sys.stdout.write(to_toml({"bench": rows}, precision))
+    else:
+        from rich import box
+        from rich.table import Table
+
+        from linkcli.report import console, fmt as fmt_value
+        t = Table(title="linkcli bench: run time against error", title_justify="left",
+                  box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
+        for c in COLUMNS:
+            t.add_column(c, justify="left" if c in ("problem", "method", "status") else "right",
+                         no_wrap=True)
+        for r in rows:
+            shown = dict(r, problem=os.path.splitext(os.path.basename(r["problem"]))[0])
+            t.add_row(*(fmt_value(shown[c], precision) if shown[c] is not None else "-" for c in COLUMNS))
+        console(width=None if sys.stdout.isatty() else 140).print(t)
+    return worst
+
+
+def markdown(rows: list[dict], precision: int = 4) -> str:
+    """A markdown table of bench rows (for the README)."""
+    from linkcli.report import fmt as fmt_value
+    head = "| " + " | ".join(COLUMNS) + " |\n|" + "---|" * len(COLUMNS) + "\n"
+    body = "".join("| " + " | ".join(fmt_value(r[c], precision) if r[c] is not None else "-"
+                                     for c in COLUMNS) + " |\n" for r in rows)
+    return head + body
