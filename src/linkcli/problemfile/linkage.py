@@ -9,7 +9,7 @@ DEFAULT_SECTIONS = ("lengths", "grashof", "transmission", "motion", "kinematics"
 SECTIONS = ("lengths", "grashof", "transmission", "motion", "kinematics", "tolerance")
 METHODS = ("auto",)
 TOLERANCE = True
-MAX_STEPS = 1_000_000
+MAX_STEPS = 100_000
 
 
 def read_fourbar(t: Table, units) -> FourBar | None:
