@@ -67,10 +67,13 @@ def _refine(phi, psi, a, b, c, d, sign, iters=100):
     """Levenberg-Marquardt on the true output-angle error, d fixed; lengths stay positive.
 
     Works on log-lengths so that a, b, c > 0; Jacobian by central differences (3 columns).
+    Returns the lengths, whether every position assembles, and the residual evaluations.
     """
     x = np.log([a, b, c])
+    calls = [0]
 
     def resid(v):
+        calls[0] += 1
         aa, bb, cc = np.exp(v)
         p = pose(aa, bb, cc, d, phi, sign)
         r = wrap(p.psi - psi)
@@ -100,7 +103,7 @@ def _refine(phi, psi, a, b, c, d, sign, iters=100):
             lam *= 10
         if not improved or np.linalg.norm(step) < 1e-14:
             break
-    return tuple(np.exp(x)), ok
+    return tuple(np.exp(x)), ok, calls[0]
 
 
 def solve(problem) -> Solution:
@@ -154,8 +157,8 @@ def solve(problem) -> Solution:
     method, evaluations = "freudenstein", 1
     sign = -1.0 if branch == "open" else 1.0
     if n > 3:
-        (a, b, c), _ = _refine(phi_phys, psi_phys, a, b, c, d, sign)
-        method = "freudenstein+lm"
+        (a, b, c), _, calls = _refine(phi_phys, psi_phys, a, b, c, d, sign)
+        method, evaluations = "freudenstein+lm", 1 + calls
     p = pose(a, b, c, d, phi_phys, branch)
     if not np.all(p.valid):
         bad = [i + 1 for i in range(n) if not p.valid[i]]
