@@ -107,13 +107,15 @@ def _run_all(files: list[str], mode: str, seed, debug, jobs: int, timing: bool =
 
 
 def _progress(total: int):
-    """A rich progress bar on stderr for batches, silent when stderr is not a terminal."""
-    if total < 2 or not sys.stderr.isatty():
+    """A rich progress display on stderr (a spinner, the file count and the elapsed time)
+    for batches and long solves; silent when stderr is not a terminal."""
+    if not sys.stderr.isatty():
         return None
     from rich.console import Console
-    from rich.progress import Progress
-    prog = Progress(console=Console(file=sys.stderr), transient=True)
-    return prog
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+    return Progress(SpinnerColumn(), TextColumn("{task.description}"), BarColumn(),
+                    MofNCompleteColumn(), TimeElapsedColumn(),
+                    console=Console(file=sys.stderr), transient=True)
 
 
 def _solve_command(files: list[Path], mode: str, fmt: Format, out: Optional[Path], seed,
@@ -126,9 +128,11 @@ def _solve_command(files: list[Path], mode: str, fmt: Format, out: Optional[Path
     task = None
     if prog is not None:
         prog.start()
-        task = prog.add_task("solving", total=len(names))
+        task = prog.add_task(f"solving {names[0]}", total=len(names))
     try:
         for name, (code, report, errors) in zip(names, _run_all(names, mode, seed, debug, jobs, timing)):
+            if prog is not None:
+                prog.stop()  # the transient bar clears; output prints cleanly below
             for line in errors:
                 _err(line)
             worst = max(worst, code)
@@ -137,18 +141,19 @@ def _solve_command(files: list[Path], mode: str, fmt: Format, out: Optional[Path
                 # keep one object per file, in argument order, for scripts
                 reports.append({"file": name, "status": "bad-input" if code == 2 else "error",
                                 "message": "; ".join(errors)})
-                continue
-            if report is not None:
+            elif report is not None:
                 reports.append(report)
                 if fmt is Format.table and out is None:
                     from linkcli.report import print_reports
-                    if prog is not None:
-                        prog.console.print()  # keep the bar below the tables
                     print_reports([report], precision)
                     if len(reports) < len(names):
                         sys.stdout.write("\n")
+                    sys.stdout.flush()
             if prog is not None:
-                prog.advance(task)
+                done = int(prog.tasks[0].completed) + 1
+                nxt = names[done] if done < len(names) else ""
+                prog.update(task, advance=1, description=f"solving {nxt}" if nxt else "done")
+                prog.start()
     finally:
         if prog is not None:
             prog.stop()
