@@ -90,3 +90,11 @@ class LinkageProblem:
     linkage: FourBar
     input_speed: float = 1.0  # rad/s
     steps: int = 360
+
+
+@dataclass(frozen=True)
+class InverseTolerance(Tolerance):
+    """[tolerance] with `max_failure_probability`: also find the largest tolerance, the
+    same on every link, whose failure probability stays at or below that level."""
+
+    max_failure_probability: float = 0.01

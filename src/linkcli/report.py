@@ -61,22 +61,34 @@ def _rows(title: str, rows: list[dict], digits: int, headers: dict | None = None
     return t
 
 
-def _generic(name: str, section, digits: int) -> list:
+def _generic(name: str, section, digits: int, units: dict[str, str] | None = None) -> list:
+    """A dict as one key/value table (nested dicts flattened to "key sub"), its lists of
+    row dicts as tables of their own; a list of row dicts as a table. `units` maps a key
+    to the unit shown beside it."""
     title = name.replace("_", " ").capitalize()
+    units = units or {}
     if isinstance(section, list) and section and all(isinstance(r, dict) for r in section):
         return [_rows(title, section, digits)]
-    if isinstance(section, dict):
-        flat = [(k.replace("_", " "), v) for k, v in section.items()
-                if not (isinstance(v, (list, dict)) and v and isinstance(v, dict) or
-                        (isinstance(v, list) and v and isinstance(v[0], dict)))]
-        out = [_kv(title, flat, digits)] if flat else []
-        for k, v in section.items():
-            if isinstance(v, dict) and v:
-                out.append(_kv(f"{title}: {k.replace('_', ' ')}", list(v.items()), digits))
-            elif isinstance(v, list) and v and isinstance(v[0], dict):
-                out.append(_rows(f"{title}: {k.replace('_', ' ')}", v, digits))
-        return out
-    return [_kv(title, [(name, section)], digits)]
+    if not isinstance(section, dict):
+        return [_kv(title, [(name, section)], digits)]
+    flat, tables = [], []
+    for k, v in section.items():
+        label = k.replace("_", " ") + (f" ({units[k]})" if k in units else "")
+        if isinstance(v, dict):
+            flat += [(f"{label} {sub.replace('_', ' ')}", x) for sub, x in v.items()]
+        elif isinstance(v, list) and v and isinstance(v[0], dict):
+            tables.append(_rows(f"{title}: {k.replace('_', ' ')}", v, digits))
+        else:
+            flat.append((label, v))
+    return ([_kv(title, flat, digits)] if flat else []) + tables
+
+
+def _tolerance_units(section: dict, lu: str, au: str) -> dict[str, str]:
+    err = lu if "coupler point" in str(section.get("measure", "")) else au
+    keys = ("nominal_error", "error_mean", "error_p95", "error_max", "allowed_error")
+    out = {k: err for k in keys}
+    out.update({"lengths": lu, "clearance": lu, "largest_tolerance": lu, "sensitivity": f"{err}/{lu}"})
+    return out
 
 
 def render(report: dict, digits: int = 6) -> Group:
@@ -134,7 +146,8 @@ def render(report: dict, digits: int = 6) -> Group:
         parts.append(_rows("Kinematics", r["kinematics"], digits, heads))
     for name, section in r.items():
         if name not in KNOWN:
-            parts.extend(_generic(name, section, digits))
+            units = _tolerance_units(section, lu, au) if name == "tolerance" else None
+            parts.extend(_generic(name, section, digits, units))
     if "solver" in r:
         parts.append(_kv("Solver", [(k.replace("_", " "), v) for k, v in r["solver"].items()], digits))
     for note in r.get("notes", []):

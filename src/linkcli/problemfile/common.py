@@ -3,14 +3,17 @@
 
 from __future__ import annotations
 
-from linkcli.model import LINKS, Meta, Reference, SolverOptions, Tolerance
+import math
+
+from linkcli.model import LINKS, InverseTolerance, Meta, Reference, SolverOptions, Tolerance
 from linkcli.problemfile.reader import Table
 from linkcli.units import ANGLE_UNITS, LENGTH_TO_MM, Units
 
 ALL_SECTIONS = ("lengths", "grashof", "transmission", "motion", "kinematics", "positions",
                 "error", "cylinder", "solver", "tolerance")
 MAX_BUDGET = 10**9
-MAX_SAMPLES = 10_000_000
+MAX_SAMPLES = 1_000_000  # a tolerance study: more gains nothing but minutes
+MIN_FAILURES = 10  # inverse mode: expected failures at the level, for a stable bisection
 
 
 def read_meta(root: Table, kind: str, module) -> Meta:
@@ -75,26 +78,48 @@ def read_sections(root: Table, default: tuple[str, ...], allowed: tuple[str, ...
 
 
 def read_tolerance(root: Table, units: Units) -> Tolerance | None:
+    """[tolerance]: `lengths` (one +- tolerance for every link, or a table per link; a
+    path generator's table may add `coupler_point`, +- on each coordinate of P), `distribution`,
+    `clearance`, `samples`, `allowed_error` (angle unit, or length unit for a path) and the
+    inverse mode's `max_failure_probability` (which then wants a single tolerance or none)."""
     t = root.table("tolerance")
     if t is None:
         return None
+    path_type = root.raw("type") == "path-generation"
+    per_link = LINKS + (("coupler_point",) if path_type else ())
     raw = t.raw("lengths", None)
-    lengths = {}
+    lengths = {k: 0.0 for k in LINKS}
     if isinstance(raw, dict):
         sub = t.table("lengths")
-        for link in LINKS:
-            v = sub.number(link, 0.0, nonnegative=True)
-            lengths[link] = v if v is not None else 0.0
-    elif raw is None:
-        lengths = {k: 0.0 for k in LINKS}
-    else:
+        if not raw:
+            t.error("lengths", f"a tolerance for at least one of: {', '.join(per_link)}",
+                    raw_got="an empty table")
+        for link in per_link:
+            v = sub.number(link, 0.0, nonnegative=True, what="a tolerance >= 0")
+            if link in raw or link in LINKS:
+                lengths[link] = v if v is not None else 0.0
+    elif raw is not None:
         v = t.number("lengths", nonnegative=True, what="a tolerance >= 0 or a table of them per link")
         lengths = {k: (v or 0.0) for k in LINKS}
     distribution = t.string("distribution", "uniform", choices=("uniform", "normal"))
-    clearance = t.number("clearance", 0.0, nonnegative=True)
+    clearance = t.number("clearance", 0.0, nonnegative=True, what="a radial clearance >= 0")
     samples = t.number("samples", 20000, integer=True, lo=1, hi=MAX_SAMPLES)
     allowed = t.number("allowed_error", None, positive=True)
     if allowed is not None:
-        allowed = units.to_rad(allowed) if root.raw("type") != "path-generation" else allowed
-    return Tolerance(lengths=lengths, distribution=distribution or "uniform", clearance=clearance or 0.0,
-                     samples=samples or 20000, allowed_error=allowed)
+        allowed = units.to_rad(allowed) if not path_type else allowed
+    level = t.number("max_failure_probability", None, what="a probability strictly between 0 and 1")
+    if level is not None and not 0.0 < level < 1.0:
+        t.error("max_failure_probability", "a probability strictly between 0 and 1", level)
+        level = None
+    if level is not None and isinstance(raw, dict):
+        t.error("lengths", "a single tolerance (or none) with max_failure_probability: the search "
+                "applies one tolerance to every link", raw_got="a table")
+    if level is not None and samples is not None and samples * level < MIN_FAILURES:
+        need = math.ceil(MIN_FAILURES / level)
+        t.error("samples", f"at least {need} samples with max_failure_probability = {level:g} "
+                f"({MIN_FAILURES} expected failures)", samples)
+    base = dict(lengths=lengths, distribution=distribution or "uniform", clearance=clearance or 0.0,
+                samples=samples or 20000, allowed_error=allowed)
+    if level is not None:
+        return InverseTolerance(max_failure_probability=level, **base)
+    return Tolerance(**base)
