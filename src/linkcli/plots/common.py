@@ -1,0 +1,286 @@
+"""What every plot shares: the style, the report's units, the four-bar drawn to scale in
+its global placement, and the figure header.
+
+Geometry follows SPEC section 1: in the local frame A0 = (0, 0), B0 = (d, 0),
+A = a e^{i phi}, B = B0 + c e^{i psi}, coupler point P = A + (px + i py) e^{i theta};
+the global frame puts A0 at `ground_pivot` and turns the ground line by `ground_angle`:
+X = G + R(ground_angle) x. The closure itself is `linkcli.kinematics.pose`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from linkcli import kinematics as kin
+
+# rcParams for every figure (applied with rc_context, never globally): text stays text
+# in SVG, ids are salted with a constant, so two runs write identical bytes.
+STYLE = {
+    "svg.fonttype": "none",
+    "svg.hashsalt": "linkcli",
+    "font.family": "DejaVu Sans",
+    "font.size": 10.5,
+    "axes.titlesize": 11.5,
+    "axes.labelsize": 10.5,
+    "legend.fontsize": 9.5,
+    "figure.titlesize": 14,
+    "figure.titleweight": "bold",
+    "axes.grid": True,
+    "grid.alpha": 0.35,
+    "axes.spines.top": False,
+    "axes.spines.right": False,
+    "lines.solid_capstyle": "round",
+}
+FIGSIZE = (13.0, 7.0)  # inches
+DPI = 100  # PNG pixels per inch: 1300 x 700, read at 100 % zoom
+
+LINK_COLORS = {"input": "#1f77b4", "coupler": "#d62728", "output": "#2ca02c", "ground": "#555555"}
+TARGET_COLOR = "#111111"
+CURVE_COLOR = "#9467bd"
+BAND_COLOR = "#2ca02c"
+
+
+def num(v: float, digits: int = 4) -> str:
+    """A number for a label: `digits` significant digits, plain (no exponent) from 1e-3
+    to 1e6, no trailing zeros."""
+    v = float(v)
+    if v == 0.0 or not math.isfinite(v):
+        return f"{v:g}"
+    mag = math.floor(math.log10(abs(v)))
+    if not -3 <= mag < 6:
+        return f"{v:.{digits}g}"
+    text = f"{v:.{max(digits - 1 - mag, 0)}f}"
+    return text.rstrip("0").rstrip(".") if "." in text else text
+
+
+def robust_ylim(ax, *series, spread: float = 4.0) -> bool:
+    """Keep an axis readable when a few values shoot off (a toggle, where a constant input
+    speed asks for an infinite output speed): if the largest |value| exceeds `spread`
+    times the 95th percentile, zoom on the 5..95 % range. Returns whether it zoomed."""
+    v = np.concatenate([np.asarray(x, dtype=float).ravel() for x in series])
+    v = v[np.isfinite(v)]
+    if v.size == 0:
+        return False
+    q = float(np.percentile(np.abs(v), 95))
+    if q == 0.0 or float(np.max(np.abs(v))) <= spread * q:
+        return False
+    lo, hi = (float(x) for x in np.percentile(v, [5, 95]))
+    pad = 0.3 * max(hi - lo, q)
+    ax.set_ylim(lo - pad, hi + pad)
+    return True
+
+
+@dataclass(frozen=True)
+class Units:
+    """The report's units: lengths as they are, angles converted from/to radians."""
+
+    length: str
+    angle: str
+
+    @classmethod
+    def of(cls, report: dict) -> "Units":
+        u = report.get("units") or {}
+        return cls(u.get("length", "mm"), u.get("angle", "deg"))
+
+    @property
+    def per_rad(self) -> float:
+        return 180.0 / math.pi if self.angle == "deg" else 1.0
+
+    def rad(self, value):
+        """Angles in the report's unit -> radians (arrays welcome)."""
+        return np.asarray(value, dtype=float) / self.per_rad
+
+    def out(self, value):
+        """Radians -> the report's angle unit."""
+        return np.asarray(value, dtype=float) * self.per_rad
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """A four-bar from a report's `linkage` section: lengths, branch, global placement."""
+
+    a: float
+    b: float
+    c: float
+    d: float
+    branch: str
+    coupler_point: tuple[float, float] | None
+    ground_pivot: tuple[float, float]
+    ground_angle: float  # rad
+
+    @classmethod
+    def of(cls, report: dict) -> "Geometry":
+        lk = report["linkage"]
+        u = Units.of(report)
+        cp = lk.get("coupler_point")
+        gp = lk.get("ground_pivot") or (0.0, 0.0)
+        return cls(a=float(lk["input"]), b=float(lk["coupler"]), c=float(lk["output"]),
+                   d=float(lk["ground"]), branch=lk.get("branch", "open"),
+                   coupler_point=(float(cp[0]), float(cp[1])) if cp is not None else None,
+                   ground_pivot=(float(gp[0]), float(gp[1])),
+                   ground_angle=float(u.rad(lk.get("ground_angle", 0.0))))
+
+    @property
+    def size(self) -> float:
+        """The longest link: the drawing's length scale."""
+        return max(self.a, self.b, self.c, self.d)
+
+    def to_global(self, x, y):
+        """X = G + R(ground_angle) x (SPEC section 1: global placement)."""
+        cg, sg = math.cos(self.ground_angle), math.sin(self.ground_angle)
+        x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+        return self.ground_pivot[0] + cg * x - sg * y, self.ground_pivot[1] + sg * x + cg * y
+
+    def pose(self, phi):
+        return kin.pose(self.a, self.b, self.c, self.d, phi, self.branch)
+
+    def joints(self, phi) -> dict:
+        """Global coordinates of A0, B0, A, B (and P) at input angles phi, with the pose."""
+        p = self.pose(phi)
+        ax, ay = self.a * np.cos(p.phi), self.a * np.sin(p.phi)
+        bx, by = self.d + self.c * np.cos(p.psi), self.c * np.sin(p.psi)
+        out = {"A0": self.to_global(0.0, 0.0), "B0": self.to_global(self.d, 0.0),
+               "A": self.to_global(ax, ay), "B": self.to_global(bx, by), "pose": p}
+        if self.coupler_point is not None:
+            out["P"] = self.to_global(*p.coupler_point(self.a, *self.coupler_point))
+        return out
+
+    def motion(self, near=None) -> dict:
+        return kin.motion(self.a, self.b, self.c, self.d, self.branch, near=near)
+
+
+def input_grid(mot: dict, n: int = 721, centre: float | None = None) -> np.ndarray:
+    """Input angles (rad) over the whole motion: a full turn starting 180 deg before
+    `centre` (rounded to 45 deg) so that the targets sit mid-axis, or the reachable arc."""
+    if mot["input_full_turn"]:
+        start = 0.0 if centre is None else math.radians(45.0 * round((math.degrees(centre) - 180.0) / 45.0))
+        return start + np.linspace(0.0, kin.TWO_PI, n)
+    lo, hi = mot["input_arc"]
+    return np.linspace(lo, hi, n)
+
+
+def on_grid(grid: np.ndarray, phi) -> np.ndarray:
+    """Input angles moved by whole turns into [grid[0], grid[0] + 360 deg)."""
+    return grid[0] + np.mod(np.asarray(phi, dtype=float) - grid[0], kin.TWO_PI)
+
+
+def _ground_mark(ax, x, y, s, color):
+    """A hatched ground triangle under a fixed pivot (size s in length units)."""
+    from matplotlib.patches import Polygon
+    tri = [(x, y), (x - 0.6 * s, y - s), (x + 0.6 * s, y - s)]
+    ax.add_patch(Polygon(tri, closed=True, facecolor="white", edgecolor=color, hatch="///",
+                         lw=1.0, zorder=1))
+
+
+def draw_linkage(ax, geo: Geometry, phi: float, *, ghost: bool = False, labels: bool = True) -> None:
+    """The four-bar at input angle phi (rad), to scale: ground line and pivots, crank,
+    coupler (a triangle A-B-P when there is a coupler point), rocker, joints."""
+    from matplotlib.patches import Polygon
+
+    j = geo.joints(phi)
+    if not bool(np.all(j["pose"].valid)):
+        return
+    alpha = 0.28 if ghost else 1.0
+    lw = 1.6 if ghost else 3.2
+    (x0, y0), (x1, y1) = j["A0"], j["B0"]
+    (xa, ya), (xb, yb) = j["A"], j["B"]
+    xa, ya, xb, yb = float(xa), float(ya), float(xb), float(yb)
+    if not ghost:
+        ax.plot([x0, x1], [y0, y1], color=LINK_COLORS["ground"], lw=1.4, ls=(0, (6, 3)), zorder=1)
+        s = 0.08 * geo.size
+        for x, y in ((x0, y0), (x1, y1)):
+            _ground_mark(ax, float(x), float(y), s, LINK_COLORS["ground"])
+    if "P" in j:
+        xp, yp = (float(v) for v in j["P"])
+        ax.add_patch(Polygon([(xa, ya), (xb, yb), (xp, yp)], closed=True, zorder=2,
+                             facecolor=LINK_COLORS["coupler"], alpha=0.18 * alpha,
+                             edgecolor=LINK_COLORS["coupler"], lw=lw * 0.6))
+    ax.plot([x0, xa], [y0, ya], color=LINK_COLORS["input"], lw=lw, alpha=alpha, zorder=3)
+    ax.plot([xa, xb], [ya, yb], color=LINK_COLORS["coupler"], lw=lw, alpha=alpha, zorder=3)
+    ax.plot([x1, xb], [y1, yb], color=LINK_COLORS["output"], lw=lw, alpha=alpha, zorder=3)
+    joints = [(xa, ya), (xb, yb)] + ([(float(j["P"][0]), float(j["P"][1]))] if "P" in j else [])
+    ax.scatter([p[0] for p in joints], [p[1] for p in joints], s=22 if ghost else 42, zorder=4,
+               facecolor="white", edgecolor="black", linewidths=1.0, alpha=alpha)
+    if ghost:
+        return
+    ax.scatter([x0, x1], [y0, y1], s=70, zorder=4, facecolor="black", edgecolor="black")
+    if labels:
+        names = [("A0", x0, y0), ("B0", x1, y1), ("A", xa, ya), ("B", xb, yb)]
+        if "P" in j:
+            names.append(("P", float(j["P"][0]), float(j["P"][1])))
+        for name, x, y in names:
+            ax.annotate(name, (float(x), float(y)), xytext=(7, 6), textcoords="offset points",
+                        fontsize=10, fontweight="bold", zorder=5)
+
+
+def link_legend(ax, geo: Geometry, length_unit: str, loc: str = "best") -> None:
+    """One legend: the link lengths (and coupler point), then what the axes drew itself."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+    lu = length_unit
+    handles = [Line2D([], [], color=LINK_COLORS["input"], lw=3, label=f"input a = {num(geo.a)} {lu}"),
+               Line2D([], [], color=LINK_COLORS["coupler"], lw=3, label=f"coupler b = {num(geo.b)} {lu}"),
+               Line2D([], [], color=LINK_COLORS["output"], lw=3, label=f"output c = {num(geo.c)} {lu}"),
+               Line2D([], [], color=LINK_COLORS["ground"], lw=1.4, ls=(0, (6, 3)),
+                      label=f"ground d = {num(geo.d)} {lu}")]
+    if geo.coupler_point is not None:
+        px, py = geo.coupler_point
+        handles.append(Patch(facecolor=LINK_COLORS["coupler"], alpha=0.18, edgecolor=LINK_COLORS["coupler"],
+                             label=f"coupler point P = ({num(px)}, {num(py)}) {lu}"))
+    own, _ = ax.get_legend_handles_labels()
+    ax.legend(handles=handles + own, loc=loc, framealpha=0.85, title=f"{geo.branch} branch",
+              title_fontsize=9.5)
+
+
+def joint_paths(ax, geo: Geometry, grid: np.ndarray) -> None:
+    """Thin dotted paths of A and B over the motion (the crank circle, the rocker arc)."""
+    j = geo.joints(grid)
+    ok = j["pose"].valid
+    for name in ("A", "B"):
+        x, y = j[name]
+        ax.plot(np.where(ok, x, np.nan), np.where(ok, y, np.nan), color="#888888", lw=0.9,
+                ls=(0, (1, 2.5)), zorder=0)
+
+
+def frame_drawing(ax, length_unit: str, title: str) -> None:
+    """Equal axes (to scale), labelled in the length unit, with a little margin."""
+    from matplotlib.ticker import MaxNLocator
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.xaxis.set_major_locator(MaxNLocator(nbins=7))
+    ax.yaxis.set_major_locator(MaxNLocator(nbins=9))
+    ax.margins(0.08)
+    ax.set_xlabel(f"x ({length_unit})")
+    ax.set_ylabel(f"y ({length_unit})")
+    ax.set_title(title)
+
+
+def header(fig, report: dict) -> None:
+    """Figure title: the problem's title (or file), its type and status."""
+    title = report.get("title") or report.get("file") or "linkage"
+    status = report.get("status", "ok")
+    line2 = f"{report.get('type', '')}, status {status}"
+    if report.get("file") and report.get("title"):
+        line2 += f"  ({report['file']})"
+    text = f"{title}\n{line2}"
+    if status != "ok" and report.get("message"):
+        text += f"\n{report['message']}"
+    fig.suptitle(text, fontsize=13)
+
+
+def no_linkage(ax, text: str) -> None:
+    """An axes that says why there is nothing to draw."""
+    ax.text(0.5, 0.5, text, ha="center", va="center", transform=ax.transAxes, wrap=True)
+    ax.set_axis_off()
+
+
+def angle_ticks(ax, units: Units, axis: str = "x") -> None:
+    """Ticks every 45 deg on a degree axis that spans at least 180 deg."""
+    if units.angle != "deg":
+        return
+    from matplotlib.ticker import MultipleLocator
+    lo, hi = (ax.get_xlim() if axis == "x" else ax.get_ylim())
+    if abs(hi - lo) >= 180:
+        (ax.xaxis if axis == "x" else ax.yaxis).set_major_locator(MultipleLocator(45 if abs(hi - lo) <= 400 else 90))
