@@ -330,6 +330,25 @@ class Table:
                               what="a number or a range [lo, hi]")
         return None if v is None else (v, v)
 
+    def point_range(self, key: str, default=MISSING):
+        """A bound on a point: `{ x = ..., y = ... }`, each coordinate a number (fixed) or a
+        range [lo, hi]; returns ((x_lo, x_hi), (y_lo, y_hi)), or None (error recorded)."""
+        value = self.raw(key)
+        if value is MISSING:
+            if default is MISSING:
+                self.error(key, "a table { x = ..., y = ... } (each a number or a range [lo, hi])")
+                return None
+            return default
+        if not isinstance(value, dict):
+            self.error(key, "a table { x = ..., y = ... } (each a number or a range [lo, hi])", value)
+            return None
+        sub = self.table(key)
+        xr = sub.range("x")
+        yr = sub.range("y")
+        if xr is None or yr is None:
+            return None
+        return (xr, yr)
+
 
 def _fmt(x: float) -> str:
     return repr(int(x)) if float(x).is_integer() else repr(float(x))
