@@ -18,13 +18,15 @@ import tomli_w
 
 from conftest import ROOT
 from linkcli.cli import run_one
+from linkcli.export import to_json, to_toml
+from linkcli.report import render_text
 
 EXAMPLES = sorted((ROOT / "problems").glob("*.toml"))
 REPLACEMENTS = [
     "text", True, float("nan"), float("inf"), float("-inf"), -1.0, 0, 1e308, -1e308, 1e-308,
     [], [1.0] * 20000, {"x": {"y": {"z": 1}}}, [[1, 2], [3]], "__import__('os')", 2**63 - 1,
 ]
-CASES_PER_FILE = 12
+CASES_PER_FILE = 30
 
 
 def _paths(node, prefix=()):
@@ -92,6 +94,10 @@ def test_mutated_file_fails_cleanly(tmp_path, example, i, what, data):
             assert errors and all(e.startswith(str(path)) for e in errors), (what, errors)
         if mode == "check" and code == 2:
             break
+        if report is not None:  # every output format renders what was solved
+            render_text([report], 6)
+            to_json(report, 6)
+            to_toml(report, 6)
 
 
 def test_garbage_bytes_and_empty_file(tmp_path):

@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 
@@ -138,6 +138,9 @@ def test_quick_return_ratio_matches_classical_formula():
 
 @settings(max_examples=150, deadline=None)
 @given(lengths, scales, st.sampled_from(["open", "crossed"]))
+@example(abcd=(4.0, 0.25, 0.25, 4.0), k=0.001, branch="open")  # a = d: rho^2 cancels at phi ~ 0
+@example(abcd=(4.5, 3.0, 0.125, 4.278052734872926), k=0.001, branch="open")  # toggle near 180
+@example(abcd=(1.9375, 4.0, 0.1015625, 2.375), k=0.001, branch="open")  # two arcs, both toggles
 def test_transmission_extremes_match_dense_sampling(abcd, k, branch):
     a, b, c, d = (x * k for x in abcd)
     arcs = kin.input_arcs(a, b, c, d)

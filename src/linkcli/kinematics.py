@@ -17,6 +17,7 @@ Every function broadcasts: lengths of shape (N, 1) against angles of shape (M,) 
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -24,6 +25,7 @@ import numpy as np
 TWO_PI = 2.0 * np.pi
 # |cos alpha| up to 1 + ASSEMBLY_SLACK still assembles (clipped): round-off at a toggle.
 ASSEMBLY_SLACK = 1e-12
+TOGGLE_RTOL = 64 * 2.0**-52  # relative: rho this close to b + c or |b - c| is a toggle
 
 
 @dataclass
@@ -42,6 +44,27 @@ class Pose:
         ax, ay = a * np.cos(self.phi), a * np.sin(self.phi)
         ct, st = np.cos(self.theta), np.sin(self.theta)
         return ax + px * ct - py * st, ay + px * st + py * ct
+
+
+def transmission_angle(b, c, rho):
+    """mu in [0, pi] from cos(mu) = (b^2 + c^2 - rho^2) / (2 b c), by its half angle
+
+        tan(mu / 2) = sqrt((rho - |b - c|)(rho + |b - c|)) / sqrt((b + c - rho)(b + c + rho)),
+
+    which keeps full precision near mu = 0 and 180 deg, where arccos loses half the digits.
+    rho outside [|b - c|, b + c] gives the nearest limit, 0 or pi."""
+    b, c, rho = (np.asarray(v, dtype=float) for v in (b, c, rho))
+    lo = np.abs(b - c)
+    num = np.sqrt(np.maximum((rho - lo) * (rho + lo), 0.0))
+    den = np.sqrt(np.maximum((b + c - rho) * (b + c + rho), 0.0))
+    return 2.0 * np.arctan2(num, den)
+
+
+def ground_distance(a, d, phi):
+    """rho = |A B0| = sqrt((a - d)^2 + 4 a d sin^2(phi / 2)): the law of cosines written
+    without the cancellation of a^2 + d^2 - 2 a d cos(phi) when a ~ d and phi ~ 0."""
+    s = np.sin(np.asarray(phi, dtype=float) / 2.0)
+    return np.sqrt((a - d) ** 2 + 4.0 * a * d * s * s)
 
 
 def wrap(angle):
@@ -77,8 +100,7 @@ def pose(a, b, c, d, phi, branch="open") -> Pose:
     bx = d + c * np.cos(psi) - ax
     by = c * np.sin(psi) - ay
     theta = np.arctan2(by, bx)
-    cos_mu = (b * b + c * c - rho * rho) / (2.0 * b * c)
-    mu = np.arccos(np.clip(cos_mu, -1.0, 1.0))
+    mu = transmission_angle(b, c, rho)
     return Pose(phi=np.broadcast_to(phi, psi.shape), psi=psi, theta=theta, mu=mu,
                 rho=rho, valid=np.broadcast_to(valid, psi.shape))
 
@@ -154,21 +176,33 @@ def input_arcs(a, b, c, d):
     """Reachable input angles: None if the input turns fully, [] if it never assembles,
     else a list of arcs (lo, hi), each running counter-clockwise from lo to hi (rad).
 
-    rho^2 = a^2 + d^2 - 2 a d cos(phi) must lie in [(b - c)^2, (b + c)^2].
+    rho^2 = (a - d)^2 + 4 a d sin^2(phi / 2) must lie in [(b - c)^2, (b + c)^2]; an arc
+    ends where rho = r (r = b + c or |b - c|), at phi = 2 atan2(sqrt(N), sqrt(M)) with
+    N = (r - |a - d|)(r + |a - d|), M = (a + d - r)(a + d + r): half-angle forms that keep
+    full precision at toggles near 0 and 180 deg. Lengths are first divided by the
+    longest (angles do not depend on scale), so no length can overflow.
     """
-    u_hi = (a * a + d * d - (b - c) ** 2) / (2 * a * d)  # cos(phi) <= u_hi
-    u_lo = (a * a + d * d - (b + c) ** 2) / (2 * a * d)  # cos(phi) >= u_lo
-    if u_lo <= -1.0 and u_hi >= 1.0:
+    big = max(a, b, c, d)
+    a, b, c, d = (float(x) / big for x in (a, b, c, d))
+    near, far = abs(a - d), a + d  # rho at phi = 0 and at phi = 180
+    r_lo, r_hi = abs(b - c), b + c
+    if r_lo <= near and r_hi >= far:
         return None
-    if u_lo > u_hi or u_lo > 1.0 or u_hi < -1.0:
+    if r_lo > far or r_hi < near:
         return []
-    if u_hi >= 1.0:  # one arc through phi = 0
-        g = float(np.arccos(u_lo))
+
+    def end(r: float) -> float:
+        n = max((r - near) * (r + near), 0.0)
+        m = max((far - r) * (far + r), 0.0)
+        return 2.0 * math.atan2(math.sqrt(n), math.sqrt(m))
+
+    if r_lo <= near:  # one arc through phi = 0
+        g = end(r_hi)
         return [(-g, g)]
-    if u_lo <= -1.0:  # one arc through phi = 180
-        g = float(np.arccos(u_hi))
+    if r_hi >= far:  # one arc through phi = 180
+        g = end(r_lo)
         return [(g, TWO_PI - g)]
-    g1, g2 = float(np.arccos(u_hi)), float(np.arccos(u_lo))
+    g1, g2 = end(r_lo), end(r_hi)
     return [(g1, g2), (-g2, -g1)]
 
 
@@ -194,8 +228,12 @@ def transmission_extremes(a, b, c, d, lo, hi):
     """
     cands = [lo, hi] + [x for x in (0.0, np.pi) if arc_contains((lo, hi), x)]
     phi = np.array(cands)
-    rho2 = a * a + d * d - 2 * a * d * np.cos(phi)
-    mu = np.arccos(np.clip((b * b + c * c - rho2) / (2 * b * c), -1.0, 1.0))
+    rho = ground_distance(a, d, phi)
+    mu = transmission_angle(b, c, rho)
+    # an end of a rocking input's arc is a toggle (rho = b + c or |b - c|): the round-off of
+    # its angle would cost sqrt(eps) in mu there, so a toggle met to round-off is exact
+    toggle = TOGGLE_RTOL * (b + c)
+    mu = np.where(np.abs(rho - (b + c)) <= toggle, np.pi, np.where(np.abs(rho - abs(b - c)) <= toggle, 0.0, mu))
     i, j = int(np.argmin(mu)), int(np.argmax(mu))
     return float(mu[i]), float(phi[i]), float(mu[j]), float(phi[j])
 

@@ -76,6 +76,8 @@ def _generic(name: str, section, digits: int, units: dict[str, str] | None = Non
         label = k.replace("_", " ") + (f" ({units[k]})" if k in units else "")
         if isinstance(v, dict):
             flat += [(f"{label} {sub.replace('_', ' ')}", x) for sub, x in v.items()]
+        elif isinstance(v, list) and v and isinstance(v[0], dict) and k == "curve":
+            flat.append((label, f"{len(v)} rows in JSON/TOML output"))  # plot data, not for reading
         elif isinstance(v, list) and v and isinstance(v[0], dict):
             tables.append(_rows(f"{title}: {k.replace('_', ' ')}", v, digits))
         else:
@@ -115,7 +117,8 @@ def render(report: dict, digits: int = 6) -> Group:
         parts.append(_kv("Link lengths", rows, digits))
     if "grashof" in r:
         g = r["grashof"]
-        rel = "<" if g["s_plus_l"] < g["p_plus_q"] else ("=" if g["s_plus_l"] == g["p_plus_q"] else ">")
+        sl, pq = g["s_plus_l"], g["p_plus_q"]
+        rel = "vs" if sl is None or pq is None else "<" if sl < pq else ("=" if sl == pq else ">")
         parts.append(_kv("Grashof", [("class", g["class"]), ("shortest", g["shortest"]),
                                      ("longest", g["longest"]),
                                      ("s + l vs p + q", f"{fmt(g['s_plus_l'], digits)} {rel} {fmt(g['p_plus_q'], digits)}")],

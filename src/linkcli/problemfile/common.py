@@ -14,6 +14,25 @@ ALL_SECTIONS = ("lengths", "grashof", "transmission", "motion", "kinematics", "p
 MAX_BUDGET = 10**9
 MAX_SAMPLES = 1_000_000  # a tolerance study: more gains nothing but minutes
 MIN_FAILURES = 10  # inverse mode: expected failures at the level, for a stable bisection
+MIN_LENGTH, MAX_LENGTH = 1e-9, 1e9  # file's unit: beyond, squares of lengths lose all precision
+
+
+def bounded_length(t: Table, key: str):
+    """A positive length within [MIN_LENGTH, MAX_LENGTH]; None when missing or bad."""
+    value = t.number(key, positive=True, what="a positive length")
+    if value is not None and not MIN_LENGTH <= value <= MAX_LENGTH:
+        t.error(key, f"a length within [{MIN_LENGTH:g}, {MAX_LENGTH:g}]", value)
+        return None
+    return value
+
+
+def bounded_point(t: Table, key: str, default):
+    """Coordinates [x, y], each at most MAX_LENGTH in magnitude; None when bad."""
+    value = t.number_list(key, default, length=2, what="coordinates [x, y]")
+    if value is not None and max(abs(v) for v in value) > MAX_LENGTH:
+        t.error(key, f"coordinates of magnitude at most {MAX_LENGTH:g}", raw_got=str(value))
+        return None
+    return value
 
 
 def read_meta(root: Table, kind: str, module) -> Meta:

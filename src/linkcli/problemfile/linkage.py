@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from linkcli.model import BRANCHES, FourBar, LinkageProblem, Meta
+from linkcli.problemfile.common import MAX_LENGTH, bounded_length, bounded_point
 from linkcli.problemfile.reader import Table
 
 DEFAULT_SECTIONS = ("lengths", "grashof", "transmission", "motion", "kinematics")
@@ -10,17 +11,23 @@ SECTIONS = ("lengths", "grashof", "transmission", "motion", "kinematics", "toler
 METHODS = ("auto",)
 TOLERANCE = True
 MAX_STEPS = 100_000
+MAX_RATIO = 1e6  # longest over shortest link
 
 
 def read_fourbar(t: Table, units) -> FourBar | None:
     """[linkage] with all four lengths, a branch, and optional placement."""
-    lengths = {k: t.number(k, positive=True, what="a positive length")
-               for k in ("ground", "input", "coupler", "output")}
+    lengths = {k: bounded_length(t, k) for k in ("ground", "input", "coupler", "output")}
     branch = t.string("branch", "open", choices=BRANCHES)
-    cp = t.number_list("coupler_point", None, length=2, what="coordinates [x, y]")
-    gp = t.number_list("ground_pivot", [0.0, 0.0], length=2, what="coordinates [x, y]")
-    ga = t.number("ground_angle", 0.0)
+    cp = bounded_point(t, "coupler_point", None)
+    gp = bounded_point(t, "ground_pivot", [0.0, 0.0])
+    ga = t.number("ground_angle", 0.0, lo=-MAX_LENGTH, hi=MAX_LENGTH)
     if None in lengths.values() or branch is None or gp is None or ga is None:
+        return None
+    longest, shortest = max(lengths, key=lengths.get), min(lengths, key=lengths.get)
+    if lengths[longest] > MAX_RATIO * lengths[shortest]:
+        t.error(longest, f"a linkage whose longest link is at most {MAX_RATIO:g} times its shortest "
+                "(beyond, double precision cannot resolve its angles)",
+                raw_got=f"{longest} = {lengths[longest]:g} and {shortest} = {lengths[shortest]:g}")
         return None
     return FourBar(branch=branch, coupler_point=tuple(cp) if cp else None,
                    ground_pivot=tuple(gp), ground_angle=units.to_rad(ga), **lengths)
@@ -32,7 +39,8 @@ def parse(root: Table, meta: Meta) -> LinkageProblem | None:
     mot = root.table("motion")
     speed, steps = 1.0, 360
     if mot is not None:
-        speed = mot.number("input_speed", 1.0, what="a non-zero number (angle unit per second)")
+        speed = mot.number("input_speed", 1.0, lo=-MAX_LENGTH, hi=MAX_LENGTH,
+                           what="a non-zero number (angle unit per second)")
         if speed == 0.0:
             mot.error("input_speed", "a non-zero number (angle unit per second)", 0.0)
             speed = None

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 from linkcli.model import Meta, PrecisionPositionProblem
+from linkcli.problemfile.common import bounded_length
 from linkcli.problemfile.reader import Table
 
 DEFAULT_SECTIONS = ("lengths", "grashof", "transmission", "motion", "positions", "error", "solver")
@@ -17,7 +18,7 @@ MAX_POSITIONS = 1000
 
 def parse(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
     link = root.table("linkage", required=True)
-    ground = link.number("ground", positive=True, what="a positive length") if link else None
+    ground = bounded_length(link, "ground") if link else None
     pos = root.table("positions", required=True)
     phi = psi = None
     if pos is not None:

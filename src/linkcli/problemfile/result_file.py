@@ -13,11 +13,22 @@ from linkcli.problemfile.reader import Reader
 
 
 def is_result(data: dict) -> bool:
-    return isinstance(data, dict) and "status" in data and "linkage" in data
+    """A result file carries `status` (linkcli's own output key); a problem file never does."""
+    return isinstance(data, dict) and "status" in data
+
+
+def has_linkage(data: dict) -> bool:
+    return isinstance(data.get("linkage"), dict)
 
 
 def parse(reader: Reader) -> LinkageProblem | None:
     root = reader.root()
+    if not has_linkage(reader.data):
+        kind = reader.data.get("type")
+        what = f'a {kind} result without one' if isinstance(kind, str) else "a result without one"
+        root.error("linkage", "a result with a [linkage] table (only linkages can be analysed)",
+                   raw_got=what)
+        return None
     title = root.raw("title", None)
     units = read_units(root)
     link = root.table("linkage", required=True)
