@@ -168,7 +168,7 @@ CASES = {
                          "distance to target (mm)", "coupler point P = (25, 18) mm", "Timing: input angle at each target"]),
     "flipper-cylinder": (flipper_report, FlipperLoad(),
                          ["Flipper demo", "force (kN)", "moment arm (mm)", "length (mm)", "platform angle (deg)",
-                          "push (rod extends)", "pull (rod retracts)", "A (start)", "G (end)"]),
+                          "push (rod in compression)", "pull (rod in tension)", "A (start)", "G (end)"]),
     "linkage": (lambda: solved_report("problems/firedoor_motion.toml", "analyze"), "load",
                 ["Fire-door closer: motion at 20 deg/s", "angular velocity (deg/s)",
                  "angular accel. (deg/s\u00b2)", "\u03bc (deg)", "recommended 40..140 deg",

@@ -129,9 +129,9 @@ def draw(fig, report: dict, problem=None) -> None:
         ax_f.axhline(0.0, color="#444444", lw=0.8)
         ax_f.plot(ang, force * k, color=CYLINDER, lw=1.9, label="cylinder force")
         ax_f.fill_between(ang, 0.0, force * k, where=force >= 0, color="#1f77b4", alpha=0.18, lw=0,
-                          label="push (rod extends)")
+                          label="push (rod in compression)")
         ax_f.fill_between(ang, 0.0, force * k, where=force < 0, color="#d62728", alpha=0.18, lw=0,
-                          label="pull (rod retracts)")
+                          label="pull (rod in tension)")
     at = cyl.get("peak_angle")
     kind = cyl.get("peak_kind", "push")
     if at is not None:

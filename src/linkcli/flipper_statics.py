@@ -1,0 +1,194 @@
+"""Statics of a platform turned about its hinge by a hydraulic cylinder (numpy only).
+
+Geometry (SPEC section 2, flipper-cylinder). The platform is hinged at B = (0, 0) and turns
+counter-clockwise by the platform angle t from `start` to `end`. The rod pivot A and the
+centre of mass G are given at the start position and turn with the platform,
+X(t) = R(t - start) X_start; the base pivot C is fixed. The cylinder acts along C -> A,
+e = (A - C) / L with L = |A - C|; its force F is positive when it pushes (force on A
+along +e), negative when it pulls.
+
+Static balance about the hinge (the weight -m g y-hat acts at G, its moment is -m g G_x):
+
+    F (A x e) = m g G_x,   A x e = A x (A - C) / L = (C x A) / L,
+
+so that, with K = C x A = C_x A_y - C_y A_x and the load moment W = m g G_x,
+
+    F(t) = W(t) L(t) / K(t),   moment arm about B: |K| / L.
+
+K(t) = |C| |A| sin(theta_A(t) - theta_C) is a sinusoid of t: over a sweep shorter than
+180 deg it has at most one zero, so the arm vanishes inside the sweep exactly when K has
+opposite signs at the two ends (or is zero at one): the cylinder line then passes through
+the hinge and the force is unbounded. While K keeps its sign, L(t)^2 = |A|^2 + |C|^2 -
+2 |A| |C| cos(theta_A(t) - theta_C) is monotone in t, so the cylinder is shortest and
+longest at the ends of the sweep (closed length = min(L(start), L(end))).
+
+The peak force (largest |F| over the sweep) is taken on a grid of at most STEP spacing
+with both ends exact, then every local maximum of F and of -F on the grid that comes
+within 1 % of the largest is refined by golden-section search in its bracket; every
+array function here is vectorized over candidates (rows) and angles (columns).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+STEP = math.radians(0.5)  # largest spacing of the sweep grid
+MIN_POINTS = 33
+GOLDEN_ITERATIONS = 50  # bracket shrinks by 0.618^50 ~ 4e-11
+NEAR_PEAK = 0.99  # local maxima refined: grid value within 1 % of the grid maximum
+INVPHI = (math.sqrt(5.0) - 1.0) / 2.0
+
+
+def sweep_grid(sweep: float, step: float = STEP) -> np.ndarray:
+    """Turns tau = t - start from 0 to `sweep` (rad), ends exact, spacing <= step."""
+    n = max(MIN_POINTS, int(math.ceil(sweep / step - 1e-9)) + 1)
+    tau = np.linspace(0.0, sweep, n)
+    tau[0], tau[-1] = 0.0, sweep
+    return tau
+
+
+def turn(x0, y0, tau):
+    """R(tau) (x0, y0): counter-clockwise about the hinge B = (0, 0)."""
+    c, s = np.cos(tau), np.sin(tau)
+    return c * x0 - s * y0, s * x0 + c * y0
+
+
+class Statics:
+    """The platform's load and sweep; forces of cylinder designs over the sweep.
+
+    A design is the row (A_x, A_y, C_x, C_y): rod pivot at the start position, base pivot.
+    Angles `tau` are turns from the start position (rad).
+    """
+
+    def __init__(self, weight: float, center_of_mass: tuple[float, float], sweep: float,
+                 step: float = STEP) -> None:
+        self.weight = float(weight)  # m g, N
+        self.gx0, self.gy0 = (float(v) for v in center_of_mass)
+        self.sweep = float(sweep)
+        self.grid = sweep_grid(self.sweep, step)
+
+    # -- forces -------------------------------------------------------------------
+    def moment(self, tau):
+        """Load moment W = m g G_x(tau) about B (N times length unit)."""
+        return self.weight * turn(self.gx0, self.gy0, tau)[0]
+
+    def terms(self, designs, tau):
+        """K = C x A, L = |A - C| and W for designs (S, 4) at angles tau (N,) or (S, N)."""
+        p = np.asarray(designs, dtype=float)
+        ax0, ay0, cx, cy = (p[:, i:i + 1] for i in range(4))
+        ax, ay = turn(ax0, ay0, tau)
+        k = cx * ay - cy * ax
+        length = np.hypot(ax - cx, ay - cy)
+        return k, length, self.moment(tau)
+
+    def forces(self, designs, tau=None):
+        """F = W L / K (N), arm |K| / L and L at angles tau (default: the grid), (S, N).
+
+        At K = 0 (the cylinder line through the hinge) F is infinite (nan when W L = 0 too).
+        """
+        tau = self.grid if tau is None else tau
+        k, length, w = self.terms(designs, tau)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            force = w * length / k
+            arm = np.abs(k) / length
+        return force, arm, length
+
+    # -- closed forms over the sweep -----------------------------------------------
+    def end_lengths(self, designs):
+        """Cylinder lengths at the start and at the end of the sweep, each (S,)."""
+        k, length, _ = self.terms(designs, np.array([0.0, self.sweep]))
+        return length[:, 0], length[:, 1]
+
+    def crossing(self, designs):
+        """(crosses, tau0): whether the cylinder line passes through the hinge somewhere in
+        the sweep (K changes sign between the ends or vanishes at one), and the turn tau0
+        in [0, pi) at which K(tau) = |C||A| sin(theta_A + tau - theta_C) vanishes."""
+        p = np.asarray(designs, dtype=float)
+        k, _, _ = self.terms(p, np.array([0.0, self.sweep]))
+        crosses = ~(np.sign(k[:, 0]) * np.sign(k[:, 1]) > 0)
+        theta = np.arctan2(p[:, 1], p[:, 0]) - np.arctan2(p[:, 3], p[:, 2])
+        tau0 = np.mod(-theta, math.pi)
+        return crosses, tau0
+
+    # -- the peak --------------------------------------------------------------------
+    def extremes(self, designs, sign: float):
+        """Largest value of sign * F over the sweep (grid, then golden-section refinement
+        of the near-largest local maxima), and its turn: two arrays (S,)."""
+        p = np.asarray(designs, dtype=float)
+        tau = self.grid
+        f = sign * self.forces(p)[0]
+        f = np.where(np.isnan(f), -np.inf, f)
+        best = f.max(axis=1)
+        at = tau[np.argmax(f, axis=1)]
+        left = np.concatenate([np.full((len(p), 1), -np.inf), f[:, :-1]], axis=1)
+        right = np.concatenate([f[:, 1:], np.full((len(p), 1), -np.inf)], axis=1)
+        thresh = np.where(best > 0, NEAR_PEAK * best, best)
+        local = (f >= left) & (f >= right) & (f >= thresh[:, None]) & np.isfinite(f)
+        rows, cols = np.nonzero(local)
+        if len(rows) == 0:
+            return best, at
+        n = len(tau)
+        lo = tau[np.maximum(cols - 1, 0)]
+        hi = tau[np.minimum(cols + 1, n - 1)]
+        x, fx = self._golden(p[rows], lo, hi, sign)
+        order = np.lexsort((fx, rows))
+        last = np.r_[rows[order][1:] != rows[order][:-1], True]
+        r, xv, fv = rows[order][last], x[order][last], fx[order][last]
+        better = fv > best[r]
+        best[r[better]] = fv[better]
+        at[r[better]] = xv[better]
+        return best, at
+
+    def _golden(self, designs, lo, hi, sign):
+        """Golden-section search for the maximum of sign * F on [lo, hi], one bracket per
+        design row (all brackets at once)."""
+        a, b = lo.copy(), hi.copy()
+
+        def value(tau):
+            f = sign * self.forces(designs, tau[:, None])[0][:, 0]
+            return np.where(np.isnan(f), -np.inf, f)
+
+        c = b - INVPHI * (b - a)
+        d = a + INVPHI * (b - a)
+        fc, fd = value(c), value(d)
+        for _ in range(GOLDEN_ITERATIONS):
+            left = fc >= fd  # the maximum lies in [a, d]: d <- c, new c; else [c, b]: c <- d, new d
+            b = np.where(left, d, b)
+            a = np.where(left, a, c)
+            new = np.where(left, b - INVPHI * (b - a), a + INVPHI * (b - a))
+            f_new = value(new)  # one new point per bracket and iteration
+            c, d = np.where(left, new, d), np.where(left, c, new)
+            fc, fd = np.where(left, f_new, fd), np.where(left, fc, f_new)
+        x = np.where(fc >= fd, c, d)
+        return x, np.maximum(fc, fd)
+
+    def peaks(self, designs) -> dict:
+        """Largest push and pull over the sweep (N, >= 0) with their turns, and the peak
+        (the larger of the two, `push` true when it pushes), arrays (S,)."""
+        push, push_at = self.extremes(designs, 1.0)
+        pull, pull_at = self.extremes(designs, -1.0)
+        is_push = push >= pull
+        return {"push": np.maximum(push, 0.0), "push_at": push_at,
+                "pull": np.maximum(pull, 0.0), "pull_at": pull_at,
+                "peak": np.where(is_push, push, pull), "peak_at": np.where(is_push, push_at, pull_at),
+                "is_push": is_push}
+
+    # -- derivatives for a local solver --------------------------------------------------
+    def gradients(self, design, tau):
+        """K, L (N,) of one design at angles tau and their gradients (N, 4) with respect
+        to (A_x, A_y, C_x, C_y), where A = R(tau) A_start:
+        dK/dA_start = R^T (-C_y, C_x), dK/dC = (A_y, -A_x);
+        dL/dA_start = R^T (A - C) / L, dL/dC = -(A - C) / L."""
+        ax0, ay0, cx, cy = (float(v) for v in design)
+        c, s = np.cos(tau), np.sin(tau)
+        ax, ay = c * ax0 - s * ay0, s * ax0 + c * ay0
+        k = cx * ay - cy * ax
+        dx, dy = ax - cx, ay - cy
+        length = np.hypot(dx, dy)
+        dk = np.column_stack([c * (-cy) + s * cx, -s * (-cy) + c * cx, ay, -ax])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ux, uy = dx / length, dy / length
+        dl = np.column_stack([c * ux + s * uy, -s * ux + c * uy, -ux, -uy])
+        return k, dk, length, dl

@@ -1,0 +1,459 @@
+"""flipper-cylinder: the cylinder force against independent references.
+
+References written here, not taken from the code under test:
+- `ref_force`: static balance about the hinge, one angle at a time with the math module:
+  F (r_A x e) = m g G_x, e = (A - C) / |A - C|, A and G turned by t - start.
+- `vw_force`: the principle of virtual work, F dL = m g dG_y, with dL/dt by a central
+  finite difference of the cylinder length and dG_y/dt = G_x (a different route to F).
+- the seed paper's value: 33,815 N at 90 deg for A = (350, 320), C = (1400, 50).
+- brute force: the peak by a dense per-angle scan, and the best design of a grid over the
+  pivot bounds (numpy, written in this file).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from conftest import run_cli
+from linkcli import analyse
+from linkcli.flipper_statics import Statics
+from linkcli.problemfile import load
+from linkcli.solvers import solve
+
+M, G, COM = 2000.0, 9.8, (830.0, 500.0)
+PAPER_A, PAPER_C = (350.0, 320.0), (1400.0, 50.0)
+
+
+def rotate(p, t):
+    c, s = math.cos(t), math.sin(t)
+    return p[0] * c - p[1] * s, p[0] * s + p[1] * c
+
+
+def ref_force(a0, c, deg, start=0.0, mass=M, g=G, com=COM):
+    """Cylinder force (N, push > 0) at platform angle `deg` from the moment balance about B."""
+    t = math.radians(deg - start)
+    ax, ay = rotate(a0, t)
+    gx, _ = rotate(com, t)
+    length = math.hypot(ax - c[0], ay - c[1])
+    ex, ey = (ax - c[0]) / length, (ay - c[1]) / length
+    return mass * g * gx / (ax * ey - ay * ex)
+
+
+def vw_force(a0, c, deg, start=0.0, mass=M, g=G, com=COM, h=1e-6):
+    """Virtual work: the cylinder's work F dL equals the lift of the weight m g dG_y."""
+    t = math.radians(deg - start)
+
+    def length(tt):
+        ax, ay = rotate(a0, tt)
+        return math.hypot(ax - c[0], ay - c[1])
+
+    dl = (length(t + h) - length(t - h)) / (2 * h)
+    gx, _ = rotate(com, t)  # d/dt of (R(t) G)_y is (R(t) G)_x
+    return mass * g * gx / dl
+
+
+def ref_peak(a0, c, start, end, n=90001, **load):
+    """(|F| max, angle, signed F) by a per-angle scan with both ends."""
+    best = (-1.0, None, None)
+    for i in range(n):
+        deg = start + (end - start) * i / (n - 1)
+        f = ref_force(a0, c, deg, start, **load)
+        if abs(f) > best[0]:
+            best = (abs(f), deg, f)
+    return best
+
+
+def text(rod, base, *, start=0, end=90, cylinder="", objective="", extra="", units="", com=COM):
+    return (f'type = "flipper-cylinder"\n{units}[load]\nmass = {M}\ncenter_of_mass = [{com[0]}, {com[1]}]\n'
+            f"gravity = {G}\n[motion]\nstart = {start}\nend = {end}\n[bounds]\n"
+            f"rod_pivot = {rod}\nbase_pivot = {base}\n{cylinder}{objective}{extra}")
+
+
+PAPER = text("{ x = 350, y = 320 }", "{ x = 1400, y = 50 }")
+SEED = text("{ x = [0, 350], y = [320, 1380] }", "{ x = [400, 1400], y = 50 }")
+
+
+def report_of(source: str):
+    problem = load("test.toml", source)
+    sol = solve(problem)
+    return problem, sol, analyse.build(problem, sol)
+
+
+# ----------------------------------------------------------------------- the paper's design
+def test_reference_reproduces_the_papers_force_at_90_deg():
+    f90 = ref_force(PAPER_A, PAPER_C, 90.0)
+    assert abs(f90) == pytest.approx(33815.0, rel=1e-4)  # the paper, to 0.01 %
+    assert f90 < 0  # the rod pulls at 90 deg
+    assert vw_force(PAPER_A, PAPER_C, 90.0) == pytest.approx(f90, rel=1e-7)
+    assert vw_force(PAPER_A, PAPER_C, 0.0) == pytest.approx(ref_force(PAPER_A, PAPER_C, 0.0), rel=1e-7)
+
+
+def test_papers_design_forces_at_0_and_90_deg():
+    _, sol, rep = report_of(PAPER)
+    rows = {r["angle"]: r for r in rep["cylinder"]["forces"]}
+    assert rows[90.0]["force"] == pytest.approx(-33815.0, rel=1e-4)
+    assert rows[90.0]["force"] == pytest.approx(ref_force(PAPER_A, PAPER_C, 90.0), rel=1e-12)
+    assert rows[0.0]["force"] == pytest.approx(ref_force(PAPER_A, PAPER_C, 0.0), rel=1e-12)
+    assert rows[0.0]["force"] == pytest.approx(40968.857, rel=1e-6)  # pushes harder than it pulls
+    assert sol.solver["method"] == "evaluate" and sol.solver["evaluations"] == 1
+
+
+def test_papers_design_true_peak_over_the_sweep():
+    _, sol, rep = report_of(PAPER)
+    cyl = rep["cylinder"]
+    peak, at, signed = ref_peak(PAPER_A, PAPER_C, 0.0, 90.0)
+    assert cyl["peak_force"] == pytest.approx(peak, rel=1e-4)
+    assert cyl["peak_angle"] == pytest.approx(at, abs=1e-3)
+    assert cyl["peak_kind"] == ("push" if signed > 0 else "pull") == "push"
+    assert cyl["pull_force"] == pytest.approx(33815.0, rel=1e-4)
+    assert sol.status.value == "ok" and sol.objective == pytest.approx(peak, rel=1e-4)
+
+
+def test_every_table_row_matches_both_references():
+    _, _, rep = report_of(PAPER)
+    rows = rep["cylinder"]["forces_full"]
+    assert rows[0]["angle"] == 0.0 and rows[-1]["angle"] == 90.0
+    for r in rows:
+        assert r["force"] == pytest.approx(ref_force(PAPER_A, PAPER_C, r["angle"]), rel=1e-9)
+        assert r["force"] == pytest.approx(vw_force(PAPER_A, PAPER_C, r["angle"]), rel=1e-6)
+        a = rotate(PAPER_A, math.radians(r["angle"]))
+        length = math.hypot(a[0] - PAPER_C[0], a[1] - PAPER_C[1])
+        assert r["length"] == pytest.approx(length, rel=1e-12)
+        arm = abs(PAPER_C[0] * a[1] - PAPER_C[1] * a[0]) / length  # distance from B to line C-A
+        assert r["arm"] == pytest.approx(arm, rel=1e-12)
+
+
+def test_interior_peak_is_found_to_1e_4():
+    """A sweep from -60 to 60 deg whose centre of mass is level with the hinge at 58 deg
+    past the start: the peak lies inside the sweep, between grid angles."""
+    a0, c, com = (397.0, 128.0), (1422.0, -142.0), (500.0, -800.0)
+    src = text("{ x = 397, y = 128 }", "{ x = 1422, y = -142 }", start=-60, end=60, com=com)
+    _, _, rep = report_of(src)
+    peak, at, _ = ref_peak(a0, c, -60.0, 60.0, n=120001, com=com)
+    assert -59.0 < at < 59.0  # the test case really has an interior maximum
+    assert rep["cylinder"]["peak_force"] == pytest.approx(peak, rel=1e-4)
+    assert rep["cylinder"]["peak_angle"] == pytest.approx(at, abs=0.01)
+
+
+def test_refined_peak_against_a_very_dense_grid():
+    """1e-4 relative (in fact far better) for many designs, against 400001 angles each."""
+    rng = np.random.default_rng(7)
+    st = Statics(M * G, COM, math.radians(120.0))
+    designs = np.column_stack([rng.uniform(-400, 400, 400), rng.uniform(100, 1400, 400),
+                               rng.uniform(300, 1500, 400), rng.uniform(-400, 200, 400)])
+    crosses, _ = st.crossing(designs)
+    designs = designs[~crosses][:30]
+    assert len(designs) >= 10
+    got = st.peaks(designs)
+    t = np.linspace(0.0, math.radians(120.0), 400001)
+    for d, peak in zip(designs, got["peak"]):
+        ax, ay = d[0] * np.cos(t) - d[1] * np.sin(t), d[0] * np.sin(t) + d[1] * np.cos(t)
+        gx = COM[0] * np.cos(t) - COM[1] * np.sin(t)
+        length = np.hypot(ax - d[2], ay - d[3])
+        f = M * G * gx * length / (d[2] * ay - d[3] * ax)
+        dense = np.max(np.abs(f))
+        assert peak >= dense * (1 - 1e-12)
+        assert peak == pytest.approx(dense, rel=1e-4)
+
+
+def test_start_position_and_nonzero_start_angle():
+    """Pivots and the centre of mass are given at the start position: X(t) = R(t - start) X."""
+    src = text("{ x = 350, y = 320 }", "{ x = 1400, y = 50 }", start=30, end=120)
+    _, _, rep = report_of(src)
+    rows = {r["angle"]: r["force"] for r in rep["cylinder"]["forces"]}
+    assert rows[30.0] == pytest.approx(ref_force(PAPER_A, PAPER_C, 30.0, start=30.0), rel=1e-12)
+    assert rows[30.0] == pytest.approx(ref_force(PAPER_A, PAPER_C, 0.0), rel=1e-12)
+    assert rows[120.0] == pytest.approx(ref_force(PAPER_A, PAPER_C, 120.0, start=30.0), rel=1e-12)
+
+
+def test_cylinder_line_through_the_hinge_is_infeasible():
+    """C = (0, -500): A_x(t) = 350 cos t - 320 sin t vanishes at tan t = 350/320, where C, B
+    and A are in line and no force can hold the platform."""
+    src = text("{ x = 350, y = 320 }", "{ x = 0, y = -500 }")
+    _, sol, rep = report_of(src)
+    assert sol.status.value == "infeasible"
+    assert "passes through the hinge" in sol.message
+    zero = math.degrees(math.atan2(350.0, 320.0))
+    assert f"{zero:.6g} deg" in sol.message
+    assert rep["cylinder"]["peak_force"] == math.inf and rep["cylinder"]["peak_kind"] == "unbounded"
+    code, out, err = run_cli("synth", "problems/flipper_check.toml")
+    assert code == 0
+
+
+def test_pressures_on_bore_and_annulus():
+    src = text("{ x = 350, y = 320 }", "{ x = 1400, y = 50 }", cylinder="[cylinder]\nbore = 80\nrod = 45\n")
+    _, _, rep = report_of(src)
+    cyl = rep["cylinder"]
+    push = ref_force(PAPER_A, PAPER_C, 0.0)
+    pull = -ref_force(PAPER_A, PAPER_C, 90.0)
+    assert cyl["push_pressure"] == pytest.approx(push / (math.pi / 4 * 80 ** 2), rel=1e-6)
+    assert cyl["pull_pressure"] == pytest.approx(pull / (math.pi / 4 * (80 ** 2 - 45 ** 2)), rel=1e-6)
+    # the same cylinder in metres: the same pressures (areas converted to mm^2)
+    src_m = text("{ x = 0.35, y = 0.32 }", "{ x = 1.4, y = 0.05 }", units='[units]\nlength = "m"\n',
+                 cylinder="[cylinder]\nbore = 0.08\nrod = 0.045\n").replace("[830.0, 500.0]", "[0.83, 0.5]")
+    _, _, rep_m = report_of(src_m)
+    assert rep_m["cylinder"]["push_pressure"] == pytest.approx(cyl["push_pressure"], rel=1e-9)
+    assert rep_m["cylinder"]["pull_pressure"] == pytest.approx(cyl["pull_pressure"], rel=1e-9)
+
+
+# ------------------------------------------------------------------------- optimization
+def grid_peaks(x1, y1, x2, y2=50.0, degs=np.linspace(0.0, 90.0, 181)):
+    """Peak |F| (and closed, open lengths) of every design of a pivot grid, test-local numpy."""
+    t = np.radians(degs)[None, :]
+    a0x, a0y, cx = x1.ravel()[:, None], y1.ravel()[:, None], x2.ravel()[:, None]
+    ax, ay = a0x * np.cos(t) - a0y * np.sin(t), a0x * np.sin(t) + a0y * np.cos(t)
+    gx = COM[0] * np.cos(t) - COM[1] * np.sin(t)
+    length = np.hypot(ax - cx, ay - y2)
+    k = cx * ay - y2 * ax
+    f = M * G * gx * length / k
+    ok = np.all(k > 0, axis=1) | np.all(k < 0, axis=1)
+    peak = np.where(ok, np.max(np.abs(f), axis=1), np.inf)
+    return peak, length[:, 0], length[:, -1]
+
+
+@pytest.fixture(scope="module")
+def seed_result():
+    problem = load("problems/flipper.toml")
+    sol = solve(problem)
+    return problem, sol, analyse.build(problem, sol)
+
+
+def test_optimized_peak_is_true_and_beats_a_brute_force_grid(seed_result):
+    _, sol, rep = seed_result
+    cyl = rep["cylinder"]
+    a0, c = tuple(cyl["rod_pivot"]), tuple(cyl["base_pivot"])
+    assert 0 <= a0[0] <= 350 and 320 <= a0[1] <= 1380 and 400 <= c[0] <= 1400 and c[1] == 50
+    peak, _, _ = ref_peak(a0, c, 0.0, 90.0, n=9001)
+    assert cyl["peak_force"] == pytest.approx(peak, rel=1e-4)
+    x1, y1, x2 = np.meshgrid(np.linspace(0, 350, 36), np.linspace(320, 1380, 107),
+                             np.linspace(400, 1400, 51), indexing="ij")
+    best = np.inf
+    for i in range(0, x1.size, 40000):  # chunks keep memory small
+        p, _, _ = grid_peaks(x1.ravel()[i:i + 40000], y1.ravel()[i:i + 40000], x2.ravel()[i:i + 40000])
+        best = min(best, float(p.min()))
+    assert cyl["peak_force"] <= best
+    assert sol.status.value == "ok" and sol.solver["converged"]
+
+
+def test_optimized_peak_is_a_local_minimum(seed_result):
+    """No feasible nearby design (within the bounds) has a lower independent peak."""
+    _, _, rep = seed_result
+    cyl = rep["cylinder"]
+    a0, c = cyl["rod_pivot"], cyl["base_pivot"]
+    rng = np.random.default_rng(3)
+    for scale in (1e-3, 1e-1, 3.0):
+        for _ in range(20):
+            dx1, dy1, dx2 = rng.normal(0, scale, 3)
+            x1, x2 = min(350.0, a0[0] + dx1), min(1400.0, c[0] + dx2)
+            p, _, _ = ref_peak((x1, a0[1] + dy1), (x2, 50.0), 0.0, 90.0, n=91)
+            assert p >= cyl["peak_force"] * (1 - 1e-7)
+
+
+def test_seed_reference_and_balance(seed_result):
+    """The minimax balances the push at 0 deg against the pull at 90 deg (the reference in
+    problems/flipper.toml is the 1-D root of F(0) + F(90) = 0 at x1 = 350, x2 = 1400)."""
+    problem, sol, rep = seed_result
+    cyl = rep["cylinder"]
+    lo, hi = 320.0, 400.0
+    for _ in range(200):  # bisection on y1, test-local
+        mid = 0.5 * (lo + hi)
+        h = ref_force((350, mid), (1400, 50), 0.0) + ref_force((350, mid), (1400, 50), 90.0)
+        lo, hi = (mid, hi) if h > 0 else (lo, mid)
+    y1 = 0.5 * (lo + hi)
+    assert cyl["rod_pivot"] == pytest.approx([350.0, y1], rel=1e-6)
+    assert cyl["base_pivot"] == pytest.approx([1400.0, 50.0], rel=1e-9)
+    assert cyl["peak_force"] == pytest.approx(ref_force((350, y1), (1400, 50), 0.0), rel=1e-8)
+    assert cyl["push_force"] == pytest.approx(cyl["pull_force"], rel=1e-6)
+    assert problem.meta.reference.objective == pytest.approx(cyl["peak_force"], rel=1e-7)
+
+
+@pytest.mark.parametrize("method", ["auto", "differential-evolution", "slsqp"])
+def test_each_method_reaches_the_minimax(method):
+    src = SEED + f'[solver]\nmethod = "{method}"\n'
+    _, sol, rep = report_of(src)
+    assert rep["cylinder"]["peak_force"] == pytest.approx(34761.665, rel=1e-5)
+    assert sol.solver["method"] == method and sol.solver["evaluations"] <= 4000
+
+
+def test_cylinder_length_respects_max_force_and_dead_length():
+    problem = load("problems/flipper_length.toml")
+    sol = solve(problem)
+    rep = analyse.build(problem, sol)
+    cyl = rep["cylinder"]
+    a0, c = tuple(cyl["rod_pivot"]), tuple(cyl["base_pivot"])
+    peak, _, _ = ref_peak(a0, c, 0.0, 90.0, n=9001)
+    assert peak <= 40000.0 * (1 + 1e-9)
+    l0 = math.hypot(a0[0] - c[0], a0[1] - c[1])
+    a90 = rotate(a0, math.pi / 2)
+    l90 = math.hypot(a90[0] - c[0], a90[1] - c[1])
+    closed, stroke = min(l0, l90), abs(l90 - l0)
+    assert closed >= stroke + 300.0 - 1e-6
+    assert cyl["min_length"] == pytest.approx(closed, rel=1e-12)
+    assert sol.objective == pytest.approx(closed, rel=1e-12)
+    # no design of a grid over the bounds is shorter within both limits
+    x1, y1, x2 = np.meshgrid(np.linspace(0, 350, 36), np.linspace(320, 1380, 107),
+                             np.linspace(400, 1400, 51), indexing="ij")
+    shortest = np.inf
+    for i in range(0, x1.size, 40000):
+        p, ls, le = grid_peaks(x1.ravel()[i:i + 40000], y1.ravel()[i:i + 40000], x2.ravel()[i:i + 40000])
+        cl = np.minimum(ls, le)
+        ok = (p <= 40000.0) & (cl >= np.abs(le - ls) + 300.0)
+        if ok.any():
+            shortest = min(shortest, float(cl[ok].min()))
+    assert closed <= shortest
+    assert sol.status.value == "ok"
+
+
+def test_cylinder_length_optimum_is_the_vertex_of_its_three_limits():
+    """At the shortest cylinder the push at 0 deg and the pull at 90 deg both reach 40 kN and
+    the dead length binds: three equations in (x1, y1, x2), solved here by fsolve on the
+    reference statics (the bench reference of problems/bench/flipper_length.toml)."""
+    from scipy.optimize import fsolve
+
+    def length(a0, c, deg):
+        a = rotate(a0, math.radians(deg))
+        return math.hypot(a[0] - c[0], a[1] - c[1])
+
+    def equations(v):
+        a0, c = (v[0], v[1]), (v[2], 50.0)
+        return [ref_force(a0, c, 0.0) / 40000 - 1, ref_force(a0, c, 90.0) / 40000 + 1,
+                (2 * length(a0, c, 0.0) - length(a0, c, 90.0) - 300.0) / 1000]
+
+    v = fsolve(equations, [300.0, 330.0, 1170.0], xtol=1e-13)
+    closed = length((v[0], v[1]), (v[2], 50.0), 0.0)
+    assert max(abs(e) for e in equations(v)) < 1e-10
+    _, _, rep = report_of(SEED + "[cylinder]\ndead_length = 300\nmax_force = 40000\n"
+                          '[objective]\nminimize = "cylinder-length"\n')
+    cyl = rep["cylinder"]
+    assert cyl["rod_pivot"] + [cyl["base_pivot"][0]] == pytest.approx(list(v), rel=1e-6)
+    assert cyl["min_length"] == pytest.approx(closed, rel=1e-6)
+    assert load("problems/bench/flipper_length.toml").meta.reference.objective == pytest.approx(closed, rel=1e-7)
+
+
+def test_telescopic_note_without_dead_length():
+    src = SEED + '[cylinder]\nmax_force = 40000\n[objective]\nminimize = "cylinder-length"\n'
+    _, sol, rep = report_of(src)
+    cyl = rep["cylinder"]
+    if cyl["min_length"] < cyl["stroke"]:
+        assert any("telescopic" in n for n in sol.notes)
+    src_short = text("{ x = 350, y = 320 }", "{ x = 500, y = 50 }")
+    _, sol2, rep2 = report_of(src_short)
+    assert rep2["cylinder"]["min_length"] < rep2["cylinder"]["stroke"]
+    assert any("only a telescopic cylinder fits" in n for n in sol2.notes)
+
+
+@pytest.mark.parametrize("end", [180, 270, 360, 400])
+def test_half_turn_or_more_is_bad_input(end):
+    from linkcli.errors import InputError
+    with pytest.raises(InputError, match="a sweep end - start below 180 deg"):
+        load("x.toml", PAPER.replace("end = 90", f"end = {end}"))
+
+
+def test_cylinder_length_without_dead_length_is_shorter_and_within_force():
+    src = SEED + '[cylinder]\nmax_force = 40000\n[objective]\nminimize = "cylinder-length"\n'
+    _, sol, rep = report_of(src)
+    cyl = rep["cylinder"]
+    peak, _, _ = ref_peak(tuple(cyl["rod_pivot"]), tuple(cyl["base_pivot"]), 0.0, 90.0, n=9001)
+    assert peak <= 40000.0 * (1 + 1e-9)
+    assert cyl["min_length"] <= 911.0908 * (1 + 1e-9)  # the dead length was binding
+
+
+def test_force_limit_that_cannot_be_met_is_infeasible():
+    src = SEED + "[cylinder]\nmax_force = 30000\n"
+    _, sol, _ = report_of(src)
+    assert sol.status.value == "infeasible"
+    over = 34761.665 - 30000.0
+    assert f"exceeds max_force 30000 N by {over:.6g} N" in sol.message
+
+
+def test_pareto_rows_trade_force_for_length():
+    problem = load("problems/flipper_length.toml")
+    rep = analyse.build(problem, solve(problem))
+    rows = rep["pareto"]
+    assert len(rows) == 6
+    closed = [r["closed_length"] for r in rows]
+    peaks = [r["peak_force"] for r in rows]
+    assert closed == sorted(closed, reverse=True)
+    assert all(b >= a * (1 - 1e-7) for a, b in zip(peaks, peaks[1:]))
+    assert peaks[0] == pytest.approx(34761.665, rel=1e-6)
+    assert peaks[-1] <= 40000.0 * (1 + 1e-9)
+    for r in rows:
+        peak, _, _ = ref_peak(tuple(r["rod_pivot"]), tuple(r["base_pivot"]), 0.0, 90.0, n=901)
+        assert r["peak_force"] == pytest.approx(peak, rel=1e-6)
+        assert r["max_length"] == pytest.approx(r["closed_length"] + r["stroke"], rel=1e-12)
+
+
+def test_units_metres_give_the_same_design_scaled():
+    src_m = (SEED.replace("[830.0, 500.0]", "[0.83, 0.5]")
+             .replace("{ x = [0, 350], y = [320, 1380] }", "{ x = [0, 0.35], y = [0.32, 1.38] }")
+             .replace("{ x = [400, 1400], y = 50 }", "{ x = [0.4, 1.4], y = 0.05 }"))
+    src_m = src_m.replace("[load]", '[units]\nlength = "m"\n[load]', 1)
+    _, _, mm = report_of(SEED)
+    _, _, m = report_of(src_m)
+    assert m["units"]["length"] == "m"
+    for key in ("rod_pivot", "base_pivot"):
+        assert np.array(m["cylinder"][key]) * 1000 == pytest.approx(np.array(mm["cylinder"][key]), rel=1e-6)
+    assert m["cylinder"]["peak_force"] == pytest.approx(mm["cylinder"]["peak_force"], rel=1e-9)
+    assert m["cylinder"]["stroke"] * 1000 == pytest.approx(mm["cylinder"]["stroke"], rel=1e-6)
+
+
+def test_angles_in_radians():
+    src = text("{ x = 350, y = 320 }", "{ x = 1400, y = 50 }", end=math.pi / 2,
+               units='[units]\nangle = "rad"\n')
+    _, _, rep = report_of(src)
+    cyl = rep["cylinder"]
+    assert cyl["peak_angle"] == 0.0 and cyl["pull_angle"] == pytest.approx(math.pi / 2, rel=1e-12)
+    assert cyl["forces"][-1]["angle"] == pytest.approx(math.pi / 2, rel=1e-12)
+
+
+# ----------------------------------------------------------------- budget, seed, sections
+@pytest.mark.parametrize("budget", [1, 7, 50, 300])
+def test_budget_is_respected(budget):
+    _, sol, _ = report_of(SEED + f"[solver]\nbudget = {budget}\n")
+    assert 1 <= sol.solver["evaluations"] <= budget
+    assert sol.status.value in ("ok", "not-converged")
+
+
+def test_same_seed_same_bytes_and_seeds_agree():
+    code1, out1, _ = run_cli("synth", "problems/flipper.toml", "--format", "json")
+    code2, out2, _ = run_cli("synth", "problems/flipper.toml", "--format", "json")
+    assert code1 == code2 == 0 and out1 == out2
+    code3, out3, _ = run_cli("synth", "problems/flipper.toml", "--format", "json", "--seed", "5")
+    a, b = json.loads(out1), json.loads(out3)
+    assert b["solver"]["seed"] == 5
+    assert b["cylinder"]["peak_force"] == pytest.approx(a["cylinder"]["peak_force"], rel=1e-6)
+
+
+def test_sections_not_asked_for_are_absent():
+    _, sol, rep = report_of(PAPER + '[report]\nsections = ["solver"]\n')
+    assert "cylinder" not in rep and "cylinder" not in sol.sections and "solver" in rep
+    _, _, rep2 = report_of(PAPER + '[report]\nsections = ["cylinder"]\n')
+    assert "cylinder" in rep2 and "solver" not in rep2
+
+
+def test_table_step_and_table_output():
+    _, _, rep = report_of(PAPER.replace("end = 90", "end = 90\ntable_step = 7.5"))
+    angles = [r["angle"] for r in rep["cylinder"]["forces"]]
+    assert angles == [0.0, 7.5, 15.0, 22.5, 30.0, 37.5, 45.0, 52.5, 60.0, 67.5, 75.0, 82.5, 90.0]
+    code, out, _ = run_cli("synth", "problems/flipper_check.toml")
+    assert code == 0 and "33815.2" in out and "pull" in out and "forces_full" in out
+    assert out.count("\n") < 80  # the full-resolution table stays out of the table format
+
+
+def test_bounds_containing_the_hinge_are_accepted():
+    """The optimizer never picks a pivot at the hinge (its force is unbounded)."""
+    src = text("{ x = [-200, 350], y = [-200, 1380] }", "{ x = [400, 1400], y = 50 }")
+    _, sol, rep = report_of(src + "[solver]\nbudget = 1500\n")
+    assert sol.status.value == "ok"
+    assert math.hypot(*rep["cylinder"]["rod_pivot"]) > 100.0
+
+
+def test_bad_input_exit_code_2(tmp_path):
+    p = tmp_path / "bad.toml"
+    p.write_text(PAPER.replace("mass = 2000.0", "mass = -1"))
+    code, out, err = run_cli("synth", str(p))
+    assert code == 2 and out == "" and "load.mass: expected a positive mass (kg), found -1" in err
