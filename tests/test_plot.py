@@ -202,6 +202,33 @@ def test_each_type_writes_png_and_svg_identically_twice(kind, mpl, tmp_path):
     assert b"<dc:date>" not in svg and b"Matplotlib v" not in svg
 
 
+EXAMPLES = {  # one solved example of each problem type, as the CLI hands it to the plot
+    "precision-position": ("problems/firedoor.toml", "synth"),
+    "function-generation": ("problems/log_generator.toml", "synth"),
+    "path-generation": ("problems/straight_line.toml", "synth"),
+    "flipper-cylinder": ("problems/flipper.toml", "synth"),
+    "linkage": ("problems/firedoor_motion.toml", "analyze"),
+}
+
+
+@pytest.mark.parametrize("kind", list(EXAMPLES))
+def test_each_solved_example_plots_to_png_and_svg(kind, mpl):
+    """The real reports of problems/ (not hand-made ones) draw without error, in the
+    right size, with the problem's title and its type's axis labels in the SVG text."""
+    from linkcli.plot import load_problem, render
+    path, command = EXAMPLES[kind]
+    report = solved_report(path, command)
+    assert report["type"] == kind
+    problem = load_problem(report, "analyze" if command == "analyze" else "synth")
+    assert png_size(render(report, "png", problem)) == PNG_SIZE
+    found = svg_texts(render(report, "svg", problem))
+    must = [report["title"]] + {"flipper-cylinder": ["force (kN)", "platform angle (deg)"],
+                                "path-generation": ["x (mm)", "y (mm)", "coupler curve"]}.get(
+        kind, ["input angle \u03c6 (deg)"])
+    for text in must:
+        assert any(text in f for f in found), (text, found)
+
+
 def test_svg_bytes_repeat_across_processes(mpl, tmp_path):
     first, second = tmp_path / "a.svg", tmp_path / "b.svg"
     code, _, err = run_cli("synth", "problems/firedoor.toml", "--plot", str(first))
