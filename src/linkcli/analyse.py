@@ -29,6 +29,13 @@ def _dang(units, x):
 
 
 def build(problem, solution: Solution) -> dict:
+    """The report of one solved problem; degenerate data (a toggle, a flat linkage) gives
+    inf or clipped values, never a RuntimeWarning on stderr."""
+    with np.errstate(all="ignore"):
+        return _build(problem, solution)
+
+
+def _build(problem, solution: Solution) -> dict:
     meta = problem.meta
     u = meta.units
     want = set(meta.sections)

@@ -246,7 +246,7 @@ def collinear_inputs(a, b, c, d, branch):
     """
     out = {}
     for name, length in (("extended", a + b), ("folded", abs(a - b))):
-        cos_g = (length * length + d * d - c * c) / (2 * length * d) if length > 0 else 2.0
+        cos_g = (length * length + d * d - c * c) / (2 * length * d) if length * d > 0 else 2.0
         if abs(cos_g) > 1.0 + 1e-12:
             continue
         g = float(np.arccos(np.clip(cos_g, -1, 1)))
