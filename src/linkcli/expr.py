@@ -95,8 +95,9 @@ def compile_expression(text: str, variables: tuple[str, ...]) -> Expression:
                               f"{len(text)} characters")
     if not text.strip():
         raise ExpressionError(expected, "an empty expression")
+    flat = text.replace("\r", " ").replace("\n", " ").replace("\t", " ")  # TOML multi-line strings
     try:
-        node = ast.parse(text.strip(), mode="eval")
+        node = ast.parse(flat.strip(), mode="eval")
     except SyntaxError as exc:
         col = f" at column {exc.offset}" if exc.offset else ""
         why = f" ({exc.msg})" if exc.msg else ""
@@ -104,7 +105,7 @@ def compile_expression(text: str, variables: tuple[str, ...]) -> Expression:
     except (RecursionError, MemoryError, ValueError):
         raise ExpressionError(expected, f'an expression too deeply nested: "{_short(text)}"') from None
     return Expression(text=text, variables=tuple(variables),
-                      tree=_Builder(text.strip(), tuple(variables), expected).build(node.body))
+                      tree=_Builder(flat.strip(), tuple(variables), expected).build(node.body))
 
 
 class _Builder:

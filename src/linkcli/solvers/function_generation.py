@@ -2,19 +2,30 @@
 
 The objective and the constraints are in function_model (numpy, vectorized over
 candidates and points). Design variables: every length not fixed in [linkage] (within
-[bounds]) and the free start angles, mapped to the unit box. Each branch asked for
-(`either`: open, then crossed) is solved in turn with its share of the budget, and the
-best result that meets every constraint wins.
+[bounds]) and the free start angles, mapped to the unit box: lengths on a log scale
+(lengths are ratios: bounds [0.02, 20] put 0.5 mid-box, where a linear map squeezes it
+into the first 2.5 %), angles linearly. Each branch asked for (`either`: open, then
+crossed) is solved in turn with its share of the budget, and the best result that meets
+every constraint wins.
+
+Freudenstein designs: unless the start is the extended dead-centre, the start angles
+(given, or a grid over their bounds) fix the target angles at the points, and
+Freudenstein's equation, linear in its three ratios, gives a design per start pair by
+least squares (Model.freudenstein). The best of them seed the searches.
 
 Strategies, by `[solver] method`:
-- `auto`: a seeded scipy differential evolution with `vectorized=True` (one call scores
-  the whole population at every point) on the exact L1 penalty f + W * sum(violations),
-  then the local polish (local_polish: Gauss-Newton SQP steps, then SLSQP with the
-  constraints explicit) from the branch's best candidate;
+- `auto`: rounds of seeded scipy differential evolution with `vectorized=True` (one call
+  scores the whole population at every point) on the exact L1 penalty
+  f + W * sum(violations), each followed by the local polish (local_polish: Gauss-Newton
+  SQP steps, then SLSQP with the constraints explicit) from its best; the first round's
+  population holds the best Freudenstein designs, and the best SEED_POLISHES of those
+  are polished too; rounds stop when one no longer improves on the best found;
 - `slsqp`: SLSQP alone (local_polish stage 2) from the best distinct points of a seeded
-  Latin hypercube sample;
+  Latin hypercube sample and of the Freudenstein designs;
 - `differential-evolution`, `dual-annealing`: the scipy global method alone, on the penalty.
-Gradients are central differences, the 2n shifted candidates in one vectorized call.
+The local polish works in a linear unit box (the valleys are straighter in the lengths
+than in their logarithms). Gradients are central differences, the 2n shifted candidates
+in one vectorized call (forward differences, n candidates, for the Gauss-Newton model).
 Every candidate evaluated counts against `[solver] budget` (default 4000 per variable);
 the answer is the best candidate seen that meets every constraint (else the least
 violating one, status infeasible, the message naming each violated constraint and by
@@ -41,9 +52,15 @@ POPULATION_PER_VARIABLE = 10  # differential evolution population size per varia
 MIN_POPULATION = 8
 DE_TOL = 0.01  # scipy's relative spread of the population's energies at convergence (auto)
 DE_ALONE_TOL = 1e-6  # the same for differential evolution without a polish
-POLISH_SHARE = 0.3  # of a branch's budget kept for the local polish (auto)
+POLISH_SHARE = 0.5  # of a round's budget kept for the local polish (auto)
 MULTISTART_SAMPLE = 20  # slsqp: Latin hypercube points per variable
 MULTISTART_STARTS = 4  # slsqp: local searches per branch
+SEED_PAIRS = 256  # start-angle pairs fitted by Freudenstein's equation (free starts)
+MAX_ROUNDS = 6  # auto: differential evolution rounds at most, per branch
+ROUND_GENERATIONS = 5  # auto: a further round needs the budget for this many generations
+IMPROVE = 1e-6  # relative: a round that gains less has found the best again
+SEED_POLISHES = 3  # auto: Freudenstein designs polished besides the first round's best
+SEED_POLISH_STEPS = 60  # auto: a seed's polish gets this many Gauss-Newton steps' evaluations
 DISTINCT = 0.15  # slsqp: starts differ by this much in some variable (unit box)
 STEP = 1e-7  # central-difference step in the unit box
 FEASIBLE = 1e-8  # largest violation (rad, or fraction of L) accepted as feasible
@@ -63,8 +80,9 @@ class Best:
     f: float
     worst: float  # largest violation
     penalized: float
-    u: np.ndarray
+    u: np.ndarray  # unit box of the global search
     branch: str
+    v: np.ndarray  # design values
 
 
 class Search:
@@ -84,16 +102,19 @@ class Search:
 
     def run(self, u: np.ndarray, branch: str) -> Batch:
         """Evaluate candidates (unit box, (N, n)) on one branch: N evaluations."""
-        u = np.atleast_2d(np.asarray(u, dtype=float))
-        if self.count + len(u) > self.budget:
+        u = np.clip(np.atleast_2d(np.asarray(u, dtype=float)), 0.0, 1.0)
+        return self.run_values(self.model.values(u), branch, u)
+
+    def run_values(self, v: np.ndarray, branch: str, u: np.ndarray | None = None) -> Batch:
+        """Evaluate candidates given by their design values (N, n): N evaluations."""
+        if self.count + len(v) > self.budget:
             raise BudgetExhausted
-        self.count += len(u)
-        u = np.clip(u, 0.0, 1.0)
-        batch = self.model.evaluate(self.model.values(u), BRANCH_SIGN[branch])
-        self._record(u, batch, branch)
+        self.count += len(v)
+        batch = self.model.evaluate(v, BRANCH_SIGN[branch])
+        self._record(self.model.units(v) if u is None else u, v, batch, branch)
         return batch
 
-    def _record(self, u, batch: Batch, branch: str) -> None:
+    def _record(self, u, v, batch: Batch, branch: str) -> None:
         worst = batch.violation.max(axis=1)
         ok = worst <= FEASIBLE
         if ok.any():
@@ -101,12 +122,12 @@ class Search:
             best = self.feasible.get(branch)
             if best is None or batch.f[i] < best.f:
                 self.feasible[branch] = Best(float(batch.f[i]), float(worst[i]), float(batch.penalized[i]),
-                                             u[i].copy(), branch)
+                                             u[i].copy(), branch, v[i].copy())
         i = int(np.argmin(batch.penalized))
         best = self.least.get(branch)
         if best is None or batch.penalized[i] < best.penalized:
             self.least[branch] = Best(float(batch.f[i]), float(worst[i]), float(batch.penalized[i]),
-                                      u[i].copy(), branch)
+                                      u[i].copy(), branch, v[i].copy())
 
     def answer(self) -> Best:
         """The best feasible candidate of any branch, else the least violating one."""
@@ -126,7 +147,10 @@ class Search:
 class Local:
     """One branch as the problem of local_polish: values and slopes at points of the unit
     box, counted against the budget (and a local cap) and cached (SLSQP asks for values
-    and slopes separately)."""
+    and slopes separately). The local unit box is linear in every variable (lengths too,
+    unlike the global search's log scale): the valleys of these objectives are
+    straighter in the lengths than in their logarithms, and Gauss-Newton needs several
+    times fewer steps there."""
 
     def __init__(self, search: Search, branch: str, evaluations: int) -> None:
         self.search = search
@@ -141,8 +165,9 @@ class Local:
     def _batch(self, uu: np.ndarray):
         if self.search.count + len(uu) > self.stop:
             raise BudgetExhausted
-        batch = self.search.run(uu, self.branch)
-        cons = self.model.inequalities(self.model.values(uu), self.sign)
+        v = self.model.linear_values(uu)
+        batch = self.search.run_values(v, self.branch)
+        cons = self.model.inequalities(v, self.sign)
         fv = batch.f + self.model.weight * batch.violation[:, -1]  # a non-finite law stays penalized
         return batch, fv, cons
 
@@ -155,10 +180,22 @@ class Local:
             self.cache[key] = (float(fv[0]), cons[0], batch.err[0], float(batch.violation[0, -1]))
         return self.cache[key]
 
-    def slope(self, u: np.ndarray):
+    def slope(self, u: np.ndarray, central: bool = True):
         """(gradient of f, Jacobian of the constraints, Jacobian of the residuals) at u by
-        central differences about a point at least STEP inside the box: 2n evaluations."""
+        central differences about a point at least STEP inside the box: 2n evaluations;
+        or (central=False, for the Gauss-Newton model) by forward differences from u,
+        stepping inwards at the upper bound: n evaluations besides the value at u."""
         n = self.model.n
+        if not central:
+            u = np.clip(u, 0.0, 1.0)
+            key = (u.tobytes(), "forward")
+            if key not in self.cache:
+                f0, c0, r0, _ = self.value(u)
+                h = np.where(u > 1.0 - STEP, -STEP, STEP)
+                batch, fv, cons = self._batch(u + np.diag(h))
+                self.cache[key] = ((fv - f0) / h, ((cons - c0) / h[:, None]).T,
+                                   ((batch.err - r0) / h[:, None]).T)
+            return self.cache[key]
         u = np.clip(u, STEP, 1.0 - STEP)
         key = (u.tobytes(), True)
         if key not in self.cache:
@@ -171,11 +208,12 @@ class Local:
 
 def polish(search: Search, u0: np.ndarray, branch: str, evaluations: int,
            gauss_newton_first: bool = True) -> bool:
-    """The local solver of local_polish on one branch from u0, within `evaluations`;
-    True if it converged."""
+    """The local solver of local_polish on one branch from u0 (unit box of the global
+    search), within `evaluations`; True if it converged."""
     local = Local(search, branch, evaluations)
+    model = search.model
     try:
-        return local_polish.polish(local, u0, gauss_newton_first)
+        return local_polish.polish(local, model.linear_units(model.values(u0))[0], gauss_newton_first)
     except BudgetExhausted:
         return False
 
@@ -189,9 +227,11 @@ def latin_hypercube(n: int, size: int, rng: np.random.Generator) -> np.ndarray:
 
 
 def check_law(model: Model, u: np.ndarray) -> None:
-    """InputError when the law is undefined at some point for every sampled candidate
-    on every branch (the law, not the linkage, is then at fault). Not an evaluation of
-    the objective: the linkage is not assembled."""
+    """InputError when the law is undefined at every point for every sampled candidate
+    on every branch (the law, not the linkage, is then at fault). A law undefined at some
+    points only (a domain that holds part of the sweeps) is left to the search, which
+    penalizes those points, and to the report (infeasible, constraint `law`). Not an
+    evaluation of the objective: the linkage is not assembled."""
     p = model.problem
     if p.form == "function":
         return
@@ -203,7 +243,7 @@ def check_law(model: Model, u: np.ndarray) -> None:
             phi = phi0 + model.t * p.input_sweep
             target = model.target(phi, phi0, psi0)
         sane = np.isfinite(phi0[:, 0]) & np.isfinite(psi0[:, 0])  # else the lengths overflowed
-        if not sane.any() or np.isfinite(target[sane]).all(axis=1).any():
+        if not sane.any() or np.isfinite(target[sane]).any():
             return
     i = int(np.argmax(sane))
     k = int(np.argmin(np.isfinite(target[i])))
@@ -213,7 +253,7 @@ def check_law(model: Model, u: np.ndarray) -> None:
     u_ = p.meta.units
     raise InputError("a law finite at the evaluation points",
                      f"{shown} at phi = {u_.from_rad(float(phi[0, k])):.6g} {u_.angle} "
-                     f"(and at some point for every sampled linkage)", path=p.meta.path,
+                     f"(and at every point for every sampled linkage)", path=p.meta.path,
                      line=p.lines.get("law"), key=p.lines.get("law_key"))
 
 
@@ -223,17 +263,23 @@ def population_size(n: int, evaluations: int) -> int:
     return size if evaluations >= 2 * size else max(5, evaluations // 2)
 
 
-def differential_evolution(search: Search, branch: str, evaluations: int, seed: int, tol: float) -> bool:
+def differential_evolution(search: Search, branch: str, evaluations: int, seed, tol: float,
+                           extra: np.ndarray | None = None):
     """Seeded, vectorized scipy differential evolution on the penalized objective of one
-    branch: every generation is one call, the population (S, n) against the points."""
+    branch: every generation is one call, the population (S, n) against the points.
+    `extra` rows (unit box) replace the first members of the Latin hypercube start.
+    Returns (converged, best member or None)."""
     from scipy.optimize import differential_evolution as de
     n = search.model.n
     size = population_size(n, evaluations)
     if evaluations < size or size < 5:
-        return False
+        return False, None
     rng = np.random.default_rng(seed)
     init = latin_hypercube(n, size, rng)
     check_law(search.model, init)
+    if extra is not None and len(extra):
+        k = min(len(extra), size // 2)
+        init[:k] = extra[:k]
 
     def func(x):  # scipy sends (n, S), wants (S,)
         return search.run(np.asarray(x).T, branch).penalized
@@ -242,8 +288,8 @@ def differential_evolution(search: Search, branch: str, evaluations: int, seed: 
         res = de(func, [(0.0, 1.0)] * n, maxiter=max(evaluations // size - 1, 0), init=init, tol=tol,
                  atol=0.0, polish=False, updating="deferred", vectorized=True, rng=rng)
     except BudgetExhausted:
-        return False
-    return bool(res.success)
+        return False, None
+    return bool(res.success), np.asarray(res.x, dtype=float)
 
 
 def dual_annealing(search: Search, branch: str, evaluations: int, seed: int) -> bool:
@@ -277,8 +323,72 @@ def dual_annealing(search: Search, branch: str, evaluations: int, seed: int) -> 
     return bool(res.success)
 
 
+def start_pairs(model: Model, count: int) -> np.ndarray | None:
+    """Start-angle pairs (phi_s, psi_s) to fit Freudenstein's equation at: the given
+    pair, or a grid of cell centres over the free start bounds (about `count` pairs);
+    None for the extended start (it depends on the lengths)."""
+    p = model.problem
+    if p.start == "extended" or count < 1:
+        return None
+    free = [k for k in STARTS if k in p.start_bounds]
+    given = {"input_start": p.input_start, "output_start": p.output_start}
+    side = max(1, int(count ** (1.0 / len(free)))) if free else 1
+    axes = []
+    for k in STARTS:
+        if k in p.start_bounds:
+            lo, hi = p.start_bounds[k]
+            axes.append(lo + (np.arange(side) + 0.5) / side * (hi - lo))
+        else:
+            axes.append(np.array([float(given[k] or 0.0)]))
+    grid = np.meshgrid(*axes, indexing="ij")
+    return np.column_stack([g.ravel() for g in grid])
+
+
+def freudenstein_seeds(search: Search, branch: str, count: int):
+    """Freudenstein designs at start pairs (start_pairs), evaluated on the branch
+    (counted): (rows best first and distinct (unit box, (k, n)), their penalized
+    objectives); empty when there are none or the budget cannot pay for them."""
+    model = search.model
+    none = np.zeros((0, model.n)), np.zeros(0)
+    pairs = start_pairs(model, count)
+    if pairs is None:
+        return none
+    u = model.freudenstein(pairs)
+    if len(u) == 0 or search.count + len(u) > search.budget:
+        return none
+    return distinct(u, search.run(u, branch).penalized, len(u))
+
+
+def distinct(u: np.ndarray, scores: np.ndarray, most: int):
+    """(rows, scores) of u, best score first, each row at least DISTINCT (unit box, in
+    some variable) from those kept before it; at most `most` rows."""
+    kept: list[int] = []
+    for i in np.argsort(scores, kind="stable"):
+        if all(np.max(np.abs(u[i] - u[k])) > DISTINCT for k in kept):
+            kept.append(int(i))
+        if len(kept) == most:
+            break
+    return u[kept].reshape(len(kept), u.shape[1]), scores[kept]
+
+
+def branch_best(search: Search, branch: str) -> tuple:
+    """Rank of the branch's best candidate so far: feasible before infeasible, then f."""
+    if branch in search.feasible:
+        return (0, search.feasible[branch].f)
+    if branch in search.least:
+        return (1, search.least[branch].penalized)
+    return (2, math.inf)
+
+
+def improved(before: tuple, after: tuple) -> bool:
+    """A better rank, or the same rank and an objective lower by a share IMPROVE (and by
+    more than round-off of an exact fit, 1e-20 rad^2)."""
+    return after[0] < before[0] or (after[0] == before[0] and after[1] < before[1] - IMPROVE * abs(before[1]) - 1e-20)
+
+
 def multistart(search: Search, branch: str, evaluations: int, seed: int) -> bool:
-    """SLSQP (polish) from the best distinct points of a Latin hypercube sample."""
+    """SLSQP (polish) from the best distinct points of a Latin hypercube sample and of
+    the Freudenstein designs; converged if the search that found the best converged."""
     n = search.model.n
     rng = np.random.default_rng(seed)
     stop = search.count + evaluations
@@ -286,38 +396,94 @@ def multistart(search: Search, branch: str, evaluations: int, seed: int) -> bool
     u = latin_hypercube(n, size, rng)
     check_law(search.model, u)
     try:
+        seeds, seed_scores = freudenstein_seeds(search, branch, min(SEED_PAIRS, evaluations // 8))
         scores = search.run(u, branch).penalized
     except BudgetExhausted:
         return False
-    starts: list[np.ndarray] = []
-    for i in np.argsort(scores, kind="stable"):
-        if all(np.max(np.abs(u[i] - s_)) > DISTINCT for s_ in starts):
-            starts.append(u[i])
-        if len(starts) == MULTISTART_STARTS:
-            break
+    starts, _ = distinct(np.vstack([seeds, u]), np.concatenate([seed_scores, scores]), MULTISTART_STARTS)
     converged = False
     for k, s_ in enumerate(starts):
         left = min(stop, search.budget) - search.count
         if left <= 2 * n + 1:
             break
-        converged |= polish(search, s_, branch, left // (len(starts) - k), gauss_newton_first=False)
+        before = branch_best(search, branch)
+        done = polish(search, s_, branch, left // (len(starts) - k), gauss_newton_first=False)
+        if improved(before, branch_best(search, branch)):
+            converged = done
     return converged
 
 
 def auto(search: Search, branch: str, evaluations: int, seed: int) -> bool:
-    """Differential evolution, then the polish from the branch's best candidate."""
+    """Rounds of differential evolution, each followed by the polish from its best,
+    until a round no longer improves on the best found or the budget is spent. The first
+    round's population holds the best Freudenstein designs (start_pairs), and after its
+    polish the best SEED_POLISHES distinct designs are polished too (the basins of a
+    function generator are narrow in the start angles: a population can miss one that
+    a design fitted there lands in). True if the polish that found the branch's best
+    converged."""
     n = search.model.n
     stop = search.count + evaluations
-    reserve = max(int(POLISH_SHARE * evaluations), min(evaluations, 2 * n + 1))
-    differential_evolution(search, branch, evaluations - reserve, seed, tol=DE_TOL)
-    if branch not in search.least:  # too small a budget for a population: a few samples
-        u = latin_hypercube(n, max(1, min(8, (stop - search.count) // 4)), np.random.default_rng(seed))
-        check_law(search.model, u)
-        try:
-            search.run(u, branch)
-        except BudgetExhausted:
-            return False
-    return polish(search, search.start_of(branch), branch, min(stop, search.budget) - search.count)
+    seeds, _ = freudenstein_seeds(search, branch, min(SEED_PAIRS, evaluations // 8))
+    converged = False
+    for round_ in range(MAX_ROUNDS):
+        left = min(stop, search.budget) - search.count
+        reserve = max(int(POLISH_SHARE * left), min(left, 2 * n + 1))
+        if round_ and left - reserve < ROUND_GENERATIONS * population_size(n, left - reserve):
+            break
+        before = branch_best(search, branch)
+        _, best = differential_evolution(search, branch, left - reserve, [seed, round_] if round_ else seed,
+                                         tol=DE_TOL, extra=seeds if round_ == 0 else None)
+        if branch not in search.least:  # too small a budget for a population: a few samples
+            u = latin_hypercube(n, max(1, min(8, (stop - search.count) // 4)), np.random.default_rng(seed))
+            check_law(search.model, u)
+            try:
+                search.run(u, branch)
+            except BudgetExhausted:
+                return False
+        if round_ == 0:
+            start = search.start_of(branch)
+            converged = polish(search, start, branch, min(stop, search.budget) - search.count)
+            converged = polish_seeds(search, branch, seeds, start, stop, converged)
+            continue
+        if best is None:  # the budget ran out within the round
+            break
+        gain, done = probe(search, branch, best, stop, min(stop, search.budget) - search.count)
+        if gain or improved(before, branch_best(search, branch)):
+            converged = done  # this round found the best so far
+        else:
+            break  # it found the best again (or worse): enough
+    return converged
+
+
+def probe(search: Search, branch: str, start: np.ndarray, stop: int, evaluations: int):
+    """The polish from `start` within SEED_POLISH_STEPS Gauss-Newton steps' worth of
+    evaluations (a basin that needs more is rarely the best one), going on from where it
+    stopped, with half of what is left, if it improved on the branch's best.
+    (improved, converged)."""
+    before = branch_best(search, branch)
+    done = polish(search, start, branch, min(evaluations, SEED_POLISH_STEPS * (search.model.n + 2)))
+    if not improved(before, branch_best(search, branch)):
+        return False, done
+    if not done:
+        done = polish(search, search.start_of(branch), branch, (min(stop, search.budget) - search.count) // 2)
+    return True, done
+
+
+def polish_seeds(search: Search, branch: str, seeds: np.ndarray, polished: np.ndarray, stop: int,
+                 converged: bool) -> bool:
+    """`probe` from each of the best SEED_POLISHES seeds not near `polished`, sharing what
+    is left of the budget (however poor a design's own objective, a transmission window
+    it misses for one, its polish may land in the best basin); returns the converged
+    flag of the branch's best."""
+    todo = [s_ for s_ in seeds if np.max(np.abs(s_ - polished)) > DISTINCT][:SEED_POLISHES]
+    for k, s_ in enumerate(todo):
+        left = min(stop, search.budget) - search.count
+        if left <= 4 * (search.model.n + 2):
+            break
+        gain, done = probe(search, branch, s_, stop, left // (len(todo) - k + 1))
+        if gain:
+            converged = done
+    return converged
 
 
 def evolution_alone(search: Search, branch: str, evaluations: int, seed: int) -> bool:
@@ -356,7 +522,7 @@ def solve(problem: FunctionGenerationProblem) -> Solution:
 def build_solution(problem, model: Model, search: Search, converged: bool) -> Solution:
     best = search.answer()
     sign = BRANCH_SIGN[best.branch]
-    v = model.values(best.u[None, :])
+    v = best.v[None, :]
     batch, det = model.evaluate(v, sign, detail=True)
     a, b, c, d = (float(x[0, 0]) for x in model.lengths(v))
     fb = FourBar(ground=d, input=a, coupler=b, output=c, branch=best.branch)

@@ -72,6 +72,12 @@ class Model:
         bounds = {**problem.bounds, **problem.start_bounds}
         self.lo = np.array([bounds[k][0] for k in self.variables], dtype=float)
         self.hi = np.array([bounds[k][1] for k in self.variables], dtype=float)
+        # lengths are searched on a log scale (a ratio scale: [0.02, 20] holds 0.5 mid-box,
+        # where a linear map would squeeze it into the first 2.5 %), angles linearly
+        self.log = np.array([k in problem.bounds for k in self.variables], dtype=bool)
+        ratio = np.ones_like(self.hi)
+        ratio[self.log] = self.hi[self.log] / self.lo[self.log]  # lengths: 0 < lo < hi
+        self.span = np.where(self.log, np.log(ratio), self.hi - self.lo)
         self.t = np.asarray(problem.fractions, dtype=float)
         self.shape = np.asarray(problem.shape, dtype=float)
         self.scale = max(problem.fixed.values())
@@ -84,8 +90,27 @@ class Model:
         return len(self.variables)
 
     def values(self, u: np.ndarray) -> np.ndarray:
-        """Unit box -> design values, (N, n)."""
-        return self.lo + np.atleast_2d(u) * (self.hi - self.lo)
+        """Unit box -> design values, (N, n): lengths lo * (hi / lo)^u (log scale), start
+        angles lo + u (hi - lo)."""
+        u = np.atleast_2d(u)
+        with np.errstate(all="ignore"):
+            v = np.where(self.log, self.lo * np.exp(u * self.span), self.lo + u * self.span)
+        return np.minimum(np.maximum(v, self.lo), self.hi)  # exp rounds: stay within the bounds
+
+    def units(self, v: np.ndarray) -> np.ndarray:
+        """Design values -> unit box (the inverse of `values`), clipped to [0, 1]."""
+        v = np.atleast_2d(np.asarray(v, dtype=float))
+        with np.errstate(all="ignore"):
+            u = np.where(self.log, np.log(np.where(self.log, v, 1.0) / self.lo), v - self.lo) / self.span
+        return np.clip(np.where(np.isfinite(u), u, 0.5), 0.0, 1.0)
+
+    def linear_values(self, w: np.ndarray) -> np.ndarray:
+        """Linear unit box (every variable, the local search's) -> design values, (N, n)."""
+        return np.minimum(np.maximum(self.lo + np.atleast_2d(w) * (self.hi - self.lo), self.lo), self.hi)
+
+    def linear_units(self, v: np.ndarray) -> np.ndarray:
+        """Design values -> linear unit box, clipped to [0, 1]."""
+        return np.clip((np.atleast_2d(np.asarray(v, dtype=float)) - self.lo) / (self.hi - self.lo), 0.0, 1.0)
 
     def lengths(self, v: np.ndarray):
         """(a, b, c, d), each (N, 1)."""
@@ -196,6 +221,45 @@ class Model:
             ab = a + b
             out += [((c + d) ** 2 - ab * ab) / L2, (ab * ab - (c - d) ** 2) / L2]
         return np.concatenate(out, axis=1)
+
+    def freudenstein(self, starts: np.ndarray) -> np.ndarray:
+        """Candidate designs (unit box, (P', n)) from start-angle pairs (P, 2) = (phi_s,
+        psi_s) by Freudenstein's equation fitted to the target at the evaluation points.
+
+        With A = a(cos phi, sin phi) and B = (d + c cos psi, c sin psi), |B - A| = b is
+        (Freudenstein 1955, in SPEC section 1's frame)
+
+            K1 cos(psi) - K2 cos(phi) + K3 = cos(phi - psi),
+            K1 = d / a, K2 = d / c, K3 = (a^2 + c^2 + d^2 - b^2) / (2 a c),
+
+        linear in K: least squares over the points (exact through three), one small
+        system per pair, all pairs at once. A fit with K1 or K2 <= 0 or b^2 <= 0 gives no
+        candidate (a link would point the other way; with free starts, another pair covers it).
+        The shape is scaled to the first fixed length; other fixed lengths keep their
+        values (the candidate is then only a start for the search). Only for given or
+        free start angles, not for the extended start (it depends on the lengths)."""
+        p = self.problem
+        starts = np.atleast_2d(np.asarray(starts, dtype=float))
+        phi_s, psi_s = starts[:, :1], starts[:, 1:2]
+        phi = phi_s + self.t * p.input_sweep
+        with np.errstate(all="ignore"):
+            psi = self.target(phi, phi_s, psi_s) * np.ones_like(phi)
+            rows = np.stack([np.cos(psi), -np.cos(phi), np.ones_like(phi)], axis=2)  # (P, M, 3)
+            rhs = np.cos(phi - psi)[:, :, None]
+            good = np.all(np.isfinite(rows), axis=(1, 2)) & np.all(np.isfinite(rhs), axis=(1, 2))
+            rows, rhs = np.where(good[:, None, None], rows, 0.0), np.where(good[:, None, None], rhs, 0.0)
+            k = (np.linalg.pinv(rows) @ rhs)[:, :, 0]  # (P, 3)
+            a, c = 1.0 / k[:, 0], 1.0 / k[:, 1]  # d = 1
+            b2 = a * a + c * c + 1.0 - 2.0 * a * c * k[:, 2]
+            shape = {"input": a, "coupler": np.sqrt(b2), "output": c, "ground": np.ones_like(a)}
+            ok = good & (k[:, 0] > 0) & (k[:, 1] > 0) & (b2 > 0) & np.isfinite(a * c * b2)
+            first = next(name for name in LINK_ORDER if name in p.fixed)
+            scale = p.fixed[first] / shape[first]
+            ok &= np.isfinite(scale) & (scale > 0)
+            given = {name: (phi_s[:, 0] if name == "input_start" else psi_s[:, 0]) for name in STARTS}
+            cols = [shape[k_] * scale if k_ in shape else given[k_] for k_ in self.variables]
+        v = np.column_stack(cols) if cols else np.zeros((len(starts), 0))
+        return self.units(v[ok])
 
 
 def output_angle(a, b, c, d, phi, sign):

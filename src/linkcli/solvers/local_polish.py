@@ -4,7 +4,8 @@
 
 The problem is an object with `n` (variables), `weight` (of the L1 merit
 f + weight * sum(max(0, -c))), `value(u) -> (f, c, r, ...)` and
-`slope(u) -> (grad f, dc/du, dr/du)`; it may raise any exception to stop (a spent
+`slope(u, central=True) -> (grad f, dc/du, dr/du)` (central=False: a cheaper one-sided
+estimate, enough for the Gauss-Newton model); it may raise any exception to stop (a spent
 evaluation budget), which passes through.
 
 Two stages, because the minima of such objectives often lie in long curved valleys where
@@ -26,7 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
-GN_ITERATIONS = 100  # Gauss-Newton steps at most
+GN_ITERATIONS = 1000  # Gauss-Newton steps at most (long curved valleys need hundreds)
 GN_TRIALS = 12  # damping increases tried for one step
 GN_STEP = 1e-12  # a step this small (unit box) ends stage 1
 GN_GAIN = 1e-10  # relative: a merit gain this small ends stage 1
@@ -101,7 +102,7 @@ def gauss_newton(problem, u0: np.ndarray) -> np.ndarray:
     m_u = merit(u)
     for _ in range(GN_ITERATIONS):
         _, cons, res = problem.value(u)[:3]
-        _, jc, jr = problem.slope(u)
+        _, jc, jr = problem.slope(u, central=False)
         if not (_finite(cons, res, jc, jr)):
             return u  # slopes that overflow (absurd bounds): nothing to build a model from
         jtj = jr.T @ jr
