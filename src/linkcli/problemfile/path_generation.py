@@ -32,6 +32,7 @@ MIN_POINTS = 3
 MAX_POINTS = 1000
 MAX_FREE_POINTS = 200
 MAX_MAGNITUDE = 1e9  # coordinates, lengths and angles beyond this are typing errors
+MIN_LENGTH = 1e-9  # a length bound below this (other than a lower bound of 0) is a typing error
 TARGET_KEYS = ("points", "timing", "input_angles", "direction")
 BOUND_KEYS = ("ground", "input", "coupler", "output", "coupler_point", "ground_pivot", "ground_angle",
               "input_offset")
@@ -52,13 +53,20 @@ def _points(t: Table):
         if ok and all(math.isfinite(v) and abs(v) <= MAX_MAGNITUDE for v in item):
             out.append((float(item[0]), float(item[1])))
             continue
-        got = ("[" + ", ".join(describe(v) for v in item) + "]" if ok else describe(item))
+        got = ("[" + ", ".join(describe(v) for v in item) + "]"
+               if isinstance(item, list) and 0 < len(item) <= 4 else describe(item))
         t.error(f"points[{i}]", f"a point [x, y] of two finite numbers (at most {MAX_MAGNITUDE:g} in "
                 "magnitude)", raw_got=got)
         return None
     if len(set(out)) == 1:
         t.error("points", "points that are not all the same", raw_got=f"{len(out)} copies of "
                 f"[{out[0][0]:g}, {out[0][1]:g}]")
+        return None
+    extent = max(max(p[0] for p in out) - min(p[0] for p in out),
+                 max(p[1] for p in out) - min(p[1] for p in out))
+    if extent < MIN_LENGTH:
+        t.error("points", f"points spread over at least {MIN_LENGTH:g} (length unit)",
+                raw_got=f"points within {extent:.3g} of one another")
         return None
     return out
 
@@ -97,14 +105,24 @@ def _input_angles(t: Table, timing: str, n: int, units):
 
 
 def _length(t: Table | None, key: str, default):
-    """A length bound: a positive number (fixed) or [lo, hi] with 0 <= lo <= hi, hi > 0."""
+    """A length bound: a number within [MIN_LENGTH, MAX_MAGNITUDE] (fixed), or [lo, hi] with
+    lo = 0 or lo >= MIN_LENGTH, and MIN_LENGTH <= hi <= MAX_MAGNITUDE (the range kinematics
+    keeps full precision over, as for linkage files)."""
     if t is None or key not in t:
         return default
-    r = _limited(t, key, t.range(key, nonnegative=True), "a length")
-    if r is not None and r[1] <= 0.0:
-        value = t.raw(key)
-        t.error(key, "a positive length, or a range [lo, hi] with 0 <= lo <= hi and hi > 0",
-                raw_got=f"[{r[0]:g}, {r[1]:g}]" if isinstance(value, list) else describe(value))
+    want = (f"a length within [{MIN_LENGTH:g}, {MAX_MAGNITUDE:g}], or a range [lo, hi] of such "
+            "lengths (lo may be 0)")
+    value = t.raw(key)
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        if not (math.isfinite(value) and MIN_LENGTH <= value <= MAX_MAGNITUDE):
+            t.error(key, want, raw_got=describe(value))
+            return None
+    r = t.range(key, nonnegative=True)
+    if r is None:
+        return None
+    lo, hi = r
+    if not (MIN_LENGTH <= hi <= MAX_MAGNITUDE and (lo == 0.0 or lo >= MIN_LENGTH)):
+        t.error(key, want, raw_got=f"[{lo:g}, {hi:g}]" if isinstance(value, list) else describe(value))
         return None
     return r
 

@@ -39,7 +39,7 @@ from linkcli.solvers.path_search import Counter, Space, batch_lm, differential_e
 DEFAULT_BUDGET = {"multistart": 2_000_000, "least-squares": 200_000, "differential-evolution": 200_000,
                   "de-polish": 200_000}
 LM_WEIGHT = 1e2  # penalty weight (dimensionless residuals) in the batched stage
-POLISH_WEIGHTS = (1e3, 1e5)  # final polish; the second only if the first leaves a violation
+POLISH_WEIGHTS = (1e3, 1e5, 1e7, 1e9)  # final polish; each stiffer one only while a violation is left
 LM_FIELD = 96  # candidates entering the batched Levenberg-Marquardt stage
 LM_ROUNDS = (25, 25, 40, 60, 100)  # iterations per round; the field halves after each round
 POLISHED = 4  # distinct candidates refined on every variable, then polished by scipy
@@ -48,10 +48,13 @@ REFINE_ITERATIONS = 400  # batched Levenberg-Marquardt on every variable before 
 MAX_DRAWS = {"free": 600, "prescribed": 2000}
 SCAN_SHARE = 0.6  # share of a round's budget for the draws
 ROUND_BUDGET = 500_000  # evaluations per round of the multistart (the whole budget if small)
-CONFIRM = 1e-6  # a round whose best is within this of the best so far confirms it
+CONFIRM = 1e-3  # a round whose own best is within this (relative) of the best so far confirms it
+IMPROVE = 1e-6  # a round improves the best when it lowers it by more than this (relative)
+MAX_STALE = 3  # rounds in a row without improvement that end the search
 MEMORY = 4_000_000  # Jacobian elements held at once by the batched stage
 EXACT = 1e-28  # dimensionless cost below which a candidate is an exact fit
 EXACT_RMS = 1e-9  # rms error, relative to the targets' extent, that ends the rounds
+ANGLE_VIOLATIONS = ("transmission", "order")  # violations measured in radians (others: length)
 
 
 @dataclass
@@ -89,20 +92,29 @@ def solve(problem) -> Solution:
 # ---------------------------------------------------------------- methods
 
 def multistart(d: Design, counter: Counter, rng) -> list[Candidate]:
-    """Rounds of `one_round` until an exact fit, a round that finds the best objective
-    again (relative CONFIRM), or the budget's end."""
+    """Rounds of `one_round` until an exact fit, a round whose own best lands within
+    CONFIRM of the best so far (the same optimum found again), MAX_STALE rounds in a row
+    that do not improve the best by more than IMPROVE, or the budget's end. Objectives are
+    compared while a candidate is feasible, total violations while none is."""
     found: list[Candidate] = []
     best = None
+    stale = 0
+    exact = d.n * (EXACT_RMS * d.scale) ** 2  # an objective this small is an exact fit
     while True:
         limit = counter.left if counter.left < 2 * ROUND_BUDGET else ROUND_BUDGET
         with counter.limit(limit):
-            found += one_round(d, counter, rng)
-        found = sorted(found, key=lambda c: _rank(d, c))[:POLISHED]
+            new = one_round(d, counter, rng)
+        mine = min((_rank(d, c) for c in new), default=None)
+        found = sorted(found + new, key=lambda c: _rank(d, c))[:POLISHED]
         top = _rank(d, found[0])
-        exact = d.n * (EXACT_RMS * d.scale) ** 2  # an objective this small is an exact fit
         done = not top[0] and top[2] <= exact
-        if best is not None and not top[0] and not best[0]:
-            done |= top[2] >= best[2] * (1 - CONFIRM) - exact
+        if best is not None and mine is not None:
+            k = 1 if best[0] else 2  # compare violations while infeasible, else objectives
+            tiny = exact if k == 2 else 0.0
+            again = mine[0] == best[0] and abs(mine[k] - best[k]) <= CONFIRM * best[k] + tiny
+            better = top[0] < best[0] or (top[0] == best[0] and top[k] < best[k] * (1 - IMPROVE) - tiny)
+            stale = 0 if better else stale + 1
+            done |= again or stale >= MAX_STALE
         best = top if best is None or top < best else best
         if done or counter.left < ROUND_BUDGET // 4:
             return found
@@ -203,9 +215,14 @@ def polish_all(d: Design, counter: Counter, x, sign, s, converged=None) -> list[
 # ---------------------------------------------------------------- checks
 
 def _rank(d: Design, c: Candidate):
+    """(infeasible, total violation, objective): lengths count relative to the linkage's size
+    (d + a + b + c) and angles in radians, so that shrinking a linkage does not pass for
+    coming closer to feasible."""
     v = violations(d, c.x, c.sign, c.s)
     obj = float(d.objective(c.x[None], np.array([c.sign]), np.array([c.s]))[0])
-    return (len(v) > 0, sum(a for _, a, _ in v), obj if math.isfinite(obj) else math.inf)
+    size = float(np.sum(c.x[:4]))
+    total = sum(a if name in ANGLE_VIOLATIONS else a / size for name, a, _ in v)
+    return (len(v) > 0, total, obj if math.isfinite(obj) else math.inf)
 
 
 def choose(d: Design, cands: list[Candidate]):
@@ -248,7 +265,7 @@ def violations(d: Design, x, sign, s) -> list[tuple[str, float, str]]:
         short = float(np.max(np.maximum(abs(b - c) - p.rho, p.rho - (b + c))[bad]))
         out.append(("assembly", short, "the linkage cannot assemble at target"
                     + ("s " if len(bad) > 1 else " ") + ", ".join(str(i + 1) for i in bad)))
-    elif not d.full_turn or kin.input_arcs(a, b, c, dd) is not None:
+    if not d.full_turn or kin.input_arcs(a, b, c, dd) is not None:
         r2_min, r2_max = rho2_extremes(np.array([a]), np.array([dd]), np.array([lo_span]),
                                        np.array([width]))
         over = max(abs(b - c) - math.sqrt(r2_min[0]), math.sqrt(r2_max[0]) - (b + c))
@@ -267,7 +284,7 @@ def violations(d: Design, x, sign, s) -> list[tuple[str, float, str]]:
 
 def solution(problem, d: Design, best: Candidate, bad, method, counter) -> Solution:
     u = problem.meta.units
-    x, sign, s = best.x, best.sign, best.s
+    x, sign, s = d.wrapped(best.x[None])[0], best.sign, best.s
     dd, a, b, c, px, py, gx, gy, gamma = (float(v) for v in x[:N_LINK])
     branch = "open" if sign < 0 else "crossed"
     fb = FourBar(ground=dd, input=a, coupler=b, output=c, branch=branch, coupler_point=(px, py),
@@ -289,7 +306,7 @@ def solution(problem, d: Design, best: Candidate, bad, method, counter) -> Solut
     defects = {"assembles": "assembly" not in names, "branch": branch,
                "branch_defect": "branch" in names,
                "order_defect": "order" in names}
-    notes = _notes(problem, d, x)
+    notes = _notes(problem, d, x) + _reach_note(problem, d, x, err)
     solver = {"method": method, "seed": problem.meta.solver.seed, "evaluations": counter.used,
               "converged": bool(best.converged)}
     n = d.n
@@ -303,8 +320,11 @@ def solution(problem, d: Design, best: Candidate, bad, method, counter) -> Solut
                       f"{timing['input_sweep']:.4g} {u.angle})")
         message = (f"{n} targets, {d.timing} timing: assembles at every target on the {branch} "
                    f"branch, without a branch change, and reaches them {order}")
-        if not best.converged:
+        if not best.converged and counter.left < max(1, counter.budget // 10):
             message += "; the search stopped at its budget before the polish converged"
+        elif not best.converged:
+            message += ("; the local polish reached its iteration limit before meeting its "
+                        "tolerances (a long, flat valley: another seed or method may end lower)")
     return Solution(
         status=status, linkage=fb, message=message,
         positions=Positions(kind="point", input=phi, target=d.targets.copy(), achieved=pts, error=err),
@@ -314,9 +334,25 @@ def solution(problem, d: Design, best: Candidate, bad, method, counter) -> Solut
 
 
 def _amount(name: str, amount: float, u, problem) -> str:
-    if name in ("transmission", "order"):
+    if name in ANGLE_VIOLATIONS:
         return f"{u.from_rad(amount):.6g} {u.angle}"
     return f"{amount:.6g} {u.length}"
+
+
+def _reach_note(problem, d: Design, x, err) -> list[str]:
+    """A fit that misses a target by more than a tenth of the targets' extent: name the
+    bounds the linkage presses against (a wider one may let it reach further)."""
+    worst = float(np.max(err)) if len(err) else 0.0
+    if not worst > 0.1 * d.scale:
+        return []
+    names = ("ground", "input", "coupler", "output", "coupler_point.x", "coupler_point.y",
+             "ground_pivot.x", "ground_pivot.y")
+    tight = [names[j] for j in range(len(names))
+             if d.free[j] and min(x[j] - d.lo[j], d.hi[j] - x[j]) <= 1e-6 * (d.hi[j] - d.lo[j])]
+    u = problem.meta.units.length
+    msg = (f"the best fit misses a target by {worst:.4g} {u} ({100 * worst / d.scale:.3g} % of the "
+           "targets' extent)")
+    return [msg + (f"; at its bound: {', '.join(tight)}" if tight else "")]
 
 
 def _notes(problem, d: Design, x) -> list[str]:

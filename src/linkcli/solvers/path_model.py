@@ -25,7 +25,7 @@ Everything is vectorized over candidates (rows) and targets (columns).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -56,6 +56,10 @@ class Design:
     branch: str  # "open", "crossed", "either"
     direction: str  # free timing: "ccw", "cw", "either"
     scale: float  # L: the targets' extent, for dimensionless residuals
+    # Angles free over a full turn (ground angle, prescribed offset): index -> start of the
+    # user's range. Their search bounds reach one more turn on each side (`build`), so that a
+    # local search can cross the seam of the range; `wrapped` brings them back into it.
+    periodic: dict = field(default_factory=dict)
 
     @property
     def n(self) -> int:
@@ -79,6 +83,16 @@ class Design:
         window = 2 if self.window is not None else 0
         turn = 1 if self.timing == "free" else 0
         return grashof + window + self.n + 2 + turn
+
+    def wrapped(self, x: np.ndarray) -> np.ndarray:
+        """x (N, nx) with every periodic angle brought into [lo, lo + 2 pi) of its user range
+        (the same linkage: these angles enter only through their cosine and sine)."""
+        if not self.periodic:
+            return x
+        x = x.copy()
+        for j, lo in self.periodic.items():
+            x[:, j] = lo + np.mod(x[:, j] - lo, kin.TWO_PI)
+        return x
 
     # ---------------------------------------------------------------- timing
     def input_angles(self, x: np.ndarray, s: np.ndarray) -> np.ndarray:
@@ -212,6 +226,11 @@ def build(problem) -> Design:
         lo += [-3 * math.pi] + [0.0] * (n - 1)
         hi += [3 * math.pi] + [kin.TWO_PI] * (n - 1)
         base = None
+    periodic = {}
+    for j in (8, N_LINK) if problem.timing == "prescribed" else (8,):
+        if hi[j] - lo[j] >= kin.TWO_PI * (1 - 1e-12):  # a full turn: no seam for the search
+            periodic[j] = lo[j]
+            lo[j], hi[j] = lo[j] - kin.TWO_PI, hi[j] + kin.TWO_PI
     return Design(targets=targets, timing=problem.timing, base_phi=base, lo=np.array(lo, float),
                   hi=np.array(hi, float), grashof=problem.grashof, window=problem.transmission,
-                  branch=problem.branch, direction=problem.direction, scale=scale)
+                  branch=problem.branch, direction=problem.direction, scale=scale, periodic=periodic)

@@ -60,15 +60,23 @@ def branch_signs(d: Design, rng, n: int) -> np.ndarray:
     return np.where(rng.random(n) < 0.5, -1.0, 1.0)
 
 
-def sample_lengths(d: Design, rng, n: int) -> np.ndarray:
+def sample_lengths(d: Design, rng, n: int, virtual=None):
     """(n, 4) lengths d, a, b, c uniform in their bounds, in the Grashof class asked for
     and, for an input that must turn fully, inside the transmission window over the turn
     (mu at rho = |d - a| and d + a), when the draws allow it: rejection from up to 32 n
-    draws, the rest kept as drawn."""
+    draws, the rest kept as drawn. With `virtual` (see `virtual_scale`), the fixed lengths
+    are drawn as part of the shape too: each pool row gets a scale sigma and its fixed
+    lengths the values fixed / sigma; returns (lengths, sigma) then."""
     lo, hi = d.lo[:4], d.hi[:4]
+    m = n if d.grashof == "any" else 32 * n
+    pool = lo + (hi - lo) * rng.random((m, 4))
+    sigma = None
+    if virtual is not None:
+        sigma = virtual(m)
+        fixed = [j for j in range(4) if not d.free[j]]
+        pool[:, fixed] = d.lo[fixed] / sigma[:, None]
     if d.grashof == "any":
-        return lo + (hi - lo) * rng.random((n, 4))
-    pool = lo + (hi - lo) * rng.random((32 * n, 4))
+        return pool if virtual is None else (pool, sigma)
     srt = np.sort(pool, axis=1)
     grashof = srt[:, 0] + srt[:, 3] < (srt[:, 1] + srt[:, 2]) * (1 - 1e-6)
     if d.grashof in SHORTEST:
@@ -79,13 +87,33 @@ def sample_lengths(d: Design, rng, n: int) -> np.ndarray:
         dd, a, b, c = pool.T
         cos_mu = lambda r: (b * b + c * c - r * r) / (2 * b * c)
         ok &= (cos_mu(np.abs(dd - a)) <= np.cos(d.window[0])) & (cos_mu(dd + a) >= np.cos(d.window[1]))
-    good = pool[ok][:n]
-    return np.concatenate([good, pool[~ok][: n - len(good)]]) if len(good) < n else good
+    order = np.concatenate([np.flatnonzero(ok), np.flatnonzero(~ok)])[:n]
+    return pool[order] if virtual is None else (pool[order], sigma[order])
+
+
+def virtual_scale(d: Design, rng):
+    """When fixed lengths or coupler coordinates pin the scale (the closed-form completion
+    can then only turn and move a draw), a sampler of the scale sigma that lets them take
+    part in the shape: the reference (the longest fixed length, else the largest fixed
+    coupler coordinate) is drawn as if it were free, over the range the free lengths span,
+    and sigma = its fixed value / its drawn one; the completion scales the draw by sigma,
+    which brings every fixed variable back to its value. None when nothing pins the scale,
+    or nothing else could scale with it."""
+    free_len = [j for j in range(4) if d.free[j]]
+    fixed_len = [j for j in range(4) if not d.free[j]]
+    fixed_cp = [j for j in (4, 5) if not d.free[j] and d.lo[j] != 0.0]
+    if not free_len or not (fixed_len or fixed_cp):
+        return None
+    top = max(d.hi[j] for j in free_len)
+    vlo, vhi = max(min(d.lo[j] for j in free_len), 0.05 * top), top
+    ref = max(fixed_len, key=lambda j: d.lo[j]) if fixed_len else max(fixed_cp, key=lambda j: abs(d.lo[j]))
+    value = abs(d.lo[ref])
+    return lambda m: value / (vlo + (vhi - vlo) * rng.random(m))
 
 
 def draw(d: Design, rng, n: int):
     """n raw draws (x, sign, s): every variable uniform in its bounds, lengths in class."""
-    x = d.lo + (d.hi - d.lo) * rng.random((n, d.nx))
+    x = d.wrapped(d.lo + (d.hi - d.lo) * rng.random((n, d.nx)))
     x[:, :4] = sample_lengths(d, rng, n)
     sign = branch_signs(d, rng, n)
     s = np.full(n, float(directions(d)[0]))
@@ -155,7 +183,7 @@ def apply_similarity(d: Design, x, u, g) -> np.ndarray:
     if d.free[8] and d.hi[8] - d.lo[8] >= kin.TWO_PI:
         x[:, 8] = d.lo[8] + np.mod(x[:, 8] - d.lo[8], kin.TWO_PI)
     x[:, 6], x[:, 7] = g.real, g.imag
-    return np.clip(x, d.lo, d.hi)
+    return d.wrapped(np.clip(x, d.lo, d.hi))
 
 
 def fit_linear(d: Design, x: np.ndarray, sign: np.ndarray, s: np.ndarray, with_pose: bool = False):
@@ -322,8 +350,14 @@ def scan_prescribed(d: Design, x, sign, s, s_lo, s_hi):
 
 
 def starts(d: Design, rng, n: int):
-    """n completed draws (x, sign, s): drawn, timed and placed, then fit_linear."""
+    """n completed draws (x, sign, s): drawn, timed and placed, then fit_linear. Fixed
+    lengths and coupler coordinates take part in the drawn shape (`virtual_scale`)."""
     x, sign, s = draw(d, rng, n)
+    virtual = virtual_scale(d, rng)
+    if virtual is not None:
+        x[:, :4], sigma = sample_lengths(d, rng, n, virtual)
+        fixed_cp = [j for j in (4, 5) if not d.free[j]]
+        x[:, fixed_cp] = d.lo[fixed_cp] / sigma[:, None]
     s_lo, s_hi = scale_interval(d, x)
     if d.timing == "free":
         x, s, _ = scan_free(d, x, sign, s_lo, s_hi)
