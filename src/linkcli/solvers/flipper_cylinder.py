@@ -22,6 +22,9 @@ from linkcli.solvers.flipper_search import (DEFAULT_BUDGET, PARETO_BUDGET, PARET
                                             Budget, Goal, Judge, Space, optimize, pareto)
 
 
+NEGLIGIBLE = 1e-3  # a closed length below this share of the largest pivot bound: the pivots all but meet
+
+
 # --------------------------------------------------------------------- one design, in full
 def facts(problem, st: Statics, design) -> dict:
     """Everything reported about one design (radians, the file's length unit, N)."""
@@ -29,7 +32,8 @@ def facts(problem, st: Statics, design) -> dict:
     crosses, tau0 = st.crossing(p)
     ls, le = (float(x[0]) for x in st.end_lengths(p))
     out = {"design": p[0], "crosses": bool(crosses[0]), "min_length": min(ls, le),
-           "max_length": max(ls, le), "stroke": abs(le - ls), "extends": le > ls}
+           "max_length": max(ls, le), "stroke": abs(le - ls), "extends": le > ls,
+           "closed_at": 0.0 if ls <= le else st.sweep}
     if out["crosses"]:
         t0 = float(tau0[0])
         out["cross_at"] = t0
@@ -133,7 +137,9 @@ def cylinder_section(problem, st: Statics, f: dict) -> dict:
 
 # --------------------------------------------------------------------------- the verdict
 def verdict(problem, f: dict) -> tuple[Status, str]:
-    """Status and message of a design: the violated constraint and by how much, else the peak."""
+    """Status and message of a design: the violated constraint and by how much, else the peak.
+    A cylinder needs a length: closed >= Space.floor (flipper_search.MIN_LENGTH times the
+    largest pivot bound); where the pivots meet, the force is 0 / 0."""
     u = problem.meta.units
     au = u.angle
 
@@ -147,6 +153,11 @@ def verdict(problem, f: dict) -> tuple[Status, str]:
         return Status.INFEASIBLE, (f"the cylinder line passes through the hinge B at platform angle "
                                    f"{ang(f['cross_at'])}: zero moment arm, the force is unbounded")
     problems = []
+    floor = Space(problem).floor
+    if f["min_length"] < floor * (1.0 - TOLERANCE):
+        problems.append(f"the rod pivot comes within {f['min_length']:.6g} {u.length} of the base pivot at "
+                        f"platform angle {ang(f['closed_at'])}: the pivots must stay at least {floor:.6g} "
+                        f"{u.length} apart (a cylinder of no length)")
     if problem.dead_length is not None:
         short = f["stroke"] + problem.dead_length - f["min_length"]
         if short > TOLERANCE * max(f["stroke"] + problem.dead_length, 1e-300):
@@ -203,22 +214,32 @@ def _solve(problem) -> Solution:
     solver["minimize"] = problem.minimize
     if design is None:
         return Solution(status=Status.NOT_CONVERGED, solver=solver, notes=notes,
-                        message=f"the budget of {solver['evaluations']} evaluations is too small to "
+                        message=f"the budget of {solver['budget']} evaluations is too small to "
                                 "judge a design")
     f = facts(problem, st, design)
     status, message = verdict(problem, f)
-    if problem.dead_length is None and not f["crosses"] and f["min_length"] < f["stroke"]:
-        lu = meta.units.length
+    lu = meta.units.length
+    if (problem.dead_length is None and not f["crosses"] and not problem.fixed
+            and f["min_length"] <= NEGLIGIBLE * max(abs(v) for b in problem.bounds for v in b)):
+        notes.append(f"the pivots all but meet at the closed end (closed length {f['min_length']:.6g} {lu}): "
+                     "without [cylinder] dead_length the least force asks for a cylinder of no length; "
+                     "dead_length gives a real one (closed length >= stroke + dead_length)")
+    elif (problem.dead_length is None and not f["crosses"] and f["min_length"] < f["stroke"]
+          and f["min_length"] >= Space(problem).floor * (1.0 - TOLERANCE)):
         notes.append(f"the closed length {f['min_length']:.6g} {lu} is shorter than the stroke "
                      f"{f['stroke']:.6g} {lu}: only a telescopic cylinder fits; [cylinder] dead_length "
                      "asks for a single-stage one (closed length >= stroke + dead_length)")
-    if not solver["converged"]:  # an infeasible design may only show that the search stopped early
+    searched = solver["converged"] or solver.get("completed")  # not stopped by the budget
+    if not problem.fixed and status is Status.INFEASIBLE and searched:
+        message = f"no design found within the limits; the nearest: {message}"
+    elif not solver["converged"]:  # an infeasible design may only show that the search stopped early
         status = Status.NOT_CONVERGED
         message = (f"the search did not converge within {solver['evaluations']} evaluations (budget "
                    f"{solver['budget']}); best design found: {message}")
     elif problem.fixed and status is Status.OK:
         message = f"design evaluated over the sweep: {message}"
     solver.pop("budget", None)
+    solver.pop("completed", None)
     sections = {}
     if "cylinder" in meta.sections:
         sections["cylinder"] = cylinder_section(problem, st, f)
@@ -248,5 +269,5 @@ def _search(problem, st: Statics, notes: list[str]):
             notes.append(f"the trade-off table has {len(rows)} of the {problem.pareto} rows asked "
                          "for (budget spent, or no shorter cylinder stays within the force limit)")
     solver = {"method": method, "seed": meta.solver.seed, "evaluations": budget.count,
-              "converged": bool(out.converged), "budget": total}
+              "converged": bool(out.converged), "budget": total, "completed": bool(out.completed)}
     return out.best.design, solver, rows

@@ -26,9 +26,14 @@ through the hinge inside the sweep, the dead length (closed >= stroke + dead_len
 Methods: `auto` = a seeded Latin-hypercube sample, differential evolution (Storn & Price
 1997; scipy, one vectorized call per generation), then SLSQP from the best design of each
 family (the cylinder line on either side of the hinge) and from one design per basin of
-the sample (multi-level single linkage); `differential-evolution` = the global stage alone;
-`slsqp` = the sample, then SLSQP from the same kind of starts. A budget counts designs
-evaluated (one per design, whatever the number of angles); a refined peak counts one.
+the sample (multi-level single linkage), then SLSQP from random perturbations of the best
+design (monotonic basin hopping, Leary 2000); `differential-evolution` = the global stage
+alone; `slsqp` = the sample, then SLSQP from the same kind of starts. A budget counts
+designs evaluated (one per design, whatever the number of angles); a refined peak counts
+one. A length goal with no design within its force cap in the global stage first finds the
+least peak force: the start of the length search when it is within the cap, otherwise the
+answer (infeasible by the least excess). Every goal keeps the pivots apart (closed length
+>= MIN_LENGTH times the largest pivot bound): where they meet the force is 0 / 0.
 
 The trade-off table (`pareto`): for closed lengths from that of the least-force design down
 to the shortest cylinder within the force limit, the least peak force (the epigraph search
@@ -55,11 +60,16 @@ SAMPLE_MAX = 400  # designs of the Latin-hypercube sample that seeds the local s
 LOCAL_ITERATIONS = 100
 LOCAL_MIN_SHARE = 20  # evaluations a local search is given at least (fewer starts otherwise)
 LOCAL_STRIDE = 4  # the local search's constraint angles: every 4th angle of the sweep grid
-EXCHANGE_ROUNDS = 5
+HOPS = 6  # perturbed restarts of the local search from the best design (basin hopping)
+HOP_STEPS = (0.05, 0.15, 0.3)  # their step sizes in the unit box, in turn
+EXCHANGE_ROUNDS = 20  # an interior peak that moves with the design may need ten or more
+EXCHANGE_SPREAD = 0.1  # neighbours of an added maximum, in grid steps
+EXCHANGE_GAP = 1e-8  # relative: stop when the refined peak exceeds the peak at the angles by less
 FEASIBLE = 1e-9  # relative violation a search still counts as feasible
 TOLERANCE = 1e-6  # relative: a reported design meets max_force and dead_length within this
 MARGIN = 1e-7  # relative: SLSQP aims this far inside max_force and dead_length
 BIG = 1e30  # penalty base: worse than any feasible design
+MIN_LENGTH = 1e-6  # relative to the largest pivot bound: the shortest cylinder (the pivots never meet)
 
 
 class _Exhausted(Exception):
@@ -77,6 +87,7 @@ class Space:
         self.width = (self.hi - self.lo)[self.free]
         g = problem.center_of_mass
         self.scale = max(float(np.max(np.abs(b))), math.hypot(*g), 1e-300)  # length scale
+        self.floor = MIN_LENGTH * max(float(np.max(np.abs(b))), 1e-300)  # shortest cylinder allowed
 
     @property
     def size(self) -> int:
@@ -142,6 +153,7 @@ class Outcome:
     best: Best
     converged: bool
     archive: "Archive | None" = None  # every design of the global stage
+    completed: bool = False  # a search ran to its own end (not stopped by the budget)
 
 
 class Archive:
@@ -233,6 +245,7 @@ class Judge:
         ls, le = st.end_lengths(p)
         closed, opened = np.minimum(ls, le), np.maximum(ls, le)
         viol = np.where(crosses, 1.0 + np.minimum(tau0, st.sweep - tau0).clip(0) / st.sweep, 0.0)
+        viol = viol + np.maximum(0.0, self.space.floor - closed) / scale
         if self.dead is not None:
             viol = viol + np.maximum(0.0, opened - closed + self.dead - closed) / scale
         if goal.force_cap is not None:
@@ -365,15 +378,20 @@ class Epigraph:
         lc, lo_, dlc, dlo = (le, ls, dle, dls) if self.closed_at_end else (ls, le, dls, dle)
         rows = []  # (value, gradient over the free coordinates), lengths / scale
         dead = None if judge.dead is None else judge.dead + MARGIN * space.scale
+        floor = space.floor * (1.0 + MARGIN / MIN_LENGTH)  # the pivots stay apart, 10 % inside
         if self.uses_length:
             rows.append((lo_ - lc, dlo - dlc))  # this end stays the closed one
+            rows.append((lc - floor, dlc))
             if dead is not None:
                 rows.append((2 * lc - lo_ - dead, 2 * dlc - dlo))
             if goal.length_cap is not None:
                 rows.append((goal.length_cap - lc, -dlc))
-        elif dead is not None:
-            rows.append((2 * ls - le - dead, 2 * dls - dle))
-            rows.append((2 * le - ls - dead, 2 * dle - dls))
+        else:
+            rows.append((ls - floor, dls))
+            rows.append((le - floor, dle))
+            if dead is not None:
+                rows.append((2 * ls - le - dead, 2 * dls - dle))
+                rows.append((2 * le - ls - dead, 2 * dle - dls))
         for val, g in rows:
             cons.append(np.array([val / space.scale]))
             g = (g / space.scale)[None, :]
@@ -394,6 +412,7 @@ class Epigraph:
         with np.errstate(divide="ignore", invalid="ignore"):
             peak = float(np.nanmax(np.abs(self.w * length / k)))
         viol = 1.0 if crosses else 0.0
+        viol += max(0.0, self.judge.space.floor - min(lc, lo_)) / scale
         if dead is not None:
             viol += max(0.0, (lo_ - lc) + dead - lc) / scale  # stroke + dead - closed
         if goal.force_cap is not None and not crosses:
@@ -437,7 +456,7 @@ def _local(judge: Judge, goal: Goal, start, share: int) -> Outcome:
     tau = local_angles(st)
     design = np.asarray(start, dtype=float)
     best = Best()
-    converged = False
+    converged, completed = False, False
     rounds, retries, stalled_at = 0, 1, math.inf
     try:
         while rounds < EXCHANGE_ROUNDS:
@@ -451,6 +470,7 @@ def _local(judge: Judge, goal: Goal, start, share: int) -> Outcome:
             except _Exhausted:
                 mode = -1
             if ep.best.design is None:
+                completed = mode != -1
                 break
             design = ep.best.design
             budget.spend(1)
@@ -465,19 +485,23 @@ def _local(judge: Judge, goal: Goal, start, share: int) -> Outcome:
                 if abs(obj - stalled_at) <= 1e-8 * max(abs(obj), 1e-300):
                     mode = 0
             if mode != 0:
+                completed = mode != -1
                 break
             limit = ep.best.objective if goal.kind == "peak" else goal.force_cap
-            if limit is None or refined <= limit * (1.0 + 1e-9):
-                converged = viol <= FEASIBLE
+            if limit is None or refined <= limit * (1.0 + EXCHANGE_GAP):
+                converged, completed = viol <= FEASIBLE, True
                 break
-            extra = [pk[k + "_at"][0] for k in ("push", "pull") if pk[k][0] > 0]
-            tau = np.concatenate([tau, np.array(extra)])
+            extra = np.array([pk[k + "_at"][0] for k in ("push", "pull") if pk[k][0] > 0])
+            if len(extra):  # each maximum with two close neighbours: it may move a little
+                h = EXCHANGE_SPREAD * (st.grid[1] - st.grid[0])
+                extra = np.clip(np.concatenate([extra, extra - h, extra + h]), 0.0, st.sweep)
+            tau = np.concatenate([tau, extra])
             rounds += 1
     except _Exhausted:
         pass
     finally:
         budget.cap = outer_cap
-    return Outcome(best, converged)
+    return Outcome(best, converged, completed=completed)
 
 
 def _refined_score(judge: Judge, goal: Goal, design, peak: float) -> tuple[float, float]:
@@ -488,6 +512,7 @@ def _refined_score(judge: Judge, goal: Goal, design, peak: float) -> tuple[float
     ls, le = (float(x[0]) for x in st.end_lengths(p))
     closed, opened = min(ls, le), max(ls, le)
     viol = 1.0 if crosses else 0.0
+    viol += max(0.0, judge.space.floor - closed) / scale
     if judge.dead is not None:
         viol += max(0.0, opened - closed + judge.dead - closed) / scale
     if goal.force_cap is not None and not crosses:
@@ -515,14 +540,20 @@ def _rescore(judge: Judge, goal: Goal, design) -> Best:
 def optimize(judge: Judge, goal: Goal, method: str, share: int, rng) -> Outcome:
     """One search for `goal` within `share` evaluations (global stage, then local searches
     unless the method is differential evolution alone); the best design has its refined
-    objective. Outcome.best.design is None only when the share is too small to evaluate."""
+    objective. Outcome.best.design is None only when the share is too small to evaluate.
+
+    A length goal whose global stage finds no design within its force cap first looks for
+    the least peak force (the same limits otherwise): when that stays within the cap, the
+    length searches start from it; when it does not, it is the answer, infeasible by the
+    least possible excess over max_force."""
     budget = judge.budget
     outer = budget.cap
-    stop = min(outer, budget.count + share)
+    base = budget.count
+    stop = min(outer, base + share)
     found: list[Outcome] = []
-    if stop - budget.count < 2:  # no room for a search: the centre of the bounds, judged once
+    if stop - base < 2:  # no room for a search: the centre of the bounds, judged once
         result = Outcome(Best(), False)
-        if stop > budget.count:
+        if stop > base:
             budget.spend(1)
             centre = judge.space.full(np.full(judge.space.size, 0.5))[0]
             peak = float(judge.st.peaks(centre[None, :])["peak"][0])
@@ -531,31 +562,112 @@ def optimize(judge: Judge, goal: Goal, method: str, share: int, rng) -> Outcome:
         return result
     budget.cap = stop - 1  # one evaluation kept for the final refined score
     try:
+        sample = None
         if method == "differential-evolution":
             glob = _evolve(judge, goal, budget.left(), rng)
         else:
             size = share // (5 if method == "slsqp" else 10)  # a fifth, a tenth of the share
             sample = _sample(judge, goal, int(min(max(size, min(20, share // 4), 5), SAMPLE_MAX)), rng)
             glob = sample if method == "slsqp" else _evolve(
-                judge, goal, min(int(GLOBAL_SHARE * share) - budget.count, budget.left()), rng)
+                judge, goal, min(int(GLOBAL_SHARE * share) - (budget.count - base), budget.left()), rng)
         if method != "differential-evolution":
             candidates = glob.archive.leaders() + (sample.archive.basins(judge.space, BASIN_RADIUS)
                                                    if sample.archive else [])
             starts = pick_starts(judge.space, candidates)[:max(1, budget.left() // LOCAL_MIN_SHARE)]
+            least = None
+            if goal.kind == "length" and goal.force_cap is not None and not _any_feasible(glob, sample):
+                least = _least_force(judge, goal, starts)
+                if least is not None and least.best.violation <= FEASIBLE:
+                    starts = [least.best.design] + starts[:1]  # within the cap: shorten from here
+                elif least is not None:
+                    found.append(least)
+                    starts = []
             for i, start in enumerate(starts):
                 local = _local(judge, goal, start, budget.left() // (len(starts) - i))
                 if local.best.design is not None:
                     found.append(local)
+            if found and least is None:
+                found += _hop(judge, goal, min(found, key=lambda o: _key(o.best)), rng)
+            if found and budget.left() >= LOCAL_MIN_SHARE:
+                found = _confirm(judge, goal, found)
         budget.cap = stop
         if found:
             result = min(found, key=lambda o: _key(o.best))
+            result.completed = any(o.completed for o in found)
             return result
-        result = Outcome(Best(), glob.converged)
-        if glob.best.design is not None and budget.left() > 0:
-            result.best = _rescore(judge, goal, glob.best.design)
+        alone = method == "differential-evolution"
+        result = Outcome(Best(), glob.converged, completed=alone and glob.converged)
+        best = glob.best if glob.best.design is not None else (sample.best if sample else Best())
+        if best.design is not None and budget.left() > 0:
+            result.best = _rescore(judge, goal, best.design)
         return result
     finally:
         budget.cap = outer
+
+
+def _hop(judge: Judge, goal: Goal, best: Outcome, rng) -> list[Outcome]:
+    """Monotonic basin hopping (Leary 2000): local searches from random perturbations of
+    the best feasible design, steps of HOP_STEPS in the unit box in turn, the best design
+    moving on whenever a search improves on it. Two local minima a few per cent of the
+    bounds apart, which the global stage and the spread-out starts can take for one, are
+    told apart this way."""
+    budget, space = judge.budget, judge.space
+    out: list[Outcome] = []
+    for i in range(HOPS):
+        if best.best.violation > FEASIBLE or budget.left() < 2 * LOCAL_MIN_SHARE:
+            break
+        y = space.unit(best.best.design)[0]
+        y = np.clip(y + HOP_STEPS[i % len(HOP_STEPS)] * rng.standard_normal(len(y)), 0.0, 1.0)
+        local = _local(judge, goal, space.full(y)[0], budget.left() // (HOPS - i))
+        if local.best.design is not None:
+            out.append(local)
+            if _key(local.best) < _key(best.best):
+                best = local
+    return out
+
+
+def _confirm(judge: Judge, goal: Goal, found: list[Outcome]) -> list[Outcome]:
+    """When the best design comes from a local search that ended without converging (SLSQP
+    can pass the best point on its way to a failed line search), one more local search
+    from it; a converged result as good within 1e-9 relative takes its place."""
+    best = min(found, key=lambda o: _key(o.best))
+    if best.converged:
+        return found
+    again = _local(judge, goal, best.best.design, judge.budget.left())
+    if again.converged and again.best.design is not None:
+        (v0, f0), (v1, f1) = _key(best.best), _key(again.best)
+        if v1 <= v0 and f1 <= f0 + 1e-9 * abs(f0):
+            return [o for o in found if o is not best] + [again]
+    return found + [again]
+
+
+def _any_feasible(*outcomes) -> bool:
+    """Whether a global stage judged any design that meets every limit."""
+    for out in outcomes:
+        if out is not None and out.archive is not None and out.archive.parts:
+            if np.any(out.archive.columns()[2] <= FEASIBLE):
+                return True
+    return False
+
+
+def _least_force(judge: Judge, goal: Goal, starts) -> Outcome | None:
+    """The least peak force within the limits of `goal` other than its force cap (SLSQP
+    epigraph searches from `starts`, within half of the budget left), scored for `goal`:
+    feasible exactly when that force stays within the cap."""
+    budget = judge.budget
+    sub = Goal("peak", length_cap=goal.length_cap)
+    stop = budget.count + budget.left() // 2
+    runs = []
+    for i, start in enumerate(starts):
+        local = _local(judge, sub, start, max(0, stop - budget.count) // (len(starts) - i))
+        if local.best.design is not None:
+            runs.append(local)
+    if not runs:
+        return None
+    best = min(runs, key=lambda o: _key(o.best)).best
+    out = Outcome(Best(), False, completed=any(o.completed for o in runs))
+    out.best.offer(best.design, *_refined_score(judge, goal, best.design, best.objective))
+    return out
 
 
 # --------------------------------------------------------------------------- trade-off table
