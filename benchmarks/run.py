@@ -15,7 +15,7 @@ import numpy
 import scipy
 
 from linkcli import __version__
-from linkcli.bench import markdown, run_problem
+from linkcli.bench import SUMMARY_COLUMNS, markdown, run_problem, summary
 
 
 def machine() -> str:
@@ -34,8 +34,10 @@ def main() -> None:
         print(f"{path}: done", file=sys.stderr)
     text = (f"# linkcli bench\n\nMachine: {machine()}.\n"
             f"Reproduce: `python3 benchmarks/run.py --seeds {args.seeds}`.\n"
-            "`seconds` is the solve alone (no start-up); `gap` = (objective - best_known) / best_known.\n\n"
-            + markdown(rows))
+            "`seconds` is the solve alone (no start-up); `gap` = (objective - best_known) / best_known;\n"
+            "`auto` is the default; a `-` budget is the file's own (or the method's default).\n\n"
+            "## Summary over seeds\n\n" + markdown(summary(rows), 5, SUMMARY_COLUMNS)
+            + "\n## Every run\n\n" + markdown(rows))
     with open(args.out, "w", encoding="utf-8") as fh:
         fh.write(text)
     print(text)

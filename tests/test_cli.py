@@ -114,3 +114,22 @@ def test_sections_not_asked_for_are_not_printed():
 def test_seed_override_is_reported():
     _, out, _ = run_cli("synth", "problems/firedoor.toml", "--format", "json", "--seed", "7")
     assert json.loads(out)["solver"]["seed"] == 7
+
+
+def test_bench_rows_and_summary():
+    """bench times each setting and seed of a problem; the fire door's exact design
+    (objective 0 within round-off, [reference] 0) is found by both of its methods."""
+    code, out, _ = run_cli("bench", "problems/bench/firedoor.toml", "--seeds", "2", "-f", "json")
+    assert code == 0
+    rows = json.loads(out)
+    assert {(r["method"], r["seed"]) for r in rows} == {(m, s) for m in ("auto", "freudenstein") for s in (0, 1)}
+    for r in rows:
+        assert r["status"] == "ok" and r["seconds"] > 0 and r["best_known"] == 0.0
+        assert abs(r["objective"]) < 1e-20 and abs(r["gap"]) < 1e-20
+    from linkcli.bench import SUMMARY_COLUMNS, markdown, summary
+    rows[0]["status"] = "not-converged"
+    table = summary(rows)
+    assert [(t["method"], t["seeds ok"]) for t in table] == [("auto", "1/2"), ("freudenstein", "2/2")]
+    text = markdown(table, 5, SUMMARY_COLUMNS)
+    assert text.splitlines()[0] == "| " + " | ".join(SUMMARY_COLUMNS) + " |"
+    assert len(text.splitlines()) == 4

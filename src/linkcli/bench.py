@@ -1,6 +1,7 @@
 """`linkcli bench`: run time against error for each problem, solver setting and seed.
 
-Each row: problem, method, budget, seed, seconds (wall clock of the solve alone),
+Each row: problem, method, budget, seed, seconds (wall clock of the solve alone, scipy
+already imported),
 evaluations, objective, best_known (the file's `[reference] objective`), gap
 ((objective - best_known) / |best_known|), status. A problem type's schema module may list
 `BENCH_SETTINGS` as (method, budget) pairs; otherwise every method in `METHODS` is run
@@ -37,6 +38,7 @@ def run_problem(path: str, seeds: int) -> list[dict]:
     from linkcli.problemfile import load
     from linkcli.solvers import solve
     problem = load(path)
+    import scipy.optimize  # noqa: F401  imported before any timing, so that no row pays for it
     best = problem.meta.reference.objective if problem.meta.reference else None
     rows = []
     for method, budget in settings_for(problem):
@@ -95,10 +97,39 @@ def command(files: list[str], fmt: str, seeds: int, precision: int, debug: bool)
     return worst
 
 
-def markdown(rows: list[dict], precision: int = 4) -> str:
+SUMMARY_COLUMNS = ("problem", "method", "budget", "seeds ok", "median seconds",
+                   "median evaluations", "best objective", "best_known", "worst gap")
+
+
+def summary(rows: list[dict]) -> list[dict]:
+    """One row per (problem, method, budget) over the seeds: how many ended `ok`, the
+    median time and evaluations, the best objective and the worst gap."""
+    from statistics import median
+    groups: dict[tuple, list[dict]] = {}
+    for r in rows:
+        groups.setdefault((r["problem"], r["method"], r["budget"]), []).append(r)
+    out = []
+    for (problem, method, budget), rs in groups.items():
+        objs = [r["objective"] for r in rs if r["objective"] is not None]
+        gaps = [r["gap"] for r in rs if r["gap"] is not None]
+        evals = [r["evaluations"] for r in rs if r["evaluations"] is not None]
+        out.append({
+            "problem": os.path.splitext(os.path.basename(problem))[0], "method": method,
+            "budget": budget,
+            "seeds ok": f"{sum(r['status'] == 'ok' for r in rs)}/{len(rs)}",
+            "median seconds": median(r["seconds"] for r in rs),
+            "median evaluations": int(median(evals)) if evals else None,
+            "best objective": min(objs) if objs else None,
+            "best_known": rs[0]["best_known"],
+            "worst gap": max(gaps) if gaps else None,
+        })
+    return out
+
+
+def markdown(rows: list[dict], precision: int = 4, columns: tuple[str, ...] = COLUMNS) -> str:
     """A markdown table of bench rows (for the README)."""
     from linkcli.report import fmt as fmt_value
-    head = "| " + " | ".join(COLUMNS) + " |\n|" + "---|" * len(COLUMNS) + "\n"
+    head = "| " + " | ".join(columns) + " |\n|" + "---|" * len(columns) + "\n"
     body = "".join("| " + " | ".join(fmt_value(r[c], precision) if r[c] is not None else "-"
-                                     for c in COLUMNS) + " |\n" for r in rows)
+                                     for c in columns) + " |\n" for r in rows)
     return head + body
