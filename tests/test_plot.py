@@ -3,7 +3,7 @@ size, SVG parsed as XML holding its titles and labels), byte-identical from run 
 and the curves it draws checked against an independent per-sample closure written here
 (math module only), not against the code that drew them. No pixel goldens.
 
-The drawing tests need matplotlib (the `plot` extra) and skip without it; the tests of
+The drawing tests need matplotlib (in the `plot` and `test` extras) and skip without it; the tests of
 the command line's checks (missing matplotlib, a bad PATH) run everywhere.
 """
 
