@@ -67,10 +67,14 @@ def ground_distance(a, d, phi):
     return np.sqrt((a - d) ** 2 + 4.0 * a * d * s * s)
 
 
+WRAP_SNAP = 1e-12  # rad: an angle within round-off of -pi is taken as +pi
+
+
 def wrap(angle):
-    """Angles in (-pi, pi]."""
+    """Angles in (-pi, pi]; one within WRAP_SNAP of -pi (round-off of a position at
+    180 deg) becomes +pi, so that a report never alternates between -180 and 180."""
     out = np.mod(np.asarray(angle, dtype=float) + np.pi, TWO_PI) - np.pi
-    return np.where(out <= -np.pi, out + TWO_PI, out)
+    return np.where(out <= -np.pi + WRAP_SNAP, out + TWO_PI, out)
 
 
 def branch_sign(branch) -> float:

@@ -10,12 +10,15 @@ from __future__ import annotations
 import sys
 
 from rich import box
+from rich.cells import cell_len
 from rich.console import Console, Group
+from rich.measure import Measurement
 from rich.table import Table
 from rich.text import Text
 
 from linkcli.export import rounded
 
+MAX_TABLE_WIDTH = 400  # columns a table may take when printed to a file or a pipe
 STATUS_STYLE = {"ok": "bold green", "infeasible": "bold yellow", "not-converged": "bold red"}
 KNOWN = ("file", "title", "type", "status", "message", "units", "linkage", "grashof",
          "transmission", "motion", "kinematics", "positions", "error", "solver", "notes")
@@ -203,12 +206,46 @@ def render(report: dict, digits: int = 6) -> Group:
     return Group(*parts)
 
 
+def _compact(table: Table) -> int:
+    """Fix each column at its longest cell or header word (headers wrap at words, cells
+    never); return the table's width so laid out."""
+    for column in table.columns:
+        words = str(column.header).split() or [""]
+        column.width = max([cell_len(str(c)) for c in column.cells] + [cell_len(w) for w in words])
+    pad = 2 * table.padding[1] if table.padding else 0
+    edges = 2 if table.show_edge and table.box else 0
+    return sum(c.width for c in table.columns) + pad * len(table.columns) \
+        + (len(table.columns) - 1) * (1 if table.box and table.show_lines is not None else 0) + edges
+
+
+def _emit(con: Console, group: Group) -> None:
+    """Print a report part by part. A table never shows a truncated number: one wider than
+    the console is laid out compactly (headers wrap at words, cells never), and if it still
+    does not fit it is printed wider (a file or a pipe: one row per line, every digit) or,
+    on a terminal, folds its cells onto a second line."""
+    for part in group.renderables:
+        if isinstance(part, Table):
+            natural = Measurement.get(con, con.options.update_width(MAX_TABLE_WIDTH), part).maximum
+            if natural > con.width:
+                need = _compact(part)
+                if need > con.width:
+                    if con.is_terminal:
+                        for column in part.columns:
+                            column.width, column.overflow = None, "fold"
+                    else:
+                        width, con.width = con.width, need
+                        con.print(part)
+                        con.width = width
+                        continue
+        con.print(part)
+
+
 def print_reports(reports: list[dict], digits: int, file=None) -> None:
     con = console(file)
     for i, rep in enumerate(reports):
         if i:
             con.print()
-        con.print(render(rep, digits))
+        _emit(con, render(rep, digits))
 
 
 def render_text(reports: list[dict], digits: int) -> str:
@@ -219,5 +256,5 @@ def render_text(reports: list[dict], digits: int) -> str:
     for i, rep in enumerate(reports):
         if i:
             con.print()
-        con.print(render(rep, digits))
+        _emit(con, render(rep, digits))
     return buf.getvalue()

@@ -1,0 +1,60 @@
+"""Tables for a person never hide digits: a number is shown whole, or folded on a terminal,
+never cut with an ellipsis (which once showed -2.03555e-13 as "-2.03555e…")."""
+
+from __future__ import annotations
+
+import io
+import json
+import re
+
+from rich.console import Console
+
+from conftest import run_cli
+from linkcli.report import _emit, render
+
+PARALLELOGRAM = """type = "linkage"
+[linkage]
+ground = 1
+input = 1
+coupler = 1
+output = 1
+"""
+NUMBER = re.compile(r"^-?\d+(\.\d+)?(e[-+]\d+)?$")
+
+
+def _report(tmp_path):
+    path = tmp_path / "rhombus.toml"
+    path.write_text(PARALLELOGRAM)
+    code, out, err = run_cli("synth", str(path), "-f", "json")
+    assert code == 0, err
+    return json.loads(out), path
+
+
+def test_piped_tables_show_every_digit(tmp_path):
+    rep, path = _report(tmp_path)
+    code, out, _ = run_cli("synth", str(path))
+    assert code == 0 and "…" not in out
+    rows = [line.split() for line in out.splitlines() if re.match(r"^\s+\d+\s+-?\d", line)]
+    kin = rep["kinematics"]
+    assert len(rows) == len(kin)
+    # every cell is a whole number. Up to the change point at 180 deg the rhombus is a
+    # parallelogram: its coupler stays parallel to the ground (angle 0 up to round-off,
+    # shown with its exponent) and its output follows the input
+    assert all(NUMBER.match(c) or c == "-" for r in rows for c in r)
+    coupler = [abs(float(r[1])) for r in rows[1:180]]
+    assert max(coupler) < 1e-9 and any(c > 0 for c in coupler)
+    assert all(float(r[2]) == float(r[0]) for r in rows[1:180])
+    # beyond it, the open branch folds into the kite: the output rests at 180 deg (never
+    # shown as -180: positions are in (-180, 180]) while the coupler turns
+    assert {float(r[2]) for r in rows[181:]} == {180.0}
+
+
+def test_terminal_tables_fold_rather_than_cut(tmp_path):
+    rep, _ = _report(tmp_path)
+    for width in (60, 100):
+        buf = io.StringIO()
+        con = Console(file=buf, width=width, force_terminal=True, color_system=None)
+        _emit(con, render(rep, 6))
+        text = buf.getvalue()
+        assert "…" not in text
+        assert max(len(line) for line in text.splitlines()) <= width
