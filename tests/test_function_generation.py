@@ -454,12 +454,12 @@ def test_extended_start_with_a_law_defined_on_part_of_the_turn(tmp_path):
 def test_a_law_undefined_at_some_points_only_is_left_to_the_search():
     from linkcli.solvers.function_generation import check_law
     from linkcli.solvers.function_model import Model
-    text = open(CRANK_ROCKER).read().replace('"psi0 + 2/(3*pi)*(phi - phi0)**2"', '"psi0 + sqrt(phi - phi0 - 0.2)"')
+    text = open(CRANK_ROCKER).read().replace('"psi0 + 2/(3*pi)*(phi - phi0)**2"', '"psi0 + sqrt(phi - 0.5)"')
     model = Model(load("partial.toml", text))
     u = np.random.default_rng(0).random((20, model.n))
-    check_law(model, u)  # the first points are undefined for every candidate, the others not
-    with pytest.raises(InputError):
-        check_law(Model(load("none.toml", text.replace("sqrt(phi - phi0 - 0.2)", "sqrt(phi - 100)"))), u)
+    check_law(model, u)  # phi0 near 0.46 rad: the first points are undefined for some candidates
+    with pytest.raises(InputError):  # undefined for every start angle: refused when read
+        check_law(Model(load("none.toml", text.replace("sqrt(phi - 0.5)", "sqrt(phi - 100)"))), u)
 
 
 def freudenstein_design(phis, psis, d):
@@ -659,18 +659,27 @@ def test_hostile_expressions_are_input_errors(tmp_path, text, token):
         assert ": target.output: expected an expression" in lines[0] and token in lines[0], lines[0]
 
 
-@pytest.mark.parametrize("law,where", [
-    ("psi0 + sqrt(phi - 100)", "nan at phi"),  # extended start: found when solving
-    ("psi0 + log(phi0 - 10)", "nan at phi"),
+@pytest.mark.parametrize("law,where,command", [
+    # extended start: no start angle makes the law finite at a point, refused when read
+    ("psi0 + sqrt(phi - 100)", "found nan at point 1 of 31 (phi = phi0 + 0 deg) for every start angle", "check"),
+    ("psi0 + log(phi0 - 10)", "found nan at point 1 of 31", "check"),
+    ("psi0 + 1/(phi - phi0)", "found inf at point 1 of 31", "check"),
+    ("psi0 + 1e300*phi*1e300", "inf at point 1 of 31", "check"),
+    # finite for some start angles (phi < 0.71 rad) but overflowing over the sweep of every
+    # open crank-rocker the bounds allow (extended start near 26 deg, 90 deg long): found
+    # when solving
+    ("psi0 + exp(1000*phi)", "of 31 points of the best design found, first at phi", "synth"),
 ])
-def test_laws_undefined_at_the_points_are_input_errors(tmp_path, law, where):
+def test_laws_undefined_at_the_points_are_input_errors(tmp_path, law, where, command):
     data = json.loads(json.dumps(LAW_KEYS))
     data["target"]["output"] = law
+    if command == "synth":
+        data["constraints"] = {"grashof": "crank-rocker", "branch": "open"}
     path = write(tmp_path, {"type": "function-generation", **data})
-    code, out, err = run_cli("synth", path)
-    assert code == 2 and out == ""
+    code, out, err = run_cli(command, path)
+    assert code == 2 and (out == "" or command == "check")
     lines = err.splitlines()
-    assert len(lines) == 1 and "target.output: expected a law finite at the evaluation points" in lines[0]
+    assert len(lines) == 1 and "target.output: expected a law finite at every evaluation point" in lines[0]
     line = open(path).read().splitlines().index(f"output = {json.dumps(law)}") + 1
     assert where in lines[0] and lines[0].startswith(f"{path}:{line}:")
 

@@ -95,6 +95,8 @@ def parse(root: Table, meta: Meta) -> FunctionGenerationProblem | None:
         ok = shape is not None
     elif start == "given" and not start_bounds:
         ok = check_law_at_points(tgt, law, given, sweep, t, u)
+    else:
+        ok = check_law_for_some_start(tgt, law, given, start_bounds, sweep, t, u)
     if not ok:
         return None
     return FunctionGenerationProblem(
@@ -296,6 +298,36 @@ def check_law_at_points(tgt: Table, law, given, sweep, t, u) -> bool:
         if not math.isfinite(v):
             tgt.error("output", "a law finite at every evaluation point",
                       raw_got=f"{_fmt(v)} at phi = {_fmt(u.from_rad(phi))} {u.angle}")
+            return False
+    return True
+
+
+START_SAMPLES = 24  # start angles tried per free start when the starts are not known yet
+
+
+def _start_samples(key: str, given: dict, start_bounds: dict) -> list[float]:
+    if key in given:
+        return [given[key]]
+    lo, hi = start_bounds.get(key, (-math.pi, math.pi))
+    return [lo + (hi - lo) * (i + 0.5) / START_SAMPLES for i in range(START_SAMPLES)]
+
+
+def check_law_for_some_start(tgt: Table, law, given, start_bounds, sweep, t, u) -> bool:
+    """With start angles found by the solver (extended dead-centre, or free within bounds)
+    the law's values depend on the design; still, a point where it is not finite for any
+    of START_SAMPLES start angles (each free one) is a law no design can follow: 1/(phi -
+    phi0), an overflow, log of a negative constant."""
+    phi0s = _start_samples("input_start", given, start_bounds)
+    psi0s = _start_samples("output_start", given, start_bounds) if law.uses("psi0") else [0.0]
+    for k, tk in enumerate(t):
+        values = (law.scalar(phi=phi0 + tk * sweep, phi0=phi0, psi0=psi0)
+                  for phi0 in phi0s for psi0 in psi0s)
+        if not any(math.isfinite(v) for v in values):  # stops at the first finite value
+            first = law.scalar(phi=phi0s[0] + tk * sweep, phi0=phi0s[0], psi0=psi0s[0])
+            tgt.error("output", "a law finite at every evaluation point for some start angles",
+                      raw_got=f"{_fmt(first)} at point {k + 1} of {len(t)} "
+                              f"(phi = phi0 + {_fmt(u.from_rad(tk * sweep))} {u.angle}) for every "
+                              "start angle tried")
             return False
     return True
 

@@ -230,7 +230,7 @@ def check_law(model: Model, u: np.ndarray) -> None:
     """InputError when the law is undefined at every point for every sampled candidate
     on every branch (the law, not the linkage, is then at fault). A law undefined at some
     points only (a domain that holds part of the sweeps) is left to the search, which
-    penalizes those points, and to the report (infeasible, constraint `law`). Not an
+    penalizes those points (check_law_finite judges the linkage it ends with). Not an
     evaluation of the objective: the linkage is not assembled."""
     p = model.problem
     if p.form == "function":
@@ -251,7 +251,7 @@ def check_law(model: Model, u: np.ndarray) -> None:
     value = float(target[i, k])
     shown = "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
     u_ = p.meta.units
-    raise InputError("a law finite at the evaluation points",
+    raise InputError("a law finite at every evaluation point of some linkage within the bounds",
                      f"{shown} at phi = {u_.from_rad(float(phi[0, k])):.6g} {u_.angle} "
                      f"(and at every point for every sampled linkage)", path=p.meta.path,
                      line=p.lines.get("law"), key=p.lines.get("law_key"))
@@ -532,6 +532,7 @@ def build_solution(problem, model: Model, search: Search, converged: bool) -> So
     target = det["target"][0]
     positions = Positions(kind="angle", input=det["phi"][0], target=target,
                           achieved=kin.wrap(det["psi"][0]), error=kin.wrap(err))
+    check_law_finite(problem, model, batch.violation[0], det, u)
     violations = describe_violations(problem, model, batch.violation[0], det, u)
     solver = {"method": solver_name(problem.meta.solver.method, model.n), "seed": problem.meta.solver.seed,
               "evaluations": search.count, "converged": bool(converged)}
@@ -560,6 +561,26 @@ def solver_name(method: str, n: int) -> str:
     if n == 0:
         return "evaluation (no free variable)"
     return {"auto": "differential-evolution+gauss-newton+slsqp"}.get(method, method)
+
+
+def check_law_finite(problem, model: Model, viol, det, u) -> None:
+    """A law that is still not finite at some point of the best design found (its start
+    angles defined) is bad input, not an infeasible design: an overflow, a pole or a
+    logarithm of a negative number over every design the search could reach."""
+    if dict(zip(model.names, viol))["law"] <= FEASIBLE:
+        return
+    phi0, psi0 = float(det["phi0"][0, 0]), float(det["psi0"][0, 0])
+    if not (math.isfinite(phi0) and math.isfinite(psi0)):
+        return  # no start angles (no extended dead-centre): that violation is reported
+    target, phi = det["target"][0], det["phi"][0]
+    bad = np.flatnonzero(~np.isfinite(target))
+    k = int(bad[0])
+    raise InputError("a law finite at every evaluation point of some design within the bounds",
+                     f"{target[k]:.6g} at {len(bad)} of {len(target)} points of the best design "
+                     f"found, first at phi = {float(u.from_rad(float(kin.wrap(phi[k])))):.6g} {u.angle} "
+                     f"(point {k + 1})",
+                     path=problem.meta.path, line=problem.lines.get("law"),
+                     key=problem.lines.get("law_key"))
 
 
 def describe_violations(problem, model: Model, viol, det, u) -> list[str]:
