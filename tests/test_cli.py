@@ -133,3 +133,20 @@ def test_bench_rows_and_summary():
     text = markdown(table, 5, SUMMARY_COLUMNS)
     assert text.splitlines()[0] == "| " + " | ".join(SUMMARY_COLUMNS) + " |"
     assert len(text.splitlines()) == 4
+
+
+def test_out_folder_problems_and_repeated_stems(tmp_path):
+    a_file = tmp_path / "afile"
+    a_file.write_text("")
+    code, out, err = run_cli("synth", "problems/firedoor.toml", "--out", str(a_file))
+    assert code == 2 and out == "" and err.strip() == f"{a_file}: expected a folder for --out, found a file"
+    # the same stem twice: both results kept, the second as firedoor_2
+    for sub in ("x", "y"):
+        (tmp_path / sub).mkdir()
+        (tmp_path / sub / "firedoor.toml").write_text(open("problems/firedoor.toml").read())
+    outd = tmp_path / "outd"
+    code, _, _ = run_cli("synth", str(tmp_path / "x" / "firedoor.toml"), str(tmp_path / "y" / "firedoor.toml"),
+                         "--out", str(outd), "-f", "json")
+    assert code == 0 and sorted(p.name for p in outd.iterdir()) == ["firedoor.json", "firedoor_2.json"]
+    files = [json.loads((outd / n).read_text())["file"] for n in ("firedoor.json", "firedoor_2.json")]
+    assert files == [str(tmp_path / "x" / "firedoor.toml"), str(tmp_path / "y" / "firedoor.toml")]

@@ -199,3 +199,28 @@ def test_toggle_and_change_point_give_finite_numbers():
     # a linkage that never assembles says so
     assert kin.input_arcs(1.0, 1.0, 1.0, 10.0) == []
     assert kin.motion(1.0, 1.0, 1.0, 10.0, "open") == {"assembles": False}
+
+
+def test_change_point_row_has_no_round_off_quotients():
+    # 20 + 50 = 30 + 40: at input 180 deg every link lies on the ground line and
+    # sin(psi - theta) is round-off (1e-16). Velocities and accelerations there are the
+    # quotient of round-off errors (an acceleration of 8e11 rad/s^2 was printed): they are
+    # reported undefined (inf, shown as null), and one degree away they match finite
+    # differences of the closure
+    a, b, c, d = 20.0, 30.0, 40.0, 50.0
+    phi = np.deg2rad([179.0, 180.0, 181.0])
+    p = kin.pose(a, b, c, d, phi, "open")
+    w2 = math.radians(1.0)
+    w3, w4 = kin.velocities(a, b, c, p, w2)
+    a3, a4 = kin.accelerations(a, b, c, p, w2)
+    for v in (w3, w4, a3, a4):
+        assert np.isinf(v[1]) and np.isfinite(v[[0, 2]]).all()
+    h = 1e-6
+    for k in (0, 2):
+        pp = kin.pose(a, b, c, d, phi[k] + h, "open")
+        pm = kin.pose(a, b, c, d, phi[k] - h, "open")
+        assert w4[k] == pytest.approx(float(kin.wrap(pp.psi - pm.psi)) / (2 * h) * w2, rel=1e-6)
+        g = 1e-3  # the velocity is smooth here; a wider step keeps round-off out
+        w4p = kin.velocities(a, b, c, kin.pose(a, b, c, d, phi[k] + g, "open"), w2)[1]
+        w4m = kin.velocities(a, b, c, kin.pose(a, b, c, d, phi[k] - g, "open"), w2)[1]
+        assert a4[k] == pytest.approx(float(w4p - w4m) / (2 * g) * w2, rel=1e-5)

@@ -121,6 +121,8 @@ def _progress(total: int):
 def _solve_command(files: list[Path], mode: str, fmt: Format, out: Optional[Path], seed,
                    precision: int, jobs: int, plot: Optional[Path], debug: bool, timing: bool) -> int:
     names = [str(f) for f in files]
+    if out is not None and not _prepare_out(out):
+        return 2
     worst = 0
     counts = {0: 0, 1: 0, 2: 0}
     reports: list[dict] = []
@@ -158,7 +160,7 @@ def _solve_command(files: list[Path], mode: str, fmt: Format, out: Optional[Path
         if prog is not None:
             prog.stop()
     if out is not None:
-        _write_out([r for r in reports if "type" in r], out, fmt, precision)
+        worst = max(worst, _write_out([r for r in reports if "type" in r], out, fmt, precision))
     elif fmt is Format.json:
         from linkcli.export import to_json
         sys.stdout.write(to_json(reports if len(names) > 1 else (reports[0] if reports else []), precision))
@@ -174,12 +176,40 @@ def _solve_command(files: list[Path], mode: str, fmt: Format, out: Optional[Path
     return worst
 
 
-def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int) -> None:
+def _prepare_out(out: Path) -> bool:
+    """--out must be a folder that exists or can be made; checked before any solve."""
+    if out.exists() and not out.is_dir():
+        _err(f"{out}: expected a folder for --out, found a file")
+        return False
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        _err(f"{out}: expected a folder for --out that can be created, found {exc.strerror or exc}")
+        return False
+    return True
+
+
+def out_stems(files: list[str]) -> list[str]:
+    """One output name per result, in argument order: the file's stem, with _2, _3, ...
+    added to a stem already taken (a/firedoor.toml and b/firedoor.toml -> firedoor,
+    firedoor_2, as --plot names its pictures), so no result overwrites another."""
+    taken: set[str] = set()
+    stems = []
+    for f in files:
+        stem, k = Path(f).stem, 1
+        name = stem
+        while name in taken:
+            k += 1
+            name = f"{stem}_{k}"
+        taken.add(name)
+        stems.append(name)
+    return stems
+
+
+def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int) -> int:
     from linkcli.export import to_json, to_toml
     from linkcli.report import render_text
-    out.mkdir(parents=True, exist_ok=True)
-    for rep in reports:
-        stem = Path(rep["file"]).stem
+    for rep, stem in zip(reports, out_stems([rep["file"] for rep in reports])):
         target = out / f"{stem}.{EXT[fmt.value]}"
         if fmt is Format.json:
             text = to_json(rep, precision)
@@ -187,7 +217,12 @@ def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int) -> N
             text = to_toml(rep, precision)
         else:
             text = render_text([rep], precision)
-        target.write_text(text, encoding="utf-8")
+        try:
+            target.write_text(text, encoding="utf-8")
+        except OSError as exc:
+            _err(f"{target}: expected a writable result file, found {exc.strerror or exc}")
+            return 2
+    return 0
 
 
 def _plot(reports, names, plot: Path, mode, seed, debug) -> int:

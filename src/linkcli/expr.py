@@ -36,6 +36,7 @@ FUNCTIONS = ("sin", "cos", "tan", "asin", "acos", "atan", "sqrt", "exp", "log", 
 CONSTANTS = {"pi": math.pi, "e": math.e}
 MAX_LENGTH = 500  # characters of expression text
 MAX_EXPONENT = 100  # |constant exponent| allowed in a ** b
+MAX_DEPTH = 200  # operations nested in one another (a 500-character sum is at most ~170)
 _BINOPS = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/", ast.Pow: "**"}
 _DESCRIBE = {  # node types refused, as the user would name them
     ast.Attribute: "attribute access", ast.Subscript: "a subscript", ast.Lambda: "a lambda",
@@ -104,8 +105,21 @@ def compile_expression(text: str, variables: tuple[str, ...]) -> Expression:
         raise ExpressionError(expected, f'a syntax error{why}{col} in "{_short(text)}"') from None
     except (RecursionError, MemoryError, ValueError):
         raise ExpressionError(expected, f'an expression too deeply nested: "{_short(text)}"') from None
-    return Expression(text=text, variables=tuple(variables),
-                      tree=_Builder(flat.strip(), tuple(variables), expected).build(node.body))
+    tree = _Builder(flat.strip(), tuple(variables), expected).build(node.body)
+    if _depth(tree) > MAX_DEPTH:
+        raise ExpressionError(expected, f"an expression nested more than {MAX_DEPTH} operations deep: "
+                                        f'"{_short(text)}"')
+    return Expression(text=text, variables=tuple(variables), tree=tree)
+
+
+def _depth(tree: tuple) -> int:
+    """Nesting depth of a tree, without recursion."""
+    deepest, stack = 0, [(tree, 1)]
+    while stack:
+        node, d = stack.pop()
+        deepest = max(deepest, d)
+        stack.extend((t, d + 1) for t in node[1:] if isinstance(t, tuple))
+    return deepest
 
 
 class _Builder:
@@ -157,7 +171,8 @@ class _Builder:
             if isinstance(node.op, ast.USub):
                 inner = self._build(node.operand)
                 return self.fold(("neg", inner), node)
-            self.fail(f'the operator "{self.segment(node)[:1]}" in "{self.segment(node)}"')
+            op = {ast.Not: "not", ast.Invert: "~"}.get(type(node.op), type(node.op).__name__)
+            self.fail(f'the operator "{op}" in "{self.segment(node)}"')
         if isinstance(node, ast.BinOp):
             op = _BINOPS.get(type(node.op))
             if op is None:
@@ -222,9 +237,13 @@ def _num(x: float) -> str:
 
 
 def _uses(tree: tuple, name: str) -> bool:
-    if tree[0] == "var":
-        return tree[1] == name
-    return any(_uses(t, name) for t in tree[1:] if isinstance(t, tuple))
+    stack = [tree]
+    while stack:
+        node = stack.pop()
+        if node[0] == "var" and node[1] == name:
+            return True
+        stack.extend(t for t in node[1:] if isinstance(t, tuple))
+    return False
 
 
 def _walk(tree: tuple, env: dict, ops: dict, funcs: dict):

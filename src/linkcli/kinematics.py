@@ -109,16 +109,22 @@ def pose(a, b, c, d, phi, branch="open") -> Pose:
                 rho=rho, valid=np.broadcast_to(valid, psi.shape))
 
 
+DEAD_CENTRE_SIN = 1e-9  # |sin(psi - theta)| at or below: coupler and output in line
+
+
 def velocities(a, b, c, p: Pose, w2):
     """Angular velocities (w3 coupler, w4 output) for input speed w2 (closed form).
 
-    Infinite at a toggle (sin(psi - theta) = 0): returned as inf, never NaN.
+    Undefined at a dead centre of the output (coupler and output in line, |sin(psi -
+    theta)| <= DEAD_CENTRE_SIN, which holds round-off at a change point too): returned as
+    inf there, never NaN or a quotient of round-off errors.
     """
     s = np.sin(p.psi - p.theta)
+    dead = np.abs(s) <= DEAD_CENTRE_SIN
     with np.errstate(divide="ignore", invalid="ignore"):
         w3 = a * w2 * np.sin(p.psi - p.phi) / (b * -s)
         w4 = a * w2 * np.sin(p.phi - p.theta) / (c * s)
-    return w3, w4
+    return np.where(dead, np.inf, w3), np.where(dead, np.inf, w4)
 
 
 def accelerations(a, b, c, p: Pose, w2, alpha2=0.0):
@@ -138,7 +144,8 @@ def accelerations(a, b, c, p: Pose, w2, alpha2=0.0):
         re_theta = kx * np.cos(p.theta) + ky * np.sin(p.theta)
         a3 = -re_psi / (b * s)
         a4 = re_theta / (c * -s)
-    return a3, a4
+    dead = np.abs(s) <= DEAD_CENTRE_SIN
+    return np.where(dead, np.inf, a3), np.where(dead, np.inf, a4)
 
 
 # ---------------------------------------------------------------- Grashof class

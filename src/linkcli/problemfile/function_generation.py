@@ -24,6 +24,7 @@ import math
 from linkcli.expr import ExpressionError, compile_expression
 from linkcli.model import LINKS, FunctionGenerationProblem, Meta
 from linkcli.problemfile.reader import Table
+from linkcli.problemfile.linkage import MAX_RATIO
 
 DEFAULT_SECTIONS = ("lengths", "grashof", "transmission", "motion", "positions", "error", "solver")
 SECTIONS = ("lengths", "grashof", "transmission", "motion", "kinematics", "positions", "error",
@@ -142,6 +143,13 @@ def read_lengths(root: Table, link: Table | None, bnd: Table | None):
             fixed[k] = rng[0]
         else:
             bounds[k] = rng
+    if ok and len(fixed) > 1 and max(fixed.values()) > MAX_RATIO * min(fixed.values()):
+        longest, shortest = max(fixed, key=fixed.get), min(fixed, key=fixed.get)
+        where = link if link is not None and longest in link else bnd
+        where.error(longest, f"fixed lengths whose longest is at most {MAX_RATIO:g} times the shortest "
+                             "(beyond, double precision cannot resolve the angles)",
+                    raw_got=f"{longest} {_fmt(fixed[longest])} and {shortest} {_fmt(fixed[shortest])}")
+        ok = False
     if ok and not fixed:
         where = ("linkage",) if link is not None else ("bounds",)
         root.reader.error(where, "at least one length fixed in [linkage] (it sets the scale)",
@@ -276,17 +284,24 @@ def function_shape(tgt: Table, law, x_range, t):
                       raw_got=f"{_fmt(v)} at x = {_fmt(x)}")
             return None
     f0, f1 = values[0], values[1]
-    if f1 == f0:
+    if abs(f1 - f0) <= SPAN_RTOL * max(abs(v) for v in values):
+        got = (f"f({_fmt(x0)}) = f({_fmt(x1)}) = {_fmt(f0)}" if f1 == f0 else
+               f"f({_fmt(x0)}) = {_fmt(f0)} and f({_fmt(x1)}) = {_fmt(f1)}, equal within round-off")
         tgt.error("function", "a function with f(x1) != f(x0) (the output sweep maps f(x0)..f(x1))",
-                  raw_got=f"f({_fmt(x0)}) = f({_fmt(x1)}) = {_fmt(f0)}")
+                  raw_got=got)
         return None
     span = f1 - f0
     shape = tuple((v - f0) / span for v in values[2:])
-    if not all(math.isfinite(s) for s in shape):
+    if not all(math.isfinite(s) and abs(s) <= MAX_SHAPE for s in shape):
         tgt.error("function", "a function whose values differ by a finite ratio",
                   raw_got=f"f({_fmt(x1)}) - f({_fmt(x0)}) = {_fmt(span)}")
         return None
     return shape
+
+
+def usable(v: float) -> bool:
+    """A law value (rad) that is finite and small enough to keep its fraction of a turn."""
+    return math.isfinite(v) and abs(v) <= LAW_LIMIT
 
 
 def check_law_at_points(tgt: Table, law, given, sweep, t, u) -> bool:
@@ -295,13 +310,16 @@ def check_law_at_points(tgt: Table, law, given, sweep, t, u) -> bool:
     for tk in t:
         phi = phi0 + tk * sweep
         v = law.scalar(phi=phi, phi0=phi0, psi0=psi0)
-        if not math.isfinite(v):
-            tgt.error("output", "a law finite at every evaluation point",
+        if not usable(v):
+            tgt.error("output", f"a law finite at every evaluation point (and within {LAW_LIMIT:g} rad)",
                       raw_got=f"{_fmt(v)} at phi = {_fmt(u.from_rad(phi))} {u.angle}")
             return False
     return True
 
 
+SPAN_RTOL = 1e-9  # f(x1) - f(x0) smaller than this times the largest |f| is round-off
+MAX_SHAPE = 1e6  # |f(x_k) - f(x0)| / |f(x1) - f(x0)|: beyond, the output would turn 1e6 sweeps
+LAW_LIMIT = 1e6  # rad: a target angle beyond this magnitude has no digits left below a degree
 START_SAMPLES = 24  # start angles tried per free start when the starts are not known yet
 
 
@@ -322,9 +340,10 @@ def check_law_for_some_start(tgt: Table, law, given, start_bounds, sweep, t, u) 
     for k, tk in enumerate(t):
         values = (law.scalar(phi=phi0 + tk * sweep, phi0=phi0, psi0=psi0)
                   for phi0 in phi0s for psi0 in psi0s)
-        if not any(math.isfinite(v) for v in values):  # stops at the first finite value
+        if not any(usable(v) for v in values):  # stops at the first usable value
             first = law.scalar(phi=phi0s[0] + tk * sweep, phi0=phi0s[0], psi0=psi0s[0])
-            tgt.error("output", "a law finite at every evaluation point for some start angles",
+            tgt.error("output", "a law finite at every evaluation point for some start angles "
+                      f"(and within {LAW_LIMIT:g} rad)",
                       raw_got=f"{_fmt(first)} at point {k + 1} of {len(t)} "
                               f"(phi = phi0 + {_fmt(u.from_rad(tk * sweep))} {u.angle}) for every "
                               "start angle tried")

@@ -12,6 +12,7 @@ METHODS = ("auto",)
 TOLERANCE = True
 MAX_STEPS = 100_000
 MAX_RATIO = 1e6  # longest over shortest link
+ASSEMBLY_RTOL = 1e-12  # relative: ranges that only touch close at one position and cannot move
 
 
 def read_fourbar(t: Table, units) -> FourBar | None:
@@ -28,6 +29,15 @@ def read_fourbar(t: Table, units) -> FourBar | None:
         t.error(longest, f"a linkage whose longest link is at most {MAX_RATIO:g} times its shortest "
                 "(beyond, double precision cannot resolve its angles)",
                 raw_got=f"{longest} = {lengths[longest]:g} and {shortest} = {lengths[shortest]:g}")
+        return None
+    a, b, c, d = (lengths[k] for k in ("input", "coupler", "output", "ground"))
+    gap = min(d + a, b + c) - max(abs(d - a), abs(b - c))
+    if gap <= ASSEMBLY_RTOL * min(d + a, b + c):
+        t.error(longest, "a linkage that assembles over a range of input angles (|A B0|, from "
+                "|ground - input| to ground + input, meeting |coupler - output| .. coupler + output)",
+                raw_got=f"|A B0| in [{abs(d - a):g}, {d + a:g}] and coupler with output spanning "
+                        f"[{abs(b - c):g}, {b + c:g}]" + (", which touch at one position only (a structure)"
+                                                          if gap > -ASSEMBLY_RTOL * min(d + a, b + c) else ""))
         return None
     return FourBar(branch=branch, coupler_point=tuple(cp) if cp else None,
                    ground_pivot=tuple(gp), ground_angle=units.to_rad(ga), **lengths)

@@ -488,7 +488,8 @@ def polish_seeds(search: Search, branch: str, seeds: np.ndarray, polished: np.nd
 
 def evolution_alone(search: Search, branch: str, evaluations: int, seed: int) -> bool:
     """Differential evolution with the whole budget and a tight convergence test."""
-    return differential_evolution(search, branch, evaluations, seed, tol=DE_ALONE_TOL)
+    converged, _ = differential_evolution(search, branch, evaluations, seed, tol=DE_ALONE_TOL)
+    return converged
 
 
 STRATEGIES = {"auto": auto, "slsqp": multistart, "differential-evolution": evolution_alone,

@@ -40,6 +40,7 @@ import numpy as np
 
 from linkcli import kinematics as kin
 from linkcli.model import FunctionGenerationProblem
+from linkcli.problemfile.function_generation import LAW_LIMIT
 
 GRASHOF_MARGIN = 1e-7  # relative: the Grashof inequalities hold strictly, not at a change-point
 FULL_TURN_CLASSES = ("crank-rocker", "double-crank")
@@ -141,7 +142,8 @@ class Model:
         p = self.problem
         if p.form == "function":
             return psi0 + self.shape * p.output_sweep
-        return p.law(phi=phi, phi0=phi0, psi0=psi0)
+        target = p.law(phi=phi, phi0=phi0, psi0=psi0)
+        return np.where(np.abs(target) <= LAW_LIMIT, target, np.nan)  # beyond: no digits left
 
     def evaluate(self, v: np.ndarray, sign: float, detail: bool = False):
         """Objective, violations and penalized objective of N candidates on one branch.

@@ -38,6 +38,7 @@ from linkcli.solvers.path_search import Counter, Space, batch_lm, differential_e
 
 DEFAULT_BUDGET = {"multistart": 2_000_000, "least-squares": 200_000, "differential-evolution": 200_000,
                   "de-polish": 200_000}
+POINT_EVALUATIONS = 40_000_000  # default cap on evaluations x targets (the cost of a search)
 LM_WEIGHT = 1e2  # penalty weight (dimensionless residuals) in the batched stage
 POLISH_WEIGHTS = (1e3, 1e5, 1e7, 1e9)  # final polish; each stiffer one only while a violation is left
 LM_FIELD = 96  # candidates entering the batched Levenberg-Marquardt stage
@@ -72,7 +73,7 @@ def solve(problem) -> Solution:
     d = build(problem)
     opts = problem.meta.solver
     method = "multistart" if opts.method == "auto" else opts.method
-    counter = Counter(opts.budget or DEFAULT_BUDGET[method])
+    counter = Counter(opts.budget or default_budget(method, d.n))
     rng = np.random.default_rng(opts.seed)
     with np.errstate(all="ignore"):
         if not d.free.any():  # nothing to choose: the given linkage on the allowed branches
@@ -87,6 +88,12 @@ def solve(problem) -> Solution:
             cands = evolve(d, counter, opts.seed, polish_after=method == "de-polish")
         best, violations = choose(d, cands)
         return solution(problem, d, best, violations, method, counter)
+
+
+def default_budget(method: str, points: int) -> int:
+    """The method's default evaluations, fewer for many targets (each evaluation costs one
+    assembly per target): 2,000,000 up to 20 targets, 200,000 at 200."""
+    return max(1, min(DEFAULT_BUDGET[method], POINT_EVALUATIONS // max(points, 1)))
 
 
 # ---------------------------------------------------------------- methods
@@ -307,22 +314,24 @@ def solution(problem, d: Design, best: Candidate, bad, method, counter) -> Solut
                "branch_defect": "branch" in names,
                "order_defect": "order" in names}
     notes = _notes(problem, d, x) + _reach_note(problem, d, x, err)
+    exact = objective <= d.n * (EXACT_RMS * d.scale) ** 2  # an exact fit needs no more search
+    converged = bool(best.converged) or exact
     solver = {"method": method, "seed": problem.meta.solver.seed, "evaluations": counter.used,
-              "converged": bool(best.converged)}
+              "converged": converged}
     n = d.n
     if bad:
         status = Status.INFEASIBLE
         message = "; ".join(f"{name}: {msg} (by {_amount(name, amt, u, problem)})" for name, amt, msg in bad)
     else:
-        status = Status.OK if best.converged else Status.NOT_CONVERGED
+        status = Status.OK if converged else Status.NOT_CONVERGED
         order = ("at the prescribed input angles" if d.timing == "prescribed"
                  else f"in order within one turn ({timing['direction']}, input sweep "
                       f"{timing['input_sweep']:.4g} {u.angle})")
         message = (f"{n} targets, {d.timing} timing: assembles at every target on the {branch} "
                    f"branch, without a branch change, and reaches them {order}")
-        if not best.converged and counter.left < max(1, counter.budget // 10):
+        if not converged and counter.left < max(1, counter.budget // 10):
             message += "; the search stopped at its budget before the polish converged"
-        elif not best.converged:
+        elif not converged:
             message += ("; the local polish reached its iteration limit before meeting its "
                         "tolerances (a long, flat valley: another seed or method may end lower)")
     return Solution(
