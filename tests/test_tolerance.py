@@ -420,6 +420,11 @@ def test_without_allowed_error_only_assembly_failures_count():
     assert rep["allowed_error"] is None
     assert rep["assembly_failures"] > 0
     assert rep["failure_probability"] == rep["assembly_failures"] / 500
+    # the report says what a failure is then
+    assert rep["failure"].startswith("no allowed_error given: a sample fails only when it cannot")
+    with_allowed = tolmod.analyse(*make(fb, tol(0.5, samples=500, allowed_error=1.0), ptype="linkage",
+                                        positions=False, phi_deg=(0,), seed=2))
+    assert "failure" not in with_allowed
 
 
 # ---------------------------------------------------------------- inverse mode
@@ -518,8 +523,10 @@ output = [52, 82, 112]
     ("allowed_error = -1", "tolerance.allowed_error", "a positive number"),
     ('distribution = "gauss"', "tolerance.distribution", "one of: uniform, normal"),
     ("max_failure_probability = 0", "tolerance.max_failure_probability", "strictly between"),
-    ("lengths = { input = 1 }\nmax_failure_probability = 0.1", "tolerance.lengths", "a single"),
-    ("samples = 100\nmax_failure_probability = 0.01", "tolerance.samples", "at least 1000 samples"),
+    ("lengths = { input = 1 }\nmax_failure_probability = 0.1\nallowed_error = 0.5", "tolerance.lengths",
+     "a single"),
+    ("samples = 100\nmax_failure_probability = 0.01\nallowed_error = 0.5", "tolerance.samples",
+     "at least 1000 samples"),
 ])
 def test_bad_tolerance_is_a_schema_error_with_line_and_key(body, key, expected):
     with pytest.raises(InputErrors) as info:
@@ -553,6 +560,42 @@ def test_tolerance_as_large_as_a_link_is_an_input_error(lengths, clearance, key,
         tolmod.analyse(problem, solution)
     assert info.value.key == key and info.value.expected == expected
     assert info.value.exit_code == 2
+
+
+def test_inverse_mode_without_allowed_error_is_an_input_error():
+    with pytest.raises(InputErrors) as info:
+        load("bad.toml", BASE + "lengths = 0.05\nmax_failure_probability = 0.01\n")
+    (err,) = info.value.errors
+    assert (err.key, err.line) == ("tolerance.allowed_error", 7)  # the [tolerance] header
+    assert err.expected.startswith("a positive number (needed by max_failure_probability")
+    assert err.got == "nothing (the key is missing)"
+
+
+LINKAGE_FILE = """type = "linkage"
+[linkage]
+ground = 50
+input = 27.6293
+coupler = 57.2363
+output = 41.1104
+"""
+
+
+@pytest.mark.parametrize("body, line, key, expected", [
+    ("[tolerance]\nsamples = 10\nclearance = 100\n", 9, "tolerance.clearance",
+     "a clearance smaller than the shortest link (27.6293), found 100"),
+    ("[tolerance]\nlengths = 30\n", 8, "tolerance.lengths",
+     "a tolerance smaller than the input length (27.6293), found 30"),
+    ("[tolerance]\nsamples = 10\nlengths = { input = 0.1, coupler = 60 }\n", 9,
+     "tolerance.lengths.coupler", "a tolerance smaller than the coupler length (57.2363), found 60"),
+    ("[tolerance]\nsamples = 10\n[tolerance.lengths]\ninput = 0.1\n\noutput = 45\n", 12,
+     "tolerance.lengths.output", "a tolerance smaller than the output length (41.1104), found 45"),
+])
+def test_solve_time_tolerance_errors_give_the_line_of_their_key(body, line, key, expected):
+    from linkcli.errors import InputError
+    problem = load("tl.toml", LINKAGE_FILE + body)
+    with pytest.raises(InputError) as info:
+        tolmod.analyse(problem, solve(problem))
+    assert str(info.value) == f"tl.toml:{line}: {key}: expected {expected}"
 
 
 def test_linkage_file_end_to_end():

@@ -36,6 +36,7 @@ class Tolerance:
     clearance: float = 0.0  # radial joint clearance, length unit
     samples: int = 20000
     allowed_error: float | None = None  # radians for angle errors, length unit for paths
+    lines: dict = field(default_factory=dict, compare=False)  # key ("lengths.input") -> line, for messages
 
 
 @dataclass(frozen=True)

@@ -63,6 +63,8 @@ GRID = 36  # inputs over the range of motion for a problem without targets
 TRAVEL_SLACK = 1e-12  # relative slack on rho^2 at the span's limits (as kinematics)
 BISECTION_RTOL = 1e-4
 Z95 = 1.959963984540054  # two-sided 95 % normal quantile
+NO_ALLOWED_ERROR = ("no allowed_error given: a sample fails only when it cannot be made (a length "
+                    "<= 0), assembled at a target or moved from the first target to the last")
 
 
 @dataclass
@@ -300,16 +302,18 @@ def check_input(problem, fb: FourBar) -> None:
     """A length tolerance must be smaller than its link, the clearance than every link:
     anything larger is a typing error, not a workshop (InputError, exit 2)."""
     tol = problem.meta.tolerance
+    lines = getattr(tol, "lines", None) or {}
     same = len({tol.lengths.get(k, 0.0) for k in LINKS}) == 1
     for link in LINKS:
         t, length = tol.lengths.get(link, 0.0), getattr(fb, link)
         if t >= length:
+            key = "lengths" + ("" if same else f".{link}")
             raise InputError(f"a tolerance smaller than the {link} length ({length:.6g})", f"{t:g}",
-                             path=problem.meta.path,
-                             key="tolerance.lengths" + ("" if same else f".{link}"))
+                             path=problem.meta.path, line=lines.get(key), key=f"tolerance.{key}")
     if tol.clearance >= min(fb.abcd):
         raise InputError(f"a clearance smaller than the shortest link ({min(fb.abcd):.6g})",
-                         f"{tol.clearance:g}", path=problem.meta.path, key="tolerance.clearance")
+                         f"{tol.clearance:g}", path=problem.meta.path, line=lines.get("clearance"),
+                         key="tolerance.clearance")
 
 
 def analyse(problem, solution) -> dict:
@@ -356,6 +360,10 @@ def _analyse(problem, solution) -> dict:
         "error_p95": opt(float(np.percentile(good, 95))) if good.size else None,
         "error_max": opt(float(good.max())) if good.size else None,
         "allowed_error": opt(tol.allowed_error),
+    })
+    if tol.allowed_error is None:
+        out["failure"] = NO_ALLOWED_ERROR
+    out.update({
         "assembly_failures": int(n - good.size),
         "failure_probability": p,
         "failure_probability_se": math.sqrt(p * (1.0 - p) / n),

@@ -42,6 +42,13 @@ def read_meta(root: Table, kind: str, module) -> Meta:
     reference = read_reference(root)
     tolerance = read_tolerance(root, units) if getattr(module, "TOLERANCE", False) else None
     sections = read_sections(root, module.DEFAULT_SECTIONS, module.SECTIONS)
+    report = root.data.get("report")
+    asked = report.get("sections") if isinstance(report, dict) else None
+    if (isinstance(asked, list) and "tolerance" in asked and "tolerance" in sections
+            and tolerance is None and "tolerance" not in root):
+        # asked for by name, and nothing to study: an empty report would pass for a result
+        root.reader.error(("report", "sections"), 'a [tolerance] table for the "tolerance" section '
+                          "(the tolerances to study)", raw_got="no [tolerance] table")
     if tolerance is not None and "tolerance" not in sections:
         sections = sections + ("tolerance",)
     return Meta(path=root.reader.path, type=kind, title=title, units=units, solver=solver,
@@ -130,6 +137,9 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     if level is not None and not 0.0 < level < 1.0:
         t.error("max_failure_probability", "a probability strictly between 0 and 1", level)
         level = None
+    if level is not None and allowed is None and "allowed_error" not in t:
+        t.error("allowed_error", "a positive number (needed by max_failure_probability: a "
+                "sample fails when its error exceeds allowed_error)")
     if level is not None and isinstance(raw, dict):
         t.error("lengths", "a single tolerance (or none) with max_failure_probability: the search "
                 "applies one tolerance to every link", raw_got="a table")
@@ -137,8 +147,11 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
         need = math.ceil(MIN_FAILURES / level)
         t.error("samples", f"at least {need} samples with max_failure_probability = {level:g} "
                 f"({MIN_FAILURES} expected failures)", samples)
+    line_of = root.reader.line_of
+    lines = {".".join(k): line_of(("tolerance",) + k)
+             for k in [("lengths",), ("clearance",)] + [("lengths", link) for link in per_link]}
     base = dict(lengths=lengths, distribution=distribution or "uniform", clearance=clearance or 0.0,
-                samples=samples or 20000, allowed_error=allowed)
+                samples=samples or 20000, allowed_error=allowed, lines=lines)
     if level is not None:
         return InverseTolerance(max_failure_probability=level, **base)
     return Tolerance(**base)

@@ -20,14 +20,33 @@ from linkcli.errors import InputError, InputErrors, SchemaError, TomlSyntaxError
 MISSING = object()
 MAX_ARRAY = 10_000  # longest array accepted anywhere in a problem file
 
+_PART = r"""(?:[A-Za-z0-9_\-]+|"[^"]*"|'[^']*')"""
+_DOTTED = rf"{_PART}(?:\s*\.\s*{_PART})*"
 _HEADER = re.compile(r"^\s*\[\[?\s*([^\]]+?)\s*\]\]?\s*(#.*)?$")
-_KEY = re.compile(r"""^\s*((?:[A-Za-z0-9_\-]+|"[^"]*"|'[^']*')(?:\s*\.\s*(?:[A-Za-z0-9_\-]+|"[^"]*"|'[^']*'))*)\s*=""")
-_INLINE_KEY = re.compile(r"""[{,]\s*([A-Za-z0-9_\-]+|"[^"]*")\s*=""")
+_KEY = re.compile(rf"^\s*({_DOTTED})\s*=")
+_INLINE_KEY = re.compile(rf"[{{,]\s*({_DOTTED})\s*=")
 
 
 def _split_key(text: str) -> list[str]:
+    """The parts of a (dotted) key as written; a quoted part with an escape is decoded
+    by tomllib itself."""
+    if "\\" in text:
+        try:
+            node, parts = tomllib.loads(f"{text} = 0"), []
+            while isinstance(node, dict) and len(node) == 1:
+                key, node = next(iter(node.items()))
+                parts.append(key)
+            return parts
+        except tomllib.TOMLDecodeError:
+            pass
     parts = re.findall(r"""[A-Za-z0-9_\-]+|"[^"]*"|'[^']*'""", text)
     return [p.strip("\"'") for p in parts]
+
+
+def _one_line(text: str) -> str:
+    """Control characters (a newline in a multi-line string or a quoted key) escaped as
+    Python writes them, so that every error stays on one line."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
 def describe(value) -> str:
@@ -43,7 +62,7 @@ def describe(value) -> str:
         return text
     if isinstance(value, str):
         short = value if len(value) <= 60 else value[:57] + "..."
-        return f'"{short}" (string)'
+        return f'"{_one_line(short)}" (string)'
     if isinstance(value, list):
         return f"an array of {len(value)}"
     if isinstance(value, dict):
@@ -51,30 +70,116 @@ def describe(value) -> str:
     return type(value).__name__
 
 
+_OUTSIDE = re.compile(r"[\n#\"']")  # what can change the state outside a string
+_IN_BASIC = re.compile(r'[\n"\\]')
+_IN_LITERAL = re.compile(r"[\n']")
+
+
+def _mask(text: str) -> tuple[str, set[int]]:
+    """The text with every string's content replaced by "x" and every comment by blanks
+    (same length, newlines kept), and the 1-based lines that begin inside a multi-line
+    string. TOML 1.0 strings: basic "..." (backslash escapes), literal '...', multi-line
+    basic \"\"\"...\"\"\" (escapes, a line-ending backslash) and multi-line literal '''...''';
+    a multi-line string closes at the last quote of a run of three to five quotes (up to two
+    quotes may stand next to the closing delimiter). `#` outside a string opens a comment
+    to the end of the line. The text is valid TOML (tomllib has parsed it)."""
+    blanks: list[tuple[int, int, str]] = []  # (start, end, fill) spans to overwrite
+    inside: set[int] = set()
+    n, i, line = len(text), 0, 1
+    while True:
+        m = _OUTSIDE.search(text, i)
+        if m is None:
+            break
+        i, ch = m.start(), m.group()
+        if ch == "\n":
+            line += 1
+            i += 1
+            continue
+        if ch == "#":
+            stop = text.find("\n", i)
+            stop = n if stop < 0 else stop
+            blanks.append((i, stop, " "))
+            i = stop
+            continue
+        multi = text.startswith(ch * 3, i)
+        i += 3 if multi else 1
+        begin = i
+        scan = _IN_BASIC if ch == '"' else _IN_LITERAL
+        while True:
+            m = scan.search(text, i)
+            if m is None:  # cannot happen in valid TOML
+                i = n
+                break
+            i, c = m.start(), m.group()
+            if c == "\n":
+                line += 1
+                inside.add(line)
+                i += 1
+            elif c == "\\":  # an escape: the next character is content (or a line end)
+                i += 1 if text.startswith("\n", i + 1) else 2
+            elif not multi:
+                break
+            else:
+                run = 1
+                while i + run < n and text[i + run] == ch:
+                    run += 1
+                if run >= 3:
+                    i += run - 3
+                    break
+                i += run
+        blanks.append((begin, i, "x"))
+        i += 3 if multi else 1
+    if not blanks:
+        return text, inside
+    parts, last = [], 0
+    for a, b, fill in blanks:
+        parts.append(text[last:a])
+        seg = text[a:b]
+        parts.append("\n".join(fill * len(piece) for piece in seg.split("\n")))
+        last = b
+    parts.append(text[last:])
+    return "".join(parts), inside
+
+
 def _line_map(text: str) -> dict[tuple[str, ...], int]:
-    """Key path -> 1-based line, from a scan of the raw text."""
+    """Key path -> 1-based line, from a scan of the raw text.
+
+    Structure (headers, keys, brackets) is read from the masked text of `_mask`, so that
+    a `#`, a bracket or a `key =` inside a string or a comment counts for nothing; key
+    names are then taken from the raw text at the same place (quoted keys keep their
+    content). A line that begins inside a multi-line string holds no key."""
+    masked, inside = _mask(text)
     lines: dict[tuple[str, ...], int] = {}
+    twice: set[tuple[str, ...]] = set()  # paths met on two lines: array-of-tables elements
+
+    def put(path: tuple[str, ...], n: int) -> None:
+        if lines.setdefault(path, n) != n:
+            twice.add(path)
+
     table: tuple[str, ...] = ()
     depth = 0  # open brackets of a multi-line array: keys inside belong to its key
-    for n, raw in enumerate(text.splitlines(), start=1):
-        line = raw.split("#", 1)[0] if '"' not in raw and "'" not in raw else raw
-        if depth == 0:
+    raw_lines = text.split("\n")
+    for n, line in enumerate(masked.split("\n"), start=1):
+        raw = raw_lines[n - 1]
+        if depth == 0 and n not in inside:
             m = _HEADER.match(line)
             if m:
-                table = tuple(_split_key(m.group(1)))
-                lines.setdefault(table, n)
+                table = tuple(_split_key(raw[m.start(1):m.end(1)]))
+                put(table, n)
                 continue
             m = _KEY.match(line)
             if m:
-                path = table + tuple(_split_key(m.group(1)))
-                lines.setdefault(path, n)
+                path = table + tuple(_split_key(raw[m.start(1):m.end(1)]))
+                put(path, n)
                 rest = line[m.end():]
-                for k in _INLINE_KEY.findall(rest):
-                    lines.setdefault(path + (k.strip('"'),), n)
+                for k in _INLINE_KEY.finditer(rest):
+                    put(path + tuple(_split_key(raw[m.end() + k.start(1):m.end() + k.end(1)])), n)
                 depth = max(0, rest.count("[") - rest.count("]"))
                 continue
         else:
             depth = max(0, depth + line.count("[") - line.count("]"))
+    for path in twice:  # which element a key belongs to is not known here: no line
+        del lines[path]
     return lines
 
 
@@ -96,6 +201,8 @@ class Reader:
                 text = raw.decode("utf-8")
             except UnicodeDecodeError as exc:
                 raise InputError("a UTF-8 text file", f"an undecodable byte at offset {exc.start}", path=path) from None
+        if text.startswith("\ufeff"):  # a UTF-8 byte-order mark (Windows editors): not TOML
+            text = text[1:]
         try:
             self.data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as exc:
@@ -120,9 +227,9 @@ class Reader:
         return None
 
     def error(self, path: tuple[str, ...], expected: str, got=MISSING, *, raw_got: str | None = None) -> None:
-        found = raw_got if raw_got is not None else describe(got)
+        found = _one_line(raw_got) if raw_got is not None else describe(got)
         self.errors.append(SchemaError(expected, found, path=self.path, line=self.line_of(path),
-                                       key=".".join(path) or None))
+                                       key=_one_line(".".join(path)) or None))
 
     def table(self, name: str | tuple[str, ...], required: bool = False) -> "Table | None":
         path = (name,) if isinstance(name, str) else tuple(name)
