@@ -661,3 +661,152 @@ def test_small_budgets_every_method_and_seed(method):
         p.write_text(FREE4 + f'[objective]\npareto = 3\n[solver]\nmethod = "{method}"\nbudget = 100\n')
         outs = [run_cli("synth", str(p), "--format", "json", "--seed", "4") for _ in range(2)]
         assert outs[0] == outs[1] and outs[0][0] in (0, 1)
+
+
+# ------------------------------------- the cylinder line through the hinge (adversarial probe)
+CROSS = text("{ x = 500, y = 0 }", "{ x = 700, y = 700 }", cylinder="[cylinder]\nbore = 80\n")
+
+
+def dense_lengths(a0, c, start, end, n=90001):
+    """(least, largest) |A(t) - C| over the sweep by a per-angle scan, math module."""
+    ls = []
+    for i in range(n):
+        a = rotate(a0, math.radians((end - start) * i / (n - 1)))
+        ls.append(math.hypot(a[0] - c[0], a[1] - c[1]))
+    return min(ls), max(ls)
+
+
+def test_line_through_the_hinge_true_lengths_and_no_garbage(tmp_path):
+    """A = (500, 0), C = (700, 700): C x A(t) = 0 at t = 45 deg, inside the sweep, where the
+    load moment m g G_x(45 deg) = m g (830 - 500) cos 45 is not zero: no finite force holds
+    the platform there. The length turns back at the crossing (d(L^2)/dt = 2 C x A), so the
+    closed length is |C| - |A| there, not an end value."""
+    p = tmp_path / "cross.toml"
+    p.write_text(CROSS)
+    code, out, err = run_cli("synth", str(p), "--format", "json", "--precision", "15")
+    assert code == 1 and "Traceback" not in err and "Warning" not in err
+    assert "NaN" not in out and "Infinity" not in out
+    rep = json.loads(out)
+    assert rep["status"] == "infeasible"
+    assert "passes through the hinge B at platform angle 45 deg" in rep["message"]
+    moment = M * G * (830 - 500) * math.cos(math.radians(45))
+    assert f"moment of {moment:.6g} N mm" in rep["message"]
+    cyl = rep["cylinder"]
+    lo, hi = dense_lengths((500, 0), (700, 700), 0, 90)
+    assert cyl["min_length"] == pytest.approx(math.hypot(700, 700) - 500, rel=1e-6)
+    assert cyl["min_length"] == pytest.approx(lo, rel=1e-6)
+    assert cyl["max_length"] == pytest.approx(hi, rel=1e-6)
+    assert cyl["stroke"] == pytest.approx(hi - lo, rel=1e-5)
+    assert cyl["rod_motion"] == "retracts, then extends"
+    assert cyl["peak_force"] is None and cyl["peak_kind"] == "unbounded"
+    assert cyl["push_force"] is None and cyl["pull_force"] is None and cyl["push_pressure"] is None
+    for r in cyl["forces"] + cyl["forces_full"]:
+        if r["angle"] == 45.0:
+            assert r["force"] is None and r["arm"] == 0.0
+        else:
+            assert r["force"] == pytest.approx(ref_force((500, 0), (700, 700), r["angle"]), rel=1e-5)
+    code, out, _ = run_cli("synth", str(p))
+    assert code == 1 and "e+19" not in out and "e-14" not in out
+
+
+def test_crossing_at_an_end_is_unbounded_on_one_side_only():
+    """C = (-500, 0), A = (300, 0): C x A = 0 at the start and the force runs to -infinity
+    (a pull) just after it; the largest push stays finite, 1902.44 N at 60 deg."""
+    _, sol, rep = report_of(text("{ x = 300, y = 0 }", "{ x = -500, y = 0 }", end=60))
+    cyl = rep["cylinder"]
+    assert sol.status.value == "infeasible" and "platform angle 0 deg" in sol.message
+    assert cyl["pull_force"] == math.inf and cyl["pull_angle"] == 0.0
+    pushes = [ref_force((300, 0), (-500, 0), 60 * i / 6000) for i in range(1, 6001)]
+    assert cyl["push_force"] == pytest.approx(max(pushes), rel=1e-9)
+    assert cyl["forces"][0]["force"] is None
+    assert cyl["forces"][1]["force"] == pytest.approx(ref_force((300, 0), (-500, 0), 5.0), rel=1e-9)
+
+
+def test_crossing_where_the_load_has_no_moment_is_finite():
+    """G = (500, 0), A = (300, 0), C = (0, -500): at 90 deg the cylinder line and the centre
+    of mass are both over the hinge. W = m g 500 cos t and C x A = 150000 cos t, so
+    F = m g L / 300 exactly (a push) and the peak is at the longest cylinder, L = 800 at 90 deg."""
+    com = (500.0, 0.0)
+    _, sol, rep = report_of(text("{ x = 300, y = 0 }", "{ x = 0, y = -500 }", end=120, com=com))
+    cyl = rep["cylinder"]
+    assert sol.status.value == "ok"
+    assert cyl["peak_force"] == pytest.approx(M * G * 800 / 300, rel=1e-12) and cyl["peak_kind"] == "push"
+    assert cyl["peak_angle"] == pytest.approx(90.0, abs=1e-4)
+    lo, hi = dense_lengths((300, 0), (0, -500), 0, 120)
+    assert (cyl["min_length"], cyl["max_length"]) == pytest.approx((lo, hi), rel=1e-9)
+    assert cyl["rod_motion"] == "extends, then retracts"
+    for r in cyl["forces_full"]:
+        if abs(r["angle"] - 90.0) > 1e-9:
+            assert r["force"] == pytest.approx(ref_force((300, 0), (0, -500), r["angle"], com=com), rel=1e-9)
+        else:
+            assert r["force"] == pytest.approx(M * G * 800 / 300, rel=1e-12)
+
+
+def test_optimizer_never_picks_a_line_through_the_hinge():
+    """Bounds where many designs cross the hinge (A_y from -300, C_y from 0): the result is
+    ok and its line keeps clear of the hinge on a dense per-angle scan."""
+    src = text("{ x = 500, y = [-300, 300] }", "{ x = [600, 900], y = [0, 700] }")
+    _, sol, rep = report_of(src + "[solver]\nbudget = 1500\n")
+    cyl = rep["cylinder"]
+    assert sol.status.value in ("ok", "not-converged")
+    a0, c = tuple(cyl["rod_pivot"]), tuple(cyl["base_pivot"])
+    ks = []
+    for i in range(9001):
+        a = rotate(a0, math.radians(90 * i / 9000))
+        ks.append(c[0] * a[1] - c[1] * a[0])
+    assert min(ks) > 0 or max(ks) < 0
+    peak, _, _ = ref_peak(a0, c, 0.0, 90.0, n=9001)
+    assert cyl["peak_force"] == pytest.approx(peak, rel=1e-4)
+
+
+def test_no_numpy_warning_with_pivot_boxes_that_meet(tmp_path):
+    """Both pivots in [0, 350]^2: the search meets designs with A = C = B (every force 0/0).
+    No warning on stderr, and the result's forces are real (independent statics)."""
+    src = open("problems/flipper.toml").read()
+    src = (src.replace("{ x = [0, 350], y = [320, 1380] }", "{ x = [0, 350], y = [0, 350] }")
+           .replace("{ x = [400, 1400], y = 50 }", "{ x = [0, 350], y = [0, 350] }"))
+    src = "\n".join(line for line in src.splitlines()
+                    if not line.startswith(("bore", "rod =", "dead_length", "max_force", "[cylinder]")))
+    p = tmp_path / "meet.toml"
+    p.write_text(src)
+    code, out, err = run_cli("synth", str(p), "--format", "json", "--precision", "17")
+    assert "Warning" not in err and "Traceback" not in err and err == ""
+    assert code == 0
+    rep = json.loads(out)
+    cyl = rep["cylinder"]
+    a0, c = tuple(cyl["rod_pivot"]), tuple(cyl["base_pivot"])
+    assert math.hypot(a0[0] - c[0], a0[1] - c[1]) >= 350 * 1e-6 * (1 - 1e-6) and math.hypot(*a0) > 0
+    assert any("all but meet" in n for n in rep.get("notes", [])) or "all but meet" in out
+    peak, _, _ = ref_peak(a0, c, 0.0, 90.0, n=9001)
+    assert cyl["peak_force"] == pytest.approx(peak, rel=1e-4)
+
+
+def test_nan_peak_counts_as_infeasible_in_the_search():
+    """A design whose force is nan at some angle (A = C = B: 0/0) must be the worst, never
+    look feasible under a force cap (max(0, nan - cap) would be 0)."""
+    import warnings
+    from linkcli.solvers.flipper_search import FEASIBLE, Budget, Goal, Judge, Space, _excess, _grid_peak
+    assert _grid_peak(np.array([[1.0, np.nan, 2.0]]))[0] == math.inf
+    assert _excess(np.array([np.nan]), 1000.0)[0] > 1.0
+    problem = load("x.toml", text("{ x = [0, 350], y = [0, 350] }", "{ x = [0, 350], y = [0, 350] }",
+                                  cylinder="[cylinder]\nmax_force = 1e9\n"))
+    st = Statics(M * G, COM, math.pi / 2)
+    judge = Judge(problem, st, Space(problem), Budget(10))
+    designs = np.array([[0.0, 0.0, 0.0, 0.0], [350.0, 320.0, 0.0, 0.0], [300.0, 300.0, 300.0, 300.0]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for goal in (Goal("peak"), Goal("length", force_cap=1e9)):
+            obj, viol, _ = judge.assess(designs, goal)
+            assert np.all(viol > FEASIBLE)
+            if goal.kind == "peak":
+                assert np.all(obj == math.inf)
+
+
+def test_centre_of_mass_at_the_hinge_is_bad_input(tmp_path):
+    p = tmp_path / "com.toml"
+    p.write_text(PAPER.replace("center_of_mass = [830.0, 500.0]", "center_of_mass = [0, 0]"))
+    code, out, err = run_cli("synth", str(p))
+    assert code == 2 and out == ""
+    assert err.strip() == (f"{p}:4: load.center_of_mass: expected a centre of mass off the hinge B = (0, 0) "
+                           "(at the hinge the load has no moment: no force is needed and every design is "
+                           "equally good), found [0, 0]")

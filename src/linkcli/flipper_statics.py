@@ -16,11 +16,15 @@ so that, with K = C x A = C_x A_y - C_y A_x and the load moment W = m g G_x,
     F(t) = W(t) L(t) / K(t),   moment arm about B: |K| / L.
 
 K(t) = |C| |A| sin(theta_A(t) - theta_C) is a sinusoid of t: over a sweep shorter than
-180 deg it has at most one zero, so the arm vanishes inside the sweep exactly when K has
-opposite signs at the two ends (or is zero at one): the cylinder line then passes through
-the hinge and the force is unbounded. While K keeps its sign, L(t)^2 = |A|^2 + |C|^2 -
-2 |A| |C| cos(theta_A(t) - theta_C) is monotone in t, so the cylinder is shortest and
-longest at the ends of the sweep (closed length = min(L(start), L(end))).
+180 deg it has at most one zero tau0, inside the sweep exactly when K has opposite signs
+at the two ends (or is zero at one): the cylinder line then passes through the hinge.
+Where the load has a moment there (W(tau0) != 0) the force is unbounded: the design cannot
+hold the platform. Where it has none, W and K are both multiples of sin(tau - tau0), so
+F = c L with c = W'(tau0) / K'(tau0) = -m g G_y(tau0) / (C . A(tau0)), finite everywhere.
+Since d(L^2)/dt = 2 K (L^2 = |A|^2 + |C|^2 - 2 A(t) . C and dA/dt = (-A_y, A_x)), L is
+monotone while K keeps its sign and has its one extreme at tau0: the closed and the open
+lengths are the least and the largest of L(start), L(end) and L(tau0) when tau0 lies in
+the sweep.
 
 The peak force (largest |F| over the sweep) is taken on a grid of at most STEP spacing
 with both ends exact, then every local maximum of F and of -F on the grid that comes
@@ -41,6 +45,9 @@ MIN_POINTS = 33
 ZOOM_POINTS = 33  # angles per bracket and pass: the bracket shrinks 16-fold per pass
 ZOOM_PASSES = 4  # a 1 deg bracket ends 1.5e-5 deg wide (peak value to ~1e-14 relative)
 NEAR_PEAK = 0.99  # local maxima refined: grid value within 1 % of the grid maximum
+POLE = 1e-12  # |K| <= POLE |A| |C| (|sin| of the angle C-B-A): the cylinder line is through the hinge
+LEVEL = 1e-12  # |W| <= LEVEL m g |G| at the crossing: the load has no moment there (removable)
+MEET = 1e-9  # L <= MEET max(|A|, |C|) at the crossing: the rod pivot is at the base pivot
 
 
 def sweep_grid(sweep: float, step: float = STEP) -> np.ndarray:
@@ -88,13 +95,22 @@ class Statics:
     def forces(self, designs, tau=None):
         """F = W L / K (N), arm |K| / L and L at angles tau (default: the grid), (S, N).
 
-        At K = 0 (the cylinder line through the hinge) F is infinite (nan when W L = 0 too).
+        A design whose line crosses the hinge where the load has no moment has F = c L
+        (module doc). Otherwise, at the crossing itself (|K| <= POLE |A| |C|) F is nan (no
+        finite force holds the platform there) and the arm is 0.
         """
+        p = np.asarray(designs, dtype=float)
         tau = self.grid if tau is None else tau
-        k, length, w = self.terms(designs, tau)
+        k, length, w = self.terms(p, tau)
+        sing = self.singular(p)
+        norm = np.hypot(p[:, 0], p[:, 1]) * np.hypot(p[:, 2], p[:, 3])
+        pole = np.abs(k) <= POLE * norm[:, None]
         with np.errstate(divide="ignore", invalid="ignore"):
             force = w * length / k
-            arm = np.abs(k) / length
+            arm = np.where(pole, 0.0, np.abs(k) / length)
+        force = np.where(pole, np.nan, force)
+        if sing["removable"].any():
+            force = np.where(sing["removable"][:, None], sing["ratio"][:, None] * length, force)
         return force, arm, length
 
     # -- closed forms over the sweep -----------------------------------------------
@@ -103,16 +119,59 @@ class Statics:
         k, length, _ = self.terms(designs, np.array([0.0, self.sweep]))
         return length[:, 0], length[:, 1]
 
-    def crossing(self, designs):
-        """(crosses, tau0): whether the cylinder line passes through the hinge somewhere in
-        the sweep (K changes sign between the ends or vanishes at one), and the turn tau0
-        in [0, pi) at which K(tau) = |C||A| sin(theta_A + tau - theta_C) vanishes."""
+    def lengths(self, designs):
+        """(closed, open, closed_at): the least and the largest cylinder length over the
+        sweep and the turn of the least, each (S,). L is monotone except for its one extreme
+        at the crossing tau0 (d(L^2)/dt = 2 K), so L(0), L(sweep) and L(tau0) suffice."""
+        p = np.asarray(designs, dtype=float)
+        sing = self.singular(p)
+        ls, le = self.end_lengths(p)
+        lc = np.where(sing["crosses"], sing["length"], np.inf)
+        cand = np.column_stack([ls, le, lc])
+        at = np.column_stack([np.zeros(len(p)), np.full(len(p), self.sweep), sing["tau0"]])
+        i = np.argmin(cand, axis=1)
+        rows = np.arange(len(p))
+        opened = np.max(np.where(np.isfinite(cand), cand, -np.inf), axis=1)
+        return cand[rows, i], opened, at[rows, i]
+
+    def singular(self, designs) -> dict:
+        """Where the cylinder line passes through the hinge B, per design (S,):
+        `crosses` (K vanishes in the sweep: changes sign between the ends or is zero at one,
+        |K| <= POLE |A| |C|), `tau0` (that turn, in [0, sweep] when it crosses), `moment`
+        (W there), `length` (L there), `meet` (the pivots meet there), `removable` (no load
+        moment there and the pivots apart: F = ratio L everywhere), `ratio`
+        (-m g G_y(tau0) / (C . A(tau0))) and `blocked` (crosses and not removable: no finite
+        force holds the platform at tau0, or the cylinder has no length there)."""
         p = np.asarray(designs, dtype=float)
         k, _, _ = self.terms(p, np.array([0.0, self.sweep]))
-        crosses = ~(np.sign(k[:, 0]) * np.sign(k[:, 1]) > 0)
+        norm = np.hypot(p[:, 0], p[:, 1]) * np.hypot(p[:, 2], p[:, 3])
+        z0, z1 = np.abs(k[:, 0]) <= POLE * norm, np.abs(k[:, 1]) <= POLE * norm
+        crosses = (np.sign(k[:, 0]) * np.sign(k[:, 1]) < 0) | z0 | z1
+        if not crosses.any():  # the common case: nothing to locate
+            zero, no = np.zeros(len(p)), np.zeros(len(p), dtype=bool)
+            return {"crosses": no, "tau0": zero, "moment": zero, "length": zero, "meet": no,
+                    "removable": no, "ratio": zero, "blocked": no, "slope": zero}
         theta = np.arctan2(p[:, 1], p[:, 0]) - np.arctan2(p[:, 3], p[:, 2])
-        tau0 = np.mod(-theta, math.pi)
-        return crosses, tau0
+        tau0 = np.where(z0, 0.0, np.where(z1, self.sweep, np.clip(np.mod(-theta, math.pi), 0.0, self.sweep)))
+        ax, ay = turn(p[:, 0], p[:, 1], tau0)
+        gx, gy = turn(self.gx0, self.gy0, tau0)
+        length = np.hypot(ax - p[:, 2], ay - p[:, 3])
+        moment = self.weight * gx
+        meet = length <= MEET * np.maximum(np.hypot(p[:, 0], p[:, 1]), np.hypot(p[:, 2], p[:, 3]))
+        removable = (crosses & ~meet & (norm > 0)
+                     & (np.abs(moment) <= LEVEL * self.weight * math.hypot(self.gx0, self.gy0)))
+        dot = p[:, 2] * ax + p[:, 3] * ay  # K'(tau0) = C . A(tau0) = +-|A| |C| at a crossing
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.where(removable, -self.weight * gy / dot, 0.0)
+        return {"crosses": crosses, "tau0": tau0, "moment": moment, "length": length, "meet": meet,
+                "removable": removable, "ratio": ratio, "blocked": crosses & ~removable, "slope": dot}
+
+    def crossing(self, designs):
+        """(blocked, tau0): whether no finite force holds the platform somewhere in the sweep
+        (the cylinder line passes through the hinge where the load has a moment, or the
+        pivots meet), and the turn tau0 where the line passes through the hinge."""
+        sing = self.singular(designs)
+        return sing["blocked"], sing["tau0"]
 
     # -- the peak --------------------------------------------------------------------
     def extremes(self, designs, sign: float):
@@ -177,8 +236,20 @@ class Statics:
     def peaks(self, designs) -> dict:
         """Largest push and pull over the sweep (N, >= 0) with their turns, and the peak
         (the larger of the two, `push` true when it pushes), arrays (S,)."""
-        push, push_at = self.extremes(designs, 1.0)
-        pull, pull_at = self.extremes(designs, -1.0)
+        p = np.asarray(designs, dtype=float)
+        push, push_at = self.extremes(p, 1.0)
+        pull, pull_at = self.extremes(p, -1.0)
+        sing = self.singular(p)
+        if sing["blocked"].any():  # unbounded on the side(s) of tau0 inside the sweep
+            t0 = sing["tau0"]
+            s = np.sign(sing["moment"] * sing["slope"])  # F ~ W / (K'(tau0) (tau - tau0))
+            after, before = t0 < self.sweep, t0 > 0.0
+            up = sing["blocked"] & ((after & (s >= 0)) | (before & (s <= 0)) | sing["meet"])
+            down = sing["blocked"] & ((after & (s <= 0)) | (before & (s >= 0)) | sing["meet"])
+            push, push_at = np.where(up, np.inf, push), np.where(up, t0, push_at)
+            pull, pull_at = np.where(down, np.inf, pull), np.where(down, t0, pull_at)
+        empty = ~np.isfinite(push) & ~np.isfinite(pull) & ~sing["blocked"]  # no finite force at all: worst
+        push, pull = np.where(empty, np.inf, push), np.where(empty, np.inf, pull)
         is_push = push >= pull
         return {"push": np.maximum(push, 0.0), "push_at": push_at,
                 "pull": np.maximum(pull, 0.0), "pull_at": pull_at,

@@ -69,6 +69,11 @@ def _load(root: Table):
         t.error("center_of_mass", f"coordinates of magnitude at most {MAX_COORDINATE:g}",
                 raw_got=f"[{com[0]:g}, {com[1]:g}]")
         com = None
+    elif com is not None and com[0] == 0.0 and com[1] == 0.0:
+        t.error("center_of_mass", "a centre of mass off the hinge B = (0, 0) (at the hinge the "
+                "load has no moment: no force is needed and every design is equally good)",
+                raw_got="[0, 0]")
+        com = None
     gravity = _at_most(t, "gravity", t.number("gravity", STANDARD_GRAVITY, positive=True,
                                                what="a positive acceleration of gravity (m/s^2)"),
                        MAX_GRAVITY, "an acceleration of gravity (m/s^2)")

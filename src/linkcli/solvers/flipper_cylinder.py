@@ -27,23 +27,25 @@ NEGLIGIBLE = 1e-3  # a closed length below this share of the largest pivot bound
 
 # --------------------------------------------------------------------- one design, in full
 def facts(problem, st: Statics, design) -> dict:
-    """Everything reported about one design (radians, the file's length unit, N)."""
+    """Everything reported about one design (radians, the file's length unit, N). The
+    lengths are the true extremes over the sweep (L turns back where the cylinder line
+    crosses the hinge); a design that cannot hold the platform somewhere (`crosses`) has
+    an infinite peak at that angle."""
     p = np.asarray(design, dtype=float)[None, :]
-    crosses, tau0 = st.crossing(p)
+    sing = st.singular(p)
+    closed, opened, closed_at = (float(x[0]) for x in st.lengths(p))
     ls, le = (float(x[0]) for x in st.end_lengths(p))
-    out = {"design": p[0], "crosses": bool(crosses[0]), "min_length": min(ls, le),
-           "max_length": max(ls, le), "stroke": abs(le - ls), "extends": le > ls,
-           "closed_at": 0.0 if ls <= le else st.sweep}
-    if out["crosses"]:
-        t0 = float(tau0[0])
-        out["cross_at"] = t0
-        a = np.array([p[0, 0], p[0, 1]])
-        c, s = math.cos(t0), math.sin(t0)
-        at = np.array([c * a[0] - s * a[1], s * a[0] + c * a[1]])
-        out["zero_length"] = bool(np.hypot(*(at - p[0, 2:])) <= 1e-9 * max(np.hypot(*a), 1e-300))
-        out.update(peak=math.inf, peak_at=t0, is_push=None, push=math.inf, push_at=t0,
-                   pull=math.inf, pull_at=t0)
-        return out
+    t0 = float(sing["tau0"][0])
+    turns = bool(sing["crosses"][0]) and 0.0 < t0 < st.sweep  # L has an interior extreme
+    if turns:  # d(L^2)/dt = 2 K: the rod extends while K > 0
+        k_start = float(st.terms(p, np.array([0.0]))[0][0, 0])
+        motion = "extends, then retracts" if k_start > 0 else "retracts, then extends"
+    else:
+        motion = "extends" if le > ls else "retracts"
+    out = {"design": p[0], "crosses": bool(sing["blocked"][0]), "min_length": closed,
+           "max_length": opened, "stroke": opened - closed, "rod_motion": motion,
+           "closed_at": closed_at, "cross_at": t0, "zero_length": bool(sing["meet"][0]),
+           "load_moment": float(sing["moment"][0])}
     pk = st.peaks(p)
     for k in ("push", "push_at", "pull", "pull_at", "peak", "peak_at"):
         out[k] = float(pk[k][0])
@@ -81,14 +83,15 @@ def _file_angle(problem, key: str) -> float:
 
 
 def force_rows(problem, st: Statics, design, angles) -> list[dict]:
-    """Rows angle (file unit, as given), force (N), arm and length (length unit)."""
+    """Rows angle (file unit, as given), force (N; None where no finite force holds the
+    platform: the cylinder line through the hinge), arm and length (length unit)."""
     u = problem.meta.units
     angles = np.asarray(angles, dtype=float)
     tau = np.array([u.to_rad(float(x)) for x in angles]) - problem.start
     tau[0], tau[-1] = max(tau[0], 0.0), min(tau[-1], st.sweep)
     force, arm, length = (x[0] for x in st.forces(np.asarray(design, dtype=float)[None, :], tau))
-    return [{"angle": float(angles[i]), "force": float(force[i]), "arm": float(arm[i]),
-             "length": float(length[i])} for i in range(len(tau))]
+    return [{"angle": float(angles[i]), "force": float(force[i]) if math.isfinite(force[i]) else None,
+             "arm": float(arm[i]), "length": float(length[i])} for i in range(len(tau))]
 
 
 def full_angles(problem, st: Statics) -> np.ndarray:
@@ -113,7 +116,7 @@ def cylinder_section(problem, st: Statics, f: dict) -> dict:
            "push_force": f["push"], "push_angle": ang(f["push_at"]) if f["push"] > 0 else None,
            "pull_force": f["pull"], "pull_angle": ang(f["pull_at"]) if f["pull"] > 0 else None,
            "min_length": f["min_length"], "max_length": f["max_length"], "stroke": f["stroke"],
-           "rod_motion": "extends" if f["extends"] else "retracts"}
+           "rod_motion": f["rod_motion"]}
     mm = u.mm_per_length
     if problem.bore is not None:
         bore_area = math.pi / 4.0 * (problem.bore * mm) ** 2  # mm^2: N / mm^2 = MPa
@@ -151,7 +154,9 @@ def verdict(problem, f: dict) -> tuple[Status, str]:
             return Status.INFEASIBLE, (f"the rod pivot passes through the base pivot at platform angle "
                                        f"{ang(f['cross_at'])} (zero cylinder length)")
         return Status.INFEASIBLE, (f"the cylinder line passes through the hinge B at platform angle "
-                                   f"{ang(f['cross_at'])}: zero moment arm, the force is unbounded")
+                                   f"{ang(f['cross_at'])}: zero moment arm, the force is unbounded (the "
+                                   f"load has a moment of {abs(f['load_moment']):.6g} N {u.length} about B "
+                                   "there, which no finite cylinder force can balance)")
     problems = []
     floor = Space(problem).floor
     if f["min_length"] < floor * (1.0 - TOLERANCE):

@@ -240,16 +240,16 @@ class Judge:
         st, scale = self.st, self.space.scale
         force = st.forces(p)[0]
         crosses, tau0 = st.crossing(p)
-        with np.errstate(invalid="ignore"):
-            peak = np.nanmax(np.abs(force), axis=1)
+        peak = _grid_peak(force)
+        crosses = crosses | ~np.isfinite(peak)  # no finite force somewhere: as bad as a crossing
         ls, le = st.end_lengths(p)
-        closed, opened = np.minimum(ls, le), np.maximum(ls, le)
+        closed, opened, _ = st.lengths(p)
         viol = np.where(crosses, 1.0 + np.minimum(tau0, st.sweep - tau0).clip(0) / st.sweep, 0.0)
         viol = viol + np.maximum(0.0, self.space.floor - closed) / scale
         if self.dead is not None:
             viol = viol + np.maximum(0.0, opened - closed + self.dead - closed) / scale
         if goal.force_cap is not None:
-            viol = viol + np.where(crosses, 0.0, np.maximum(0.0, peak - goal.force_cap) / goal.force_cap)
+            viol = viol + np.where(crosses, 0.0, _excess(peak, goal.force_cap))
         if goal.length_cap is not None:
             viol = viol + np.maximum(0.0, closed - goal.length_cap) / scale
         obj = np.where(crosses, math.inf, peak) if goal.kind == "peak" else closed
@@ -261,6 +261,21 @@ class Judge:
     @staticmethod
     def penalized(obj, viol):
         return np.where(viol > FEASIBLE, BIG * (1.0 + viol), np.minimum(obj, BIG))
+
+
+def _grid_peak(force) -> np.ndarray:
+    """Largest |F| of each row (S, N); a row holding nan (no finite force at some angle)
+    gets inf, the worst value (np.max, not np.nanmax: no warning, and nan never hides)."""
+    a = np.abs(np.asarray(force, dtype=float))
+    return np.max(np.where(np.isnan(a), np.inf, a), axis=-1)
+
+
+def _excess(peak, cap: float):
+    """Relative excess of the peak over the force cap, >= 0; a peak that is not finite
+    (nan included) gives BIG (Python's max(0, nan) would give 0 and look feasible)."""
+    peak = np.asarray(peak, dtype=float)
+    with np.errstate(invalid="ignore"):
+        return np.where(np.isfinite(peak), np.maximum(0.0, peak - cap) / cap, BIG)
 
 
 def _latin(rng, n: int, dim: int) -> np.ndarray:
@@ -329,11 +344,12 @@ class Epigraph:
         self.end_index = 1  # tau[0] = 0 and tau[1] = sweep: local_angles puts the ends first
         p0 = np.asarray(start, dtype=float)
         k0, _, l0, _ = st.gradients(p0, tau)
-        self.sign = 1.0 if k0[0] >= 0 else -1.0
+        kref = k0[0] if abs(k0[0]) >= abs(k0[self.end_index]) else k0[self.end_index]  # K(0) may be 0
+        self.sign = 1.0 if kref >= 0 else -1.0
         self.closed_at_end = bool(l0[self.end_index] < l0[0])
         self.uses_length = goal.kind == "length" or goal.length_cap is not None
         with np.errstate(divide="ignore", invalid="ignore"):
-            peak0 = float(np.nanmax(np.abs(self.w * l0 / k0)))
+            peak0 = float(_grid_peak(self.w * l0 / k0))
         if goal.kind == "peak":
             self.fs = peak0 if math.isfinite(peak0) and peak0 > 0 else max(st.weight * space.scale, 1e-300)
         else:
@@ -409,14 +425,17 @@ class Epigraph:
         """Record the design by its true objective and violation at these angles."""
         goal, scale, dead = self.goal, self.judge.space.scale, self.judge.dead
         crosses = not (np.sign(k[0]) * np.sign(k[self.end_index]) > 0)
+        if crosses:  # unless the load has no moment where the line crosses the hinge
+            crosses = bool(self.judge.st.crossing(p[None, :])[0][0])
         with np.errstate(divide="ignore", invalid="ignore"):
-            peak = float(np.nanmax(np.abs(self.w * length / k)))
+            peak = float(_grid_peak(self.w * length / k))
+        crosses = crosses or not math.isfinite(peak)
         viol = 1.0 if crosses else 0.0
         viol += max(0.0, self.judge.space.floor - min(lc, lo_)) / scale
         if dead is not None:
             viol += max(0.0, (lo_ - lc) + dead - lc) / scale  # stroke + dead - closed
         if goal.force_cap is not None and not crosses:
-            viol += max(0.0, peak - goal.force_cap) / goal.force_cap
+            viol += float(_excess(peak, goal.force_cap))
         if goal.length_cap is not None:
             viol += max(0.0, lc - goal.length_cap) / scale
         obj = (math.inf if crosses else peak) if goal.kind == "peak" else lc
@@ -508,15 +527,14 @@ def _refined_score(judge: Judge, goal: Goal, design, peak: float) -> tuple[float
     """(objective, violation) of one design with its refined peak (no budget spent)."""
     p = design[None, :]
     st, scale = judge.st, judge.space.scale
-    crosses = bool(st.crossing(p)[0][0])
-    ls, le = (float(x[0]) for x in st.end_lengths(p))
-    closed, opened = min(ls, le), max(ls, le)
+    crosses = bool(st.crossing(p)[0][0]) or not math.isfinite(peak)  # nan: no finite force, the worst
+    closed, opened = (float(x[0]) for x in st.lengths(p)[:2])
     viol = 1.0 if crosses else 0.0
     viol += max(0.0, judge.space.floor - closed) / scale
     if judge.dead is not None:
         viol += max(0.0, opened - closed + judge.dead - closed) / scale
     if goal.force_cap is not None and not crosses:
-        viol += max(0.0, peak - goal.force_cap) / goal.force_cap
+        viol += float(_excess(peak, goal.force_cap))
     if goal.length_cap is not None:
         viol += max(0.0, closed - goal.length_cap) / scale
     obj = (math.inf if crosses else peak) if goal.kind == "peak" else closed
@@ -719,5 +737,4 @@ def pareto(problem, judge: Judge, main: Outcome, goal: Goal, method: str, share:
 
 
 def closed_length(judge: Judge, design) -> float:
-    ls, le = judge.st.end_lengths(np.asarray(design, dtype=float)[None, :])
-    return float(min(ls[0], le[0]))
+    return float(judge.st.lengths(np.asarray(design, dtype=float)[None, :])[0][0])
