@@ -5,9 +5,11 @@ Freudenstein (1955), "Approximate synthesis of four-bar linkages", Trans. ASME 7
     K1 cos(psi) - K2 cos(phi) + K3 = cos(phi - psi),
     K1 = d / a,  K2 = d / c,  K3 = (a^2 - b^2 + c^2 + d^2) / (2 a c)
 
-is linear in K1, K2, K3: three (phi_i, psi_i) pairs give the exact linkage, four or more
-a least-squares one, which is then refined by Levenberg-Marquardt on the true output-angle
-error of the assembled linkage (the linear residual is not the angle error). A negative
+is linear in K1, K2, K3: three (phi_i, psi_i) pairs give the exact linkage. Four or more
+are fitted by Levenberg-Marquardt on the true output-angle error of the assembled linkage
+(the linear residual is not the angle error), started from the linear least-squares ratios
+and from the exact ratios of three-position subsets, on both branches (precision_starts);
+the fit that assembles everywhere and travels without a branch change wins. A negative
 ratio means that link points the other way (its angle is phi + 180 or psi + 180): the
 lengths are reported positive and the note says so. This module must not import scipy.
 """
@@ -17,12 +19,15 @@ from __future__ import annotations
 import numpy as np
 
 from linkcli.errors import InputError
-from linkcli.kinematics import TWO_PI, choose_arc, input_arcs, pose, wrap
+from linkcli.kinematics import ground_distance, pose, wrap
 from linkcli.model import FourBar
 from linkcli.result import Positions, Solution, Status
+from linkcli.solvers.precision_starts import closure_gap, make_starts, refine, travels
 
 COINCIDENT = 1e-9  # rad: two input (or output) angles closer than this are one position
 ILL_CONDITIONED = 1e12
+BRANCHES = ("open", "crossed")
+HELD = 1e-6  # rad: an exact fit's closure on a branch within this of psi holds the position
 
 
 def freudenstein_ratios(phi: np.ndarray, psi: np.ndarray) -> np.ndarray:
@@ -63,47 +68,127 @@ def _check_positions(problem) -> None:
                              path=path, key=name, line=problem.lines[0] if problem.lines else None)
 
 
-def _refine(phi, psi, a, b, c, d, sign, iters=100):
-    """Levenberg-Marquardt on the true output-angle error, d fixed; lengths stay positive.
+def _bad_positions(problem, expected: str, got: str) -> InputError:
+    return InputError(expected, got, path=problem.meta.path, key="positions",
+                      line=problem.lines[0] if problem.lines else None)
 
-    Works on log-lengths so that a, b, c > 0; Jacobian by central differences (3 columns).
-    Returns the lengths, whether every position assembles, and the residual evaluations.
-    """
-    x = np.log([a, b, c])
-    calls = [0]
 
-    def resid(v):
-        calls[0] += 1
-        aa, bb, cc = np.exp(v)
-        p = pose(aa, bb, cc, d, phi, sign)
-        r = wrap(p.psi - psi)
-        # a position that cannot assemble is penalised by how far it is from assembling
-        return np.where(p.valid, r, np.pi), bool(np.all(p.valid))
+def _orientation_notes(a_turned: bool, c_turned: bool) -> list[str]:
+    notes = []
+    if a_turned:
+        notes.append("Freudenstein ratio K1 < 0: the input link points opposite to the input "
+                     "angle (the crank sits at phi + 180); its length is reported positive")
+    if c_turned:
+        notes.append("Freudenstein ratio K2 < 0: the output link points opposite to the output "
+                     "angle (the rocker sits at psi + 180); its length is reported positive")
+    return notes
 
-    r, ok = resid(x)
-    lam = 1e-3
-    for _ in range(iters):
-        h = 1e-7
-        jac = np.empty((len(phi), 3))
-        for k in range(3):  # three columns: a loop over variables, not over points
-            e = np.zeros(3)
-            e[k] = h
-            jac[:, k] = (resid(x + e)[0] - resid(x - e)[0]) / (2 * h)
-        g = jac.T @ r
-        hess = jac.T @ jac
-        improved = False
-        for _ in range(20):
-            step = np.linalg.solve(hess + lam * np.diag(np.diag(hess) + 1e-12), -g)
-            r_new, ok_new = resid(x + step)
-            if r_new @ r_new < r @ r:
-                x, r, ok = x + step, r_new, ok_new
-                lam = max(lam / 10, 1e-12)
-                improved = True
+
+TRAVEL_NOTE = ("branch defect: the input cannot rotate from the first to the last position "
+               "without passing a limit position (the linkage would change branch)")
+
+
+def _infeasible(problem, linkage: FourBar, p, notes) -> Solution:
+    """Status INFEASIBLE naming the positions where the loop does not close and by how much:
+    |A B0| = rho must lie in [|b - c|, b + c]; the gap is the distance outside (length unit)."""
+    bad = np.nonzero(~p.valid)[0]
+    gap = closure_gap(linkage.input, linkage.coupler, linkage.output, p.rho)
+    unit = problem.meta.units.length
+    parts = ", ".join(f"{i + 1} (by {gap[i]:.6g} {unit})" for i in bad)
+    message = (f"the linkage cannot assemble at positions {parts}: the loop misses closing there "
+               f"(|A B0| outside [|coupler - output|, coupler + output] = "
+               f"[{abs(linkage.coupler - linkage.output):.6g}, {linkage.coupler + linkage.output:.6g}] {unit})")
+    return Solution(status=Status.INFEASIBLE, linkage=linkage, message=message, notes=notes)
+
+
+def _exact(problem, phi, psi, d):
+    """Three positions: the exact Freudenstein linkage, reported on the branch that holds
+    the most positions (then the smaller squared error); a position is held by a branch
+    whose closure reproduces its psi (error < HELD, or the nearer of the two)."""
+    n = len(phi)
+    k = freudenstein_ratios(phi, psi)
+    if np.any(np.abs(k[:2]) < 1e-12):
+        raise _bad_positions(problem, "positions that determine finite input and output links",
+                             f"positions {_position_names(range(n))} give an infinite link")
+    a, b2, c = lengths_from_ratios(k, d)
+    if b2 <= 0:
+        raise _bad_positions(problem, "positions that a real coupler can join",
+                             f"positions {_position_names(range(n))} need coupler^2 = {b2:.6g} <= 0")
+    b = float(np.sqrt(b2))
+    notes = _orientation_notes(a < 0, c < 0)
+    phi_phys = phi + (np.pi if a < 0 else 0.0)
+    psi_phys = psi + (np.pi if c < 0 else 0.0)
+    a, c = abs(a), abs(c)
+    errs = {}
+    for branch in BRANCHES:
+        p = pose(a, b, c, d, phi_phys, branch)
+        errs[branch] = np.where(p.valid, np.abs(wrap(p.psi - psi_phys)), np.inf)
+    nearest = np.argmin(np.vstack([errs[br] for br in BRANCHES]), axis=0)
+    held = {br: [i + 1 for i in range(n) if errs[br][i] < HELD or nearest[i] == j]
+            for j, br in enumerate(BRANCHES)}
+    branch = min(BRANCHES, key=lambda br: (-len(held[br]), float(np.sum(errs[br] ** 2))))
+    message = f"exact through {n} positions"
+    if len(held[branch]) < n:
+        notes.append("branch defect: positions " + ", ".join(map(str, held["open"]))
+                     + " lie on the open branch and " + ", ".join(map(str, held["crossed"]))
+                     + " on the crossed branch; the linkage must be disassembled to pass them all")
+        message = (f"Freudenstein's equations are met exactly through {n} positions, but no one "
+                   f"branch holds all of them: the open branch holds positions "
+                   f"{', '.join(map(str, held['open'])) or 'none'} and the crossed branch "
+                   f"{', '.join(map(str, held['crossed'])) or 'none'}; reported on the {branch} "
+                   f"branch, which misses position(s) "
+                   f"{', '.join(str(i) for i in range(1, n + 1) if i not in held[branch])}")
+    linkage = FourBar(ground=d, input=a, coupler=b, output=c, branch=branch)
+    return linkage, phi_phys, psi_phys, notes, message, {"method": "freudenstein", "evaluations": 1,
+                                                         "converged": True}
+
+
+def _least_squares(problem, phi, psi, d):
+    """Four or more positions: multi-start Levenberg-Marquardt on the true output-angle
+    error (precision_starts). The fit reported is, in order: one that assembles at every
+    position, then one that travels from the first to the last position without a branch
+    change, then the smallest objective (ties: the earlier start, so the result is
+    deterministic). When none assembles everywhere, the one whose loop misses closing the
+    least is returned for the infeasible message."""
+    n = len(phi)
+    starts = make_starts(phi, psi, d)
+    if not len(starts.x):
+        k = freudenstein_ratios(phi, psi)
+        a, b2, c = lengths_from_ratios(k, d) if np.all(np.abs(k[:2]) >= 1e-12) else (0, 0, 0)
+        if np.any(np.abs(k[:2]) < 1e-12):
+            raise _bad_positions(problem, "positions that determine finite input and output links",
+                                 f"positions {_position_names(range(n))} give an infinite link")
+        raise _bad_positions(problem, "positions that a real coupler can join",
+                             f"positions {_position_names(range(n))} need coupler^2 = {b2:.6g} <= 0 "
+                             "(and no three of them give a real coupler)")
+    fit = refine(starts, phi, psi, d, problem.meta.solver.budget)
+    st = fit.starts
+    cost = np.einsum("km,km->k", fit.r, fit.r)
+    assembles = np.all(fit.valid, axis=1)
+    sweep = float(phi[-1] - phi[0])
+    phi_p = phi[None, :] + np.where(st.sa < 0, np.pi, 0.0)[:, None]
+    if np.any(assembles):
+        order = np.nonzero(assembles)[0]
+        order = order[np.argsort(cost[order], kind="stable")]
+        chosen = order[0]
+        for i in order:  # usually the first passes: a loop over a few candidates
+            if travels(*fit.abc[i], d, phi_p[i], sweep):
+                chosen = i
                 break
-            lam *= 10
-        if not improved or np.linalg.norm(step) < 1e-14:
-            break
-    return tuple(np.exp(x)), ok, calls[0]
+    else:  # only where a position has rho = 0 (A on B0): the least closure gap
+        a, b, c = (fit.abc[:, i:i + 1] for i in range(3))
+        gap = np.sum(closure_gap(a, b, c, ground_distance(a, d, phi_p)), axis=1)
+        chosen = np.lexsort((cost, gap))[0]
+    a, b, c = (float(v) for v in fit.abc[chosen])
+    branch = "open" if st.sign[chosen] < 0 else "crossed"
+    notes = _orientation_notes(st.sa[chosen] < 0, st.sc[chosen] < 0)
+    phi_phys = phi + (np.pi if st.sa[chosen] < 0 else 0.0)
+    psi_phys = psi + (np.pi if st.sc[chosen] < 0 else 0.0)
+    message = f"least squares over {n} positions, refined on the true output-angle error"
+    solver = {"method": "freudenstein+lm", "evaluations": int(fit.evaluations),
+              "converged": bool(fit.converged[chosen]), "starts": int(len(st.x))}
+    return FourBar(ground=d, input=a, coupler=b, output=c, branch=branch), phi_phys, psi_phys, \
+        notes, message, solver
 
 
 def solve(problem) -> Solution:
@@ -112,87 +197,30 @@ def solve(problem) -> Solution:
     psi = np.array(problem.output_angles)
     d = problem.ground
     n = len(phi)
-    path = problem.meta.path
     m = np.column_stack([np.cos(psi), -np.cos(phi), np.ones_like(phi)])
     if np.linalg.cond(m) > ILL_CONDITIONED:
-        raise InputError("positions that determine a linkage (Freudenstein's system is singular)",
-                         f"positions {_position_names(range(n))} give a singular system",
-                         path=path, key="positions", line=problem.lines[0] if problem.lines else None)
-    k = freudenstein_ratios(phi, psi)
-    if np.any(np.abs(k[:2]) < 1e-12):
-        raise InputError("positions that determine finite input and output links",
-                         f"positions {_position_names(range(n))} give an infinite link",
-                         path=path, key="positions", line=problem.lines[0] if problem.lines else None)
-    a, b2, c = lengths_from_ratios(k, d)
-    if b2 <= 0:
-        raise InputError("positions that a real coupler can join",
-                         f"positions {_position_names(range(n))} need coupler^2 = {b2:.6g} <= 0",
-                         path=path, key="positions", line=problem.lines[0] if problem.lines else None)
-    b = float(np.sqrt(b2))
-    notes = []
-    # A negative length is the same link turned by 180 deg: the physical angle shifts.
-    phi_phys = phi + (np.pi if a < 0 else 0.0)
-    psi_phys = psi + (np.pi if c < 0 else 0.0)
-    if a < 0:
-        notes.append("Freudenstein ratio K1 < 0: the input link points opposite to the input "
-                     "angle (the crank sits at phi + 180); its length is reported positive")
-    if c < 0:
-        notes.append("Freudenstein ratio K2 < 0: the output link points opposite to the output "
-                     "angle (the rocker sits at psi + 180); its length is reported positive")
-    a, c = abs(a), abs(c)
-
-    # Branch that holds the positions: the one whose closure reproduces psi best.
-    errs = {}
-    for branch in ("open", "crossed"):
-        p = pose(a, b, c, d, phi_phys, branch)
-        errs[branch] = (np.where(p.valid, np.abs(wrap(p.psi - psi_phys)), np.inf), p)
-    per_pos = np.argmin(np.vstack([errs["open"][0], errs["crossed"][0]]), axis=0)
-    branch = "open" if np.sum(errs["open"][0] ** 2) <= np.sum(errs["crossed"][0] ** 2) else "crossed"
-    if n == 3 and len(set(per_pos)) > 1:
-        split = {b_: [i + 1 for i in range(n) if ("open", "crossed")[per_pos[i]] == b_] for b_ in ("open", "crossed")}
-        notes.append("branch defect: positions " + ", ".join(map(str, split["open"]))
-                     + " lie on the open branch and " + ", ".join(map(str, split["crossed"]))
-                     + " on the crossed branch; the linkage must be disassembled to pass them all")
-
-    method, evaluations = "freudenstein", 1
-    sign = -1.0 if branch == "open" else 1.0
-    if n > 3:
-        (a, b, c), _, calls = _refine(phi_phys, psi_phys, a, b, c, d, sign)
-        method, evaluations = "freudenstein+lm", 1 + calls
+        raise _bad_positions(problem, "positions that determine a linkage (Freudenstein's system is singular)",
+                             f"positions {_position_names(range(n))} give a singular system")
+    solve_n = _exact if n == 3 else _least_squares
+    linkage, phi_phys, psi_phys, notes, message, solver = solve_n(problem, phi, psi, d)
+    a, b, c, branch = linkage.input, linkage.coupler, linkage.output, linkage.branch
     p = pose(a, b, c, d, phi_phys, branch)
     if not np.all(p.valid):
-        bad = [i + 1 for i in range(n) if not p.valid[i]]
-        return Solution(status=Status.INFEASIBLE, linkage=FourBar(d, a, b, c, branch),
-                        message=f"the linkage cannot assemble at positions {', '.join(map(str, bad))}",
-                        notes=notes)
+        return _infeasible(problem, linkage, p, notes)
     err = wrap(p.psi - psi_phys)
-
-    # Can the input move from the first to the last position without changing branch?
     sweep = float(phi[-1] - phi[0])
-    arcs = input_arcs(a, b, c, d)
-    if arcs is not None:
-        arc = choose_arc(arcs, phi_phys[0])
-        lo, hi = arc
-        inside = np.mod(phi_phys - lo, TWO_PI) <= (hi - lo) + 1e-9
-        travel_ok = bool(np.all(inside)) and (
-            (sweep >= 0 and np.mod(phi_phys[-1] - lo, TWO_PI) >= np.mod(phi_phys[0] - lo, TWO_PI))
-            or (sweep < 0 and np.mod(phi_phys[-1] - lo, TWO_PI) <= np.mod(phi_phys[0] - lo, TWO_PI)))
-        if not travel_ok:
-            notes.append("branch defect: the input cannot rotate from the first to the last position "
-                         "without passing a limit position (the linkage would change branch)")
-    status = Status.OK
-    message = (f"exact through {n} positions" if n == 3 else
-               f"least squares over {n} positions, refined on the true output-angle error")
+    if not travels(a, b, c, d, phi_phys, sweep):
+        notes.append(TRAVEL_NOTE)
     if any(note.startswith("branch defect") for note in notes):
         message += "; warning: branch defect (see notes)"
     return Solution(
-        status=status,
-        linkage=FourBar(ground=d, input=a, coupler=b, output=c, branch=branch),
+        status=Status.OK,
+        linkage=linkage,
         message=message,
         positions=Positions(kind="angle", input=phi_phys, target=psi_phys, achieved=p.psi, error=err),
         objective=float(err @ err),
-        solver={"method": method, "seed": problem.meta.solver.seed, "evaluations": evaluations,
-                "converged": True},
+        solver={"method": solver["method"], "seed": problem.meta.solver.seed,
+                **{k: v for k, v in solver.items() if k != "method"}},
         notes=notes,
         working_span=(float(phi_phys[0]), sweep),
     )
