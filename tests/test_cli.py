@@ -150,3 +150,9 @@ def test_out_folder_problems_and_repeated_stems(tmp_path):
     assert code == 0 and sorted(p.name for p in outd.iterdir()) == ["firedoor.json", "firedoor_2.json"]
     files = [json.loads((outd / n).read_text())["file"] for n in ("firedoor.json", "firedoor_2.json")]
     assert files == [str(tmp_path / "x" / "firedoor.toml"), str(tmp_path / "y" / "firedoor.toml")]
+
+
+def test_one_bad_file_prints_nothing_on_stdout_in_any_format():
+    for fmt in ("table", "json", "toml"):
+        code, out, err = run_cli("synth", "tests/bad/coincident_positions.toml", "-f", fmt)
+        assert code == 2 and out == "" and err.startswith("tests/bad/coincident_positions.toml:")

@@ -771,3 +771,13 @@ def test_fixed_lengths_beyond_the_link_ratio_are_refused(tmp_path):
     code, _, err = run_cli("check", write(tmp_path, {"type": "function-generation", **data}))
     assert code == 2 and len(err.splitlines()) == 1
     assert "linkage.ground: expected fixed lengths whose longest is at most 1e+06 times the shortest" in err
+
+
+def test_a_large_offset_is_not_round_off(tmp_path):
+    # f(0) = 1e9 and f(1) = 1e9 + 1 differ by 1e7 round-off units: a valid law
+    text = open(LOG_GENERATOR).read().replace('function = "log10(x)"', 'function = "1e9 + x"')
+    text = text.replace("x = [1, 2]", "x = [0, 1]")
+    path = tmp_path / "offset.toml"
+    path.write_text(text)
+    code, _, err = run_cli("check", str(path))
+    assert code == 0, err

@@ -224,3 +224,16 @@ def test_change_point_row_has_no_round_off_quotients():
         w4p = kin.velocities(a, b, c, kin.pose(a, b, c, d, phi[k] + g, "open"), w2)[1]
         w4m = kin.velocities(a, b, c, kin.pose(a, b, c, d, phi[k] - g, "open"), w2)[1]
         assert a4[k] == pytest.approx(float(w4p - w4m) / (2 * g) * w2, rel=1e-5)
+
+
+def test_kite_where_the_crank_pin_meets_the_output_pivot():
+    # input = ground, coupler = output: at input 0 the pin A lies on B0 (rho = 0) and the
+    # output angle is undefined. On the open branch the output then rocks through half a
+    # turn (the closure gives 0 -> 180 deg), not a full turn
+    a, b, c, d = 30.0, 60.0, 60.0, 30.0
+    assert not bool(kin.pose(a, b, c, d, 0.0, "open").valid)
+    m = kin.motion(a, b, c, d, "open")
+    assert m["input_full_turn"] and not m["output_full_turn"]
+    assert m["output_swing"] == pytest.approx(math.pi, abs=0.01)
+    lo, hi = m["output_range"]
+    assert lo == pytest.approx(0.0, abs=0.01) and hi == pytest.approx(math.pi, abs=0.01)

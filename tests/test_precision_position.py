@@ -7,6 +7,7 @@ closure, so recovering that linkage is an independent check.
 from __future__ import annotations
 
 import cmath
+import json
 import math
 import subprocess
 import sys
@@ -14,6 +15,7 @@ import sys
 import numpy as np
 import pytest
 
+from conftest import run_cli
 from linkcli.errors import InputError
 from linkcli.problemfile import load
 from linkcli.solvers import solve
@@ -253,3 +255,49 @@ def test_three_positions_on_two_branches_do_not_claim_an_exact_fit():
     assert max(abs(err[0]), abs(err[2])) < 1e-9
     crossed = [psi_of(fb.input, fb.coupler, fb.output, d, sol.positions.input[1], "crossed")]
     assert abs(np.angle(np.exp(1j * (crossed[0] - sol.positions.target[1])))) < 1e-9
+
+
+def test_positions_across_the_seam_are_taken_in_motion_order(tmp_path):
+    # [150, 180, -150] is the input turning 150 -> 180 -> 210: the working range, the
+    # travel check and the branch verdict follow that motion, not a -300 deg sweep through 0
+    a, b, c, d = 30.0, 80.0, 70.0, 50.0
+    phis = [150.0, 180.0, 210.0]
+    psis = []
+    for ph in phis:  # open branch, SPEC closure: psi = theta_rho - alpha
+        ax, ay = a * math.cos(math.radians(ph)), a * math.sin(math.radians(ph))
+        rx, ry = ax - d, ay
+        rho = math.hypot(rx, ry)
+        alpha = math.acos((rho * rho + c * c - b * b) / (2 * rho * c))
+        psis.append(math.degrees(math.atan2(ry, rx) - alpha))
+    outs = []
+    for inputs in ([150, 180, 210], [150, 180, -150]):
+        path = tmp_path / f"p{len(outs)}.toml"
+        path.write_text('type = "precision-position"\n[linkage]\nground = 50\n[positions]\n'
+                        f"input = {inputs}\noutput = {[round(p, 9) for p in psis]}\n")
+        code, out, err = run_cli("synth", str(path), "-f", "json")
+        assert code == 0, err
+        outs.append(json.loads(out))
+    for rep in outs:
+        assert (rep["linkage"]["input"], rep["linkage"]["coupler"], rep["linkage"]["output"]) == \
+            pytest.approx((a, b, c), rel=1e-7)
+        assert "branch defect" not in rep["message"]
+    # reference: the transmission angle along 150..210 deg, cos mu = (b^2 + c^2 - rho^2) / (2bc)
+    mus = []
+    for k in range(6001):
+        ph = math.radians(150 + 60 * k / 6000)
+        rho2 = a * a + d * d - 2 * a * d * math.cos(ph)
+        mus.append(math.degrees(math.acos((b * b + c * c - rho2) / (2 * b * c))))
+    for rep in outs:
+        tr = rep["transmission"]
+        assert (tr["working_min"], tr["working_max"]) == pytest.approx((min(mus), max(mus)), abs=1e-3)
+
+
+def test_a_spent_budget_is_not_converged(tmp_path):
+    path = tmp_path / "b.toml"
+    path.write_text('type = "precision-position"\n[linkage]\nground = 50\n[positions]\n'
+                    "input = [45, 70, 90, 110, 135]\noutput = [52.0, 68.4, 82.0, 97.0, 112.0]\n"
+                    "[solver]\nbudget = 10\n")
+    code, out, _ = run_cli("synth", str(path), "-f", "json")
+    rep = json.loads(out)
+    assert code == 1 and rep["status"] == "not-converged" and rep["solver"]["converged"] is False
+    assert rep["solver"]["evaluations"] <= 10

@@ -157,7 +157,9 @@ def kinematics_rows(fb, mot, speed, steps, u) -> list[dict]:
             ("coupler_acceleration", u.from_rad(a3)), ("output_acceleration", u.from_rad(a4))]
     rows = []
     for k in range(len(phi)):
-        rows.append({name: (float(v[k]) if math.isfinite(v[k]) else None) for name, v in cols})
+        ok = bool(p.valid[k])  # where it cannot assemble (or A meets B0) only the input is known
+        rows.append({name: (float(v[k]) if math.isfinite(v[k]) and (ok or name == "input") else None)
+                     for name, v in cols})
     return rows
 
 

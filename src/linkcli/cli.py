@@ -161,9 +161,9 @@ def _solve_command(files: list[Path], mode: str, fmt: Format, out: Optional[Path
             prog.stop()
     if out is not None:
         worst = max(worst, _write_out([r for r in reports if "type" in r], out, fmt, precision))
-    elif fmt is Format.json:
+    elif fmt is Format.json and (reports or len(names) > 1):  # one bad file: nothing on stdout
         from linkcli.export import to_json
-        sys.stdout.write(to_json(reports if len(names) > 1 else (reports[0] if reports else []), precision))
+        sys.stdout.write(to_json(reports if len(names) > 1 else reports[0], precision))
     elif fmt is Format.toml and reports:
         from linkcli.export import to_toml_many
         sys.stdout.write(to_toml_many(reports, precision))

@@ -290,6 +290,9 @@ def motion(a, b, c, d, branch, near=None) -> dict:
     lo, hi = (0.0, TWO_PI) if full else choose_arc(arcs, near)
     phi = np.linspace(lo, hi, 2049)
     p = pose(a, b, c, d, phi, branch)
+    if not p.valid.all() and p.valid.any():  # isolated inputs where A meets B0 (rho = 0):
+        phi = phi[p.valid]                    # the output angle is undefined there
+        p = pose(a, b, c, d, phi, branch)
     psi = np.unwrap(p.psi)
     out = {"assembles": True, "input_full_turn": full, "input_arc": (lo, hi)}
     if full and abs(psi[-1] - psi[0]) > np.pi:
@@ -303,8 +306,10 @@ def motion(a, b, c, d, branch, near=None) -> dict:
         vals = []
         for x in cands:
             k = int(np.argmin(np.abs(wrap(phi - x))))
-            v = float(pose(a, b, c, d, x, branch).psi)
-            vals.append(psi[k] + float(wrap(v - psi[k])))
+            px = pose(a, b, c, d, x, branch)
+            if not bool(px.valid):  # A on B0: no output angle there
+                continue
+            vals.append(psi[k] + float(wrap(float(px.psi) - psi[k])))
         vals = vals or [float(psi.min()), float(psi.max())]
         vals += [float(psi.min()), float(psi.max())]  # never narrower than the samples
         o_lo, o_hi = min(vals), max(vals)

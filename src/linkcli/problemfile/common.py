@@ -17,6 +17,24 @@ MIN_FAILURES = 10  # inverse mode: expected failures at the level, for a stable 
 MIN_LENGTH, MAX_LENGTH = 1e-9, 1e9  # file's unit: beyond, squares of lengths lose all precision
 
 
+def in_motion_order(angles: list[float]) -> list[float]:
+    """Input angles (rad) of positions the input passes in the order given: kept as written
+    when they already run one way; else, if taking each step the short way round makes
+    them run one way, that form ([150, 180, -150] deg -> [150, 180, 210]), so that sweeps,
+    working ranges and travel are measured along the motion, not across the +-180 seam."""
+    steps = [b - a for a, b in zip(angles, angles[1:])]
+    if all(s > 0 for s in steps) or all(s < 0 for s in steps):
+        return list(angles)
+    turn = 2 * math.pi
+    short = [s - turn * math.floor((s + math.pi) / turn) for s in steps]  # in [-pi, pi)
+    if all(s > 0 for s in short) or all(s < 0 for s in short):
+        out = [angles[0]]
+        for s in short:
+            out.append(out[-1] + s)
+        return out
+    return list(angles)
+
+
 def bounded_length(t: Table, key: str):
     """A positive length within [MIN_LENGTH, MAX_LENGTH]; None when missing or bad."""
     value = t.number(key, positive=True, what="a positive length")

@@ -293,8 +293,11 @@ def function_shape(tgt: Table, law, x_range, t):
     span = f1 - f0
     shape = tuple((v - f0) / span for v in values[2:])
     if not all(math.isfinite(s) and abs(s) <= MAX_SHAPE for s in shape):
-        tgt.error("function", "a function whose values differ by a finite ratio",
-                  raw_got=f"f({_fmt(x1)}) - f({_fmt(x0)}) = {_fmt(span)}")
+        finite = [abs(v) for v in shape if math.isfinite(v)]
+        worst = max(finite) if len(finite) == len(shape) else math.inf
+        tgt.error("function", f"a function whose values at the points lie within {MAX_SHAPE:g} times "
+                  "f(x1) - f(x0) of f(x0) (the output sweep maps f(x0)..f(x1))",
+                  raw_got=f"f({_fmt(x1)}) - f({_fmt(x0)}) = {_fmt(span)} and a point {_fmt(worst)} times that away")
         return None
     return shape
 
@@ -317,7 +320,7 @@ def check_law_at_points(tgt: Table, law, given, sweep, t, u) -> bool:
     return True
 
 
-SPAN_RTOL = 1e-9  # f(x1) - f(x0) smaller than this times the largest |f| is round-off
+SPAN_RTOL = 8 * 2.0 ** -52  # f(x1) - f(x0) within a few ulps of the largest |f| is round-off
 MAX_SHAPE = 1e6  # |f(x_k) - f(x0)| / |f(x1) - f(x0)|: beyond, the output would turn 1e6 sweeps
 LAW_LIMIT = 1e6  # rad: a target angle beyond this magnitude has no digits left below a degree
 START_SAMPLES = 24  # start angles tried per free start when the starts are not known yet

@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 
 from linkcli.model import LINKS, Meta, PathGenerationProblem
+from linkcli.problemfile.common import in_motion_order
 from linkcli.problemfile.reader import MISSING, Table, describe
 
 DEFAULT_SECTIONS = ("lengths", "grashof", "transmission", "motion", "positions", "error", "solver")
@@ -101,7 +102,7 @@ def _input_angles(t: Table, timing: str, n: int, units):
                         raw_got=f"points {i + 1} and {j + 1} at the same angle "
                                 f"({angles[i]:g} and {angles[j]:g} {units.angle})")
                 return None
-    return tuple(units.to_rad(v) for v in angles)
+    return tuple(in_motion_order([units.to_rad(v) for v in angles]))
 
 
 def _length(t: Table | None, key: str, default):

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 from linkcli.model import Meta, PrecisionPositionProblem
-from linkcli.problemfile.common import bounded_length
+from linkcli.problemfile.common import bounded_length, in_motion_order
 from linkcli.problemfile.reader import Table
 
 DEFAULT_SECTIONS = ("lengths", "grashof", "transmission", "motion", "positions", "error", "solver")
@@ -43,7 +43,7 @@ def parse(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
     line = root.reader.line_of(("positions", "input"))
     return PrecisionPositionProblem(
         meta=meta, ground=ground,
-        input_angles=tuple(u.to_rad(v) for v in phi),
+        input_angles=tuple(in_motion_order([u.to_rad(v) for v in phi])),
         output_angles=tuple(u.to_rad(v) for v in psi),
         lines=(line,),
     )

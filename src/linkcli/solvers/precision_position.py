@@ -213,8 +213,14 @@ def solve(problem) -> Solution:
         notes.append(TRAVEL_NOTE)
     if any(note.startswith("branch defect") for note in notes):
         message += "; warning: branch defect (see notes)"
+    converged = bool(solver.get("converged", True))
+    if not converged:
+        budget = problem.meta.solver.budget
+        message += (f"; the refinement stopped at its budget ({budget} evaluations) before converging"
+                    if budget is not None else "; the refinement reached its iteration limit "
+                    "before converging")
     return Solution(
-        status=Status.OK,
+        status=Status.OK if converged else Status.NOT_CONVERGED,
         linkage=linkage,
         message=message,
         positions=Positions(kind="angle", input=phi_phys, target=psi_phys, achieved=p.psi, error=err),
