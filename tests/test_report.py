@@ -34,7 +34,7 @@ def test_piped_tables_show_every_digit(tmp_path):
     rep, path = _report(tmp_path)
     code, out, _ = run_cli("synth", str(path))
     assert code == 0 and "…" not in out
-    rows = [line.split() for line in out.splitlines() if re.match(r"^\s+\d+\s+-?\d", line)]
+    rows = [line.split() for line in out.splitlines() if re.match(r"^\s+\d+\s+(-?\d|-\s)", line)]
     kin = rep["kinematics"]
     assert len(rows) == len(kin)
     # every cell is a whole number. Up to the change point at 180 deg the rhombus is a
