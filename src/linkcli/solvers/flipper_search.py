@@ -237,15 +237,29 @@ class Judge:
     def assess(self, p, goal: Goal):
         """(objective, violation, family) for designs p (S, 4) on the grid; spends S."""
         self.budget.spend(len(p))
-        st, scale = self.st, self.space.scale
+        st = self.st
         force = st.forces(p)[0]
         crosses, tau0 = st.crossing(p)
         peak = _grid_peak(force)
         crosses = crosses | ~np.isfinite(peak)  # no finite force somewhere: as bad as a crossing
         ls, le = st.end_lengths(p)
         closed, opened, _ = st.lengths(p)
-        viol = np.where(crosses, 1.0 + np.minimum(tau0, st.sweep - tau0).clip(0) / st.sweep, 0.0)
-        viol = viol + np.maximum(0.0, self.space.floor - closed) / scale
+        # a crossing nearer the middle of the sweep violates more: the search moves it out
+        weight = 1.0 + np.minimum(tau0, st.sweep - tau0).clip(0) / st.sweep
+        obj, viol = self.score(goal, crosses, peak, closed, opened, cross_weight=weight)
+        k0 = st.terms(p, np.array([0.0]))[0][:, 0]
+        by_end = goal.kind == "length" or goal.length_cap is not None  # closed at start or at end
+        family = (k0 > 0).astype(int) + (2 * (ls > le) if by_end else 0)
+        return obj, viol, family
+
+    def score(self, goal: Goal, crosses, peak, closed, opened, cross_weight=1.0, shortest=None):
+        """(objective, violation) of designs from their facts, scalars or arrays (S,): a
+        crossing (no finite force somewhere) costs `cross_weight`; the pivots kept apart
+        (`shortest`, default the closed length, against the floor), the dead length, the
+        force and length caps add their relative excess."""
+        scale = self.space.scale
+        viol = np.where(crosses, cross_weight, 0.0)
+        viol = viol + np.maximum(0.0, self.space.floor - (closed if shortest is None else shortest)) / scale
         if self.dead is not None:
             viol = viol + np.maximum(0.0, opened - closed + self.dead - closed) / scale
         if goal.force_cap is not None:
@@ -253,10 +267,7 @@ class Judge:
         if goal.length_cap is not None:
             viol = viol + np.maximum(0.0, closed - goal.length_cap) / scale
         obj = np.where(crosses, math.inf, peak) if goal.kind == "peak" else closed
-        k0 = st.terms(p, np.array([0.0]))[0][:, 0]
-        by_end = goal.kind == "length" or goal.length_cap is not None  # closed at start or at end
-        family = (k0 > 0).astype(int) + (2 * (ls > le) if by_end else 0)
-        return obj, viol, family
+        return obj, viol
 
     @staticmethod
     def penalized(obj, viol):
@@ -422,24 +433,16 @@ class Epigraph:
         return out
 
     def _offer(self, p, k, length, lc, lo_) -> None:
-        """Record the design by its true objective and violation at these angles."""
-        goal, scale, dead = self.goal, self.judge.space.scale, self.judge.dead
+        """Record the design by its true objective and violation at these angles (lc is the
+        end the model keeps closed, lo_ the other: the floor holds for the shorter)."""
         crosses = not (np.sign(k[0]) * np.sign(k[self.end_index]) > 0)
         if crosses:  # unless the load has no moment where the line crosses the hinge
             crosses = bool(self.judge.st.crossing(p[None, :])[0][0])
         with np.errstate(divide="ignore", invalid="ignore"):
             peak = float(_grid_peak(self.w * length / k))
         crosses = crosses or not math.isfinite(peak)
-        viol = 1.0 if crosses else 0.0
-        viol += max(0.0, self.judge.space.floor - min(lc, lo_)) / scale
-        if dead is not None:
-            viol += max(0.0, (lo_ - lc) + dead - lc) / scale  # stroke + dead - closed
-        if goal.force_cap is not None and not crosses:
-            viol += float(_excess(peak, goal.force_cap))
-        if goal.length_cap is not None:
-            viol += max(0.0, lc - goal.length_cap) / scale
-        obj = (math.inf if crosses else peak) if goal.kind == "peak" else lc
-        self.best.offer(p, obj, viol)
+        obj, viol = self.judge.score(self.goal, crosses, peak, lc, lo_, shortest=min(lc, lo_))
+        self.best.offer(p, float(obj), float(viol))
 
     def fun(self, v):
         return self._compute(v)[0]
@@ -526,19 +529,11 @@ def _local(judge: Judge, goal: Goal, start, share: int) -> Outcome:
 def _refined_score(judge: Judge, goal: Goal, design, peak: float) -> tuple[float, float]:
     """(objective, violation) of one design with its refined peak (no budget spent)."""
     p = design[None, :]
-    st, scale = judge.st, judge.space.scale
+    st = judge.st
     crosses = bool(st.crossing(p)[0][0]) or not math.isfinite(peak)  # nan: no finite force, the worst
     closed, opened = (float(x[0]) for x in st.lengths(p)[:2])
-    viol = 1.0 if crosses else 0.0
-    viol += max(0.0, judge.space.floor - closed) / scale
-    if judge.dead is not None:
-        viol += max(0.0, opened - closed + judge.dead - closed) / scale
-    if goal.force_cap is not None and not crosses:
-        viol += float(_excess(peak, goal.force_cap))
-    if goal.length_cap is not None:
-        viol += max(0.0, closed - goal.length_cap) / scale
-    obj = (math.inf if crosses else peak) if goal.kind == "peak" else closed
-    return obj, viol
+    obj, viol = judge.score(goal, crosses, peak, closed, opened)
+    return float(obj), float(viol)
 
 
 # ------------------------------------------------------------------------------ strategy
