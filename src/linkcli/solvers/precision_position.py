@@ -16,39 +16,21 @@ lengths are reported positive and the note says so. This module must not import 
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from linkcli.errors import InputError
 from linkcli.kinematics import ground_distance, pose, wrap
 from linkcli.model import FourBar
 from linkcli.result import Positions, Solution, Status
-from linkcli.solvers.precision_starts import closure_gap, make_starts, refine, travels
+from linkcli.solvers.precision_starts import (closure_gap, freudenstein_system, lengths_of, make_starts,
+                                              physical_angles, refine, travels)
 
 COINCIDENT = 1e-9  # rad: two input (or output) angles closer than this are one position
 ILL_CONDITIONED = 1e12
 BRANCHES = ("open", "crossed")
 HELD = 1e-6  # rad: an exact fit's closure on a branch within this of psi holds the position
-
-
-def freudenstein_ratios(phi: np.ndarray, psi: np.ndarray) -> np.ndarray:
-    """Least-squares (exact for three pairs) K1, K2, K3 of Freudenstein's equation."""
-    m = np.column_stack([np.cos(psi), -np.cos(phi), np.ones_like(phi)])
-    rhs = np.cos(phi - psi)
-    k, *_ = np.linalg.lstsq(m, rhs, rcond=None)
-    return k
-
-
-def lengths_from_ratios(k: np.ndarray, d: float):
-    """(a, b^2, c) signed: a = d/K1, c = d/K2, b^2 = a^2 + c^2 + d^2 - 2 a c K3."""
-    a = d / k[0]
-    c = d / k[1]
-    b2 = a * a + c * c + d * d - 2 * a * c * k[2]
-    return a, b2, c
-
-
-def output_angles(a, b, c, d, phi, sign):
-    """psi of the linkage with physical lengths at physical input angles on a branch."""
-    return pose(a, b, c, d, phi, sign)
 
 
 def _position_names(idx) -> str:
@@ -71,6 +53,23 @@ def _check_positions(problem) -> None:
 def _bad_positions(problem, expected: str, got: str) -> InputError:
     return InputError(expected, got, path=problem.meta.path, key="positions",
                       line=problem.lines[0] if problem.lines else None)
+
+
+def _freudenstein_lengths(problem, phi, psi, d, why: str = ""):
+    """Signed a and c, and b, of the least-squares (for three pairs exact) ratios of
+    Freudenstein's equation; InputError for an infinite link or a coupler that is not real
+    (`why` adds to the latter's message)."""
+    m, rhs = freudenstein_system(phi, psi)
+    k = np.linalg.lstsq(m, rhs, rcond=None)[0]
+    a, b2, c = (float(v[0]) for v in lengths_of(k[None, :], d))
+    names = _position_names(range(len(phi)))
+    if not (math.isfinite(a) and math.isfinite(c)):
+        raise _bad_positions(problem, "positions that determine finite input and output links",
+                             f"positions {names} give an infinite link")
+    if b2 <= 0:
+        raise _bad_positions(problem, "positions that a real coupler can join",
+                             f"positions {names} need coupler^2 = {b2:.6g} <= 0{why}")
+    return a, math.sqrt(b2), c
 
 
 def _orientation_notes(a_turned: bool, c_turned: bool) -> list[str]:
@@ -106,15 +105,7 @@ def _exact(problem, phi, psi, d):
     the most positions (then the smaller squared error); a position is held by a branch
     whose closure reproduces its psi (error < HELD, or the nearer of the two)."""
     n = len(phi)
-    k = freudenstein_ratios(phi, psi)
-    if np.any(np.abs(k[:2]) < 1e-12):
-        raise _bad_positions(problem, "positions that determine finite input and output links",
-                             f"positions {_position_names(range(n))} give an infinite link")
-    a, b2, c = lengths_from_ratios(k, d)
-    if b2 <= 0:
-        raise _bad_positions(problem, "positions that a real coupler can join",
-                             f"positions {_position_names(range(n))} need coupler^2 = {b2:.6g} <= 0")
-    b = float(np.sqrt(b2))
+    a, b, c = _freudenstein_lengths(problem, phi, psi, d)
     notes = _orientation_notes(a < 0, c < 0)
     phi_phys = phi + (np.pi if a < 0 else 0.0)
     psi_phys = psi + (np.pi if c < 0 else 0.0)
@@ -152,21 +143,14 @@ def _least_squares(problem, phi, psi, d):
     least is returned for the infeasible message."""
     n = len(phi)
     starts = make_starts(phi, psi, d)
-    if not len(starts.x):
-        k = freudenstein_ratios(phi, psi)
-        a, b2, c = lengths_from_ratios(k, d) if np.all(np.abs(k[:2]) >= 1e-12) else (0, 0, 0)
-        if np.any(np.abs(k[:2]) < 1e-12):
-            raise _bad_positions(problem, "positions that determine finite input and output links",
-                                 f"positions {_position_names(range(n))} give an infinite link")
-        raise _bad_positions(problem, "positions that a real coupler can join",
-                             f"positions {_position_names(range(n))} need coupler^2 = {b2:.6g} <= 0 "
-                             "(and no three of them give a real coupler)")
+    if not len(starts.x):  # the linear fit raises: no start at all means it fails too
+        _freudenstein_lengths(problem, phi, psi, d, why=" (and no three of them give a real coupler)")
     fit = refine(starts, phi, psi, d, problem.meta.solver.budget)
     st = fit.starts
     cost = np.einsum("km,km->k", fit.r, fit.r)
     assembles = np.all(fit.valid, axis=1)
     sweep = float(phi[-1] - phi[0])
-    phi_p = phi[None, :] + np.where(st.sa < 0, np.pi, 0.0)[:, None]
+    phi_p, psi_p = physical_angles(phi, psi, st.sa, st.sc)
     if np.any(assembles):
         order = np.nonzero(assembles)[0]
         order = order[np.argsort(cost[order], kind="stable")]
@@ -182,8 +166,7 @@ def _least_squares(problem, phi, psi, d):
     a, b, c = (float(v) for v in fit.abc[chosen])
     branch = "open" if st.sign[chosen] < 0 else "crossed"
     notes = _orientation_notes(st.sa[chosen] < 0, st.sc[chosen] < 0)
-    phi_phys = phi + (np.pi if st.sa[chosen] < 0 else 0.0)
-    psi_phys = psi + (np.pi if st.sc[chosen] < 0 else 0.0)
+    phi_phys, psi_phys = phi_p[chosen], psi_p[chosen]
     message = f"least squares over {n} positions, refined on the true output-angle error"
     solver = {"method": "freudenstein+lm", "evaluations": int(fit.evaluations),
               "converged": bool(fit.converged[chosen]), "starts": int(len(st.x))}
@@ -197,7 +180,7 @@ def solve(problem) -> Solution:
     psi = np.array(problem.output_angles)
     d = problem.ground
     n = len(phi)
-    m = np.column_stack([np.cos(psi), -np.cos(phi), np.ones_like(phi)])
+    m, _ = freudenstein_system(phi, psi)
     if np.linalg.cond(m) > ILL_CONDITIONED:
         raise _bad_positions(problem, "positions that determine a linkage (Freudenstein's system is singular)",
                              f"positions {_position_names(range(n))} give a singular system")
