@@ -189,27 +189,10 @@ def _prepare_out(out: Path) -> bool:
     return True
 
 
-def out_stems(files: list[str]) -> list[str]:
-    """One output name per result, in argument order: the file's stem, with _2, _3, ...
-    added to a stem already taken (a/firedoor.toml and b/firedoor.toml -> firedoor,
-    firedoor_2, as --plot names its pictures), so no result overwrites another."""
-    taken: set[str] = set()
-    stems = []
-    for f in files:
-        stem, k = Path(f).stem, 1
-        name = stem
-        while name in taken:
-            k += 1
-            name = f"{stem}_{k}"
-        taken.add(name)
-        stems.append(name)
-    return stems
-
-
 def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int) -> int:
-    from linkcli.export import to_json, to_toml
+    from linkcli.export import result_stems, to_json, to_toml
     from linkcli.report import render_text
-    for rep, stem in zip(reports, out_stems([rep["file"] for rep in reports])):
+    for rep, stem in zip(reports, result_stems([rep["file"] for rep in reports])):
         target = out / f"{stem}.{EXT[fmt.value]}"
         if fmt is Format.json:
             text = to_json(rep, precision)

@@ -2,13 +2,15 @@
 
 `rounded(report, digits)` is the single place numbers are rounded: floats to `digits`
 significant digits, -0.0 to 0.0, non-finite to None (JSON null; left out of TOML, which
-has no null). Same report, same bytes.
+has no null). Same report, same bytes. `result_stems` names the files written per
+result (--out and --plot).
 """
 
 from __future__ import annotations
 
 import json
 import math
+from pathlib import PurePath
 
 
 def round_sig(x: float, digits: int) -> float | None:
@@ -57,3 +59,20 @@ def to_toml_many(reports: list[dict], digits: int) -> str:
     if len(reports) == 1:
         return to_toml(reports[0], digits)
     return tomli_w.dumps({"result": [_drop_none(rounded(r, digits)) for r in reports]})
+
+
+def result_stems(files: list[str]) -> list[str]:
+    """One output name per result, in argument order: the file's stem, with _2, _3, ...
+    added to a stem already taken (a/firedoor.toml and b/firedoor.toml -> firedoor,
+    firedoor_2), so no result overwrites another: the names of --out files and --plot pictures."""
+    taken: set[str] = set()
+    stems = []
+    for f in files:
+        stem, k = PurePath(f).stem, 1
+        name = stem
+        while name in taken:
+            k += 1
+            name = f"{stem}_{k}"
+        taken.add(name)
+        stems.append(name)
+    return stems

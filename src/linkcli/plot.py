@@ -78,14 +78,9 @@ def output_paths(reports: list[dict], names: list[str], plot_path: Path) -> list
         what = "a file" if plot_path.exists() and not plot_path.is_dir() else f'a "{plot_path.suffix}" file name'
         raise PlotError(f"{plot_path}: expected a folder for the plots of {len(names)} files "
                         f"(each written as <problem>{FOLDER_FORMAT}), found {what}")
-    seen: dict[str, int] = {}
-    out = []
-    for report in reports:
-        stem = Path(report.get("file") or "plot").stem
-        seen[stem] = seen.get(stem, 0) + 1
-        name = stem if seen[stem] == 1 else f"{stem}_{seen[stem]}"
-        out.append(plot_path / f"{name}{FOLDER_FORMAT}")
-    return out
+    from linkcli.export import result_stems
+    stems = result_stems([report.get("file") or "plot" for report in reports])
+    return [plot_path / f"{stem}{FOLDER_FORMAT}" for stem in stems]
 
 
 def require_matplotlib(plot_path: Path) -> None:

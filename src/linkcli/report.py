@@ -206,16 +206,17 @@ def render(report: dict, digits: int = 6) -> Group:
     return Group(*parts)
 
 
-def _compact(table: Table) -> int:
+def _compact(table: Table) -> None:
     """Fix each column at its longest cell or header word (headers wrap at words, cells
-    never); return the table's width so laid out."""
+    never)."""
     for column in table.columns:
         words = str(column.header).split() or [""]
         column.width = max([cell_len(str(c)) for c in column.cells] + [cell_len(w) for w in words])
-    pad = 2 * table.padding[1] if table.padding else 0
-    edges = 2 if table.show_edge and table.box else 0
-    return sum(c.width for c in table.columns) + pad * len(table.columns) \
-        + (len(table.columns) - 1) * (1 if table.box and table.show_lines is not None else 0) + edges
+
+
+def _width(con: Console, table: Table) -> int:
+    """The width the table takes when nothing limits it (rich's own measure)."""
+    return Measurement.get(con, con.options.update_width(MAX_TABLE_WIDTH), table).maximum
 
 
 def _emit(con: Console, group: Group) -> None:
@@ -225,9 +226,9 @@ def _emit(con: Console, group: Group) -> None:
     on a terminal, folds its cells onto a second line."""
     for part in group.renderables:
         if isinstance(part, Table):
-            natural = Measurement.get(con, con.options.update_width(MAX_TABLE_WIDTH), part).maximum
-            if natural > con.width:
-                need = _compact(part)
+            if _width(con, part) > con.width:
+                _compact(part)
+                need = _width(con, part)
                 if need > con.width:
                     if con.is_terminal:
                         for column in part.columns:
