@@ -290,10 +290,8 @@ def motion(a, b, c, d, branch, near=None) -> dict:
     lo, hi = (0.0, TWO_PI) if full else choose_arc(arcs, near)
     phi = np.linspace(lo, hi, 2049)
     p = pose(a, b, c, d, phi, branch)
-    if not p.valid.all() and p.valid.any():  # isolated inputs where A meets B0 (rho = 0):
-        phi = phi[p.valid]                    # the output angle is undefined there
-        p = pose(a, b, c, d, phi, branch)
-    psi = np.unwrap(p.psi)
+    keep = p.valid if p.valid.any() else slice(None)  # not where A meets B0 (rho = 0): no psi there
+    phi, psi = phi[keep], np.unwrap(p.psi[keep])
     out = {"assembles": True, "input_full_turn": full, "input_arc": (lo, hi)}
     if full and abs(psi[-1] - psi[0]) > np.pi:
         out["output_full_turn"] = True

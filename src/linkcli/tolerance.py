@@ -302,7 +302,7 @@ def check_input(problem, fb: FourBar) -> None:
     """A length tolerance must be smaller than its link, the clearance than every link:
     anything larger is a typing error, not a workshop (InputError, exit 2)."""
     tol = problem.meta.tolerance
-    lines = getattr(tol, "lines", None) or {}
+    lines = tol.lines
     same = len({tol.lengths.get(k, 0.0) for k in LINKS}) == 1
     for link in LINKS:
         t, length = tol.lengths.get(link, 0.0), getattr(fb, link)

@@ -15,6 +15,14 @@ MAX_BUDGET = 10**9
 MAX_SAMPLES = 1_000_000  # a tolerance study: more gains nothing but minutes
 MIN_FAILURES = 10  # inverse mode: expected failures at the level, for a stable bisection
 MIN_LENGTH, MAX_LENGTH = 1e-9, 1e9  # file's unit: beyond, squares of lengths lose all precision
+MAX_RATIO = 1e6  # longest over shortest link: beyond, double precision cannot resolve the angles
+
+
+def over_ratio(lengths: dict[str, float]) -> tuple[str, str] | None:
+    """(longest, shortest) names when the longest length exceeds MAX_RATIO times the
+    shortest, else None."""
+    longest, shortest = max(lengths, key=lengths.get), min(lengths, key=lengths.get)
+    return (longest, shortest) if lengths[longest] > MAX_RATIO * lengths[shortest] else None
 
 
 def in_motion_order(angles: list[float]) -> list[float]:

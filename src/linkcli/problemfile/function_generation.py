@@ -23,8 +23,8 @@ import math
 
 from linkcli.expr import ExpressionError, compile_expression
 from linkcli.model import LINKS, FunctionGenerationProblem, Meta
+from linkcli.problemfile.common import MAX_LENGTH, MAX_RATIO, MIN_LENGTH, over_ratio
 from linkcli.problemfile.reader import Table
-from linkcli.problemfile.linkage import MAX_RATIO
 
 DEFAULT_SECTIONS = ("lengths", "grashof", "transmission", "motion", "positions", "error", "solver")
 SECTIONS = ("lengths", "grashof", "transmission", "motion", "kinematics", "positions", "error",
@@ -38,7 +38,10 @@ BRANCHES = ("either", "open", "crossed")
 SPACINGS = ("uniform", "chebyshev")
 STARTS = ("input_start", "output_start")
 DEFAULT_POINTS = 31
-MIN_LENGTH, MAX_LENGTH = 1e-9, 1e9  # in the file's unit: beyond, squares lose all precision
+SPAN_RTOL = 8 * 2.0 ** -52  # f(x1) - f(x0) within a few ulps of the largest |f| is round-off
+MAX_SHAPE = 1e6  # |f(x_k) - f(x0)| / |f(x1) - f(x0)|: beyond, the output would turn 1e6 sweeps
+LAW_LIMIT = 1e6  # rad: a target angle beyond this magnitude has no digits left below a degree
+START_SAMPLES = 24  # start angles tried per free start when the starts are not known yet
 MAX_POINTS = 2000
 TARGET_KEYS = ("output", "function", "start", "input_start", "output_start", "input_sweep",
                "output_sweep", "x", "points", "spacing")
@@ -143,8 +146,9 @@ def read_lengths(root: Table, link: Table | None, bnd: Table | None):
             fixed[k] = rng[0]
         else:
             bounds[k] = rng
-    if ok and len(fixed) > 1 and max(fixed.values()) > MAX_RATIO * min(fixed.values()):
-        longest, shortest = max(fixed, key=fixed.get), min(fixed, key=fixed.get)
+    extremes = over_ratio(fixed) if ok and fixed else None
+    if extremes:
+        longest, shortest = extremes
         where = link if link is not None and longest in link else bnd
         where.error(longest, f"fixed lengths whose longest is at most {MAX_RATIO:g} times the shortest "
                              "(beyond, double precision cannot resolve the angles)",
@@ -318,12 +322,6 @@ def check_law_at_points(tgt: Table, law, given, sweep, t, u) -> bool:
                       raw_got=f"{_fmt(v)} at phi = {_fmt(u.from_rad(phi))} {u.angle}")
             return False
     return True
-
-
-SPAN_RTOL = 8 * 2.0 ** -52  # f(x1) - f(x0) within a few ulps of the largest |f| is round-off
-MAX_SHAPE = 1e6  # |f(x_k) - f(x0)| / |f(x1) - f(x0)|: beyond, the output would turn 1e6 sweeps
-LAW_LIMIT = 1e6  # rad: a target angle beyond this magnitude has no digits left below a degree
-START_SAMPLES = 24  # start angles tried per free start when the starts are not known yet
 
 
 def _start_samples(key: str, given: dict, start_bounds: dict) -> list[float]:

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from linkcli.model import BRANCHES, FourBar, LinkageProblem, Meta
-from linkcli.problemfile.common import MAX_LENGTH, bounded_length, bounded_point
+from linkcli.problemfile.common import MAX_LENGTH, MAX_RATIO, bounded_length, bounded_point, over_ratio
 from linkcli.problemfile.reader import Table
 
 DEFAULT_SECTIONS = ("lengths", "grashof", "transmission", "motion", "kinematics")
@@ -11,7 +11,6 @@ SECTIONS = ("lengths", "grashof", "transmission", "motion", "kinematics", "toler
 METHODS = ("auto",)
 TOLERANCE = True
 MAX_STEPS = 100_000
-MAX_RATIO = 1e6  # longest over shortest link
 ASSEMBLY_RTOL = 1e-12  # relative: ranges that only touch close at one position and cannot move
 
 
@@ -24,20 +23,23 @@ def read_fourbar(t: Table, units) -> FourBar | None:
     ga = t.number("ground_angle", 0.0, lo=-MAX_LENGTH, hi=MAX_LENGTH)
     if None in lengths.values() or branch is None or gp is None or ga is None:
         return None
-    longest, shortest = max(lengths, key=lengths.get), min(lengths, key=lengths.get)
-    if lengths[longest] > MAX_RATIO * lengths[shortest]:
+    extremes = over_ratio(lengths)
+    if extremes:
+        longest, shortest = extremes
         t.error(longest, f"a linkage whose longest link is at most {MAX_RATIO:g} times its shortest "
                 "(beyond, double precision cannot resolve its angles)",
                 raw_got=f"{longest} = {lengths[longest]:g} and {shortest} = {lengths[shortest]:g}")
         return None
     a, b, c, d = (lengths[k] for k in ("input", "coupler", "output", "ground"))
-    gap = min(d + a, b + c) - max(abs(d - a), abs(b - c))
-    if gap <= ASSEMBLY_RTOL * min(d + a, b + c):
-        t.error(longest, "a linkage that assembles over a range of input angles (|A B0|, from "
-                "|ground - input| to ground + input, meeting |coupler - output| .. coupler + output)",
+    reach = min(d + a, b + c)  # |A B0| and the coupler with the output must overlap
+    gap = reach - max(abs(d - a), abs(b - c))
+    if gap <= ASSEMBLY_RTOL * reach:
+        touch = ", which touch at one position only (a structure)" if gap > -ASSEMBLY_RTOL * reach else ""
+        t.error(max(lengths, key=lengths.get), "a linkage that assembles over a range of input angles "
+                "(|A B0|, from |ground - input| to ground + input, meeting |coupler - output| .. "
+                "coupler + output)",
                 raw_got=f"|A B0| in [{abs(d - a):g}, {d + a:g}] and coupler with output spanning "
-                        f"[{abs(b - c):g}, {b + c:g}]" + (", which touch at one position only (a structure)"
-                                                          if gap > -ASSEMBLY_RTOL * min(d + a, b + c) else ""))
+                        f"[{abs(b - c):g}, {b + c:g}]{touch}")
         return None
     return FourBar(branch=branch, coupler_point=tuple(cp) if cp else None,
                    ground_pivot=tuple(gp), ground_angle=units.to_rad(ga), **lengths)

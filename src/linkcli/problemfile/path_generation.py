@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 
 from linkcli.model import LINKS, Meta, PathGenerationProblem
-from linkcli.problemfile.common import in_motion_order
+from linkcli.problemfile.common import MAX_LENGTH, MIN_LENGTH, in_motion_order
 from linkcli.problemfile.reader import MISSING, Table, describe
 
 DEFAULT_SECTIONS = ("lengths", "grashof", "transmission", "motion", "positions", "error", "solver")
@@ -32,8 +32,8 @@ DIRECTIONS = ("either", "ccw", "cw")
 MIN_POINTS = 3
 MAX_POINTS = 1000
 MAX_FREE_POINTS = 200
-MAX_MAGNITUDE = 1e9  # coordinates, lengths and angles beyond this are typing errors
-MIN_LENGTH = 1e-9  # a length bound below this (other than a lower bound of 0) is a typing error
+MAX_MAGNITUDE = MAX_LENGTH  # coordinates, lengths and angles beyond this are typing errors
+# MIN_LENGTH (common): a length bound below it, other than a lower bound of 0, is a typing error
 TARGET_KEYS = ("points", "timing", "input_angles", "direction")
 BOUND_KEYS = ("ground", "input", "coupler", "output", "coupler_point", "ground_pivot", "ground_angle",
               "input_offset")

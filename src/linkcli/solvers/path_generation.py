@@ -96,6 +96,11 @@ def default_budget(method: str, points: int) -> int:
     return max(1, min(DEFAULT_BUDGET[method], POINT_EVALUATIONS // max(points, 1)))
 
 
+def exact_objective(d: Design) -> float:
+    """An objective this small is an exact fit: rms error EXACT_RMS of the targets' extent."""
+    return d.n * (EXACT_RMS * d.scale) ** 2
+
+
 # ---------------------------------------------------------------- methods
 
 def multistart(d: Design, counter: Counter, rng) -> list[Candidate]:
@@ -106,7 +111,7 @@ def multistart(d: Design, counter: Counter, rng) -> list[Candidate]:
     found: list[Candidate] = []
     best = None
     stale = 0
-    exact = d.n * (EXACT_RMS * d.scale) ** 2  # an objective this small is an exact fit
+    exact = exact_objective(d)
     while True:
         limit = counter.left if counter.left < 2 * ROUND_BUDGET else ROUND_BUDGET
         with counter.limit(limit):
@@ -314,8 +319,7 @@ def solution(problem, d: Design, best: Candidate, bad, method, counter) -> Solut
                "branch_defect": "branch" in names,
                "order_defect": "order" in names}
     notes = _notes(problem, d, x) + _reach_note(problem, d, x, err)
-    exact = objective <= d.n * (EXACT_RMS * d.scale) ** 2  # an exact fit needs no more search
-    converged = bool(best.converged) or exact
+    converged = bool(best.converged) or objective <= exact_objective(d)  # exact: nothing to add
     solver = {"method": method, "seed": problem.meta.solver.seed, "evaluations": counter.used,
               "converged": converged}
     n = d.n
