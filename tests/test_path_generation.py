@@ -538,16 +538,9 @@ def test_prescribed_angles_across_the_seam_are_taken_in_motion_order(tmp_path):
     # five points of a known crank-rocker at inputs 150..230 deg, written as 150, 170,
     # -170, -150, -130: the same motion, so the same exact fit (it was 0.0077 with a false
     # "reverses" timing when the span was measured across the seam)
-    a, b, c, d, px, py = 50.0, 80.0, 70.0, 50.0, 20.0, 10.0
-    pts = []
-    for ph in (150, 170, 190, 210, 230):
-        ax, ay = a * math.cos(math.radians(ph)), a * math.sin(math.radians(ph))
-        rx, ry = ax - d, ay
-        rho = math.hypot(rx, ry)
-        psi = math.atan2(ry, rx) - math.acos((rho * rho + c * c - b * b) / (2 * rho * c))
-        bx, by = d + c * math.cos(psi), c * math.sin(psi)
-        th = math.atan2(by - ay, bx - ax)
-        pts.append([ax + px * math.cos(th) - py * math.sin(th), ay + px * math.sin(th) + py * math.cos(th)])
+    known = dict(ground=50.0, input=50.0, coupler=80.0, output=70.0, branch="open",
+                 coupler_point=[20.0, 10.0], ground_pivot=[0.0, 0.0], ground_angle=0.0)
+    pts = [list(closure(known, ph)[0]) for ph in (150, 170, 190, 210, 230)]
     text = ('type = "path-generation"\n[target]\npoints = %s\ntiming = "prescribed"\n'
             "input_angles = [150, 170, -170, -150, -130]\n[bounds]\nground = 50\ninput = [40, 60]\n"
             "coupler = [60, 90]\noutput = [60, 80]\ncoupler_point = { x = [0, 30], y = [0, 20] }\n"

@@ -261,14 +261,7 @@ def test_positions_across_the_seam_are_taken_in_motion_order(tmp_path):
     # [150, 180, -150] is the input turning 150 -> 180 -> 210: the working range, the
     # travel check and the branch verdict follow that motion, not a -300 deg sweep through 0
     a, b, c, d = 30.0, 80.0, 70.0, 50.0
-    phis = [150.0, 180.0, 210.0]
-    psis = []
-    for ph in phis:  # open branch, SPEC closure: psi = theta_rho - alpha
-        ax, ay = a * math.cos(math.radians(ph)), a * math.sin(math.radians(ph))
-        rx, ry = ax - d, ay
-        rho = math.hypot(rx, ry)
-        alpha = math.acos((rho * rho + c * c - b * b) / (2 * rho * c))
-        psis.append(math.degrees(math.atan2(ry, rx) - alpha))
+    psis = [math.degrees(psi_of(a, b, c, d, math.radians(ph))) for ph in (150.0, 180.0, 210.0)]
     outs = []
     for inputs in ([150, 180, 210], [150, 180, -150]):
         path = tmp_path / f"p{len(outs)}.toml"
