@@ -92,7 +92,7 @@ class Statics:
         length = np.hypot(ax - cx, ay - cy)
         return k, length, self.moment(tau)
 
-    def forces(self, designs, tau=None):
+    def forces(self, designs, tau=None, sing=None):
         """F = W L / K (N), arm |K| / L and L at angles tau (default: the grid), (S, N).
 
         A design whose line crosses the hinge where the load has no moment has F = c L
@@ -102,7 +102,7 @@ class Statics:
         p = np.asarray(designs, dtype=float)
         tau = self.grid if tau is None else tau
         k, length, w = self.terms(p, tau)
-        sing = self.singular(p)
+        sing = self.singular(p) if sing is None else sing
         norm = np.hypot(p[:, 0], p[:, 1]) * np.hypot(p[:, 2], p[:, 3])
         pole = np.abs(k) <= POLE * norm[:, None]
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -119,12 +119,12 @@ class Statics:
         k, length, _ = self.terms(designs, np.array([0.0, self.sweep]))
         return length[:, 0], length[:, 1]
 
-    def lengths(self, designs):
+    def lengths(self, designs, sing=None):
         """(closed, open, closed_at): the least and the largest cylinder length over the
         sweep and the turn of the least, each (S,). L is monotone except for its one extreme
         at the crossing tau0 (d(L^2)/dt = 2 K), so L(0), L(sweep) and L(tau0) suffice."""
         p = np.asarray(designs, dtype=float)
-        sing = self.singular(p)
+        sing = self.singular(p) if sing is None else sing
         ls, le = self.end_lengths(p)
         lc = np.where(sing["crosses"], sing["length"], np.inf)
         cand = np.column_stack([ls, le, lc])

@@ -33,7 +33,7 @@ def facts(problem, st: Statics, design) -> dict:
     an infinite peak at that angle."""
     p = np.asarray(design, dtype=float)[None, :]
     sing = st.singular(p)
-    closed, opened, closed_at = (float(x[0]) for x in st.lengths(p))
+    closed, opened, closed_at = (float(x[0]) for x in st.lengths(p, sing=sing))
     ls, le = (float(x[0]) for x in st.end_lengths(p))
     t0 = float(sing["tau0"][0])
     turns = bool(sing["crosses"][0]) and 0.0 < t0 < st.sweep  # L has an interior extreme

@@ -238,12 +238,13 @@ class Judge:
         """(objective, violation, family) for designs p (S, 4) on the grid; spends S."""
         self.budget.spend(len(p))
         st = self.st
-        force = st.forces(p)[0]
-        crosses, tau0 = st.crossing(p)
+        sing = st.singular(p)  # where the cylinder line meets the hinge: shared by the three
+        force = st.forces(p, sing=sing)[0]
+        crosses, tau0 = sing["blocked"], sing["tau0"]
         peak = _grid_peak(force)
         crosses = crosses | ~np.isfinite(peak)  # no finite force somewhere: as bad as a crossing
         ls, le = st.end_lengths(p)
-        closed, opened, _ = st.lengths(p)
+        closed, opened, _ = st.lengths(p, sing=sing)
         # a crossing nearer the middle of the sweep violates more: the search moves it out
         weight = 1.0 + np.minimum(tau0, st.sweep - tau0).clip(0) / st.sweep
         obj, viol = self.score(goal, crosses, peak, closed, opened, cross_weight=weight)
@@ -530,8 +531,9 @@ def _refined_score(judge: Judge, goal: Goal, design, peak: float) -> tuple[float
     """(objective, violation) of one design with its refined peak (no budget spent)."""
     p = design[None, :]
     st = judge.st
-    crosses = bool(st.crossing(p)[0][0]) or not math.isfinite(peak)  # nan: no finite force, the worst
-    closed, opened = (float(x[0]) for x in st.lengths(p)[:2])
+    sing = st.singular(p)
+    crosses = bool(sing["blocked"][0]) or not math.isfinite(peak)  # nan: no finite force, the worst
+    closed, opened = (float(x[0]) for x in st.lengths(p, sing=sing)[:2])
     obj, viol = judge.score(goal, crosses, peak, closed, opened)
     return float(obj), float(viol)
 
