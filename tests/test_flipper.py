@@ -19,10 +19,10 @@ import numpy as np
 import pytest
 
 from conftest import run_cli
-from linkcli import analyse
-from linkcli.flipper_statics import Statics
-from linkcli.problemfile import load
-from linkcli.solvers import solve
+from linkcli.pipeline import analyse
+from linkcli.types.flipper_cylinder.statics import Statics
+from linkcli.io.load import load
+from linkcli.pipeline import solve
 
 M, G, COM = 2000.0, 9.8, (830.0, 500.0)
 PAPER_A, PAPER_C = (350.0, 320.0), (1400.0, 50.0)
@@ -80,7 +80,7 @@ SEED = text("{ x = [0, 350], y = [320, 1380] }", "{ x = [400, 1400], y = 50 }")
 def report_of(source: str):
     problem = load("test.toml", source)
     sol = solve(problem)
-    return problem, sol, analyse.build(problem, sol)
+    return problem, sol, analyse(problem, sol)
 
 
 # ----------------------------------------------------------------------- the paper's design
@@ -219,7 +219,7 @@ def grid_peaks(x1, y1, x2, y2=50.0, degs=np.linspace(0.0, 90.0, 181)):
 def seed_result():
     problem = load("problems/flipper.toml")
     sol = solve(problem)
-    return problem, sol, analyse.build(problem, sol)
+    return problem, sol, analyse(problem, sol)
 
 
 def test_optimized_peak_is_true_and_beats_a_brute_force_grid(seed_result):
@@ -282,7 +282,7 @@ def test_each_method_reaches_the_minimax(method):
 def test_cylinder_length_respects_max_force_and_dead_length():
     problem = load("problems/flipper_length.toml")
     sol = solve(problem)
-    rep = analyse.build(problem, sol)
+    rep = analyse(problem, sol)
     cyl = rep["cylinder"]
     a0, c = tuple(cyl["rod_pivot"]), tuple(cyl["base_pivot"])
     peak, _, _ = ref_peak(a0, c, 0.0, 90.0, n=9001)
@@ -372,7 +372,7 @@ def test_force_limit_that_cannot_be_met_is_infeasible():
 
 def test_pareto_rows_trade_force_for_length():
     problem = load("problems/flipper_length.toml")
-    rep = analyse.build(problem, solve(problem))
+    rep = analyse(problem, solve(problem))
     rows = rep["pareto"]
     assert len(rows) == 6
     closed = [r["closed_length"] for r in rows]
@@ -785,7 +785,8 @@ def test_nan_peak_counts_as_infeasible_in_the_search():
     """A design whose force is nan at some angle (A = C = B: 0/0) must be the worst, never
     look feasible under a force cap (max(0, nan - cap) would be 0)."""
     import warnings
-    from linkcli.solvers.flipper_search import FEASIBLE, Budget, Goal, Judge, Space, _excess, _grid_peak
+    from linkcli.search.budget import Budget
+    from linkcli.types.flipper_cylinder.search import FEASIBLE, Goal, Judge, Space, _excess, _grid_peak
     assert _grid_peak(np.array([[1.0, np.nan, 2.0]]))[0] == math.inf
     assert _excess(np.array([np.nan]), 1000.0)[0] > 1.0
     problem = load("x.toml", text("{ x = [0, 350], y = [0, 350] }", "{ x = [0, 350], y = [0, 350] }",

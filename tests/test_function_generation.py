@@ -32,8 +32,8 @@ import tomli_w
 from conftest import run_cli
 from linkcli.errors import InputError
 from linkcli.expr import ExpressionError, compile_expression
-from linkcli.problemfile import load
-from linkcli.solvers import solve
+from linkcli.io.load import load
+from linkcli.pipeline import solve
 
 CRANK_ROCKER = "problems/crank_rocker.toml"
 LOG_GENERATOR = "problems/log_generator.toml"
@@ -167,7 +167,7 @@ def test_positions_and_extended_start_match_the_reference():
 
 @pytest.mark.parametrize("branch", ["open", "crossed"])
 def test_model_objective_matches_the_reference_at_random_linkages(branch):
-    from linkcli.solvers.function_model import BRANCH_SIGN, Model
+    from linkcli.types.function_generation.model import BRANCH_SIGN, Model
     model = Model(load(CRANK_ROCKER))
     rng = np.random.default_rng(7)
     values = np.column_stack([rng.uniform(300, 600, 60), rng.uniform(150, 400, 60)])  # coupler, output
@@ -463,8 +463,8 @@ def test_extended_start_with_a_law_defined_on_part_of_the_turn(tmp_path):
 
 
 def test_a_law_undefined_at_some_points_only_is_left_to_the_search():
-    from linkcli.solvers.function_generation import check_law
-    from linkcli.solvers.function_model import Model
+    from linkcli.types.function_generation.solve import check_law
+    from linkcli.types.function_generation.model import Model
     text = open(CRANK_ROCKER).read().replace('"psi0 + 2/(3*pi)*(phi - phi0)**2"', '"psi0 + sqrt(phi - 0.5)"')
     model = Model(load("partial.toml", text))
     u = np.random.default_rng(0).random((20, model.n))

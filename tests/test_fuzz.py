@@ -17,9 +17,9 @@ import pytest
 import tomli_w
 
 from conftest import ROOT
-from linkcli.cli import run_one
-from linkcli.export import to_json, to_toml
-from linkcli.report import render_text
+from linkcli.pipeline import Request, run
+from linkcli.io.export import to_json, to_toml
+from linkcli.io.report import render_text
 
 EXAMPLES = sorted((ROOT / "problems").glob("*.toml"))
 REPLACEMENTS = [
@@ -87,7 +87,9 @@ def test_mutated_file_fails_cleanly(tmp_path, example, i, what, data):
     except (TypeError, ValueError):  # tomli-w cannot write it (e.g. mixed array): skip
         pytest.skip("mutant is not writable as TOML")
     for mode in ("check", "synth"):
-        code, report, errors = run_one(str(path), mode, None, False)
+        outcome = run(str(path), Request(mode=mode))
+        code, errors = outcome.exit_code, outcome.errors
+        report = outcome.result.report if outcome.result is not None else None
         assert code in (0, 1, 2), (what, errors)
         assert not any("internal error" in e for e in errors), (what, errors)
         if code == 2:
@@ -105,5 +107,6 @@ def test_garbage_bytes_and_empty_file(tmp_path):
                           ("deep.toml", b"a = " + b"[" * 5000 + b"]" * 5000)):
         p = tmp_path / name
         p.write_bytes(content)
-        code, _, errors = run_one(str(p), "synth", None, False)
+        outcome = run(str(p), Request())
+        code, errors = outcome.exit_code, outcome.errors
         assert code == 2 and errors and not any("internal error" in e for e in errors), errors

@@ -528,7 +528,7 @@ budget = 100000
 def test_default_budget_shrinks_with_many_targets():
     # each evaluation assembles the linkage at every target: the default caps evaluations
     # x targets, so 200 free-timing points take seconds, not minutes
-    from linkcli.solvers.path_generation import default_budget
+    from linkcli.types.path_generation.solve import default_budget
     assert default_budget("multistart", 6) == default_budget("multistart", 20) == 2_000_000
     assert default_budget("multistart", 200) == 200_000
     assert default_budget("least-squares", 200) == 200_000

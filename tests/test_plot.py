@@ -147,12 +147,23 @@ def lines_by_label(fig) -> dict:
     return {ln.get_label(): ln for ax in fig.axes for ln in ax.get_lines()}
 
 
+def solved(path: str, command: str = "synth"):
+    """The pipeline Result of a problem file, as the CLI hands it to the plot."""
+    from linkcli.pipeline import Request, run
+    outcome = run(path, Request(mode="analyze" if command == "analyze" else "synth", plot=True))
+    assert outcome.result is not None, outcome.errors
+    return outcome.result
+
+
 def solved_report(path: str, command: str = "synth") -> dict:
-    """The unrounded report of a problem file, as the CLI hands it to the plot."""
-    from linkcli.cli import run_one
-    code, rep, errors = run_one(path, "analyze" if command == "analyze" else "synth", None, False)
-    assert rep is not None, errors
-    return rep
+    """The unrounded report of a problem file."""
+    return solved(path, command).report
+
+
+def handed(report: dict, problem=None):
+    """A Result holding a hand-made report (no solution: plots draw from the report)."""
+    from linkcli.pipeline import Result
+    return Result(problem, None, report)
 
 
 CASES = {
@@ -178,7 +189,7 @@ CASES = {
 
 def _problem(spec, report):
     if spec == "load":
-        from linkcli.problemfile import load_for_analysis
+        from linkcli.io.load import load_for_analysis
         return load_for_analysis(report["file"])
     return spec
 
@@ -189,16 +200,16 @@ def test_each_type_writes_png_and_svg_identically_twice(kind, mpl, tmp_path):
     build, spec, texts = CASES[kind]
     report = build()
     assert report["type"] == kind
-    problem = _problem(spec, report)
-    write(report, tmp_path / "plot.png", problem)
-    write(report, tmp_path / "plot.svg", problem)
+    result = handed(report, _problem(spec, report))
+    write(result, tmp_path / "plot.png")
+    write(result, tmp_path / "plot.svg")
     png = (tmp_path / "plot.png").read_bytes()
     svg = (tmp_path / "plot.svg").read_bytes()
     assert png_size(png) == PNG_SIZE
     found = svg_texts(svg)
     for text in texts:
         assert any(text in f for f in found), (text, found)
-    assert render(report, "svg", problem) == svg  # deterministic: identical bytes
+    assert render(result, "svg") == svg  # deterministic: identical bytes
     assert b"<dc:date>" not in svg and b"Matplotlib v" not in svg
 
 
@@ -215,13 +226,13 @@ EXAMPLES = {  # one solved example of each problem type, as the CLI hands it to 
 def test_each_solved_example_plots_to_png_and_svg(kind, mpl):
     """The real reports of problems/ (not hand-made ones) draw without error, in the
     right size, with the problem's title and its type's axis labels in the SVG text."""
-    from linkcli.plot import load_problem, render
+    from linkcli.plot import render
     path, command = EXAMPLES[kind]
-    report = solved_report(path, command)
+    result = solved(path, command)
+    report = result.report
     assert report["type"] == kind
-    problem = load_problem(report, "analyze" if command == "analyze" else "synth")
-    assert png_size(render(report, "png", problem)) == PNG_SIZE
-    found = svg_texts(render(report, "svg", problem))
+    assert png_size(render(result, "png")) == PNG_SIZE
+    found = svg_texts(render(result, "svg"))
     must = [report["title"]] + {"flipper-cylinder": ["force (kN)", "platform angle (deg)"],
                                 "path-generation": ["x (mm)", "y (mm)", "coupler curve"]}.get(
         kind, ["input angle \u03c6 (deg)"])
@@ -244,7 +255,7 @@ def test_svg_bytes_repeat_across_processes(mpl, tmp_path):
 def test_output_curve_meets_the_seed_positions(mpl):
     """The fire-door linkage gives psi = 52, 82, 112 deg at phi = 45, 90, 135 deg (seed)."""
     from linkcli.plot import figure
-    fig = figure(solved_report("problems/firedoor.toml"))
+    fig = figure(solved("problems/firedoor.toml"))
     line = lines_by_label(fig)["achieved output angle"]
     x, y = (np.asarray(v, dtype=float) for v in line.get_data())
     got = np.interp([45.0, 90.0, 135.0], x, y)
@@ -261,7 +272,7 @@ def test_coupler_curve_is_placed_globally(mpl):
     """Every achieved point (independent closure + placement) lies on the drawn curve."""
     from linkcli.plot import figure
     report = path_report()
-    fig = figure(report)
+    fig = figure(handed(report))
     x, y = (np.asarray(v, dtype=float) for v in lines_by_label(fig)["coupler curve"].get_data())
     ok = np.isfinite(x)
     pts = np.column_stack([x[ok], y[ok]])
@@ -286,9 +297,7 @@ def test_motion_study_matches_finite_differences_of_the_closure(mpl):
     """omega_4 = (d psi / d phi) omega_2 at 20 deg/s; transmission minimum at phi = 0:
     cos(mu) = (b^2 + c^2 - (d - a)^2) / (2 b c)."""
     from linkcli.plot import figure
-    from linkcli.problemfile import load_for_analysis
-    report = solved_report("problems/firedoor_motion.toml", "analyze")
-    fig = figure(report, load_for_analysis("problems/firedoor_motion.toml"))
+    fig = figure(solved("problems/firedoor_motion.toml", "analyze"))
     lines = lines_by_label(fig)
     x, w4 = (np.asarray(v, dtype=float) for v in lines["output \u03c9\u2084"].get_data())
     a, b, c, d = FIREDOOR
@@ -305,7 +314,7 @@ def test_motion_study_matches_finite_differences_of_the_closure(mpl):
 def test_flipper_force_is_drawn_in_kilonewtons_with_its_peak(mpl):
     from linkcli.plot import figure
     report = flipper_report()
-    fig = figure(report, FlipperLoad())
+    fig = figure(handed(report, FlipperLoad()))
     x, f = (np.asarray(v, dtype=float) for v in lines_by_label(fig)["cylinder force"].get_data())
     rows = report["cylinder"]["forces"]
     np.testing.assert_allclose(x, [r["angle"] for r in rows])
@@ -350,8 +359,8 @@ def test_missing_matplotlib_is_bad_input_with_the_install_hint(monkeypatch, tmp_
 
 
 def test_plot_module_and_check_do_not_import_matplotlib():
-    code = ("import sys; import linkcli.plot, linkcli.plots, linkcli.plots.function, linkcli.plots.path, "
-            "linkcli.plots.flipper, linkcli.plots.linkage\n"
+    code = ("import sys; import linkcli.plot, linkcli.plots, linkcli.plots.angle_function, linkcli.types.path_generation.plot, linkcli.types.precision_position.plot, "
+            "linkcli.types.flipper_cylinder.plot, linkcli.types.linkage.plot\n"
             "from linkcli.cli import app\n"
             "try:\n    app(['check', 'problems/firedoor.toml'], prog_name='linkcli')\nexcept SystemExit:\n    pass\n"
             "assert 'matplotlib' not in sys.modules")

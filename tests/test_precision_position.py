@@ -17,8 +17,8 @@ import pytest
 
 from conftest import run_cli
 from linkcli.errors import InputError
-from linkcli.problemfile import load
-from linkcli.solvers import solve
+from linkcli.io.load import load
+from linkcli.pipeline import solve
 
 
 def psi_of(a, b, c, d, phi, branch="open"):
@@ -121,9 +121,9 @@ def test_radians_and_metres_give_the_same_shape():
 
 
 def test_closed_form_path_does_not_import_scipy():
-    code = ("import sys; from linkcli.cli import run_one; "
-            "c, r, e = run_one('problems/firedoor.toml', 'synth', None, False); "
-            "assert c == 0, e; assert 'scipy' not in sys.modules, 'scipy imported'")
+    code = ("import sys; from linkcli.pipeline import Request, run; "
+            "o = run('problems/firedoor.toml', Request()); "
+            "assert o.exit_code == 0, o.errors; assert 'scipy' not in sys.modules, 'scipy imported'")
     subprocess.run([sys.executable, "-c", code], check=True)
 
 

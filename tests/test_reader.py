@@ -20,8 +20,8 @@ from hypothesis import strategies as st
 
 from conftest import ROOT, run_cli
 from linkcli.errors import InputError, InputErrors
-from linkcli.problemfile import load, load_for_analysis
-from linkcli.problemfile.reader import Reader, _line_map
+from linkcli.io.load import load, load_for_analysis
+from linkcli.io.reader import Reader, _line_map
 
 LINKAGE = """[linkage]
 ground = 50

@@ -1,6 +1,6 @@
 """Tolerance Monte Carlo against independent references.
 
-References written here, not taken from linkcli.tolerance:
+References written here, not taken from linkcli.analysis.tolerance:
 - a per-sample loop that builds each manufactured linkage from its pins (circle-circle
   intersection for the joint B, the branch picked by the sign of a cross product, the
   clearance offsets placed at the physical joints) and checks the input's travel on a
@@ -19,12 +19,12 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from linkcli import tolerance as tolmod
+from linkcli.analysis import tolerance as tolmod
 from linkcli.errors import InputErrors
 from linkcli.model import LINKS, FourBar, InverseTolerance, Meta, SolverOptions, Tolerance
-from linkcli.problemfile import load
-from linkcli.result import Positions, Solution, Status
-from linkcli.solvers import solve
+from linkcli.io.load import load
+from linkcli.solution import Positions, Solution, Status
+from linkcli.pipeline import solve
 from linkcli.units import Units
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -492,8 +492,8 @@ def test_path_table_may_hold_the_coupler_point():
 lengths = { input = 0.02, coupler_point = 0.1 }
 allowed_error = 0.3
 """
-    from linkcli.problemfile.common import read_tolerance
-    from linkcli.problemfile.reader import Reader
+    from linkcli.io.meta import read_tolerance
+    from linkcli.io.reader import Reader
     reader = Reader("p.toml", text)
     got = read_tolerance(reader.root(), Units())
     assert got.lengths == {"ground": 0.0, "input": 0.02, "coupler": 0.0, "output": 0.0,

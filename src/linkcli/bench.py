@@ -4,8 +4,8 @@ Each row: problem, method, budget, seed, seconds (wall clock of the solve alone,
 already imported),
 evaluations, objective, best_known (the file's `[reference] objective`), gap
 ((objective - best_known) / |best_known|), status. A problem type's schema module may list
-`BENCH_SETTINGS` as (method, budget) pairs; otherwise every method in `METHODS` is run
-with the file's own budget.
+`bench_settings` as (method, budget) pairs (linkcli.registry.ProblemType); otherwise every
+method in its `methods` is run with the file's own budget.
 """
 
 from __future__ import annotations
@@ -24,19 +24,18 @@ COLUMNS = ("problem", "method", "budget", "seed", "seconds", "evaluations", "obj
 
 
 def settings_for(problem) -> list[tuple[str, int | None]]:
-    from linkcli.problemfile import type_module
-    module = type_module(problem.meta.type)
-    settings = getattr(module, "BENCH_SETTINGS", None)
-    if settings:
-        return list(settings)
-    return [(m, problem.meta.solver.budget) for m in getattr(module, "METHODS", ("auto",))]
+    from linkcli.registry import problem_type
+    spec = problem_type(problem.meta.type)
+    if spec.bench_settings:
+        return list(spec.bench_settings)
+    return [(m, problem.meta.solver.budget) for m in spec.methods]
 
 
 def run_problem(path: str, seeds: int) -> list[dict]:
     """Every setting and seed of one problem file."""
-    from linkcli.analyse import gap
-    from linkcli.problemfile import load
-    from linkcli.solvers import solve
+    from linkcli.analysis.sections import gap
+    from linkcli.io.load import load
+    from linkcli.pipeline import solve
     problem = load(path)
     import scipy.optimize  # noqa: F401  imported before any timing, so that no row pays for it
     best = problem.meta.reference.objective if problem.meta.reference else None
@@ -75,16 +74,16 @@ def command(files: list[str], fmt: str, seeds: int, precision: int, debug: bool)
                 sys.stderr.write(line + "\n")
             worst = max(worst, getattr(exc, "exit_code", 1))
     if fmt == "json":
-        from linkcli.export import to_json
+        from linkcli.io.export import to_json
         sys.stdout.write(to_json(rows, precision))
     elif fmt == "toml":
-        from linkcli.export import to_toml
+        from linkcli.io.export import to_toml
         sys.stdout.write(to_toml({"bench": rows}, precision))
     else:
         from rich import box
         from rich.table import Table
 
-        from linkcli.report import console, fmt as fmt_value
+        from linkcli.io.report import console, fmt as fmt_value
         t = Table(title="linkcli bench: run time against error", title_justify="left",
                   box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
         for c in COLUMNS:
@@ -128,7 +127,7 @@ def summary(rows: list[dict]) -> list[dict]:
 
 def markdown(rows: list[dict], precision: int = 4, columns: tuple[str, ...] = COLUMNS) -> str:
     """A markdown table of bench rows (for the README)."""
-    from linkcli.report import fmt as fmt_value
+    from linkcli.io.report import fmt as fmt_value
     head = "| " + " | ".join(columns) + " |\n|" + "---|" * len(columns) + "\n"
     body = "".join("| " + " | ".join(fmt_value(r[c], precision) if r[c] is not None else "-"
                                      for c in columns) + " |\n" for r in rows)

@@ -1,6 +1,7 @@
-"""The command line: synth, analyze, check, bench.
+"""The command line: synth, analyze, check, bench; their options and exit codes.
 
-Catches `LinkcliError` only and maps it to exit codes (0 solved, 1 infeasible or not
+The work is `linkcli.pipeline` (load -> solve -> analyse); this module catches
+`LinkcliError` only and maps it to exit codes (0 solved, 1 infeasible or not
 converged, 2 bad input; a batch exits with the worst of its files). numpy, scipy and
 rich are imported inside the command bodies, so `--help`, `--version` and `check` stay
 light. `--debug` lets a traceback through.
@@ -8,7 +9,6 @@ light. `--debug` lets a traceback through.
 
 from __future__ import annotations
 
-import os
 import sys
 from enum import Enum
 from pathlib import Path
@@ -30,7 +30,6 @@ class Format(str, Enum):
 
 
 EXT = {"table": "txt", "json": "json", "toml": "toml"}
-STATUS_WORDS = {0: "solved", 1: "infeasible or not converged", 2: "bad input"}
 
 
 def _version(value: bool) -> None:
@@ -51,61 +50,6 @@ def _err(line: str) -> None:
     sys.stderr.write(line.rstrip("\n") + "\n")
 
 
-def run_one(path: str, mode: str, seed: int | None, debug: bool, timing: bool = False):
-    """Load, solve and analyse one file -> (exit code, report or None, error lines).
-
-    Top-level so that a process pool can run it; returns only picklable data.
-    """
-    from linkcli.errors import LinkcliError
-    try:
-        problem = _load(path, mode)
-        if seed is not None:
-            from dataclasses import replace
-            problem = replace(problem, meta=replace(problem.meta,
-                                                    solver=replace(problem.meta.solver, seed=seed)))
-        if mode == "check":
-            return 0, None, []
-        import time
-
-        from linkcli import analyse
-        from linkcli.solvers import solve
-        t0 = time.perf_counter()
-        solution = solve(problem)
-        seconds = time.perf_counter() - t0
-        report = analyse.build(problem, solution)
-        if timing and "solver" in report:
-            report["solver"]["seconds"] = seconds
-        return solution.status.exit_code, report, []
-    except LinkcliError as exc:
-        if debug:
-            raise
-        lines = exc.lines() if hasattr(exc, "lines") else [str(exc)]
-        return getattr(exc, "exit_code", 1), None, lines
-    except Exception as exc:  # a bug: one line, not a traceback (--debug shows it)
-        if debug:
-            raise
-        return 1, None, [f"{path}: internal error: {type(exc).__name__}: {exc} "
-                         "(run with --debug for the traceback)"]
-
-
-def _load(path: str, mode: str):
-    from linkcli.problemfile import load, load_for_analysis
-    if mode == "analyze":
-        return load_for_analysis(path)
-    return load(path)
-
-
-def _run_all(files: list[str], mode: str, seed, debug, jobs: int, timing: bool = False):
-    if jobs > 1 and len(files) > 1 and not debug:
-        from concurrent.futures import ProcessPoolExecutor
-        with ProcessPoolExecutor(max_workers=jobs) as pool:
-            yield from pool.map(run_one, files, [mode] * len(files), [seed] * len(files),
-                                [debug] * len(files), [timing] * len(files))
-    else:
-        for f in files:
-            yield run_one(f, mode, seed, debug, timing)
-
-
 def _progress(total: int):
     """A rich progress display on stderr (a spinner, the file count and the elapsed time)
     for batches and long solves; silent when stderr is not a terminal."""
@@ -120,19 +64,26 @@ def _progress(total: int):
 
 def _solve_command(files: list[Path], mode: str, fmt: Format, out: Optional[Path], seed,
                    precision: int, jobs: int, plot: Optional[Path], debug: bool, timing: bool) -> int:
+    from linkcli.pipeline import Request, executor
     names = [str(f) for f in files]
+    request = Request(mode=mode, seed=seed, debug=debug, timing=timing, plot=plot is not None)
     if out is not None and not _prepare_out(out):
         return 2
     worst = 0
     counts = {0: 0, 1: 0, 2: 0}
     reports: list[dict] = []
+    results = []
     prog = _progress(len(names))
     task = None
     if prog is not None:
         prog.start()
         task = prog.add_task(f"solving {names[0]}", total=len(names))
     try:
-        for name, (code, report, errors) in zip(names, _run_all(names, mode, seed, debug, jobs, timing)):
+        for name, outcome in zip(names, executor(jobs, names, debug)(names, request)):
+            code, errors = outcome.exit_code, outcome.errors
+            report = outcome.result.report if outcome.result is not None else None
+            if outcome.result is not None:
+                results.append(outcome.result)
             if prog is not None:
                 prog.stop()  # the transient bar clears; output prints cleanly below
             for line in errors:
@@ -146,7 +97,7 @@ def _solve_command(files: list[Path], mode: str, fmt: Format, out: Optional[Path
             elif report is not None:
                 reports.append(report)
                 if fmt is Format.table and out is None:
-                    from linkcli.report import print_reports
+                    from linkcli.io.report import print_reports
                     print_reports([report], precision)
                     if len(reports) < len(names):
                         sys.stdout.write("\n")
@@ -162,14 +113,14 @@ def _solve_command(files: list[Path], mode: str, fmt: Format, out: Optional[Path
     if out is not None:
         worst = max(worst, _write_out([r for r in reports if "type" in r], out, fmt, precision))
     elif fmt is Format.json and (reports or len(names) > 1):  # one bad file: nothing on stdout
-        from linkcli.export import to_json
+        from linkcli.io.export import to_json
         sys.stdout.write(to_json(reports if len(names) > 1 else reports[0], precision))
     elif fmt is Format.toml and reports:
-        from linkcli.export import to_toml_many
+        from linkcli.io.export import to_toml_many
         sys.stdout.write(to_toml_many(reports, precision))
     reports = [r for r in reports if "type" in r]
-    if plot is not None and reports:
-        worst = max(worst, _plot(reports, names, plot, mode, seed, debug))
+    if plot is not None and results:
+        worst = max(worst, _plot(results, len(names), plot, debug))
     if len(names) > 1:
         _err(f"{len(names)} files: {counts[0]} solved, {counts[1]} infeasible or not converged, "
              f"{counts[2]} bad input")
@@ -190,8 +141,8 @@ def _prepare_out(out: Path) -> bool:
 
 
 def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int) -> int:
-    from linkcli.export import result_stems, to_json, to_toml
-    from linkcli.report import render_text
+    from linkcli.io.export import result_stems, to_json, to_toml
+    from linkcli.io.report import render_text
     for rep, stem in zip(reports, result_stems([rep["file"] for rep in reports])):
         target = out / f"{stem}.{EXT[fmt.value]}"
         if fmt is Format.json:
@@ -208,13 +159,13 @@ def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int) -> i
     return 0
 
 
-def _plot(reports, names, plot: Path, mode, seed, debug) -> int:
+def _plot(results, files: int, plot: Path, debug: bool) -> int:
     try:
         from linkcli import plot as plotting
     except ImportError:
         _err(f"{plot}: expected the plot extra (pip install \"linkcli[plot]\"), found no plotting module")
         return 2
-    return plotting.plot_command(reports, names, plot, mode, seed, debug)
+    return plotting.plot_command(results, files, plot, debug)
 
 
 FILES = typer.Argument(..., help="Problem files (TOML).", exists=False)
@@ -247,14 +198,14 @@ def analyze(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Pa
 @app.command()
 def check(files: List[Path] = FILES, debug: bool = DEBUG) -> None:
     """Validate problem files without solving (exit 2 on any error)."""
+    from linkcli.pipeline import Request, serial
     worst = 0
-    for f in files:
-        code, _, errors = run_one(str(f), "check", None, debug)
-        for line in errors:
+    for f, outcome in zip(files, serial([str(f) for f in files], Request(mode="check", debug=debug))):
+        for line in outcome.errors:
             _err(line)
-        if code == 0:
+        if outcome.exit_code == 0:
             _err(f"{f}: ok")
-        worst = max(worst, code)
+        worst = max(worst, outcome.exit_code)
     raise typer.Exit(worst)
 
 

@@ -4,11 +4,15 @@
     ├── InputError               bad input: exit code 2
     │   ├── TomlSyntaxError      the file is not valid TOML
     │   ├── SchemaError          a key is missing, unknown, of the wrong type or value
+    │   ├── SolveInputError      input that only solving or analysing shows impossible
     │   └── InputErrors          several of the above, collected from one file
-    └── SolveError               the solver itself failed (not infeasibility: that is a status)
+    └── PlotError                a --plot request that cannot be met (exit 2 by default)
 
-Errors carry their fields (`path`, `line`, `key`, `expected`, `got`) and format them only
-in `__str__`, as `FILE:LINE: key.path: expected ..., found ...`.
+Every error has `exit_code` and `lines()` (its stderr lines). Input errors carry their
+fields (`path`, `line`, `key`, `expected`, `got`) and format them only in `__str__`, as
+`FILE:LINE: key.path: expected ..., found ...`. Every error pickles with its fields
+(`__reduce__`), so it can cross a process boundary. Infeasibility is not an error: it is
+a status of the Solution.
 """
 
 from __future__ import annotations
@@ -18,6 +22,10 @@ class LinkcliError(Exception):
     """Base of every error linkcli raises on purpose."""
 
     exit_code = 1
+
+    def lines(self) -> list[str]:
+        """The lines printed on stderr for this error."""
+        return [str(self)]
 
 
 class InputError(LinkcliError):
@@ -34,8 +42,9 @@ class InputError(LinkcliError):
         self.line = line
         self.key = key
 
-    def lines(self) -> list[str]:
-        return [str(self)]
+    def __reduce__(self):
+        return (_rebuild, (type(self), (self.expected, self.got),
+                           {"path": self.path, "line": self.line, "key": self.key}))
 
     def __str__(self) -> str:
         where = self.path or "<input>"
@@ -50,12 +59,24 @@ class InputError(LinkcliError):
         return text
 
 
+def _rebuild(cls, args: tuple, kwargs: dict):
+    """Unpickle an error from its fields."""
+    return cls(*args, **kwargs)
+
+
 class TomlSyntaxError(InputError):
     """The file is not valid TOML."""
 
 
 class SchemaError(InputError):
     """A key is missing, unknown, of the wrong type, or has an impossible value."""
+
+
+class SolveInputError(InputError):
+    """Input that passes every check of the schema but that solving or analysing shows
+    impossible (a law not finite at any design within the bounds, two precision positions
+    that coincide once wrapped, a tolerance longer than its link): exit 2, with the line
+    of the key that causes it."""
 
 
 class InputErrors(InputError):
@@ -66,6 +87,9 @@ class InputErrors(InputError):
                          line=errors[0].line, key=errors[0].key)
         self.errors = errors
 
+    def __reduce__(self):
+        return (InputErrors, (self.errors,))
+
     def lines(self) -> list[str]:
         return [str(e) for e in self.errors]
 
@@ -73,7 +97,13 @@ class InputErrors(InputError):
         return "\n".join(self.lines())
 
 
-class SolveError(LinkcliError):
-    """A solver could not run to completion (a bug or an impossible request)."""
+class PlotError(LinkcliError):
+    """A plot request that cannot be met (a bad PATH, no matplotlib, an unwritable file):
+    one stderr line and an exit code (2: bad input)."""
 
-    exit_code = 1
+    def __init__(self, line: str, exit_code: int = 2) -> None:
+        super().__init__(line)
+        self.exit_code = exit_code
+
+    def __reduce__(self):
+        return (PlotError, (str(self), self.exit_code))

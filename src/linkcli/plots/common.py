@@ -4,7 +4,7 @@ its global placement, and the figure header.
 Geometry follows SPEC section 1: in the local frame A0 = (0, 0), B0 = (d, 0),
 A = a e^{i phi}, B = B0 + c e^{i psi}, coupler point P = A + (px + i py) e^{i theta};
 the global frame puts A0 at `ground_pivot` and turns the ground line by `ground_angle`:
-X = G + R(ground_angle) x. The closure itself is `linkcli.kinematics.pose`.
+X = G + R(ground_angle) x. The closure itself is `linkcli.mechanisms.four_bar.pose`.
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from linkcli import kinematics as kin
+from linkcli.mechanisms import four_bar as kin
 
 # rcParams for every figure (applied with rc_context, never globally): text stays text
 # in SVG, ids are salted with a constant, so two runs write identical bytes.

@@ -1,0 +1,189 @@
+"""Problem + Solution -> report: an ordered dict of output-ready sections (SPEC section 4).
+
+Angles leave here in the file's angle unit, wrapped to (-180, 180] deg where they are
+positions; lengths in the file's length unit. Only the sections the problem asks for
+(`meta.sections`) are computed. Rounding is the writers' job (export.py).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from linkcli.mechanisms import four_bar as kin
+from linkcli.io.meta import ALL_SECTIONS
+from linkcli.solution import MESSAGES, Solution
+
+TRANSMISSION_BAND = (40.0, 140.0)  # deg: the usual recommendation (Norton, ch. 3)
+
+
+def _ang(units, x):
+    """A position angle in the output unit, wrapped to (-180, 180] deg."""
+    return float(units.from_rad(float(kin.wrap(x))))
+
+
+def _dang(units, x):
+    """An angle difference or magnitude in the output unit (no wrap)."""
+    return float(units.from_rad(float(x)))
+
+
+def build(problem, solution: Solution) -> dict:
+    """The report of one solved problem; degenerate data (a toggle, a flat linkage) gives
+    inf or clipped values, never a RuntimeWarning on stderr."""
+    with np.errstate(all="ignore"):
+        return _build(problem, solution)
+
+
+def _build(problem, solution: Solution) -> dict:
+    meta = problem.meta
+    u = meta.units
+    want = set(meta.sections)
+    rep: dict = {
+        "file": meta.path,
+        "title": meta.title,
+        "type": meta.type,
+        "status": solution.status.value,
+        "message": solution.message or MESSAGES[solution.status],
+        "units": {"length": u.length, "angle": u.angle},
+    }
+    notes = list(solution.notes)
+    fb = solution.linkage
+    has_linkage = fb is not None
+    if has_linkage and "lengths" in want:
+        rep["linkage"] = linkage_section(fb, u)
+    if has_linkage and "grashof" in want:
+        rep["grashof"] = kin.grashof(*fb.abcd)
+    mot = None
+    if has_linkage and want & {"transmission", "motion", "kinematics"}:
+        near = solution.working_span[0] if solution.working_span else None
+        mot = kin.motion(*fb.abcd, fb.branch, near=near)
+        if not mot["assembles"]:
+            notes.append("the linkage cannot assemble at any input angle")
+    if mot and mot["assembles"] and "transmission" in want:
+        rep["transmission"] = transmission_section(fb, mot, solution.working_span, u, notes)
+    if mot and mot["assembles"] and "motion" in want:
+        rep["motion"] = motion_section(mot, u)
+    if mot and mot["assembles"] and "kinematics" in want:
+        speed = getattr(problem, "input_speed", None) or u.to_rad(1.0)
+        steps = getattr(problem, "steps", 360)
+        rep["kinematics"] = kinematics_rows(fb, mot, speed, steps, u)
+    if solution.positions is not None and "positions" in want:
+        rep["positions"] = position_rows(solution.positions, u)
+    if solution.positions is not None and "error" in want:
+        rep["error"] = error_section(solution, u, meta.reference)
+    for name, section in solution.sections.items():
+        if name in want or name not in ALL_SECTIONS:
+            rep[name] = section
+    if "tolerance" in want and meta.tolerance is not None and has_linkage:
+        from linkcli.analysis import tolerance
+        rep["tolerance"] = tolerance.analyse(problem, solution)
+    if "solver" in want and solution.solver:
+        rep["solver"] = dict(solution.solver)
+        if meta.reference is not None and solution.objective is not None:
+            rep["solver"]["best_known"] = meta.reference.objective
+            rep["solver"]["gap"] = gap(solution.objective, meta.reference.objective)
+    if notes:
+        rep["notes"] = notes
+    return rep
+
+
+def gap(value: float, best: float) -> float:
+    """Relative gap to the best known value: (value - best) / |best| (absolute if best = 0)."""
+    return (value - best) / abs(best) if best != 0 else value - best
+
+
+def linkage_section(fb, u) -> dict:
+    out = {"ground": fb.ground, "input": fb.input, "coupler": fb.coupler, "output": fb.output,
+           "branch": fb.branch}
+    if fb.coupler_point is not None:
+        out["coupler_point"] = list(fb.coupler_point)
+        out["ground_pivot"] = list(fb.ground_pivot)
+        out["ground_angle"] = _ang(u, fb.ground_angle)
+    return out
+
+
+def transmission_section(fb, mot, span, u, notes) -> dict:
+    a, b, c, d = fb.abcd
+    lo, hi = mot["input_arc"]
+    mn, at_mn, mx, at_mx = kin.transmission_extremes(a, b, c, d, lo, hi)
+    out = {"min": _dang(u, mn), "max": _dang(u, mx),
+           "input_at_min": _ang(u, at_mn), "input_at_max": _ang(u, at_mx)}
+    if span is not None:
+        start, sweep = span
+        w_lo, w_hi = (start, start + sweep) if sweep >= 0 else (start + sweep, start)
+        wmn, wat_mn, wmx, wat_mx = kin.transmission_extremes(a, b, c, d, w_lo, w_hi)
+        out.update({"working_min": _dang(u, wmn), "working_max": _dang(u, wmx),
+                    "working_input_at_min": _ang(u, wat_mn), "working_input_at_max": _ang(u, wat_mx)})
+    band = TRANSMISSION_BAND
+    if math.degrees(mn) < band[0] or math.degrees(mx) > band[1]:
+        notes.append(f"transmission angle leaves the recommended {band[0]:g}..{band[1]:g} deg band "
+                     f"({math.degrees(mn):.1f}..{math.degrees(mx):.1f} deg over the input's range)")
+    return out
+
+
+def motion_section(mot, u) -> dict:
+    out = {"input_full_turn": mot["input_full_turn"]}
+    if not mot["input_full_turn"]:
+        lo, hi = mot["input_arc"]
+        out["input_range"] = [_ang(u, lo), _ang(u, hi)]
+    out["output_full_turn"] = mot["output_full_turn"]
+    if mot["output_range"] is not None:
+        lo, hi = mot["output_range"]
+        out["output_range"] = [_ang(u, lo), _ang(u, hi)]
+    out["output_swing"] = _dang(u, mot["output_swing"])
+    if "time_ratio" in mot:
+        out["time_ratio"] = mot["time_ratio"]
+    return out
+
+
+def kinematics_rows(fb, mot, speed, steps, u) -> list[dict]:
+    """Rows at phi = k 360/steps for a full turn; at the centres of `steps` equal cells of
+    a rocking input's arc (its ends are toggles, where a constant input speed would
+    need infinite output speed)."""
+    a, b, c, d = fb.abcd
+    if mot["input_full_turn"]:
+        phi = np.arange(steps) * (kin.TWO_PI / steps)
+    else:
+        lo, hi = mot["input_arc"]
+        phi = lo + (np.arange(steps) + 0.5) * ((hi - lo) / steps)
+    p = kin.pose(a, b, c, d, phi, fb.branch)
+    w3, w4 = kin.velocities(a, b, c, p, speed)
+    a3, a4 = kin.accelerations(a, b, c, p, speed)
+    shown = phi if mot["input_full_turn"] else kin.wrap(phi)  # full turn: 0 .. 360 (SPEC)
+    cols = [("input", u.from_rad(shown)), ("coupler", u.from_rad(kin.wrap(p.theta))),
+            ("output", u.from_rad(kin.wrap(p.psi))), ("transmission", u.from_rad(p.mu)),
+            ("coupler_velocity", u.from_rad(w3)), ("output_velocity", u.from_rad(w4)),
+            ("coupler_acceleration", u.from_rad(a3)), ("output_acceleration", u.from_rad(a4))]
+    rows = []
+    for k in range(len(phi)):
+        ok = bool(p.valid[k])  # where it cannot assemble (or A meets B0) only the input is known
+        rows.append({name: (float(v[k]) if math.isfinite(v[k]) and (ok or name == "input") else None)
+                     for name, v in cols})
+    return rows
+
+
+def position_rows(pos, u) -> list[dict]:
+    rows = []
+    for k in range(len(pos.input)):
+        if pos.kind == "angle":
+            rows.append({"input": _ang(u, pos.input[k]), "target": _ang(u, pos.target[k]),
+                         "achieved": _ang(u, pos.achieved[k]), "error": _dang(u, pos.error[k])})
+        else:
+            rows.append({"input": _ang(u, pos.input[k]),
+                         "target": [float(pos.target[k][0]), float(pos.target[k][1])],
+                         "achieved": [float(pos.achieved[k][0]), float(pos.achieved[k][1])],
+                         "error": float(pos.error[k])})
+    return rows
+
+
+def error_section(solution, u, reference) -> dict:
+    pos = solution.positions
+    e = np.abs(np.asarray(pos.error, dtype=float))
+    conv = (lambda x: _dang(u, x)) if pos.kind == "angle" else float
+    out = {"objective": solution.objective, "max": conv(e.max()),
+           "rms": conv(math.sqrt(float(np.mean(e * e))))}
+    if reference is not None and solution.objective is not None:
+        out["best_known"] = reference.objective
+        out["gap"] = gap(solution.objective, reference.objective)
+    return out

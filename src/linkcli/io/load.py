@@ -1,0 +1,53 @@
+"""Problem files: read TOML, check it against the schema, build a frozen problem.
+
+`load(path)` returns the frozen problem of the file's type or raises `InputErrors`
+holding every error found in the file. The type's vocabulary comes from
+`linkcli.registry`, its checks from `linkcli.types.<type>.schema.parse(root, meta)`.
+No numerics here.
+"""
+
+from __future__ import annotations
+
+import difflib
+
+from linkcli.errors import InputErrors
+from linkcli.io.meta import read_meta
+from linkcli.io.reader import MISSING, Reader
+from linkcli.registry import NAMES, problem_type
+
+
+def load(path: str, text: str | None = None):
+    """Read and validate one problem file; raise InputErrors with every problem found."""
+    reader = Reader(path, text)
+    root = reader.root()
+    kind = root.raw("type", None)
+    if not isinstance(kind, str) or kind not in NAMES:
+        hint = difflib.get_close_matches(kind, list(NAMES), n=1) if isinstance(kind, str) else []
+        extra = f' (did you mean "{hint[0]}"?)' if hint else ""
+        root.error("type", f"one of: {', '.join(NAMES)}{extra}", MISSING if kind is None else kind)
+        raise InputErrors(reader.errors)
+    kind_spec = problem_type(kind)
+    meta = read_meta(root, kind, kind_spec)
+    problem = kind_spec.module("schema").parse(root, meta)
+    reader.finish()
+    if problem is None:  # a parser returns None only after recording errors
+        raise AssertionError(f"{kind} parser returned no problem and no error")
+    return problem
+
+
+def load_for_analysis(path: str, text: str | None = None):
+    """`linkcli analyze`: a `type = "linkage"` file or a result file of `synth --format toml`."""
+    from linkcli.io import result_file
+    from linkcli.errors import SchemaError
+    reader = Reader(path, text)
+    if result_file.is_result(reader.data):
+        problem = result_file.parse(reader)
+        if reader.errors or problem is None:
+            raise InputErrors(reader.errors)
+        return problem
+    problem = load(path, text)
+    if problem.meta.type != "linkage":
+        raise SchemaError('type = "linkage" or a result file of synth --format toml',
+                          f'"{problem.meta.type}" (solve it with linkcli synth)', path=path,
+                          line=reader.line_of(("type",)), key="type")
+    return problem

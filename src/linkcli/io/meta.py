@@ -1,0 +1,186 @@
+"""The keys every problem file shares: title, [units], [solver], [reference], [report],
+[tolerance]. Returns a `Meta`."""
+
+from __future__ import annotations
+
+import math
+
+from linkcli.model import LINKS, InverseTolerance, Meta, Reference, SolverOptions, Tolerance
+from linkcli.io.reader import Table
+from linkcli.registry import ProblemType
+from linkcli.units import ANGLE_UNITS, LENGTH_TO_MM, Units
+
+ALL_SECTIONS = ("lengths", "grashof", "transmission", "motion", "kinematics", "positions",
+                "error", "cylinder", "solver", "tolerance")
+MAX_BUDGET = 10**9
+MAX_SAMPLES = 1_000_000  # a tolerance study: more gains nothing but minutes
+MIN_FAILURES = 10  # inverse mode: expected failures at the level, for a stable bisection
+MIN_LENGTH, MAX_LENGTH = 1e-9, 1e9  # file's unit: beyond, squares of lengths lose all precision
+MAX_RATIO = 1e6  # longest over shortest link: beyond, double precision cannot resolve the angles
+
+
+def over_ratio(lengths: dict[str, float]) -> tuple[str, str] | None:
+    """(longest, shortest) names when the longest length exceeds MAX_RATIO times the
+    shortest, else None."""
+    longest, shortest = max(lengths, key=lengths.get), min(lengths, key=lengths.get)
+    return (longest, shortest) if lengths[longest] > MAX_RATIO * lengths[shortest] else None
+
+
+def in_motion_order(angles: list[float]) -> list[float]:
+    """Input angles (rad) of positions the input passes in the order given: kept as written
+    when they already run one way; else, if taking each step the short way round makes
+    them run one way, that form ([150, 180, -150] deg -> [150, 180, 210]), so that sweeps,
+    working ranges and travel are measured along the motion, not across the +-180 seam."""
+    steps = [b - a for a, b in zip(angles, angles[1:])]
+    if all(s > 0 for s in steps) or all(s < 0 for s in steps):
+        return list(angles)
+    turn = 2 * math.pi
+    short = [s - turn * math.floor((s + math.pi) / turn) for s in steps]  # in [-pi, pi)
+    if all(s > 0 for s in short) or all(s < 0 for s in short):
+        out = [angles[0]]
+        for s in short:
+            out.append(out[-1] + s)
+        return out
+    return list(angles)
+
+
+def bounded_length(t: Table, key: str):
+    """A positive length within [MIN_LENGTH, MAX_LENGTH]; None when missing or bad."""
+    value = t.number(key, positive=True, what="a positive length")
+    if value is not None and not MIN_LENGTH <= value <= MAX_LENGTH:
+        t.error(key, f"a length within [{MIN_LENGTH:g}, {MAX_LENGTH:g}]", value)
+        return None
+    return value
+
+
+def bounded_point(t: Table, key: str, default):
+    """Coordinates [x, y], each at most MAX_LENGTH in magnitude; None when bad."""
+    value = t.number_list(key, default, length=2, what="coordinates [x, y]")
+    if value is not None and max(abs(v) for v in value) > MAX_LENGTH:
+        t.error(key, f"coordinates of magnitude at most {MAX_LENGTH:g}", raw_got=str(value))
+        return None
+    return value
+
+
+def read_meta(root: Table, kind: str, spec: ProblemType) -> Meta:
+    """What every file has ([units], [solver], [reference], [tolerance], [report]), checked
+    against the vocabulary of its type."""
+    title = root.string("title", None, max_len=200)
+    units = read_units(root)
+    solver = read_solver(root, spec.methods)
+    reference = read_reference(root)
+    tolerance = read_tolerance(root, units) if spec.tolerance else None
+    sections = read_sections(root, spec.default_sections, spec.sections)
+    report = root.data.get("report")
+    asked = report.get("sections") if isinstance(report, dict) else None
+    if (isinstance(asked, list) and "tolerance" in asked and "tolerance" in sections
+            and tolerance is None and "tolerance" not in root):
+        # asked for by name, and nothing to study: an empty report would pass for a result
+        root.reader.error(("report", "sections"), 'a [tolerance] table for the "tolerance" section '
+                          "(the tolerances to study)", raw_got="no [tolerance] table")
+    if tolerance is not None and "tolerance" not in sections:
+        sections = sections + ("tolerance",)
+    return Meta(path=root.reader.path, type=kind, title=title, units=units, solver=solver,
+                sections=sections, reference=reference, tolerance=tolerance)
+
+
+def read_units(root: Table) -> Units:
+    t = root.table("units")
+    if t is None:
+        return Units()
+    length = t.string("length", "mm", choices=tuple(LENGTH_TO_MM))
+    angle = t.string("angle", "deg", choices=ANGLE_UNITS)
+    return Units(length=length or "mm", angle=angle or "deg")
+
+
+def read_solver(root: Table, methods: tuple[str, ...]) -> SolverOptions:
+    t = root.table("solver")
+    if t is None:
+        return SolverOptions()
+    method = t.string("method", "auto", choices=methods)
+    seed = t.number("seed", 0, integer=True, lo=0, hi=2**32 - 1)
+    budget = t.number("budget", None, integer=True, lo=1, hi=MAX_BUDGET)
+    return SolverOptions(method=method or "auto", seed=seed or 0, budget=budget)
+
+
+def read_reference(root: Table) -> Reference | None:
+    t = root.table("reference")
+    if t is None:
+        return None
+    objective = t.number("objective", nonnegative=True)
+    source = t.string("source", None, max_len=500)
+    return None if objective is None else Reference(objective=objective, source=source)
+
+
+def read_sections(root: Table, default: tuple[str, ...], allowed: tuple[str, ...]) -> tuple[str, ...]:
+    t = root.table("report")
+    if t is None:
+        return tuple(default)
+    value = t.raw("sections", None)
+    if value is None:
+        return tuple(default)
+    if not isinstance(value, list) or not value or not all(isinstance(v, str) for v in value):
+        t.error("sections", f"an array of section names from: {', '.join(allowed)}", value)
+        return tuple(default)
+    bad = [v for v in value if v not in allowed]
+    if bad:
+        import difflib
+        hint = difflib.get_close_matches(bad[0], allowed, n=1, cutoff=0.6)
+        extra = f' (did you mean "{hint[0]}"?)' if hint else ""
+        t.error("sections", f"section names from: {', '.join(allowed)}{extra}", bad[0])
+        return tuple(default)
+    return tuple(s for s in ALL_SECTIONS if s in value)
+
+
+def read_tolerance(root: Table, units: Units) -> Tolerance | None:
+    """[tolerance]: `lengths` (one +- tolerance for every link, or a table per link; a
+    path generator's table may add `coupler_point`, +- on each coordinate of P), `distribution`,
+    `clearance`, `samples`, `allowed_error` (angle unit, or length unit for a path) and the
+    inverse mode's `max_failure_probability` (which then wants a single tolerance or none)."""
+    t = root.table("tolerance")
+    if t is None:
+        return None
+    path_type = root.raw("type") == "path-generation"
+    per_link = LINKS + (("coupler_point",) if path_type else ())
+    raw = t.raw("lengths", None)
+    lengths = {k: 0.0 for k in LINKS}
+    if isinstance(raw, dict):
+        sub = t.table("lengths")
+        if not raw:
+            t.error("lengths", f"a tolerance for at least one of: {', '.join(per_link)}",
+                    raw_got="an empty table")
+        for link in per_link:
+            v = sub.number(link, 0.0, nonnegative=True, what="a tolerance >= 0")
+            if link in raw or link in LINKS:
+                lengths[link] = v if v is not None else 0.0
+    elif raw is not None:
+        v = t.number("lengths", nonnegative=True, what="a tolerance >= 0 or a table of them per link")
+        lengths = {k: (v or 0.0) for k in LINKS}
+    distribution = t.string("distribution", "uniform", choices=("uniform", "normal"))
+    clearance = t.number("clearance", 0.0, nonnegative=True, what="a radial clearance >= 0")
+    samples = t.number("samples", 20000, integer=True, lo=1, hi=MAX_SAMPLES)
+    allowed = t.number("allowed_error", None, positive=True)
+    if allowed is not None:
+        allowed = units.to_rad(allowed) if not path_type else allowed
+    level = t.number("max_failure_probability", None, what="a probability strictly between 0 and 1")
+    if level is not None and not 0.0 < level < 1.0:
+        t.error("max_failure_probability", "a probability strictly between 0 and 1", level)
+        level = None
+    if level is not None and allowed is None and "allowed_error" not in t:
+        t.error("allowed_error", "a positive number (needed by max_failure_probability: a "
+                "sample fails when its error exceeds allowed_error)")
+    if level is not None and isinstance(raw, dict):
+        t.error("lengths", "a single tolerance (or none) with max_failure_probability: the search "
+                "applies one tolerance to every link", raw_got="a table")
+    if level is not None and samples is not None and samples * level < MIN_FAILURES:
+        need = math.ceil(MIN_FAILURES / level)
+        t.error("samples", f"at least {need} samples with max_failure_probability = {level:g} "
+                f"({MIN_FAILURES} expected failures)", samples)
+    line_of = root.reader.line_of
+    lines = {".".join(k): line_of(("tolerance",) + k)
+             for k in [("lengths",), ("clearance",)] + [("lengths", link) for link in per_link]}
+    base = dict(lengths=lengths, distribution=distribution or "uniform", clearance=clearance or 0.0,
+                samples=samples or 20000, allowed_error=allowed, lines=lines)
+    if level is not None:
+        return InverseTolerance(max_failure_probability=level, **base)
+    return Tolerance(**base)

@@ -1,0 +1,261 @@
+"""Rich tables for a person: one block per problem, one table per section asked for.
+
+The only module that imports rich. Known sections get tailored tables; any other section
+a solver adds renders generically (a dict as a key/value table, a list of row dicts as a
+table), so new problem types need no change here. Numbers are rounded by export.rounded.
+"""
+
+from __future__ import annotations
+
+import sys
+
+from rich import box
+from rich.cells import cell_len
+from rich.console import Console, Group
+from rich.measure import Measurement
+from rich.table import Table
+from rich.text import Text
+
+from linkcli.io.export import rounded
+
+MAX_TABLE_WIDTH = 400  # columns a table may take when printed to a file or a pipe
+STATUS_STYLE = {"ok": "bold green", "infeasible": "bold yellow", "not-converged": "bold red"}
+KNOWN = ("file", "title", "type", "status", "message", "units", "linkage", "grashof",
+         "transmission", "motion", "kinematics", "positions", "error", "solver", "notes")
+
+
+def console(file=None, width: int | None = None) -> Console:
+    """A console for stdout: the terminal's width when it is one, else 100 columns, no colour."""
+    file = file or sys.stdout
+    tty = hasattr(file, "isatty") and file.isatty()
+    return Console(file=file, width=width if width else (None if tty else 100),
+                   no_color=not tty, highlight=False, soft_wrap=False, emoji=False,
+                   force_terminal=tty, color_system="auto" if tty else None)
+
+
+def fmt(v, digits: int = 6) -> str:
+    if v is None:
+        return "-"
+    if isinstance(v, bool):
+        return "yes" if v else "no"
+    if isinstance(v, float):
+        return f"{v:.{digits}g}"
+    if isinstance(v, list):
+        return "[" + ", ".join(fmt(x, digits) for x in v) + "]"
+    return str(v)
+
+
+def _kv(title: str, rows: list[tuple[str, object]], digits: int) -> Table:
+    t = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, show_header=False, pad_edge=False, show_edge=False)
+    t.add_column("key", style="bold")
+    t.add_column("value")
+    for k, v in rows:
+        t.add_row(k, fmt(v, digits))
+    return t
+
+
+def _rows(title: str, rows: list[dict], digits: int, headers: dict | None = None) -> Table:
+    cols = list(dict.fromkeys(k for r in rows for k in r))
+    t = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
+    for c in cols:
+        t.add_column((headers or {}).get(c, c.replace("_", " ")), justify="right")
+    for r in rows:
+        t.add_row(*(fmt(r.get(c), digits) for c in cols))
+    return t
+
+
+def _generic(name: str, section, digits: int, units: dict[str, str] | None = None) -> list:
+    """A dict as one key/value table (nested dicts flattened to "key sub"), its lists of
+    row dicts as tables of their own; a list of row dicts as a table. `units` maps a key
+    to the unit shown beside it."""
+    title = name.replace("_", " ").capitalize()
+    units = units or {}
+    if isinstance(section, list) and section and all(isinstance(r, dict) for r in section):
+        return [_rows(title, section, digits)]
+    if not isinstance(section, dict):
+        return [_kv(title, [(name, section)], digits)]
+    flat, tables = [], []
+    for k, v in section.items():
+        label = k.replace("_", " ") + (f" ({units[k]})" if k in units else "")
+        if isinstance(v, dict):
+            flat += [(f"{label} {sub.replace('_', ' ')}", x) for sub, x in v.items()]
+        elif isinstance(v, list) and v and isinstance(v[0], dict) and k == "curve":
+            flat.append((label, f"{len(v)} rows in JSON/TOML output"))  # plot data, not for reading
+        elif isinstance(v, list) and v and isinstance(v[0], dict):
+            tables.append(_rows(f"{title}: {k.replace('_', ' ')}", v, digits))
+        else:
+            flat.append((label, v))
+    return ([_kv(title, flat, digits)] if flat else []) + tables
+
+
+def _tolerance_units(section: dict, lu: str, au: str) -> dict[str, str]:
+    err = lu if "coupler point" in str(section.get("measure", "")) else au
+    keys = ("nominal_error", "error_mean", "error_p95", "error_max", "allowed_error")
+    out = {k: err for k in keys}
+    out.update({"lengths": lu, "clearance": lu, "largest_tolerance": lu, "sensitivity": f"{err}/{lu}"})
+    return out
+
+
+def _flipper(name: str, section, digits: int, lu: str, au: str) -> list:
+    """flipper-cylinder: the `cylinder` section as a key/value table with units and the
+    force table (`forces_full`, the full-resolution sweep, is left to JSON and TOML); the
+    `pareto` trade-off rows as a table. Empty for any other section."""
+    if name == "pareto" and isinstance(section, list) and section:
+        cols = [("closed_length", "closed length"), ("peak_force", "peak force (N)"), ("peak_angle", "at"),
+                ("peak_kind", "push/pull"), ("stroke", "stroke"), ("rod_pivot", "rod pivot A"),
+                ("base_pivot", "base pivot C")]
+        t = Table(title=f"Trade-off: least peak force for each closed length ({lu}, {au}; "
+                        "max length = closed + stroke)",
+                  title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
+        for _, head in cols:
+            t.add_column(head, justify="right", no_wrap=True)
+        for r in section:
+            t.add_row(*(fmt(r.get(k), digits) for k, _ in cols))
+        return [t]
+    if name != "cylinder" or not isinstance(section, dict):
+        return []
+    labels = {"rod_pivot": f"rod pivot A at start ({lu})", "base_pivot": f"base pivot C ({lu})",
+              "peak_force": "peak force (N)", "peak_angle": f"peak at platform angle ({au})",
+              "peak_kind": "peak is a", "push_force": "largest push (N)", "push_angle": f"largest push at ({au})",
+              "pull_force": "largest pull (N)", "pull_angle": f"largest pull at ({au})",
+              "min_length": f"closed length, min ({lu})", "max_length": f"max length ({lu})",
+              "stroke": f"stroke ({lu})", "rod_motion": "rod (start to end)", "bore": f"bore ({lu})",
+              "rod": f"rod ({lu})", "push_pressure": "push pressure on bore (MPa)",
+              "pull_pressure": "pull pressure on annulus (MPa)", "dead_length": f"dead length ({lu})",
+              "dead_length_margin": f"closed - stroke - dead length ({lu})",
+              "max_force": "max force (N)", "force_margin": "max force - peak (N)"}
+    rows = [(labels.get(k, k.replace("_", " ")), v) for k, v in section.items()
+            if not (isinstance(v, list) and v and isinstance(v[0], dict))]
+    parts: list = [_kv("Cylinder", rows, digits)]
+    forces = section.get("forces") or []
+    if forces:
+        table = [{"angle": r.get("angle"), "force": r.get("force"),
+                  "push/pull": ("-" if r.get("force") is None else "push" if r["force"] > 0
+                                else "pull" if r["force"] < 0 else "-"),
+                  "arm": r.get("arm"), "length": r.get("length")} for r in forces]
+        heads = {"angle": f"platform angle ({au})", "force": "force (N)", "arm": f"moment arm ({lu})",
+                 "length": f"length C-A ({lu})"}
+        full = len(section.get("forces_full") or [])
+        note = f" ({full} angles in JSON/TOML: forces_full)" if full else ""
+        parts.append(_rows(f"Cylinder force over the sweep{note}", table, digits, heads))
+    return parts
+
+
+def render(report: dict, digits: int = 6) -> Group:
+    """One problem's block."""
+    r = rounded(report, digits)
+    lu, au = r["units"]["length"], r["units"]["angle"]
+    parts: list = []
+    head = Text()
+    head.append(r.get("title") or r["file"], style="bold")
+    if r.get("title"):
+        head.append(f"  ({r['file']})")
+    head.append(f"  {r['type']}  ")
+    head.append(r["status"], style=STATUS_STYLE.get(r["status"], "bold"))
+    parts.append(head)
+    parts.append(Text(r["message"]))
+    if "linkage" in r:
+        lk = r["linkage"]
+        rows = [(f"{k} ({lu})", lk[k]) for k in ("ground", "input", "coupler", "output")]
+        rows.append(("branch", lk["branch"]))
+        if "coupler_point" in lk:
+            rows += [(f"coupler point ({lu})", lk["coupler_point"]),
+                     (f"ground pivot ({lu})", lk["ground_pivot"]),
+                     (f"ground angle ({au})", lk["ground_angle"])]
+        parts.append(_kv("Link lengths", rows, digits))
+    if "grashof" in r:
+        g = r["grashof"]
+        sl, pq = g["s_plus_l"], g["p_plus_q"]
+        rel = "vs" if sl is None or pq is None else "<" if sl < pq else ("=" if sl == pq else ">")
+        parts.append(_kv("Grashof", [("class", g["class"]), ("shortest", g["shortest"]),
+                                     ("longest", g["longest"]),
+                                     ("s + l vs p + q", f"{fmt(g['s_plus_l'], digits)} {rel} {fmt(g['p_plus_q'], digits)}")],
+                         digits))
+    if "transmission" in r:
+        tr = r["transmission"]
+        t = Table(title=f"Transmission angle ({au})", title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
+        for c in ("over", "min", "at input", "max", "at input"):
+            t.add_column(c, justify="right" if c != "over" else "left")
+        t.add_row("input's range of motion", fmt(tr["min"], digits), fmt(tr["input_at_min"], digits),
+                  fmt(tr["max"], digits), fmt(tr["input_at_max"], digits))
+        if "working_min" in tr:
+            t.add_row("working range (targets)", fmt(tr["working_min"], digits),
+                      fmt(tr["working_input_at_min"], digits), fmt(tr["working_max"], digits),
+                      fmt(tr["working_input_at_max"], digits))
+        parts.append(t)
+    if "motion" in r:
+        parts.append(_kv("Motion", [(k.replace("_", " "), v) for k, v in r["motion"].items()], digits))
+    if "positions" in r:
+        parts.append(_rows("Positions", r["positions"], digits))
+    if "error" in r:
+        parts.append(_kv("Error", [(k.replace("_", " "), v) for k, v in r["error"].items()], digits))
+    if "kinematics" in r:
+        heads = {"input": f"input ({au})", "coupler": f"coupler ({au})", "output": f"output ({au})",
+                 "transmission": f"mu ({au})", "coupler_velocity": f"w coupler ({au}/s)",
+                 "output_velocity": f"w output ({au}/s)", "coupler_acceleration": f"a coupler ({au}/s2)",
+                 "output_acceleration": f"a output ({au}/s2)"}
+        parts.append(_rows("Kinematics", r["kinematics"], digits, heads))
+    for name, section in r.items():
+        if name not in KNOWN:
+            units = _tolerance_units(section, lu, au) if name == "tolerance" else None
+            parts.extend(_flipper(name, section, digits, lu, au) or _generic(name, section, digits, units))
+    if "solver" in r:
+        parts.append(_kv("Solver", [(k.replace("_", " "), v) for k, v in r["solver"].items()], digits))
+    for note in r.get("notes", []):
+        parts.append(Text(f"warning: {note}", style="yellow"))
+    return Group(*parts)
+
+
+def _compact(table: Table) -> None:
+    """Fix each column at its longest cell or header word (headers wrap at words, cells
+    never)."""
+    for column in table.columns:
+        words = str(column.header).split() or [""]
+        column.width = max([cell_len(str(c)) for c in column.cells] + [cell_len(w) for w in words])
+
+
+def _width(con: Console, table: Table) -> int:
+    """The width the table takes when nothing limits it (rich's own measure)."""
+    return Measurement.get(con, con.options.update_width(MAX_TABLE_WIDTH), table).maximum
+
+
+def _emit(con: Console, group: Group) -> None:
+    """Print a report part by part. A table never shows a truncated number: one wider than
+    the console is laid out compactly (headers wrap at words, cells never), and if it still
+    does not fit it is printed wider (a file or a pipe: one row per line, every digit) or,
+    on a terminal, folds its cells onto a second line."""
+    for part in group.renderables:
+        if isinstance(part, Table):
+            if _width(con, part) > con.width:
+                _compact(part)
+                need = _width(con, part)
+                if need > con.width:
+                    if con.is_terminal:
+                        for column in part.columns:
+                            column.width, column.overflow = None, "fold"
+                    else:
+                        width, con.width = con.width, need
+                        con.print(part)
+                        con.width = width
+                        continue
+        con.print(part)
+
+
+def print_reports(reports: list[dict], digits: int, file=None) -> None:
+    con = console(file)
+    for i, rep in enumerate(reports):
+        if i:
+            con.print()
+        _emit(con, render(rep, digits))
+
+
+def render_text(reports: list[dict], digits: int) -> str:
+    """Plain text of the tables (for --out with the table format)."""
+    import io
+    buf = io.StringIO()
+    con = Console(file=buf, width=100, no_color=True, highlight=False, emoji=False, color_system=None)
+    for i, rep in enumerate(reports):
+        if i:
+            con.print()
+        _emit(con, render(rep, digits))
+    return buf.getvalue()

@@ -1,0 +1,63 @@
+"""Result files written by `linkcli synth --format toml`, read back as a linkage to analyse.
+
+Only `title`, `[units]` and `[linkage]` are read; the rest of a result file is linkcli's
+own output (status, tables) and is ignored, so a result always round-trips. A batch
+written by `synth A B --format toml` (`[[result]]` tables) is refused with a clear line:
+`analyze` makes one report per file, so each result must be in a file of its own.
+"""
+
+from __future__ import annotations
+
+from linkcli.model import LinkageProblem, Meta
+from linkcli.io.meta import read_units
+from linkcli.types.linkage import TYPE as LINKAGE
+from linkcli.types.linkage.schema import read_fourbar
+from linkcli.io.reader import Reader
+
+
+def is_result(data: dict) -> bool:
+    """A result file carries `status` (linkcli's own output key); a problem file never does.
+    A batch (`synth A B --format toml`: an array of tables `[[result]]`, one per problem)
+    is recognised too, so that `parse` can say what to do with it."""
+    return isinstance(data, dict) and ("status" in data or batch_size(data) > 0)
+
+
+def batch_size(data: dict) -> int:
+    """Results in a batch result file (0 when the file is not one)."""
+    results = data.get("result") if "type" not in data and "status" not in data else None
+    if isinstance(results, list) and results and all(isinstance(r, dict) and "status" in r
+                                                     for r in results):
+        return len(results)
+    return 0
+
+
+def has_linkage(data: dict) -> bool:
+    return isinstance(data.get("linkage"), dict)
+
+
+def parse(reader: Reader) -> LinkageProblem | None:
+    root = reader.root()
+    count = batch_size(reader.data)
+    if count:
+        # one file, one report: `analyze` reads a single result (the CLI's unit is a file)
+        root.error("result", "a single result (analyze reads one result per file: write them "
+                   "one per file with synth --out DIR --format toml)",
+                   raw_got=f"a batch result file holding {count} results")
+        return None
+    if not has_linkage(reader.data):
+        kind = reader.data.get("type")
+        what = f'a {kind} result without one' if isinstance(kind, str) else "a result without one"
+        root.error("linkage", "a result with a [linkage] table (only linkages can be analysed)",
+                   raw_got=what)
+        return None
+    title = root.raw("title", None)
+    units = read_units(root)
+    link = root.table("linkage", required=True)
+    fourbar = read_fourbar(link, units) if link else None
+    if link is not None:
+        link.allow("ground_pivot", "ground_angle", "coupler_point")
+    if reader.errors or fourbar is None:
+        return None
+    meta = Meta(path=reader.path, type="linkage", title=title if isinstance(title, str) else None,
+                units=units, sections=LINKAGE.default_sections)
+    return LinkageProblem(meta=meta, linkage=fourbar, input_speed=units.to_rad(1.0), steps=360)

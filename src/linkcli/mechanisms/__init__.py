@@ -1,0 +1,1 @@
+"""The kinematics of each mechanism, vectorized over angles (today the four-bar)."""

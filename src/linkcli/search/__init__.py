@@ -1,0 +1,1 @@
+"""The optimization toolkit every problem type shares: budget, sampling, polish."""

@@ -1,0 +1,1 @@
+"""One package per problem type; `linkcli.registry` lists them."""

@@ -1,0 +1,279 @@
+"""flipper-cylinder: place a hydraulic cylinder that turns a loaded platform (SPEC section 2).
+
+The statics is linkcli.types.flipper_cylinder.statics: at platform angle t the cylinder force that holds
+the platform is F(t) = W(t) L(t) / K(t), W = m g G_x(t), L = |A - C|, K = C x A(t), push
+positive. With every pivot coordinate fixed the design is evaluated (method "evaluate");
+otherwise linkcli.types.flipper_cylinder.search minimizes the peak force or the closed length
+(`[objective] minimize`) within `[solver] budget` designs, and `[objective] pareto` adds
+the trade-off table between peak force and closed length. This module turns the design
+found into the report: the `cylinder` section (SPEC section 4), the `pareto` rows, the
+status and its message (the violated limit and by how much).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from linkcli.types.flipper_cylinder.statics import Statics
+from linkcli.search.budget import Budget
+from linkcli.solution import Solution, Status
+from linkcli.types.flipper_cylinder.search import (DEFAULT_BUDGET, PARETO_BUDGET, PARETO_SHARE, TOLERANCE,
+                                            Goal, Judge, Space, optimize, pareto)
+
+
+NEGLIGIBLE = 1e-3  # a closed length below this share of the largest pivot bound: the pivots all but meet
+
+
+# --------------------------------------------------------------------- one design, in full
+def facts(problem, st: Statics, design) -> dict:
+    """Everything reported about one design (radians, the file's length unit, N). The
+    lengths are the true extremes over the sweep (L turns back where the cylinder line
+    crosses the hinge); a design that cannot hold the platform somewhere (`crosses`) has
+    an infinite peak at that angle."""
+    p = np.asarray(design, dtype=float)[None, :]
+    sing = st.singular(p)
+    closed, opened, closed_at = (float(x[0]) for x in st.lengths(p, sing=sing))
+    ls, le = (float(x[0]) for x in st.end_lengths(p))
+    t0 = float(sing["tau0"][0])
+    turns = bool(sing["crosses"][0]) and 0.0 < t0 < st.sweep  # L has an interior extreme
+    if turns:  # d(L^2)/dt = 2 K: the rod extends while K > 0
+        k_start = float(st.terms(p, np.array([0.0]))[0][0, 0])
+        motion = "extends, then retracts" if k_start > 0 else "retracts, then extends"
+    else:
+        motion = "extends" if le > ls else "retracts"
+    out = {"design": p[0], "crosses": bool(sing["blocked"][0]), "min_length": closed,
+           "max_length": opened, "stroke": opened - closed, "rod_motion": motion,
+           "closed_at": closed_at, "cross_at": t0, "zero_length": bool(sing["meet"][0]),
+           "load_moment": float(sing["moment"][0])}
+    pk = st.peaks(p)
+    for k in ("push", "push_at", "pull", "pull_at", "peak", "peak_at"):
+        out[k] = float(pk[k][0])
+    out["is_push"] = bool(pk["is_push"][0])
+    return out
+
+
+def _nice_step(span: float) -> float:
+    """The smallest of 1, 2, 5 x 10^k that cuts `span` into at most 20 steps."""
+    for k in range(-6, 7):
+        for m in (1.0, 2.0, 5.0):
+            step = m * 10.0 ** k
+            if span / step <= 20.0 + 1e-9:
+                return step
+    return span
+
+
+def table_angles(problem) -> np.ndarray:
+    """Platform angles (file unit) of the force table: start, the multiples of the step
+    strictly inside the sweep, end."""
+    u = problem.meta.units
+    a, b = _file_angle(problem, "start"), _file_angle(problem, "end")
+    step = float(u.from_rad(problem.table_step)) if problem.table_step else _nice_step(b - a)
+    eps = 1e-9 * max(abs(step), 1.0)
+    k0, k1 = math.floor(a / step + 1e-9) + 1, math.ceil(b / step - 1e-9) - 1
+    inner = [float(f"{k * step:.12g}") for k in range(k0, k1 + 1) if a + eps < k * step < b - eps]
+    return np.array([a] + inner + [b])
+
+
+def _file_angle(problem, key: str) -> float:
+    """`start` or `end` in the file's unit, as written (no round trip through radians)."""
+    u = problem.meta.units
+    value = float(u.from_rad(getattr(problem, key)))
+    return float(f"{value:.15g}")  # the ulp of the round trip through radians
+
+
+def force_rows(problem, st: Statics, design, angles) -> list[dict]:
+    """Rows angle (file unit, as given), force (N; None where no finite force holds the
+    platform: the cylinder line through the hinge), arm and length (length unit)."""
+    u = problem.meta.units
+    angles = np.asarray(angles, dtype=float)
+    tau = np.array([u.to_rad(float(x)) for x in angles]) - problem.start
+    tau[0], tau[-1] = max(tau[0], 0.0), min(tau[-1], st.sweep)
+    force, arm, length = (x[0] for x in st.forces(np.asarray(design, dtype=float)[None, :], tau))
+    return [{"angle": float(angles[i]), "force": float(force[i]) if math.isfinite(force[i]) else None,
+             "arm": float(arm[i]), "length": float(length[i])} for i in range(len(tau))]
+
+
+def full_angles(problem, st: Statics) -> np.ndarray:
+    """The sweep grid in the file's unit, ends as given."""
+    a, b = _file_angle(problem, "start"), _file_angle(problem, "end")
+    out = a + (b - a) * (st.grid / st.sweep)
+    out[0], out[-1] = a, b
+    return out
+
+
+def cylinder_section(problem, st: Statics, f: dict) -> dict:
+    """The `cylinder` report section, output-ready (SPEC section 4)."""
+    u = problem.meta.units
+    p = f["design"]
+
+    def ang(tau):
+        return float(u.from_rad(problem.start + tau))
+
+    kind = "unbounded" if f["crosses"] else ("push" if f["is_push"] else "pull")
+    sec = {"rod_pivot": [float(p[0]), float(p[1])], "base_pivot": [float(p[2]), float(p[3])],
+           "peak_force": f["peak"], "peak_angle": ang(f["peak_at"]), "peak_kind": kind,
+           "push_force": f["push"], "push_angle": ang(f["push_at"]) if f["push"] > 0 else None,
+           "pull_force": f["pull"], "pull_angle": ang(f["pull_at"]) if f["pull"] > 0 else None,
+           "min_length": f["min_length"], "max_length": f["max_length"], "stroke": f["stroke"],
+           "rod_motion": f["rod_motion"]}
+    mm = u.mm_per_length
+    if problem.bore is not None:
+        bore_area = math.pi / 4.0 * (problem.bore * mm) ** 2  # mm^2: N / mm^2 = MPa
+        sec["bore"] = problem.bore
+        if problem.rod is not None:
+            sec["rod"] = problem.rod
+        sec["push_pressure"] = f["push"] / bore_area
+        if problem.rod is not None:
+            annulus = bore_area - math.pi / 4.0 * (problem.rod * mm) ** 2
+            sec["pull_pressure"] = f["pull"] / annulus
+    if problem.dead_length is not None:
+        sec["dead_length"] = problem.dead_length
+        sec["dead_length_margin"] = f["min_length"] - f["stroke"] - problem.dead_length
+    if problem.max_force is not None:
+        sec["max_force"] = problem.max_force
+        sec["force_margin"] = problem.max_force - f["peak"]
+    sec["forces"] = force_rows(problem, st, p, table_angles(problem))
+    sec["forces_full"] = force_rows(problem, st, p, full_angles(problem, st))
+    return sec
+
+
+# --------------------------------------------------------------------------- the verdict
+def verdict(problem, f: dict) -> tuple[Status, str]:
+    """Status and message of a design: the violated constraint and by how much, else the peak.
+    A cylinder needs a length: closed >= Space.floor (flipper_search.MIN_LENGTH times the
+    largest pivot bound); where the pivots meet, the force is 0 / 0."""
+    u = problem.meta.units
+    au = u.angle
+
+    def ang(tau):
+        return f"{float(u.from_rad(problem.start + tau)):.6g} {au}"
+
+    if f["crosses"]:
+        if f.get("zero_length"):
+            return Status.INFEASIBLE, (f"the rod pivot passes through the base pivot at platform angle "
+                                       f"{ang(f['cross_at'])} (zero cylinder length)")
+        return Status.INFEASIBLE, (f"the cylinder line passes through the hinge B at platform angle "
+                                   f"{ang(f['cross_at'])}: zero moment arm, the force is unbounded (the "
+                                   f"load has a moment of {abs(f['load_moment']):.6g} N {u.length} about B "
+                                   "there, which no finite cylinder force can balance)")
+    problems = []
+    floor = Space(problem).floor
+    if f["min_length"] < floor * (1.0 - TOLERANCE):
+        problems.append(f"the rod pivot comes within {f['min_length']:.6g} {u.length} of the base pivot at "
+                        f"platform angle {ang(f['closed_at'])}: the pivots must stay at least {floor:.6g} "
+                        f"{u.length} apart (a cylinder of no length)")
+    if problem.dead_length is not None:
+        short = f["stroke"] + problem.dead_length - f["min_length"]
+        if short > TOLERANCE * max(f["stroke"] + problem.dead_length, 1e-300):
+            problems.append(f"closed length {f['min_length']:.6g} {u.length} is {short:.6g} {u.length} "
+                            f"short of stroke + dead_length ({f['stroke'] + problem.dead_length:.6g} {u.length})")
+    if problem.max_force is not None and f["peak"] > problem.max_force * (1.0 + TOLERANCE):
+        over = f["peak"] - problem.max_force
+        problems.append(f"peak force {f['peak']:.6g} N exceeds max_force {problem.max_force:.6g} N "
+                        f"by {over:.6g} N ({100.0 * over / problem.max_force:.3g} %)")
+    kind = "push" if f["is_push"] else "pull"
+    summary = f"peak force {f['peak']:.6g} N ({kind}) at platform angle {ang(f['peak_at'])}"
+    if problem.minimize == "cylinder-length":
+        summary = (f"closed length {f['min_length']:.6g} {u.length} (stroke {f['stroke']:.6g} "
+                   f"{u.length}); {summary}")
+    if problems:
+        return Status.INFEASIBLE, "; ".join(problems) + f" ({summary})"
+    return Status.OK, summary
+
+
+# --------------------------------------------------------------------------- trade-off table
+def pareto_rows(problem, st: Statics, designs) -> list[dict]:
+    u = problem.meta.units
+    rows = []
+    for d in designs:
+        f = facts(problem, st, d)
+        rows.append({"closed_length": f["min_length"], "peak_force": f["peak"],
+                     "peak_angle": float(u.from_rad(problem.start + f["peak_at"])),
+                     "peak_kind": "push" if f["is_push"] else "pull", "stroke": f["stroke"],
+                     "max_length": f["max_length"], "rod_pivot": [float(d[0]), float(d[1])],
+                     "base_pivot": [float(d[2]), float(d[3])]})
+    return rows
+
+
+# ------------------------------------------------------------------------------------ solve
+def solve(problem) -> Solution:
+    """Evaluate the design (every pivot fixed) or optimize it; inf and nan are handled as
+    values (a design through the hinge), so numpy's warnings are silenced here."""
+    with np.errstate(all="ignore"):
+        return _solve(problem)
+
+
+def _solve(problem) -> Solution:
+    meta = problem.meta
+    st = Statics(problem.mass * problem.gravity, problem.center_of_mass, problem.end - problem.start)
+    notes: list[str] = []
+    if problem.fixed:
+        design, solver, rows = np.array([lo for lo, _ in problem.bounds]), {"method": "evaluate"}, None
+        solver.update(seed=meta.solver.seed, evaluations=1, converged=True)
+        if meta.solver.method != "auto":
+            notes.append(f'every pivot coordinate is fixed: the design is evaluated, method '
+                         f'"{meta.solver.method}" is not used')
+    else:
+        design, solver, rows = _search(problem, st, notes)
+    solver["minimize"] = problem.minimize
+    if design is None:
+        return Solution(status=Status.NOT_CONVERGED, solver=solver, notes=notes,
+                        message=f"the budget of {solver['budget']} evaluations is too small to "
+                                "judge a design")
+    f = facts(problem, st, design)
+    status, message = verdict(problem, f)
+    lu = meta.units.length
+    if (problem.dead_length is None and not f["crosses"] and not problem.fixed
+            and f["min_length"] <= NEGLIGIBLE * max(abs(v) for b in problem.bounds for v in b)):
+        notes.append(f"the pivots all but meet at the closed end (closed length {f['min_length']:.6g} {lu}): "
+                     "without [cylinder] dead_length the least force asks for a cylinder of no length; "
+                     "dead_length gives a real one (closed length >= stroke + dead_length)")
+    elif (problem.dead_length is None and not f["crosses"] and f["min_length"] < f["stroke"]
+          and f["min_length"] >= Space(problem).floor * (1.0 - TOLERANCE)):
+        notes.append(f"the closed length {f['min_length']:.6g} {lu} is shorter than the stroke "
+                     f"{f['stroke']:.6g} {lu}: only a telescopic cylinder fits; [cylinder] dead_length "
+                     "asks for a single-stage one (closed length >= stroke + dead_length)")
+    searched = solver["converged"] or solver.get("completed")  # not stopped by the budget
+    if not problem.fixed and status is Status.INFEASIBLE and searched:
+        message = f"no design found within the limits; the nearest: {message}"
+    elif not solver["converged"]:  # an infeasible design may only show that the search stopped early
+        status = Status.NOT_CONVERGED
+        message = (f"the search did not converge within {solver['evaluations']} evaluations (budget "
+                   f"{solver['budget']}); best design found: {message}")
+    elif problem.fixed and status is Status.OK:
+        message = f"design evaluated over the sweep: {message}"
+    solver.pop("budget", None)
+    solver.pop("completed", None)
+    sections = {}
+    if "cylinder" in meta.sections:
+        sections["cylinder"] = cylinder_section(problem, st, f)
+    if rows is not None:
+        sections["pareto"] = rows
+    objective = f["peak"] if problem.minimize == "peak-force" else f["min_length"]
+    return Solution(status=status, message=message, objective=objective if math.isfinite(objective) else None,
+                    solver=solver, sections=sections, notes=notes)
+
+
+def _search(problem, st: Statics, notes: list[str]):
+    """(design or None, solver dict, trade-off rows or None) of the optimizing methods."""
+    meta = problem.meta
+    method = meta.solver.method
+    total = meta.solver.budget or (DEFAULT_BUDGET + (PARETO_BUDGET if problem.pareto else 0))
+    share = total - (int(PARETO_SHARE * total) if problem.pareto else 0)
+    budget = Budget(total)
+    judge = Judge(problem, st, Space(problem), budget)
+    rng = np.random.default_rng(meta.solver.seed)
+    goal = Goal("peak") if problem.minimize == "peak-force" else Goal("length", force_cap=problem.max_force)
+    out = optimize(judge, goal, method, share, rng)
+    rows = None
+    if problem.pareto and out.best.design is not None:
+        found, complete = pareto(problem, judge, out, goal, method, budget.left, rng)
+        rows = pareto_rows(problem, st, found)
+        if not complete:
+            notes.append(f"the trade-off table has {len(rows)} of the {problem.pareto} rows asked "
+                         "for (budget spent, or no shorter cylinder stays within the force limit)")
+    solver = {"method": method, "seed": meta.solver.seed, "evaluations": budget.used,
+              "converged": bool(out.converged), "budget": total, "completed": bool(out.completed)}
+    return out.best.design, solver, rows

@@ -1,0 +1,17 @@
+"""`type = "linkage"`: nothing to solve; the given four-bar is the solution."""
+
+from __future__ import annotations
+
+from linkcli.mechanisms.four_bar import input_arcs
+from linkcli.solution import Solution, Status
+
+
+def solve(problem) -> Solution:
+    fb = problem.linkage
+    if input_arcs(*fb.abcd) == []:
+        return Solution(status=Status.INFEASIBLE, linkage=fb,
+                        message="the linkage cannot assemble at any input angle "
+                                "(rho = |A B0| never lies within [|b - c|, b + c])")
+    return Solution(status=Status.OK, linkage=fb, message="given linkage",
+                    solver={"method": "analysis", "seed": problem.meta.solver.seed,
+                            "evaluations": 0, "converged": True})

@@ -1,0 +1,258 @@
+"""Search machinery for path generation, vectorized over candidates (numpy; scipy lazily).
+
+The objective evaluations (one per candidate evaluated, every finite-difference column
+included) are counted by `linkcli.search.budget.Budget` against the `[solver] budget`.
+* `Space`: the free variables of a Design, optionally with the coupler point and the
+  ground pivot projected out (solved by `path_starts.fit_linear` at every evaluation:
+  variable projection, which leaves the lengths, the angles and the timing to search);
+  residuals and central-difference Jacobians of many candidates as one batch.
+* `distinct`: the best candidates, pairwise apart (restarts from distinct basins).
+* `batch_lm`: Levenberg-Marquardt on many candidates at once (stacked normal equations,
+  Marquardt scaling), variables held inside their bounds (a variable at a bound with the
+  gradient pushing out is frozen for the step).
+* `polish`: scipy.optimize.least_squares (trust-region reflective, bounds respected) on
+  the residual vector of one candidate.
+* `differential_evolution`: scipy's, vectorized over its population, on the penalized
+  sum of squares.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from linkcli.search import sampling
+from linkcli.search.budget import Budget
+from linkcli.types.path_generation.model import Design
+from linkcli.types.path_generation.starts import fit_linear
+
+POLISH_ITERATIONS = 100  # residual evaluations of one least_squares polish, at most
+DE_TOL = 1e-8  # differential evolution stops when the costs' spread is this small
+LINEAR = [4, 5, 6, 7]  # px, py, gx, gy: linear in the coupler point once the rest is set
+
+
+class Space:
+    """The free variables of a Design: z (N, k) <-> full x (N, nx), with the per-candidate
+    branch sign and turning direction, and a counted residual function."""
+
+    def __init__(self, design: Design, counter: Budget, project: bool = False) -> None:
+        self.design = design
+        self.counter = counter
+        self.project = project  # variable projection: coupler point and pivot by fit_linear
+        free = design.free.copy()
+        if project:
+            free[LINEAR] = False
+        self.idx = np.flatnonzero(free)
+        self.lo = design.lo[self.idx]
+        self.hi = design.hi[self.idx]
+        self.base = np.where(free, 0.0, 0.5 * (design.lo + design.hi))
+
+    @property
+    def k(self) -> int:
+        return len(self.idx)
+
+    def full(self, z: np.ndarray, sign=None, s=None) -> np.ndarray:
+        """Full vectors; with projection (and sign, s given), the linear part fitted."""
+        x = np.repeat(self.base[None, :], len(z), axis=0)
+        x[:, self.idx] = z
+        if self.project and sign is not None:
+            x = fit_linear(self.design, x, sign, s)
+        return x
+
+    def free(self, x: np.ndarray) -> np.ndarray:
+        return x[:, self.idx]
+
+    def residuals(self, z, sign, s, weight) -> np.ndarray:
+        self.counter.add(len(z))
+        if not self.project:
+            return self.design.residuals(self.full(z), sign, s, weight)
+        x, pose = fit_linear(self.design, self.full(z), sign, s, with_pose=True)
+        return self.design.residuals(x, sign, s, weight, pose=pose)
+
+    def cost(self, z, sign, s, weight) -> np.ndarray:
+        r = self.residuals(z, sign, s, weight)
+        return np.einsum("ij,ij->i", r, r)
+
+    def step_sizes(self, z: np.ndarray) -> np.ndarray:
+        """Central-difference half steps (N, k): about eps^(1/3) of each variable's scale,
+        shrunk where a bound is nearer than that (the shifted points stay inside)."""
+        width = np.where(np.isfinite(self.hi - self.lo), self.hi - self.lo, 1.0)
+        h = 6e-6 * np.maximum(np.abs(z), np.maximum(width[None, :] * 1e-2, 1e-3))
+        room = np.minimum(z - self.lo, self.hi - z)
+        return np.where(room >= h, h, np.maximum(room, 0.0))
+
+    def jacobian(self, z, sign, s, weight, r0):
+        """(N, m, k) Jacobians by central differences (one-sided, second order, where a
+        variable sits on a bound), the N * 2k shifted candidates as one batch."""
+        n, k = z.shape
+        h = self.step_sizes(z)
+        width = np.where(np.isfinite(self.hi - self.lo), self.hi - self.lo, 1.0)
+        edge = h <= 0.0
+        h = np.where(edge, 6e-6 * np.maximum(np.abs(z), np.maximum(width[None, :] * 1e-2, 1e-3)), h)
+        # at a bound: forward (or backward) three-point formula inside the box
+        sgn = np.where(z - self.lo <= self.hi - z, 1.0, -1.0)
+        off1 = np.where(edge, sgn * h, h)
+        off2 = np.where(edge, 2 * sgn * h, -h)
+        zz = np.repeat(z[:, None, :], 2 * k, axis=1)
+        zz[:, np.arange(k), np.arange(k)] += off1
+        zz[:, k + np.arange(k), np.arange(k)] += off2
+        rr = self.residuals(zz.reshape(n * 2 * k, k), np.repeat(sign, 2 * k), np.repeat(s, 2 * k), weight)
+        rr = rr.reshape(n, 2 * k, -1)
+        r1, r2 = rr[:, :k], rr[:, k:]
+        central = (r1 - r2) / (2 * h[:, :, None])
+        onesided = (4 * r1 - r2 - 3 * r0[:, None, :]) / (2 * (sgn * h)[:, :, None])
+        return np.transpose(np.where(edge[:, :, None], onesided, central), (0, 2, 1))
+
+
+# ---------------------------------------------------------------- selection
+
+def distinct(z: np.ndarray, cost: np.ndarray, width: np.ndarray, k: int, tol: float = 1e-3):
+    """Indices of up to k lowest-cost finite rows, each more than `tol` (relative to the
+    bounds' widths, max norm) away from every row already taken."""
+    order = np.argsort(cost, kind="stable")
+    order = order[np.isfinite(cost[order])]
+    if z.shape[1] == 0:
+        return order[:1]
+    w = np.where(np.isfinite(width) & (width > 0), width, 1.0)
+    return np.array(sampling.distinct(z / w, order, tol, k), dtype=int)
+
+
+# ---------------------------------------------------------------- batched Levenberg-Marquardt
+
+def batch_lm(space: Space, z, sign, s, weight: float, iterations: int, reserve: int = 0):
+    """Levenberg-Marquardt on every row of z at once, leaving `reserve` evaluations of the
+    budget unspent; returns (z, cost, converged): a row has converged when a step gains
+    less than 1e-12 of its cost, when no step gains anything (damping above 1e10), or at
+    an exact fit."""
+    z = z.copy()
+    k = space.k
+    if k == 0 or space.counter.left - reserve < len(z):
+        return z, np.full(len(z), np.inf), np.zeros(len(z), dtype=bool)
+    r = space.residuals(z, sign, s, weight)
+    f = np.einsum("ij,ij->i", r, r)
+    lam = np.full(len(z), 1e-3)
+    jac = None
+    stale = np.ones(len(z), dtype=bool)  # Jacobian to (re)compute
+    active = np.ones(len(z), dtype=bool)
+    for _ in range(iterations):
+        rows = np.flatnonzero(active)
+        if len(rows) == 0 or space.counter.left - reserve < len(rows) * (2 * k + 1):
+            break
+        need = rows[stale[rows]]
+        if jac is None:
+            jac = np.zeros((len(z), r.shape[1], k))
+        if len(need):
+            jac[need] = space.jacobian(z[need], sign[need], s[need], weight, r[need])
+            stale[need] = False
+        j = jac[rows]
+        g = np.einsum("nmk,nm->nk", j, r[rows])
+        h = np.einsum("nmk,nml->nkl", j, j)
+        zr = z[rows]
+        frozen = (((zr <= space.lo + 1e-12 * (np.abs(space.lo) + 1)) & (g > 0))
+                  | ((zr >= space.hi - 1e-12 * (np.abs(space.hi) + 1)) & (g < 0)))
+        keep = ~frozen
+        h = h * keep[:, :, None] * keep[:, None, :]
+        g = g * keep
+        diag = np.einsum("nkk->nk", h)
+        damp = lam[rows, None] * (diag + 1e-12 * diag.max(axis=1, keepdims=True)) + frozen + 1e-300
+        a = h + np.einsum("nk,kl->nkl", damp, np.eye(k))
+        step = -np.linalg.solve(a, g[..., None])[..., 0]
+        step = np.nan_to_num(step) * keep
+        znew = np.clip(zr + step, space.lo, space.hi)
+        rnew = space.residuals(znew, sign[rows], s[rows], weight)
+        fnew = np.einsum("ij,ij->i", rnew, rnew)
+        ok = fnew < f[rows]
+        acc = rows[ok]
+        small = ok & (f[rows] - fnew <= 1e-12 * f[rows])
+        z[acc], r[acc], stale[acc] = znew[ok], rnew[ok], True
+        f_old = f[rows]
+        f[acc] = fnew[ok]
+        lam[rows] = np.where(ok, np.maximum(lam[rows] / 3.0, 1e-12), lam[rows] * 4.0)
+        done = small | (lam[rows] > 1e10) | (f[rows] < 1e-30) | (~ok & (f_old < 1e-30))
+        active[rows[done]] = False
+    return z, f, ~active
+
+
+# ---------------------------------------------------------------- scipy polish
+
+def polish(space: Space, z0, sign: float, s: float, weight: float, max_nfev: int):
+    """scipy least_squares (trf, bounds) from z0 (k,). Returns (z, cost, converged)."""
+    from scipy.optimize import least_squares
+
+    sg, ss = np.array([sign]), np.array([s])
+    k = space.k
+
+    def fun(z):
+        return space.residuals(z[None, :], sg, ss, weight)[0]
+
+    def jac(z):
+        r0 = fun(z)
+        return space.jacobian(z[None, :], sg, ss, weight, r0[None, :])[0]
+
+    z0 = np.clip(z0, space.lo, space.hi)
+    # least_squares needs a start strictly inside the bounds
+    width = space.hi - space.lo
+    z0 = np.clip(z0, space.lo + 1e-10 * width, space.hi - 1e-10 * width)
+    max_nfev = max(1, min(max_nfev // (2 * k + 2), POLISH_ITERATIONS))
+    inside = np.all(np.isfinite(z0)) and np.all(z0 >= space.lo) and np.all(z0 <= space.hi)
+    if not inside or not np.all(space.lo < space.hi):
+        return z0, math.inf, False  # bounds too wide or too close for floating point
+    try:
+        res = least_squares(fun, z0, jac=jac, bounds=(space.lo, space.hi), method="trf",
+                            x_scale="jac", ftol=1e-12, xtol=1e-12, gtol=1e-12, max_nfev=max_nfev)
+    except (ValueError, np.linalg.LinAlgError):  # non-finite residuals or Jacobian
+        return z0, math.inf, False
+    return res.x, 2.0 * float(res.cost), bool(res.status > 0)
+
+
+# ---------------------------------------------------------------- differential evolution
+
+def differential_evolution(space: Space, rng_seed: int, weight: float, budget: int):
+    """scipy's differential evolution (vectorized, no polish) on the penalized sum of
+    squares; a branch "either" or direction "either" becomes one more variable in [-1, 1]
+    whose sign picks it. Returns (z, sign, s, cost, converged): converged when the
+    population's spread of costs fell below DE_TOL of their mean (scipy's criterion)."""
+    from scipy.optimize import differential_evolution as de
+
+    d = space.design
+    k = space.k
+    pick_branch = d.branch == "either"
+    pick_dir = d.timing == "free" and d.direction == "either"
+    extra = int(pick_branch) + int(pick_dir)
+    bounds = list(zip(space.lo, space.hi)) + [(-1.0, 1.0)] * extra
+    fixed_sign = -1.0 if d.branch == "open" else 1.0
+    fixed_s = -1.0 if d.direction == "cw" else 1.0
+
+    def decode(v):  # v (k + extra, S)
+        z = v[:k].T
+        col = k
+        sign = np.full(len(z), fixed_sign)
+        s = np.full(len(z), fixed_s)
+        if pick_branch:
+            sign = np.where(v[col] < 0, -1.0, 1.0)
+            col += 1
+        if pick_dir:
+            s = np.where(v[col] < 0, -1.0, 1.0)
+        return z, sign, s
+
+    def func(v):
+        z, sign, s = decode(np.atleast_2d(v.T).T if v.ndim == 1 else v)
+        return space.cost(z, sign, s, weight)
+
+    dims = k + extra
+    popsize = max(1, min(15, budget // max(1, 2 * dims)))
+    npop = popsize * dims
+    if npop < 5 or npop > budget:  # too small a budget for a population: random draws
+        v = np.array([lo for lo, _ in bounds]) + np.array([hi - lo for lo, hi in bounds]) * \
+            np.random.default_rng(rng_seed).random((max(1, budget), dims))
+        cost = func(v.T)
+        i = int(np.argmin(cost))
+        z, sign, s = decode(v[i][:, None])
+        return z[0], float(sign[0]), float(s[0]), float(cost[i]), False
+    maxiter = max(0, budget // npop - 1)
+    res = de(func, bounds, strategy="best1bin", maxiter=maxiter, popsize=popsize, tol=DE_TOL,
+             mutation=(0.5, 1.0), recombination=0.7, seed=rng_seed, polish=False,
+             vectorized=True, updating="deferred", init="latinhypercube")
+    z, sign, s = decode(res.x[:, None])
+    return z[0], float(sign[0]), float(s[0]), float(res.fun), bool(res.success)

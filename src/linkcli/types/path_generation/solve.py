@@ -1,0 +1,380 @@
+"""Path generation: a coupler point through target points (SPEC section 2).
+
+Objective: sum over the targets of |P_k - T_k|^2, P_k the coupler point in the global frame
+(`path_model`). Constraints: bounds, the Grashof class, the transmission window (over the
+full turn for a crank-rocker or double-crank, else over the targets' span), assembly at
+every target on one branch with no dead point between the first and the last target, and
+for free timing the targets reached in order within one turn.
+
+Methods (`[solver] method`):
+
+* `multistart` (what `auto` runs): seeded draws completed in closed form
+  (`path_starts`: timing hypotheses on the coupler curve, a similarity fit for scale,
+  angle and pivot, a linear fit for coupler point and pivot), then Levenberg-Marquardt on
+  the most promising distinct candidates at once with the linear part projected out, in
+  rounds that halve the field, then scipy least_squares on every variable, bounds held,
+  from the best distinct few.
+* `least-squares`: plain multistart, scipy least_squares from uniform random draws.
+* `differential-evolution`: scipy's differential evolution alone, on the penalized sum.
+* `de-polish`: differential evolution on half the budget, then least_squares.
+
+Whatever the method, the reported linkage is checked against every constraint with the
+exact kinematics (`violations`); a violation makes the status infeasible, named with its amount.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from linkcli.mechanisms import four_bar as kin
+from linkcli.model import FourBar
+from linkcli.search.budget import Budget
+from linkcli.solution import Positions, Solution, Status
+from linkcli.types.path_generation import starts as st
+from linkcli.types.path_generation.model import N_LINK, SHORTEST, Design, build, rho2_extremes
+from linkcli.types.path_generation.search import Space, batch_lm, differential_evolution, distinct, polish
+
+DEFAULT_BUDGET = {"multistart": 2_000_000, "least-squares": 200_000, "differential-evolution": 200_000,
+                  "de-polish": 200_000}
+POINT_EVALUATIONS = 40_000_000  # default cap on evaluations x targets (the cost of a search)
+LM_WEIGHT = 1e2  # penalty weight (dimensionless residuals) in the batched stage
+POLISH_WEIGHTS = (1e3, 1e5, 1e7, 1e9)  # final polish; each stiffer one only while a violation is left
+LM_FIELD = 96  # candidates entering the batched Levenberg-Marquardt stage
+LM_ROUNDS = (25, 25, 40, 60, 100)  # iterations per round; the field halves after each round
+POLISHED = 4  # distinct candidates refined on every variable, then polished by scipy
+POLISHED_SCIPY = 2  # of those, polished by scipy least_squares
+REFINE_ITERATIONS = 400  # batched Levenberg-Marquardt on every variable before the polish
+MAX_DRAWS = {"free": 600, "prescribed": 2000}
+SCAN_SHARE = 0.6  # share of a round's budget for the draws
+ROUND_BUDGET = 500_000  # evaluations per round of the multistart (the whole budget if small)
+CONFIRM = 1e-3  # a round whose own best is within this (relative) of the best so far confirms it
+IMPROVE = 1e-6  # a round improves the best when it lowers it by more than this (relative)
+MAX_STALE = 3  # rounds in a row without improvement that end the search
+MEMORY = 4_000_000  # Jacobian elements held at once by the batched stage
+EXACT = 1e-28  # dimensionless cost below which a candidate is an exact fit
+EXACT_RMS = 1e-9  # rms error, relative to the targets' extent, that ends the rounds
+ANGLE_VIOLATIONS = ("transmission", "order")  # violations measured in radians (others: length)
+
+
+@dataclass
+class Candidate:
+    """One finished candidate: full vector, branch sign (-1 open, +1 crossed), turning
+    direction (+1 ccw, -1 cw) and whether its local search converged."""
+
+    x: np.ndarray
+    sign: float
+    s: float
+    converged: bool
+
+
+def solve(problem) -> Solution:
+    d = build(problem)
+    opts = problem.meta.solver
+    method = "multistart" if opts.method == "auto" else opts.method
+    counter = Budget(opts.budget or default_budget(method, d.n))
+    rng = np.random.default_rng(opts.seed)
+    with np.errstate(all="ignore"):
+        if not d.free.any():  # nothing to choose: the given linkage on the allowed branches
+            signs = {"open": (-1.0,), "crossed": (1.0,)}.get(d.branch, (-1.0, 1.0))
+            cands = [Candidate(d.lo.copy(), sg, 1.0, True) for sg in signs]
+            counter.add(len(cands))
+        elif method == "multistart":
+            cands = multistart(d, counter, rng)
+        elif method == "least-squares":
+            cands = plain_multistart(d, counter, rng)
+        else:
+            cands = evolve(d, counter, opts.seed, polish_after=method == "de-polish")
+        best, violations = choose(d, cands)
+        return solution(problem, d, best, violations, method, counter)
+
+
+def default_budget(method: str, points: int) -> int:
+    """The method's default evaluations, fewer for many targets (each evaluation costs one
+    assembly per target): 2,000,000 up to 20 targets, 200,000 at 200."""
+    return max(1, min(DEFAULT_BUDGET[method], POINT_EVALUATIONS // max(points, 1)))
+
+
+def exact_objective(d: Design) -> float:
+    """An objective this small is an exact fit: rms error EXACT_RMS of the targets' extent."""
+    return d.n * (EXACT_RMS * d.scale) ** 2
+
+
+# ---------------------------------------------------------------- methods
+
+def multistart(d: Design, counter: Budget, rng) -> list[Candidate]:
+    """Rounds of `one_round` until an exact fit, a round whose own best lands within
+    CONFIRM of the best so far (the same optimum found again), MAX_STALE rounds in a row
+    that do not improve the best by more than IMPROVE, or the budget's end. Objectives are
+    compared while a candidate is feasible, total violations while none is."""
+    found: list[Candidate] = []
+    best = None
+    stale = 0
+    exact = exact_objective(d)
+    while True:
+        limit = counter.left if counter.left < 2 * ROUND_BUDGET else ROUND_BUDGET
+        with counter.limit(limit):
+            new = one_round(d, counter, rng)
+        mine = min((_rank(d, c) for c in new), default=None)
+        found = sorted(found + new, key=lambda c: _rank(d, c))[:POLISHED]
+        top = _rank(d, found[0])
+        done = not top[0] and top[2] <= exact
+        if best is not None and mine is not None:
+            k = 1 if best[0] else 2  # compare violations while infeasible, else objectives
+            tiny = exact if k == 2 else 0.0
+            again = mine[0] == best[0] and abs(mine[k] - best[k]) <= CONFIRM * best[k] + tiny
+            better = top[0] < best[0] or (top[0] == best[0] and top[k] < best[k] * (1 - IMPROVE) - tiny)
+            stale = 0 if better else stale + 1
+            done |= again or stale >= MAX_STALE
+        best = top if best is None or top < best else best
+        if done or counter.left < ROUND_BUDGET // 4:
+            return found
+
+
+def one_round(d: Design, counter: Budget, rng) -> list[Candidate]:
+    """Draws completed in closed form, batched Levenberg-Marquardt with the linear part
+    projected out (the field halving after each round of iterations), then the best
+    distinct few refined on every variable and polished by scipy."""
+    per = st.hypotheses_per_draw(d)
+    n_draws = min(MAX_DRAWS[d.timing], int(SCAN_SHARE * counter.left) // per)
+    proj = Space(d, counter, project=True)
+    if n_draws >= 8:
+        x, sign, s = st.starts(d, rng, n_draws)
+        counter.add(n_draws * per)
+    else:  # a tiny budget: plain draws only, half of it to rank them
+        n_draws = max(1, min(64, counter.left // 2))
+        x, sign, s = st.plain_starts(d, rng, n_draws)
+    z = proj.free(x)
+    f = proj.cost(z, sign, s, LM_WEIGHT) if counter.left >= n_draws else np.zeros(n_draws)
+    m = 2 * d.n + d.n_penalties
+    field = max(1, min(LM_FIELD, MEMORY // max(1, m * max(proj.k, 1))))
+    keep = distinct(z, f, proj.hi - proj.lo, field)
+    if len(keep) == 0:
+        keep = np.arange(min(field, len(z)))
+    z, sign, s, f = z[keep], sign[keep], s[keep], f[keep]
+    reserve = int(0.15 * counter.left)
+    for iters in LM_ROUNDS:
+        if proj.k == 0 or counter.left <= reserve or f.min() < EXACT:
+            break
+        z, f, _ = batch_lm(proj, z, sign, s, LM_WEIGHT, iters, reserve=reserve)
+        keep = distinct(z, f, proj.hi - proj.lo, max(POLISHED, len(z) // 2))
+        if len(keep):
+            z, sign, s, f = z[keep], sign[keep], s[keep], f[keep]
+    keep = distinct(z, f, proj.hi - proj.lo, POLISHED)
+    if len(keep) == 0:
+        keep = np.arange(min(POLISHED, len(z)))
+    x = proj.full(z[keep], sign[keep], s[keep])
+    sign, s = sign[keep], s[keep]
+    space = Space(d, counter)
+    z, f, done = batch_lm(space, space.free(x), sign, s, LM_WEIGHT, REFINE_ITERATIONS,
+                          reserve=reserve // 2)
+    best = np.argsort(f, kind="stable")[:POLISHED_SCIPY]
+    return polish_all(d, counter, space.full(z[best]), sign[best], s[best], done[best])
+
+
+def plain_multistart(d: Design, counter: Budget, rng) -> list[Candidate]:
+    """scipy least_squares from uniform random draws until the budget is spent."""
+    space = Space(d, counter)
+    out: list[Candidate] = []
+    while counter.left > 0:
+        batch = min(16, counter.left)
+        x, sign, s = st.plain_starts(d, rng, batch)
+        counter.add(batch)
+        for i in range(batch):
+            if counter.left <= 0:
+                break
+            cap = min(counter.left, max(200, counter.cap // 20))
+            if cap < 2 * space.k + 2:
+                break
+            z, _, conv = polish(space, space.free(x[i:i + 1])[0], sign[i], s[i], POLISH_WEIGHTS[0], cap)
+            out.append(Candidate(space.full(z[None])[0], sign[i], s[i], conv))
+        out = sorted(out, key=lambda c: _rank(d, c))[:POLISHED]
+    return out or [Candidate(x[0], sign[0], s[0], False)]
+
+
+def evolve(d: Design, counter: Budget, seed: int, polish_after: bool) -> list[Candidate]:
+    space = Space(d, counter)
+    share = counter.cap // 2 if polish_after else counter.cap
+    z, sign, s, _, converged = differential_evolution(space, seed, POLISH_WEIGHTS[0], share)
+    x = space.full(z[None])
+    if not polish_after:
+        return [Candidate(x[0], sign, s, converged)]
+    return polish_all(d, counter, x, np.array([sign]), np.array([s]))
+
+
+def polish_all(d: Design, counter: Budget, x, sign, s, converged=None) -> list[Candidate]:
+    """scipy least_squares on every free variable from each row of x, in turn; a second,
+    stiffer penalty pass where the first leaves a constraint violated. A row converges
+    when the polish meets its tolerances or the batched stage before it had converged."""
+    space = Space(d, counter)
+    out = []
+    for i in range(len(x)):
+        z0 = space.free(x[i:i + 1])[0]
+        conv = bool(converged[i]) if converged is not None else False
+        for weight in POLISH_WEIGHTS:
+            cap = counter.left // max(1, len(x) - i)
+            if space.k == 0 or cap < 2 * space.k + 2:
+                break
+            z0, _, ok = polish(space, z0, sign[i], s[i], weight, cap)
+            conv = conv or ok
+            if not violations(d, space.full(z0[None])[0], sign[i], s[i]):
+                break
+        out.append(Candidate(space.full(z0[None])[0], sign[i], s[i], conv or space.k == 0))
+    return out
+
+
+# ---------------------------------------------------------------- checks
+
+def _rank(d: Design, c: Candidate):
+    """(infeasible, total violation, objective): lengths count relative to the linkage's size
+    (d + a + b + c) and angles in radians, so that shrinking a linkage does not pass for
+    coming closer to feasible."""
+    v = violations(d, c.x, c.sign, c.s)
+    obj = float(d.objective(c.x[None], np.array([c.sign]), np.array([c.s]))[0])
+    size = float(np.sum(c.x[:4]))
+    total = sum(a if name in ANGLE_VIOLATIONS else a / size for name, a, _ in v)
+    return (len(v) > 0, total, obj if math.isfinite(obj) else math.inf)
+
+
+def choose(d: Design, cands: list[Candidate]):
+    best = min(cands, key=lambda c: _rank(d, c))
+    return best, violations(d, best.x, best.sign, best.s)
+
+
+def violations(d: Design, x, sign, s) -> list[tuple[str, float, str]]:
+    """Every constraint the candidate breaks, checked with the exact kinematics:
+    (constraint, amount, message). Amounts in the length unit, or radians for angles."""
+    dd, a, b, c = (float(v) for v in x[:4])
+    out = []
+    phi = d.input_angles(x[None], np.array([s]))[0]
+    if d.grashof != "any":
+        cls = kin.GRASHOF_CLASSES[int(kin.grashof_code(a, b, c, dd))]
+        if cls != d.grashof:
+            links = np.array([dd, a, b, c])
+            if d.grashof in SHORTEST:
+                k = SHORTEST[d.grashof]
+                rest = [j for j in range(4) if j != k]
+                amt = max(links[k] + links[j] - sum(links[o] for o in rest if o != j) for j in rest)
+            else:
+                srt = np.sort(links)
+                amt = srt[1] + srt[2] - srt[0] - srt[3]
+            out.append(("grashof", max(float(amt), 0.0), f"the linkage is {cls}, not {d.grashof}"))
+    lo_span, width = float(phi.min()), float(phi.max() - phi.min())
+    if d.window is not None:
+        lo, hi = (0.0, kin.TWO_PI) if d.full_turn else (lo_span, lo_span + width)
+        mn, _, mx, _ = kin.transmission_extremes(a, b, c, dd, lo, hi)
+        over = "the full turn" if d.full_turn else "the targets' span"
+        if mn < d.window[0] - 1e-12:
+            out.append(("transmission", d.window[0] - mn, f"the smallest transmission angle over {over} "
+                        f"is below the window"))
+        if mx > d.window[1] + 1e-12:
+            out.append(("transmission", mx - d.window[1], f"the largest transmission angle over {over} "
+                        f"is above the window"))
+    p = kin.pose(a, b, c, dd, phi, "open" if sign < 0 else "crossed")
+    if not np.all(p.valid):
+        bad = np.flatnonzero(~p.valid)
+        short = float(np.max(np.maximum(abs(b - c) - p.rho, p.rho - (b + c))[bad]))
+        out.append(("assembly", short, "the linkage cannot assemble at target"
+                    + ("s " if len(bad) > 1 else " ") + ", ".join(str(i + 1) for i in bad)))
+    if not d.full_turn or kin.input_arcs(a, b, c, dd) is not None:
+        r2_min, r2_max = rho2_extremes(np.array([a]), np.array([dd]), np.array([lo_span]),
+                                       np.array([width]))
+        over = max(abs(b - c) - math.sqrt(r2_min[0]), math.sqrt(r2_max[0]) - (b + c))
+        if over > 1e-12 * (b + c):
+            out.append(("branch", over, "the input passes a dead point between the first and "
+                        "the last target (the linkage would change branch)"))
+    if d.timing == "free":
+        steps = x[N_LINK + 1:]
+        if np.any(steps < 0) or steps.sum() > kin.TWO_PI * (1 + 1e-12):
+            out.append(("order", float(max(steps.sum() - kin.TWO_PI, -steps.min())),
+                        "the targets are not reached in order within one turn of the input"))
+    return out
+
+
+# ---------------------------------------------------------------- the Solution
+
+def solution(problem, d: Design, best: Candidate, bad, method, counter) -> Solution:
+    u = problem.meta.units
+    x, sign, s = d.wrapped(best.x[None])[0], best.sign, best.s
+    dd, a, b, c, px, py, gx, gy, gamma = (float(v) for v in x[:N_LINK])
+    branch = "open" if sign < 0 else "crossed"
+    fb = FourBar(ground=dd, input=a, coupler=b, output=c, branch=branch, coupler_point=(px, py),
+                 ground_pivot=(gx, gy), ground_angle=gamma)
+    pts, pose, phi = d.points(x[None], np.array([sign]), np.array([s]))
+    pts, phi = pts[0], phi[0]
+    err = np.hypot(pts[:, 0] - d.targets[:, 0], pts[:, 1] - d.targets[:, 1])
+    objective = float(np.sum(err * err))
+    first, last = float(phi[0]), float(phi[-1])
+    monotone = bool(np.all(np.diff(phi) >= 0) or np.all(np.diff(phi) <= 0))
+    span = (first, last - first) if monotone else (float(phi.min()), float(phi.max() - phi.min()))
+    direction = ("ccw" if span[1] >= 0 else "cw") if monotone else "reverses"
+    timing = {"timing": d.timing, "direction": direction,
+              "first_input": float(u.from_rad(float(kin.wrap(first)))),
+              "input_sweep": float(u.from_rad(abs(span[1])))}
+    if d.timing == "prescribed" and d.free[N_LINK]:
+        timing["input_offset"] = float(u.from_rad(float(x[N_LINK])))
+    names = {v[0] for v in bad}
+    defects = {"assembles": "assembly" not in names, "branch": branch,
+               "branch_defect": "branch" in names,
+               "order_defect": "order" in names}
+    notes = _notes(problem, d, x) + _reach_note(problem, d, x, err)
+    converged = bool(best.converged) or objective <= exact_objective(d)  # exact: nothing to add
+    solver = {"method": method, "seed": problem.meta.solver.seed, "evaluations": counter.used,
+              "converged": converged}
+    n = d.n
+    if bad:
+        status = Status.INFEASIBLE
+        message = "; ".join(f"{name}: {msg} (by {_amount(name, amt, u, problem)})" for name, amt, msg in bad)
+    else:
+        status = Status.OK if converged else Status.NOT_CONVERGED
+        order = ("at the prescribed input angles" if d.timing == "prescribed"
+                 else f"in order within one turn ({timing['direction']}, input sweep "
+                      f"{timing['input_sweep']:.4g} {u.angle})")
+        message = (f"{n} targets, {d.timing} timing: assembles at every target on the {branch} "
+                   f"branch, without a branch change, and reaches them {order}")
+        if not converged and counter.left < max(1, counter.cap // 10):
+            message += "; the search stopped at its budget before the polish converged"
+        elif not converged:
+            message += ("; the local polish reached its iteration limit before meeting its "
+                        "tolerances (a long, flat valley: another seed or method may end lower)")
+    return Solution(
+        status=status, linkage=fb, message=message,
+        positions=Positions(kind="point", input=phi, target=d.targets.copy(), achieved=pts, error=err),
+        objective=objective, solver=solver, sections={"timing": timing, "defects": defects},
+        notes=notes, working_span=span,
+    )
+
+
+def _amount(name: str, amount: float, u, problem) -> str:
+    if name in ANGLE_VIOLATIONS:
+        return f"{u.from_rad(amount):.6g} {u.angle}"
+    return f"{amount:.6g} {u.length}"
+
+
+def _reach_note(problem, d: Design, x, err) -> list[str]:
+    """A fit that misses a target by more than a tenth of the targets' extent: name the
+    bounds the linkage presses against (a wider one may let it reach further)."""
+    worst = float(np.max(err)) if len(err) else 0.0
+    if not worst > 0.1 * d.scale:
+        return []
+    names = ("ground", "input", "coupler", "output", "coupler_point.x", "coupler_point.y",
+             "ground_pivot.x", "ground_pivot.y")
+    tight = [names[j] for j in range(len(names))
+             if d.free[j] and min(x[j] - d.lo[j], d.hi[j] - x[j]) <= 1e-6 * (d.hi[j] - d.lo[j])]
+    u = problem.meta.units.length
+    msg = (f"the best fit misses a target by {worst:.4g} {u} ({100 * worst / d.scale:.3g} % of the "
+           "targets' extent)")
+    return [msg + (f"; at its bound: {', '.join(tight)}" if tight else "")]
+
+
+def _notes(problem, d: Design, x) -> list[str]:
+    """A length that ended on a lower bound of 0 raised to MIN_LENGTH."""
+    out = []
+    for j, name in enumerate(("ground", "input", "coupler", "output")):
+        lo = problem.lengths[name][0]
+        if lo == 0.0 and d.free[j] and x[j] <= d.lo[j] * (1 + 1e-9):
+            out.append(f"{name} sits at the smallest length allowed ({d.lo[j]:.3g} "
+                       f"{problem.meta.units.length}): its lower bound 0 is kept strictly positive")
+    return out

@@ -1,0 +1,404 @@
+"""Starting candidates for path generation: seeded draws completed in closed form (numpy).
+
+A draw fixes the shape of a linkage (lengths and coupler point inside their bounds, in the
+Grashof class asked for), a ground angle, a pivot and a branch. What enters the coupler
+point linearly is then solved for instead of drawn:
+
+* Similarity. With the input angles phi_k set, the coupler curve of the drawn shape in its
+  local frame, Q_k = a e^{i phi_k} + e^{i theta_k} p, scales with the linkage, so placing
+  it is the linear fit T_k ~ g + u Q_k (complex: g the pivot, u = scale * e^{i gamma}),
+  solved in closed form (centred Procrustes without the unit-modulus constraint). The
+  scale is clipped to the interval that keeps every scaled length and coupler coordinate
+  inside its bounds; a fixed pivot or ground angle stays fixed.
+* Free timing. Each target k gets an arc-length position on the drawn curve (sampled at
+  CURVE_SAMPLES input angles over one turn): starting at sample j, running a fraction
+  lam of the curve's length in a direction, target k sits at the fraction c_k of the way
+  (c_k: cumulative chord length of the targets, 0 for the first, 1 for the last). Every
+  start j, fraction lam and direction is one hypothesis whose cost is the similarity fit
+  above; the best one gives the input angles in order within one turn.
+* Coupler point and ground pivot. Once the lengths, the input angles and the ground angle
+  are set, P_k = G + R(gamma) A_k + R(gamma + theta_k) p is linear in (G, p): a linear
+  least squares fit on the free coordinates (`fit_linear`).
+
+Every hypothesis and every completed draw counts as one objective evaluation.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from linkcli.mechanisms import four_bar as kin
+from linkcli.types.path_generation.model import N_LINK, SHORTEST, Design
+
+CURVE_SAMPLES = 120  # samples of the coupler curve over one turn (free timing)
+START_STRIDE = 3  # every 3rd sample is tried as the first target's position
+FRACTIONS = (0.05, 0.12, 0.25, 0.45, 0.7, 0.95)  # share of the curve the targets span
+OFFSETS = 24  # prescribed timing with a free offset: hypotheses over its range
+CHUNK = 2_000_000  # complex elements per vectorized block of hypotheses
+
+
+def hypotheses_per_draw(d: Design) -> int:
+    """Objective evaluations one draw costs (its hypotheses plus its completion)."""
+    if d.timing == "free":
+        starts = len(range(0, CURVE_SAMPLES, START_STRIDE))
+        return starts * len(FRACTIONS) * len(directions(d)) + 1
+    return (OFFSETS if d.free[N_LINK] else 1) + 1
+
+
+def directions(d: Design) -> tuple[int, ...]:
+    return {"ccw": (1,), "cw": (-1,)}.get(d.direction, (1, -1))
+
+
+# ---------------------------------------------------------------- draws
+
+def branch_signs(d: Design, rng, n: int) -> np.ndarray:
+    """-1 open, +1 crossed; "either" draws both."""
+    if d.branch == "open":
+        return -np.ones(n)
+    if d.branch == "crossed":
+        return np.ones(n)
+    return np.where(rng.random(n) < 0.5, -1.0, 1.0)
+
+
+def sample_lengths(d: Design, rng, n: int, virtual=None):
+    """(n, 4) lengths d, a, b, c uniform in their bounds, in the Grashof class asked for
+    and, for an input that must turn fully, inside the transmission window over the turn
+    (mu at rho = |d - a| and d + a), when the draws allow it: rejection from up to 32 n
+    draws, the rest kept as drawn. With `virtual` (see `virtual_scale`), the fixed lengths
+    are drawn as part of the shape too: each pool row gets a scale sigma and its fixed
+    lengths the values fixed / sigma; returns (lengths, sigma) then."""
+    lo, hi = d.lo[:4], d.hi[:4]
+    m = n if d.grashof == "any" else 32 * n
+    pool = lo + (hi - lo) * rng.random((m, 4))
+    sigma = None
+    if virtual is not None:
+        sigma = virtual(m)
+        fixed = [j for j in range(4) if not d.free[j]]
+        pool[:, fixed] = d.lo[fixed] / sigma[:, None]
+    if d.grashof == "any":
+        return pool if virtual is None else (pool, sigma)
+    srt = np.sort(pool, axis=1)
+    grashof = srt[:, 0] + srt[:, 3] < (srt[:, 1] + srt[:, 2]) * (1 - 1e-6)
+    if d.grashof in SHORTEST:
+        ok = grashof & (np.argmin(pool, axis=1) == SHORTEST[d.grashof])
+    else:
+        ok = ~grashof
+    if d.window is not None and d.full_turn:
+        dd, a, b, c = pool.T
+        cos_mu = lambda r: (b * b + c * c - r * r) / (2 * b * c)
+        ok &= (cos_mu(np.abs(dd - a)) <= np.cos(d.window[0])) & (cos_mu(dd + a) >= np.cos(d.window[1]))
+    order = np.concatenate([np.flatnonzero(ok), np.flatnonzero(~ok)])[:n]
+    return pool[order] if virtual is None else (pool[order], sigma[order])
+
+
+def virtual_scale(d: Design, rng):
+    """When fixed lengths or coupler coordinates pin the scale (the closed-form completion
+    can then only turn and move a draw), a sampler of the scale sigma that lets them take
+    part in the shape: the reference (the longest fixed length, else the largest fixed
+    coupler coordinate) is drawn as if it were free, over the range the free lengths span,
+    and sigma = its fixed value / its drawn one; the completion scales the draw by sigma,
+    which brings every fixed variable back to its value. None when nothing pins the scale,
+    or nothing else could scale with it."""
+    free_len = [j for j in range(4) if d.free[j]]
+    fixed_len = [j for j in range(4) if not d.free[j]]
+    fixed_cp = [j for j in (4, 5) if not d.free[j] and d.lo[j] != 0.0]
+    if not free_len or not (fixed_len or fixed_cp):
+        return None
+    top = max(d.hi[j] for j in free_len)
+    vlo, vhi = max(min(d.lo[j] for j in free_len), 0.05 * top), top
+    ref = max(fixed_len, key=lambda j: d.lo[j]) if fixed_len else max(fixed_cp, key=lambda j: abs(d.lo[j]))
+    value = abs(d.lo[ref])
+    return lambda m: value / (vlo + (vhi - vlo) * rng.random(m))
+
+
+def draw(d: Design, rng, n: int):
+    """n raw draws (x, sign, s): every variable uniform in its bounds, lengths in class."""
+    x = d.wrapped(d.lo + (d.hi - d.lo) * rng.random((n, d.nx)))
+    x[:, :4] = sample_lengths(d, rng, n)
+    sign = branch_signs(d, rng, n)
+    s = np.full(n, float(directions(d)[0]))
+    return x, sign, s
+
+
+def scale_interval(d: Design, x: np.ndarray):
+    """(lo, hi) of the factor that keeps every scaled length and coupler coordinate of each
+    draw inside its bounds (draws lie inside, so 1 is always in the interval)."""
+    v = x[:, :6]
+    lo, hi = d.lo[:6], d.hi[:6]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        low = np.where(v > 0, lo / v, np.where(v < 0, hi / v, -np.inf))
+        high = np.where(v > 0, hi / v, np.where(v < 0, lo / v, np.inf))
+    return np.maximum(low.max(axis=1), 1e-12), high.min(axis=1)
+
+
+# ---------------------------------------------------------------- closed-form fits
+
+def similarity(d: Design, q: np.ndarray, s_lo, s_hi, g0, gamma0):
+    """Fit T_k ~ g + u q_k over the last axis of q (complex). s_lo, s_hi, g0 broadcast
+    against q[..., 0]. Returns (u, g, cost).
+
+    g free: centred fit, u = sum (T - Tm) conj(q - qm) / sum |q - qm|^2, g = Tm - u qm;
+    g fixed (g0 not None): u = sum (T - g0) conj(q) / sum |q|^2. The modulus of u is then
+    clipped to [s_lo, s_hi] (the best modulus for a fixed direction: the cost is quadratic
+    in it); a fixed ground angle gamma0 sets the direction, u = clip(Re(u e^{-i gamma0}))
+    e^{i gamma0}; a bounded one is clipped into its range."""
+    t = d.targets[:, 0] + 1j * d.targets[:, 1]
+    if g0 is None:
+        qm = q.mean(axis=-1, keepdims=True)
+        tc, qc = t - t.mean(), q - qm
+    else:
+        tc, qc = t - g0, q
+    den = np.maximum(np.sum((qc * qc.conj()).real, axis=-1), 1e-300)
+    u = np.sum(tc * qc.conj(), axis=-1) / den
+    if gamma0 is not None:
+        e = np.exp(1j * gamma0)
+        u = np.clip((u * np.conj(e)).real, s_lo, s_hi) * e
+    else:
+        mod = np.clip(np.abs(u), s_lo, s_hi)
+        ang = np.angle(u)
+        glo, ghi = d.lo[8], d.hi[8]
+        if ghi - glo < kin.TWO_PI:
+            ang = glo + np.clip(np.mod(ang - glo, kin.TWO_PI), 0.0, ghi - glo)
+        u = mod * np.exp(1j * ang)
+    g = t.mean() - u * qm[..., 0] if g0 is None else np.full(u.shape, g0, dtype=complex)
+    res = t - g[..., None] - u[..., None] * q
+    return u, g, np.sum((res * res.conj()).real, axis=-1)
+
+
+def fixed_pivot(d: Design):
+    """The ground pivot as a complex number when both coordinates are fixed, else None."""
+    return complex(d.lo[6], d.lo[7]) if not d.free[6] and not d.free[7] else None
+
+
+def fixed_angle(d: Design):
+    return None if d.free[8] else float(d.lo[8])
+
+
+def apply_similarity(d: Design, x, u, g) -> np.ndarray:
+    """Scale the lengths and coupler point by |u|, set gamma = arg u and the pivot g."""
+    x = x.copy()
+    mod = np.abs(u)
+    x[:, :6] *= mod[:, None]
+    x[:, 8] = np.angle(u) if d.free[8] else d.lo[8]
+    if d.free[8] and d.hi[8] - d.lo[8] >= kin.TWO_PI:
+        x[:, 8] = d.lo[8] + np.mod(x[:, 8] - d.lo[8], kin.TWO_PI)
+    x[:, 6], x[:, 7] = g.real, g.imag
+    return d.wrapped(np.clip(x, d.lo, d.hi))
+
+
+def fit_linear(d: Design, x: np.ndarray, sign: np.ndarray, s: np.ndarray, with_pose: bool = False):
+    """Coupler point and ground pivot by linear least squares, the rest held:
+
+        P_k = G + R(gamma) A_k + R(gamma + theta_k) p,   A_k = a e^{i phi_k}
+
+    is linear in (gx, gy, px, py), with columns (1, 0), (0, 1), e^{i(gamma + theta_k)} and
+    i e^{i(gamma + theta_k)}: the normal equations are sums over the targets (the two pivot
+    columns and the two coupler columns are orthogonal, each of squared norm n). Fixed
+    coordinates move to the right-hand side; the free ones are solved within their bounds
+    (`bounded_lstsq`). With `with_pose`, the closure computed on the way is returned too."""
+    free = [j for j in (4, 5, 6, 7) if d.free[j]]
+    dd, a, b, c = (x[:, k:k + 1] for k in range(4))
+    phi = d.input_angles(x, s)
+    p = kin.pose(a, b, c, dd, phi, sign[:, None])
+    if not free:
+        return (x, p) if with_pose else x
+    g = x[:, 8:9]
+    ca, sa = np.cos(g + p.theta), np.sin(g + p.theta)
+    rx = d.targets[None, :, 0] - a * np.cos(phi + g)
+    ry = d.targets[None, :, 1] - a * np.sin(phi + g)
+    fixed = {4: (ca, sa), 5: (-sa, ca)}
+    for j in (4, 5):
+        if not d.free[j]:
+            rx = rx - fixed[j][0] * x[:, j:j + 1]
+            ry = ry - fixed[j][1] * x[:, j:j + 1]
+    if not d.free[6]:
+        rx = rx - x[:, 6:7]
+    if not d.free[7]:
+        ry = ry - x[:, 7:8]
+    n = float(d.n)
+    sc, ss = ca.sum(axis=1), sa.sum(axis=1)
+    # normal matrix over (px, py, gx, gy) and right-hand side
+    h = np.zeros((len(x), 4, 4))
+    h[:, 0, 0] = h[:, 1, 1] = h[:, 2, 2] = h[:, 3, 3] = n
+    h[:, 0, 2] = h[:, 2, 0] = sc
+    h[:, 0, 3] = h[:, 3, 0] = ss
+    h[:, 1, 2] = h[:, 2, 1] = -ss
+    h[:, 1, 3] = h[:, 3, 1] = sc
+    rhs = np.stack([(ca * rx + sa * ry).sum(axis=1), (ca * ry - sa * rx).sum(axis=1),
+                    rx.sum(axis=1), ry.sum(axis=1)], axis=1)
+    k = [j - 4 for j in free]
+    sol = bounded_lstsq(h[:, k][:, :, k], rhs[:, k], d.lo[free], d.hi[free])
+    x = x.copy()
+    x[:, free] = sol
+    return (x, p) if with_pose else x
+
+
+def bounded_lstsq(h: np.ndarray, rhs: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """min |M y - r| subject to lo <= y <= hi for every row at once, given the normal
+    equations h = M^T M (N, f, f) and rhs = M^T r (N, f).
+
+    Active set that only grows: solve for the variables not yet held, hold the ones that
+    leave their bounds at the bound they crossed, solve again (at most f + 1 passes); a
+    held variable's part moves to the right-hand side (rhs - h y_held)."""
+    n, f = rhs.shape
+    h = h + (1e-12 * np.trace(h, axis1=1, axis2=2) + 1e-300)[:, None, None] * np.eye(f)
+    held = np.zeros((n, f), dtype=bool)
+    value = np.zeros((n, f))
+    eye = np.eye(f, dtype=bool)
+    y = np.zeros((n, f))
+    for _ in range(f + 1):
+        free = ~held
+        r = rhs - np.einsum("nij,nj->ni", h, value * held)
+        a = np.where(free[:, :, None] & free[:, None, :], h, 0.0) + np.where(held[:, :, None] & eye, 1.0, 0.0)
+        b = np.where(free, r, value)
+        y = np.nan_to_num(np.linalg.solve(a, b[..., None])[..., 0])
+        low, high = free & (y < lo), free & (y > hi)
+        if not (low.any() or high.any()):
+            break
+        held |= low | high
+        value = np.where(low, lo, np.where(high, hi, value))
+    return np.clip(np.where(held, value, y), lo, hi)
+
+
+# ---------------------------------------------------------------- timing hypotheses
+
+def local_curve(x: np.ndarray, sign: np.ndarray, phi: np.ndarray):
+    """Coupler point in the local frame (complex) at input angles phi, and validity."""
+    dd, a, b, c = (x[:, k:k + 1] for k in range(4))
+    p = kin.pose(a, b, c, dd, phi, sign[:, None])
+    lx, ly = p.coupler_point(a, x[:, 4:5], x[:, 5:6])
+    return lx + 1j * ly, p.valid
+
+
+def scan_free(d: Design, x, sign, s_lo, s_hi):
+    """Best timing hypothesis per draw: (x with timing, scale, angle and pivot set, s, cost).
+    See the module docstring; vectorized over draws, starts and targets."""
+    n, m = len(x), CURVE_SAMPLES
+    grid = np.arange(m) * (kin.TWO_PI / m)
+    q, valid = local_curve(x, sign, np.broadcast_to(grid, (n, m)))
+    seg = np.abs(np.roll(q, -1, axis=1) - q)
+    seg = np.where(valid & np.roll(valid, -1, axis=1), seg, 0.0)
+    arc = np.concatenate([np.zeros((n, 1)), np.cumsum(seg, axis=1)], axis=1)  # (n, m + 1)
+    total = arc[:, -1]
+    t = d.targets[:, 0] + 1j * d.targets[:, 1]
+    chord = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(t)))])
+    frac = chord / chord[-1]
+    starts = np.arange(0, m, START_STRIDE)
+    g0, gamma0 = fixed_pivot(d), fixed_angle(d)
+    best = np.full(n, np.inf)
+    best_idx = np.zeros((n, d.n), dtype=int)
+    best_s = np.ones(n)
+    best_u = np.ones(n, dtype=complex)
+    best_g = np.zeros(n, dtype=complex)
+    rows_per = max(1, CHUNK // (len(starts) * d.n))
+    for r0 in range(0, n, rows_per):
+        r = slice(r0, min(n, r0 + rows_per))
+        nr = r.stop - r.start
+        offset = (np.arange(nr) * 4.0 * (float(total[r].max()) + 1.0))[:, None]
+        flat = (arc[r] + offset).ravel()
+        for sdir in directions(d):
+            for lam in FRACTIONS:
+                sig = arc[r][:, starts][:, :, None] + sdir * lam * frac * total[r][:, None, None]
+                sig = np.mod(sig, np.maximum(total[r], 1e-300)[:, None, None])
+                pos = np.searchsorted(flat, (sig + offset[:, :, None]).ravel(), side="right") - 1
+                idx = pos.reshape(sig.shape) - (np.arange(nr) * (m + 1))[:, None, None]
+                idx = np.clip(idx, 0, m - 1)
+                s0 = np.take_along_axis(arc[r], idx.reshape(nr, -1), axis=1).reshape(sig.shape)
+                ln = np.take_along_axis(seg[r], idx.reshape(nr, -1), axis=1).reshape(sig.shape)
+                idx = np.mod(idx + (sig - s0 > 0.5 * ln), m)
+                qq = np.take_along_axis(q[r], idx.reshape(nr, -1), axis=1).reshape(sig.shape)
+                ok = np.take_along_axis(valid[r], idx.reshape(nr, -1), axis=1).reshape(sig.shape).all(axis=2)
+                u, g, cost = similarity(d, qq, s_lo[r, None], s_hi[r, None], g0, gamma0)
+                cost = np.where(ok & (total[r] > 0)[:, None], cost, np.inf)
+                j = np.argmin(cost, axis=1)
+                cj = cost[np.arange(nr), j]
+                better = cj < best[r]
+                rows = np.arange(r.start, r.stop)[better]
+                best[rows] = cj[better]
+                best_idx[rows] = idx[better, j[better]]
+                best_s[rows] = sdir
+                best_u[rows] = u[better, j[better]]
+                best_g[rows] = g[better, j[better]]
+    x = x.copy()
+    x[:, N_LINK] = grid[best_idx[:, 0]]
+    x[:, N_LINK + 1:] = np.mod(best_s[:, None] * np.diff(best_idx, axis=1), m) * (kin.TWO_PI / m)
+    return apply_similarity(d, x, best_u, best_g), best_s, best
+
+
+def scan_prescribed(d: Design, x, sign, s, s_lo, s_hi):
+    """Prescribed timing: the similarity fit at the given input angles; with a free offset,
+    OFFSETS values across its range are tried and the best kept."""
+    g0, gamma0 = fixed_pivot(d), fixed_angle(d)
+    if d.free[N_LINK]:
+        lo, hi = d.lo[N_LINK], d.hi[N_LINK]
+        width = min(hi - lo, kin.TWO_PI)
+        offs = lo + width * np.arange(OFFSETS) / (OFFSETS - (0 if width >= kin.TWO_PI else 1))
+    else:
+        offs = np.array([d.lo[N_LINK]])
+    n = len(x)
+    phi = d.base_phi[None, None, :] + offs[None, :, None]  # (1, H, n)
+    q, valid = local_curve(x, sign, phi.reshape(1, -1).repeat(n, axis=0))
+    q = q.reshape(n, len(offs), d.n)
+    valid = valid.reshape(n, len(offs), d.n).all(axis=2)
+    u, g, cost = similarity(d, q, s_lo[:, None], s_hi[:, None], g0, gamma0)
+    cost = np.where(valid, cost, np.inf)
+    j = np.argmin(cost, axis=1)
+    rows = np.arange(n)
+    x = x.copy()
+    x[:, N_LINK] = offs[j]
+    return apply_similarity(d, x, u[rows, j], g[rows, j]), s, cost[rows, j]
+
+
+def starts(d: Design, rng, n: int):
+    """n completed draws (x, sign, s): drawn, timed and placed, then fit_linear. Fixed
+    lengths and coupler coordinates take part in the drawn shape (`virtual_scale`)."""
+    x, sign, s = draw(d, rng, n)
+    virtual = virtual_scale(d, rng)
+    if virtual is not None:
+        x[:, :4], sigma = sample_lengths(d, rng, n, virtual)
+        fixed_cp = [j for j in (4, 5) if not d.free[j]]
+        x[:, fixed_cp] = d.lo[fixed_cp] / sigma[:, None]
+    s_lo, s_hi = scale_interval(d, x)
+    if d.timing == "free":
+        x, s, _ = scan_free(d, x, sign, s_lo, s_hi)
+    else:
+        x, s, _ = scan_prescribed(d, x, sign, s, s_lo, s_hi)
+    return fit_linear(d, x, sign, s), sign, s
+
+
+def assign_timing(d: Design, x: np.ndarray, sign: np.ndarray):
+    """Free timing without the scan (for plain multistart): each target takes its nearest
+    curve sample in the draw's own placement; counted from the first target's sample in
+    the turning direction, the sample indices are made non-decreasing (targets in order)."""
+    n, m = len(x), CURVE_SAMPLES
+    grid = np.arange(m) * (kin.TWO_PI / m)
+    q, valid = local_curve(x, sign, np.broadcast_to(grid, (n, m)))
+    glob = (x[:, 6:7] + 1j * x[:, 7:8]) + np.exp(1j * x[:, 8:9]) * q
+    t = d.targets[:, 0] + 1j * d.targets[:, 1]
+    d2 = np.abs(glob[:, None, :] - t[None, :, None]) ** 2
+    d2 = np.where(valid[:, None, :], d2, np.inf)
+    nearest = np.argmin(d2, axis=2)
+    j1 = nearest[:, :1]
+    rows = np.arange(n)[:, None]
+    best_cost = np.full(n, np.inf)
+    best_steps = np.zeros((n, d.n), dtype=int)
+    best_s = np.full(n, float(directions(d)[0]))
+    for sdir in directions(d):
+        steps = np.maximum.accumulate(np.mod(sdir * (nearest - j1), m), axis=1)
+        cost = d2[rows, np.arange(d.n)[None, :], np.mod(j1 + sdir * steps, m)].sum(axis=1)
+        better = cost < best_cost
+        best_cost = np.where(better, cost, best_cost)
+        best_steps[better] = steps[better]
+        best_s[better] = sdir
+    x = x.copy()
+    x[:, N_LINK] = grid[j1[:, 0]]
+    x[:, N_LINK + 1:] = np.diff(best_steps, axis=1) * (kin.TWO_PI / m)
+    return x, best_s
+
+
+def plain_starts(d: Design, rng, n: int):
+    """n draws with only the timing completed (free: `assign_timing`): the naive baseline."""
+    x, sign, s = draw(d, rng, n)
+    if d.timing == "free":
+        x, s = assign_timing(d, x, sign)
+    return x, sign, s
