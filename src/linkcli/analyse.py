@@ -101,8 +101,9 @@ def linkage_section(fb, u) -> dict:
     out = {"ground": fb.ground, "input": fb.input, "coupler": fb.coupler, "output": fb.output,
            "branch": fb.branch}
     if fb.coupler_point is not None:
-        out["coupler_point"] = list(fb.coupler_point)
-        out["ground_pivot"] = list(fb.ground_pivot)
+        size = max(fb.abcd)  # a coordinate that is round-off of 0 is 0
+        out["coupler_point"] = [snap(float(v), size) for v in fb.coupler_point]
+        out["ground_pivot"] = [snap(float(v), size) for v in fb.ground_pivot]
         out["ground_angle"] = _ang(u, fb.ground_angle)
     return out
 
@@ -186,7 +187,8 @@ def position_rows(pos, u, length_scale: float) -> list[dict]:
         else:
             rows.append({"input": _ang(u, pos.input[k]),
                          "target": [float(pos.target[k][0]), float(pos.target[k][1])],
-                         "achieved": [float(pos.achieved[k][0]), float(pos.achieved[k][1])],
+                         "achieved": [snap(float(pos.achieved[k][0]), length_scale),
+                                      snap(float(pos.achieved[k][1]), length_scale)],
                          "error": float(err[k])})
     return rows
 

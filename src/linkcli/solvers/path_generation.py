@@ -35,6 +35,7 @@ from linkcli.result import Positions, Solution, Status
 from linkcli.solvers import path_starts as st
 from linkcli.solvers.path_model import N_LINK, SHORTEST, Design, build, rho2_extremes
 from linkcli.solvers.path_search import Counter, Space, batch_lm, differential_evolution, distinct, polish
+from linkcli.noise import snap
 from linkcli.textnum import num
 
 DEFAULT_BUDGET = {"multistart": 2_000_000, "least-squares": 200_000, "differential-evolution": 200_000,
@@ -311,7 +312,7 @@ def solution(problem, d: Design, best: Candidate, bad, method, counter) -> Solut
     span = (first, last - first) if monotone else (float(phi.min()), float(phi.max() - phi.min()))
     direction = ("ccw" if span[1] >= 0 else "cw") if monotone else "reverses"
     timing = {"timing": d.timing, "direction": direction,
-              "first_input": float(u.from_rad(float(kin.wrap(first)))),
+              "first_input": float(u.from_rad(snap(float(kin.wrap(first)), 1.0))),
               "input_sweep": float(u.from_rad(abs(span[1])))}
     if d.timing == "prescribed" and d.free[N_LINK]:
         timing["input_offset"] = float(u.from_rad(float(x[N_LINK])))
