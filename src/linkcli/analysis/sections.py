@@ -14,13 +14,16 @@ import numpy as np
 from linkcli.mechanisms import four_bar as kin
 from linkcli.io.meta import ALL_SECTIONS
 from linkcli.solution import MESSAGES, Solution
+from linkcli.noise import NOISE_FLOOR, quantize, snap, snap_series
+from linkcli.textnum import num
 
 TRANSMISSION_BAND = (40.0, 140.0)  # deg: the usual recommendation (Norton, ch. 3)
 
 
 def _ang(units, x):
-    """A position angle in the output unit, wrapped to (-180, 180] deg."""
-    return float(units.from_rad(float(kin.wrap(x))))
+    """A position angle in the output unit, wrapped to (-180, 180] deg; round-off of 0 (below
+    the noise floor of 1 rad) is 0."""
+    return float(units.from_rad(snap(float(kin.wrap(x)), 1.0)))
 
 
 def _dang(units, x):
@@ -69,9 +72,9 @@ def _build(problem, solution: Solution) -> dict:
         steps = getattr(problem, "steps", 360)
         rep["kinematics"] = kinematics_rows(fb, mot, speed, steps, u)
     if solution.positions is not None and "positions" in want:
-        rep["positions"] = position_rows(solution.positions, u)
+        rep["positions"] = position_rows(solution.positions, u, max(fb.abcd) if has_linkage else 1.0)
     if solution.positions is not None and "error" in want:
-        rep["error"] = error_section(solution, u, meta.reference)
+        rep["error"] = error_section(solution, u, meta.reference, max(fb.abcd) if has_linkage else 1.0)
     for name, section in solution.sections.items():
         if name in want or name not in ALL_SECTIONS:
             rep[name] = section
@@ -82,23 +85,25 @@ def _build(problem, solution: Solution) -> dict:
         rep["solver"] = dict(solution.solver)
         if meta.reference is not None and solution.objective is not None:
             rep["solver"]["best_known"] = meta.reference.objective
-            rep["solver"]["gap"] = gap(solution.objective, meta.reference.objective)
+            rep["solver"]["gap"] = rep.get("error", {}).get("gap", gap(solution.objective, meta.reference.objective))
     if notes:
         rep["notes"] = notes
     return rep
 
 
 def gap(value: float, best: float) -> float:
-    """Relative gap to the best known value: (value - best) / |best| (absolute if best = 0)."""
-    return (value - best) / abs(best) if best != 0 else value - best
+    """Relative gap to the best known value: (value - best) / |best| (absolute if best = 0),
+    to whole multiples of the noise floor (its digits below are round-off)."""
+    return quantize((value - best) / abs(best) if best != 0 else value - best)
 
 
 def linkage_section(fb, u) -> dict:
     out = {"ground": fb.ground, "input": fb.input, "coupler": fb.coupler, "output": fb.output,
            "branch": fb.branch}
     if fb.coupler_point is not None:
-        out["coupler_point"] = list(fb.coupler_point)
-        out["ground_pivot"] = list(fb.ground_pivot)
+        size = max(fb.abcd)  # a coordinate that is round-off of 0 is 0
+        out["coupler_point"] = [snap(float(v), size) for v in fb.coupler_point]
+        out["ground_pivot"] = [snap(float(v), size) for v in fb.ground_pivot]
         out["ground_angle"] = _ang(u, fb.ground_angle)
     return out
 
@@ -118,7 +123,7 @@ def transmission_section(fb, mot, span, u, notes) -> dict:
     band = TRANSMISSION_BAND
     if math.degrees(mn) < band[0] or math.degrees(mx) > band[1]:
         notes.append(f"transmission angle leaves the recommended {band[0]:g}..{band[1]:g} deg band "
-                     f"({math.degrees(mn):.1f}..{math.degrees(mx):.1f} deg over the input's range)")
+                     f"({num(math.degrees(mn))}..{num(math.degrees(mx))} deg over the input's range)")
     return out
 
 
@@ -151,10 +156,13 @@ def kinematics_rows(fb, mot, speed, steps, u) -> list[dict]:
     w3, w4 = kin.velocities(a, b, c, p, speed)
     a3, a4 = kin.accelerations(a, b, c, p, speed)
     shown = phi if mot["input_full_turn"] else kin.wrap(phi)  # full turn: 0 .. 360 (SPEC)
-    cols = [("input", u.from_rad(shown)), ("coupler", u.from_rad(kin.wrap(p.theta))),
-            ("output", u.from_rad(kin.wrap(p.psi))), ("transmission", u.from_rad(p.mu)),
-            ("coupler_velocity", u.from_rad(w3)), ("output_velocity", u.from_rad(w4)),
-            ("coupler_acceleration", u.from_rad(a3)), ("output_acceleration", u.from_rad(a4))]
+    rate, rate2 = abs(speed), speed * speed  # natural scales of the velocity and acceleration columns
+    cols = [("input", u.from_rad(shown)), ("coupler", u.from_rad(snap(kin.wrap(p.theta), 1.0))),
+            ("output", u.from_rad(snap(kin.wrap(p.psi), 1.0))), ("transmission", u.from_rad(p.mu)),
+            ("coupler_velocity", u.from_rad(snap_series(w3, rate))),
+            ("output_velocity", u.from_rad(snap_series(w4, rate))),
+            ("coupler_acceleration", u.from_rad(snap_series(a3, rate2))),
+            ("output_acceleration", u.from_rad(snap_series(a4, rate2)))]
     rows = []
     for k in range(len(phi)):
         ok = bool(p.valid[k])  # where it cannot assemble (or A meets B0) only the input is known
@@ -163,27 +171,42 @@ def kinematics_rows(fb, mot, speed, steps, u) -> list[dict]:
     return rows
 
 
-def position_rows(pos, u) -> list[dict]:
+def error_scale(pos, length_scale: float) -> float:
+    """The scale of a position error: 1 rad for angles, the linkage's size for distances."""
+    return 1.0 if pos.kind == "angle" else length_scale
+
+
+def position_rows(pos, u, length_scale: float) -> list[dict]:
+    """One row per target; an error below the noise floor of its scale is 0."""
+    err = snap(np.asarray(pos.error, dtype=float), error_scale(pos, length_scale))
     rows = []
     for k in range(len(pos.input)):
         if pos.kind == "angle":
             rows.append({"input": _ang(u, pos.input[k]), "target": _ang(u, pos.target[k]),
-                         "achieved": _ang(u, pos.achieved[k]), "error": _dang(u, pos.error[k])})
+                         "achieved": _ang(u, pos.achieved[k]), "error": _dang(u, err[k])})
         else:
             rows.append({"input": _ang(u, pos.input[k]),
                          "target": [float(pos.target[k][0]), float(pos.target[k][1])],
-                         "achieved": [float(pos.achieved[k][0]), float(pos.achieved[k][1])],
-                         "error": float(pos.error[k])})
+                         "achieved": [snap(float(pos.achieved[k][0]), length_scale),
+                                      snap(float(pos.achieved[k][1]), length_scale)],
+                         "error": float(err[k])})
     return rows
 
 
-def error_section(solution, u, reference) -> dict:
+def error_section(solution, u, reference, length_scale: float) -> dict:
+    """objective, max, rms (and the gap to a best known value). Round-off is 0: errors below
+    NOISE_FLOOR x their scale, an objective below n (NOISE_FLOOR x scale)^2; the gap, a
+    relative number, to whole multiples of NOISE_FLOOR."""
     pos = solution.positions
-    e = np.abs(np.asarray(pos.error, dtype=float))
+    scale = error_scale(pos, length_scale)
+    e = snap(np.abs(np.asarray(pos.error, dtype=float)), scale)
     conv = (lambda x: _dang(u, x)) if pos.kind == "angle" else float
-    out = {"objective": solution.objective, "max": conv(e.max()),
+    objective = solution.objective
+    if objective is not None:
+        objective = snap(objective, len(e) * NOISE_FLOOR * scale * scale)
+    out = {"objective": objective, "max": conv(e.max()),
            "rms": conv(math.sqrt(float(np.mean(e * e))))}
-    if reference is not None and solution.objective is not None:
+    if reference is not None and objective is not None:
         out["best_known"] = reference.objective
-        out["gap"] = gap(solution.objective, reference.objective)
+        out["gap"] = gap(objective, reference.objective)
     return out

@@ -56,6 +56,7 @@ import numpy as np
 from linkcli.mechanisms import four_bar as kin
 from linkcli.errors import SolveInputError
 from linkcli.model import LINKS, FourBar, InverseTolerance, Tolerance
+from linkcli.noise import snap
 
 COLUMNS = LINKS + ("coupler_point_x", "coupler_point_y")  # columns of the length deviations
 CHUNK_ELEMENTS = 2**17  # samples x targets assembled at once
@@ -355,7 +356,7 @@ def _analyse(problem, solution) -> dict:
     p = k / n
     lo, hi = wilson(k, n)
     out.update({
-        "nominal_error": opt(float(nominal[0])),
+        "nominal_error": opt(snap(float(nominal[0]), 1.0 if tg.kind == "angle" else max(fb.abcd))),
         "error_mean": opt(float(good.mean())) if good.size else None,
         "error_p95": opt(float(np.percentile(good, 95))) if good.size else None,
         "error_max": opt(float(good.max())) if good.size else None,

@@ -1,7 +1,7 @@
 """JSON and TOML writers with deterministic rounding to N significant digits.
 
 `rounded(report, digits)` is the single place numbers are rounded: floats to `digits`
-significant digits, -0.0 to 0.0, non-finite to None (JSON null; left out of TOML, which
+significant digits, numbers inside messages and notes likewise (linkcli.textnum), -0.0 to 0.0, non-finite to None (JSON null; left out of TOML, which
 has no null). Same report, same bytes. `result_stems` names the files written per
 result (--out and --plot).
 """
@@ -11,6 +11,8 @@ from __future__ import annotations
 import json
 import math
 from pathlib import PurePath
+
+from linkcli.textnum import render
 
 
 def round_sig(x: float, digits: int) -> float | None:
@@ -27,7 +29,9 @@ def rounded(obj, digits: int):
         return {str(k): rounded(v, digits) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
         return [rounded(v, digits) for v in obj]
-    if isinstance(obj, bool) or obj is None or isinstance(obj, str):
+    if isinstance(obj, str):
+        return render(obj, digits)  # numbers inside messages and notes follow the precision
+    if isinstance(obj, bool) or obj is None:
         return obj
     if isinstance(obj, int):
         return obj

@@ -21,6 +21,7 @@ from linkcli.search.budget import Budget
 from linkcli.solution import Solution, Status
 from linkcli.types.flipper_cylinder.search import (DEFAULT_BUDGET, PARETO_BUDGET, PARETO_SHARE, TOLERANCE,
                                             Goal, Judge, Space, optimize, pareto)
+from linkcli.textnum import num
 
 
 NEGLIGIBLE = 1e-3  # a closed length below this share of the largest pivot bound: the pivots all but meet
@@ -148,7 +149,7 @@ def verdict(problem, f: dict) -> tuple[Status, str]:
     au = u.angle
 
     def ang(tau):
-        return f"{float(u.from_rad(problem.start + tau)):.6g} {au}"
+        return f"{num(float(u.from_rad(problem.start + tau)))} {au}"
 
     if f["crosses"]:
         if f.get("zero_length"):
@@ -156,27 +157,27 @@ def verdict(problem, f: dict) -> tuple[Status, str]:
                                        f"{ang(f['cross_at'])} (zero cylinder length)")
         return Status.INFEASIBLE, (f"the cylinder line passes through the hinge B at platform angle "
                                    f"{ang(f['cross_at'])}: zero moment arm, the force is unbounded (the "
-                                   f"load has a moment of {abs(f['load_moment']):.6g} N {u.length} about B "
+                                   f"load has a moment of {num(abs(f['load_moment']))} N {u.length} about B "
                                    "there, which no finite cylinder force can balance)")
     problems = []
     floor = Space(problem).floor
     if f["min_length"] < floor * (1.0 - TOLERANCE):
-        problems.append(f"the rod pivot comes within {f['min_length']:.6g} {u.length} of the base pivot at "
-                        f"platform angle {ang(f['closed_at'])}: the pivots must stay at least {floor:.6g} "
+        problems.append(f"the rod pivot comes within {num(f['min_length'])} {u.length} of the base pivot at "
+                        f"platform angle {ang(f['closed_at'])}: the pivots must stay at least {num(floor)} "
                         f"{u.length} apart (a cylinder of no length)")
     if problem.dead_length is not None:
         short = f["stroke"] + problem.dead_length - f["min_length"]
         if short > TOLERANCE * max(f["stroke"] + problem.dead_length, 1e-300):
-            problems.append(f"closed length {f['min_length']:.6g} {u.length} is {short:.6g} {u.length} "
-                            f"short of stroke + dead_length ({f['stroke'] + problem.dead_length:.6g} {u.length})")
+            problems.append(f"closed length {num(f['min_length'])} {u.length} is {num(short)} {u.length} "
+                            f"short of stroke + dead_length ({num(f['stroke'] + problem.dead_length)} {u.length})")
     if problem.max_force is not None and f["peak"] > problem.max_force * (1.0 + TOLERANCE):
         over = f["peak"] - problem.max_force
-        problems.append(f"peak force {f['peak']:.6g} N exceeds max_force {problem.max_force:.6g} N "
-                        f"by {over:.6g} N ({100.0 * over / problem.max_force:.3g} %)")
+        problems.append(f"peak force {num(f['peak'])} N exceeds max_force {num(problem.max_force)} N "
+                        f"by {num(over)} N ({num(100.0 * over / problem.max_force)} %)")
     kind = "push" if f["is_push"] else "pull"
-    summary = f"peak force {f['peak']:.6g} N ({kind}) at platform angle {ang(f['peak_at'])}"
+    summary = f"peak force {num(f['peak'])} N ({kind}) at platform angle {ang(f['peak_at'])}"
     if problem.minimize == "cylinder-length":
-        summary = (f"closed length {f['min_length']:.6g} {u.length} (stroke {f['stroke']:.6g} "
+        summary = (f"closed length {num(f['min_length'])} {u.length} (stroke {num(f['stroke'])} "
                    f"{u.length}); {summary}")
     if problems:
         return Status.INFEASIBLE, "; ".join(problems) + f" ({summary})"
@@ -227,13 +228,13 @@ def _solve(problem) -> Solution:
     lu = meta.units.length
     if (problem.dead_length is None and not f["crosses"] and not problem.fixed
             and f["min_length"] <= NEGLIGIBLE * max(abs(v) for b in problem.bounds for v in b)):
-        notes.append(f"the pivots all but meet at the closed end (closed length {f['min_length']:.6g} {lu}): "
+        notes.append(f"the pivots all but meet at the closed end (closed length {num(f['min_length'])} {lu}): "
                      "without [cylinder] dead_length the least force asks for a cylinder of no length; "
                      "dead_length gives a real one (closed length >= stroke + dead_length)")
     elif (problem.dead_length is None and not f["crosses"] and f["min_length"] < f["stroke"]
           and f["min_length"] >= Space(problem).floor * (1.0 - TOLERANCE)):
-        notes.append(f"the closed length {f['min_length']:.6g} {lu} is shorter than the stroke "
-                     f"{f['stroke']:.6g} {lu}: only a telescopic cylinder fits; [cylinder] dead_length "
+        notes.append(f"the closed length {num(f['min_length'])} {lu} is shorter than the stroke "
+                     f"{num(f['stroke'])} {lu}: only a telescopic cylinder fits; [cylinder] dead_length "
                      "asks for a single-stage one (closed length >= stroke + dead_length)")
     searched = solver["converged"] or solver.get("completed")  # not stopped by the budget
     if not problem.fixed and status is Status.INFEASIBLE and searched:

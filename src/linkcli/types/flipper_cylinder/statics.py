@@ -39,6 +39,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from linkcli.noise import TIE, first_max
 
 STEP = math.radians(0.5)  # largest spacing of the sweep grid
 MIN_POINTS = 33
@@ -181,8 +182,9 @@ class Statics:
         tau = self.grid
         f = sign * self.forces(p)[0]
         f = np.where(np.isnan(f), -np.inf, f)
-        best = f.max(axis=1)
-        at = tau[np.argmax(f, axis=1)]
+        first = first_max(f, axis=1)  # equal values within the tie rule: the first in sweep order
+        best = f[np.arange(len(p)), first]
+        at = tau[first]
         left = np.concatenate([np.full((len(p), 1), -np.inf), f[:, :-1]], axis=1)
         right = np.concatenate([f[:, 1:], np.full((len(p), 1), -np.inf)], axis=1)
         thresh = np.where(best > 0, NEAR_PEAK * best, best)
@@ -250,7 +252,9 @@ class Statics:
             pull, pull_at = np.where(down, np.inf, pull), np.where(down, t0, pull_at)
         empty = ~np.isfinite(push) & ~np.isfinite(pull) & ~sing["blocked"]  # no finite force at all: worst
         push, pull = np.where(empty, np.inf, push), np.where(empty, np.inf, pull)
-        is_push = push >= pull
+        # equal within the tie rule (linkcli.noise): the first in sweep order is the peak
+        tie = np.abs(push - pull) <= TIE * np.maximum(np.abs(push), np.abs(pull))
+        is_push = np.where(tie & np.isfinite(push), push_at <= pull_at, push > pull)
         return {"push": np.maximum(push, 0.0), "push_at": push_at,
                 "pull": np.maximum(pull, 0.0), "pull_at": pull_at,
                 "peak": np.where(is_push, push, pull), "peak_at": np.where(is_push, push_at, pull_at),

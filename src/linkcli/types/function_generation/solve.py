@@ -49,6 +49,8 @@ from linkcli.search import sampling
 from linkcli.search.budget import Budget, BudgetSpent
 from linkcli.search.sampling import latin_hypercube
 from linkcli.types.function_generation.model import BRANCH_SIGN, GRASHOF_MARGIN, STARTS, Batch, Model
+from linkcli.noise import first_max, snap
+from linkcli.textnum import num
 
 DEFAULT_BUDGET_PER_VARIABLE = 4000  # default budget: this many candidates per design variable
 POPULATION_PER_VARIABLE = 10  # differential evolution population size per variable
@@ -577,27 +579,27 @@ def describe_violations(problem, model: Model, viol, det, u) -> list[str]:
     scale = model.scale
     if names["extended"] > FEASIBLE:
         out.append(f"no extended dead-centre: input + coupler misses the range |output - ground| .. "
-                   f"output + ground by {names['extended'] * scale:.6g} {lu}")
+                   f"output + ground by {num(names['extended'] * scale)} {lu}")
     if names["travel"] > FEASIBLE:
         out.append(f"travel: the input meets a dead point within the sweep (coupler and output are "
-                   f"{names['travel'] * scale:.6g} {lu} short of assembling)")
+                   f"{num(names['travel'] * scale)} {lu} short of assembling)")
     where = "over the full turn" if model.full_turn else "over the sweep"
     window = problem.transmission
     if names["transmission_low"] > FEASIBLE:
         mu = float(det["mu"][0][0, 0])
-        out.append(f"transmission: mu falls to {u.from_rad(mu):.9g} {au} {where}, "
-                   f"{u.from_rad(names['transmission_low']):.6g} {au} below the minimum "
-                   f"{u.from_rad(window[0]):.6g}")
+        out.append(f"transmission: mu falls to {num(u.from_rad(mu))} {au} {where}, "
+                   f"{num(u.from_rad(names['transmission_low']))} {au} below the minimum "
+                   f"{num(u.from_rad(window[0]))}")
     if names["transmission_high"] > FEASIBLE:
         mu = float(det["mu"][1][0, 0])
-        out.append(f"transmission: mu reaches {u.from_rad(mu):.9g} {au} {where}, "
-                   f"{u.from_rad(names['transmission_high']):.6g} {au} above the maximum "
-                   f"{u.from_rad(window[1]):.6g}")
+        out.append(f"transmission: mu reaches {num(u.from_rad(mu))} {au} {where}, "
+                   f"{num(u.from_rad(names['transmission_high']))} {au} above the maximum "
+                   f"{num(u.from_rad(window[1]))}")
     if names["grashof"] > FEASIBLE:
         found = kin.GRASHOF_CLASSES[int(kin.grashof_code(*(float(x[0, 0]) for x in det["lengths"])))]
         what = (f"not a {problem.grashof} but a {found}" if found != problem.grashof
                 else f"a {found} within {GRASHOF_MARGIN:g} of a change-point")
-        out.append(f"grashof: {what} (an inequality misses by {names['grashof'] * scale:.6g} {lu})")
+        out.append(f"grashof: {what} (an inequality misses by {num(names['grashof'] * scale)} {lu})")
     if names["law"] > FEASIBLE:
         out.append(f"law: the target is not finite at {round(names['law'] * len(model.t))} of "
                    f"{len(model.t)} points")
@@ -639,8 +641,8 @@ def structural_error(problem, model: Model, a, b, c, d, phi0, psi0, sign, u) -> 
     with np.errstate(all="ignore"):
         p = kin.pose(a, b, c, d, phi, sign)
         ok = np.isfinite(target) & p.valid & np.isfinite(p.psi)
-        err = np.where(ok, kin.wrap(np.where(ok, p.psi - target, 0.0)), np.nan)
-    k = int(np.nanargmax(np.abs(err))) if ok.any() else 0
+        err = snap(np.where(ok, kin.wrap(np.where(ok, p.psi - target, 0.0)), np.nan), 1.0)
+    k = int(first_max(np.abs(err))) if ok.any() else 0  # equal maxima: the first along the sweep
     rows = []
     for i in np.linspace(0, DENSE - 1, CURVE_ROWS).round().astype(int):
         e = err[i]
@@ -663,6 +665,6 @@ def bound_notes(problem, model: Model, unit) -> list[str]:
         if at is None:
             continue
         bound = lo if at == "lower" else hi
-        shown = f"{u.from_rad(bound):.6g} {u.angle}" if name in STARTS else f"{bound:.6g} {u.length}"
+        shown = f"{num(u.from_rad(bound))} {u.angle}" if name in STARTS else f"{num(bound)} {u.length}"
         notes.append(f"{name} ends at its {at} bound ({shown}): a wider [bounds].{name} may lower the objective")
     return notes

@@ -36,6 +36,8 @@ from linkcli.solution import Positions, Solution, Status
 from linkcli.types.path_generation import starts as st
 from linkcli.types.path_generation.model import N_LINK, SHORTEST, Design, build, rho2_extremes
 from linkcli.types.path_generation.search import Space, batch_lm, differential_evolution, distinct, polish
+from linkcli.noise import snap
+from linkcli.textnum import num
 
 DEFAULT_BUDGET = {"multistart": 2_000_000, "least-squares": 200_000, "differential-evolution": 200_000,
                   "de-polish": 200_000}
@@ -311,7 +313,7 @@ def solution(problem, d: Design, best: Candidate, bad, method, counter) -> Solut
     span = (first, last - first) if monotone else (float(phi.min()), float(phi.max() - phi.min()))
     direction = ("ccw" if span[1] >= 0 else "cw") if monotone else "reverses"
     timing = {"timing": d.timing, "direction": direction,
-              "first_input": float(u.from_rad(float(kin.wrap(first)))),
+              "first_input": float(u.from_rad(snap(float(kin.wrap(first)), 1.0))),
               "input_sweep": float(u.from_rad(abs(span[1])))}
     if d.timing == "prescribed" and d.free[N_LINK]:
         timing["input_offset"] = float(u.from_rad(float(x[N_LINK])))
@@ -331,7 +333,7 @@ def solution(problem, d: Design, best: Candidate, bad, method, counter) -> Solut
         status = Status.OK if converged else Status.NOT_CONVERGED
         order = ("at the prescribed input angles" if d.timing == "prescribed"
                  else f"in order within one turn ({timing['direction']}, input sweep "
-                      f"{timing['input_sweep']:.4g} {u.angle})")
+                      f"{num(timing['input_sweep'])} {u.angle})")
         message = (f"{n} targets, {d.timing} timing: assembles at every target on the {branch} "
                    f"branch, without a branch change, and reaches them {order}")
         if not converged and counter.left < max(1, counter.cap // 10):
@@ -349,8 +351,8 @@ def solution(problem, d: Design, best: Candidate, bad, method, counter) -> Solut
 
 def _amount(name: str, amount: float, u, problem) -> str:
     if name in ANGLE_VIOLATIONS:
-        return f"{u.from_rad(amount):.6g} {u.angle}"
-    return f"{amount:.6g} {u.length}"
+        return f"{num(u.from_rad(amount))} {u.angle}"
+    return f"{num(amount)} {u.length}"
 
 
 def _reach_note(problem, d: Design, x, err) -> list[str]:
@@ -364,7 +366,7 @@ def _reach_note(problem, d: Design, x, err) -> list[str]:
     tight = [names[j] for j in range(len(names))
              if d.free[j] and min(x[j] - d.lo[j], d.hi[j] - x[j]) <= 1e-6 * (d.hi[j] - d.lo[j])]
     u = problem.meta.units.length
-    msg = (f"the best fit misses a target by {worst:.4g} {u} ({100 * worst / d.scale:.3g} % of the "
+    msg = (f"the best fit misses a target by {num(worst)} {u} ({num(100 * worst / d.scale)} % of the "
            "targets' extent)")
     return [msg + (f"; at its bound: {', '.join(tight)}" if tight else "")]
 
@@ -375,6 +377,6 @@ def _notes(problem, d: Design, x) -> list[str]:
     for j, name in enumerate(("ground", "input", "coupler", "output")):
         lo = problem.lengths[name][0]
         if lo == 0.0 and d.free[j] and x[j] <= d.lo[j] * (1 + 1e-9):
-            out.append(f"{name} sits at the smallest length allowed ({d.lo[j]:.3g} "
+            out.append(f"{name} sits at the smallest length allowed ({num(d.lo[j])} "
                        f"{problem.meta.units.length}): its lower bound 0 is kept strictly positive")
     return out

@@ -26,6 +26,7 @@ from linkcli.model import FourBar
 from linkcli.solution import Positions, Solution, Status
 from linkcli.types.precision_position.starts import (closure_gap, freudenstein_system, lengths_of, make_starts,
                                               physical_angles, refine, travels)
+from linkcli.textnum import num
 
 COINCIDENT = 1e-9  # rad: two input (or output) angles closer than this are one position
 ILL_CONDITIONED = 1e12
@@ -93,10 +94,10 @@ def _infeasible(problem, linkage: FourBar, p, notes) -> Solution:
     bad = np.nonzero(~p.valid)[0]
     gap = closure_gap(linkage.input, linkage.coupler, linkage.output, p.rho)
     unit = problem.meta.units.length
-    parts = ", ".join(f"{i + 1} (by {gap[i]:.6g} {unit})" for i in bad)
+    parts = ", ".join(f"{i + 1} (by {num(gap[i])} {unit})" for i in bad)
     message = (f"the linkage cannot assemble at positions {parts}: the loop misses closing there "
                f"(|A B0| outside [|coupler - output|, coupler + output] = "
-               f"[{abs(linkage.coupler - linkage.output):.6g}, {linkage.coupler + linkage.output:.6g}] {unit})")
+               f"[{num(abs(linkage.coupler - linkage.output))}, {num(linkage.coupler + linkage.output)}] {unit})")
     return Solution(status=Status.INFEASIBLE, linkage=linkage, message=message, notes=notes)
 
 
