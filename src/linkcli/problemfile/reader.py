@@ -16,6 +16,7 @@ import re
 import tomllib
 
 from linkcli.errors import InputError, InputErrors, SchemaError, TomlSyntaxError
+from linkcli.safe_read import read_problem_bytes
 
 MISSING = object()
 MAX_ARRAY = 10_000  # longest array accepted anywhere in a problem file
@@ -192,11 +193,7 @@ class Reader:
         self._seen: dict[tuple[str, ...], set[str]] = {}
         self._tables: dict[tuple[str, ...], dict] = {}
         if text is None:
-            try:
-                with open(path, "rb") as fh:
-                    raw = fh.read()
-            except OSError as exc:
-                raise InputError("a readable problem file", exc.strerror or str(exc), path=path) from None
+            raw = read_problem_bytes(path)
             try:
                 text = raw.decode("utf-8")
             except UnicodeDecodeError as exc:

@@ -1,0 +1,73 @@
+"""Hostile input (issue 21): special files, huge integers, terminal escapes and the other
+ways a file or an option can break the CLI contract (exit 2, one located line, no hang)."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from conftest import ROOT, run_cli
+
+SRC = str(ROOT / "src")
+
+
+def _cli(*args: str, timeout: float = 120):
+    """Run linkcli in a subprocess (a hang fails the test through the timeout)."""
+    env = dict(os.environ, PYTHONPATH=SRC)
+    done = subprocess.run([sys.executable, "-m", "linkcli", *args], capture_output=True,
+                          text=True, timeout=timeout, env=env, cwd=ROOT)
+    return done.returncode, done.stdout, done.stderr
+
+
+# -- 1. special and huge files -----------------------------------------------------
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs on this system")
+@pytest.mark.parametrize("command,extra", [("check", ()), ("synth", ()), ("synth", ("--jobs", "2")),
+                                           ("analyze", ()), ("bench", ("--seeds", "1"))])
+def test_a_fifo_and_dev_zero_are_refused_and_the_batch_goes_on(tmp_path, command, extra):
+    fifo = tmp_path / "pipe.toml"
+    os.mkfifo(fifo)
+    good = "problems/firedoor_motion.toml" if command == "analyze" else "problems/firedoor.toml"
+    files = [str(fifo), "/dev/zero", good] + ([good] if "--jobs" in extra else [])
+    code, out, err = _cli(command, *files, *extra)
+    assert code == 2
+    lines = err.splitlines()
+    assert f"{fifo}: expected a regular problem file, found a FIFO (named pipe)" in lines
+    assert "/dev/zero: expected a regular problem file, found a character device" in lines
+    if command == "check":
+        assert f"{good}: ok" in lines
+    elif command == "bench":
+        assert "firedoor" in out
+    else:
+        assert "solved" in err.splitlines()[-1] and not err.splitlines()[-1].startswith("0 solved")
+        assert out.strip()
+
+
+def test_a_file_beyond_the_size_cap_is_refused_without_reading_it(tmp_path):
+    from linkcli.safe_read import MAX_FILE_BYTES
+    big = tmp_path / "big.toml"
+    with open(big, "wb") as fh:  # sparse: 200 MB of size, no disk or memory used
+        fh.truncate(200 * 1024 * 1024)
+    code, out, err = _cli("check", str(big))
+    assert code == 2 and out == ""
+    assert err == (f"{big}: expected a problem file of at most {MAX_FILE_BYTES} bytes (4 MiB), "
+                   f"found {200 * 1024 * 1024} bytes\n")
+
+
+def test_a_file_at_the_cap_is_read(tmp_path):
+    from linkcli.safe_read import MAX_FILE_BYTES, read_problem_bytes
+    text = Path(ROOT / "problems" / "firedoor.toml").read_bytes()
+    padded = text + b"#" * (MAX_FILE_BYTES - len(text))
+    p = tmp_path / "padded.toml"
+    p.write_bytes(padded)
+    assert read_problem_bytes(str(p)) == padded
+
+
+def test_a_folder_is_refused(tmp_path):
+    code, _, err = _cli("check", str(tmp_path))
+    assert code == 2 and err == f"{tmp_path}: expected a regular problem file, found a folder\n"
