@@ -17,6 +17,7 @@ import tomllib
 
 from linkcli.errors import InputError, InputErrors, SchemaError, TomlSyntaxError
 from linkcli.safe_read import read_problem_bytes
+from linkcli.huge_numbers import refuse_huge_integers, too_many_digits
 
 MISSING = object()
 MAX_ARRAY = 10_000  # longest array accepted anywhere in a problem file
@@ -211,9 +212,12 @@ class Reader:
                 msg += f" (column {m.group(2)})"
             msg = "a syntax error: " + msg[:1].lower() + msg[1:]
             raise TomlSyntaxError("valid TOML", msg, path=path, line=line) from None
+        except ValueError:  # not a TOMLDecodeError: an integer beyond Python's digit limit
+            raise too_many_digits(path, text) from None
         except RecursionError:
             raise TomlSyntaxError("valid TOML", "nesting too deep", path=path) from None
         self.lines = _line_map(text)
+        refuse_huge_integers(self)
 
     # -- errors ---------------------------------------------------------------
     def line_of(self, path: tuple[str, ...]) -> int | None:
