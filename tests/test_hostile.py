@@ -71,3 +71,41 @@ def test_a_file_at_the_cap_is_read(tmp_path):
 def test_a_folder_is_refused(tmp_path):
     code, _, err = _cli("check", str(tmp_path))
     assert code == 2 and err == f"{tmp_path}: expected a regular problem file, found a folder\n"
+
+
+# -- 3. terminal escapes and giant keys --------------------------------------------
+
+def _titled(tmp_path, title_toml: str, name: str = "titled.toml") -> Path:
+    text = (ROOT / "problems" / "firedoor.toml").read_text()
+    p = tmp_path / name
+    p.write_text(f"title = {title_toml}\n" + "\n".join(l for l in text.splitlines()
+                                                       if not l.startswith("title")) + "\n")
+    return p
+
+
+def test_a_title_with_terminal_escapes_is_shown_escaped_in_the_table(tmp_path):
+    p = _titled(tmp_path, '"\\u001b[2J\\u001b[31mRED\\u0007"')
+    code, out, err = run_cli("synth", str(p))
+    assert code == 0, err
+    assert "\x1b" not in out and "\x07" not in out
+    assert out.splitlines()[0].startswith("\\x1b[2J\\x1b[31mRED\\x07  (")
+
+
+def test_a_file_name_with_escapes_is_shown_escaped_in_errors(tmp_path):
+    p = tmp_path / "bad\x1b[2J.toml"
+    p.write_text("type = 1\n")
+    code, out, err = run_cli("check", str(p))
+    assert code == 2 and "\x1b" not in err
+    assert err.startswith(str(p).replace("\x1b", "\\x1b") + ":1: type: expected one of")
+
+
+def test_a_100k_character_key_gives_a_short_line(tmp_path):
+    from linkcli.terminal_text import SHOWN_LIMIT
+    p = tmp_path / "longkey.toml"
+    key = "k" * 100_000
+    p.write_text((ROOT / "problems" / "firedoor.toml").read_text().replace("[linkage]", f"[linkage]\n{key} = 1", 1))
+    code, _, err = run_cli("check", str(p))
+    assert code == 2
+    lines = err.splitlines()
+    assert all(len(l) < len(str(p)) + 3 * SHOWN_LIMIT for l in lines), [len(l) for l in lines]
+    assert any(("k" * (SHOWN_LIMIT - 20) + "...: expected") in l for l in lines), lines

@@ -48,7 +48,8 @@ def main_callback(
 
 
 def _err(line: str) -> None:
-    sys.stderr.write(line.rstrip("\n") + "\n")
+    from linkcli.terminal_text import one_line
+    sys.stderr.write(one_line(line.rstrip("\n")) + "\n")
 
 
 def run_one(path: str, mode: str, seed: int | None, debug: bool, timing: bool = False):

@@ -17,6 +17,7 @@ import tomllib
 
 from linkcli.errors import InputError, InputErrors, SchemaError, TomlSyntaxError
 from linkcli.safe_read import read_problem_bytes
+from linkcli.terminal_text import shown as _one_line  # escaped, one line, at most 200 characters
 from linkcli.huge_numbers import refuse_huge_integers, too_many_digits
 
 MISSING = object()
@@ -43,12 +44,6 @@ def _split_key(text: str) -> list[str]:
             pass
     parts = re.findall(r"""[A-Za-z0-9_\-]+|"[^"]*"|'[^']*'""", text)
     return [p.strip("\"'") for p in parts]
-
-
-def _one_line(text: str) -> str:
-    """Control characters (a newline in a multi-line string or a quoted key) escaped as
-    Python writes them, so that every error stays on one line."""
-    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
 def describe(value) -> str:
