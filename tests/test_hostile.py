@@ -109,3 +109,44 @@ def test_a_100k_character_key_gives_a_short_line(tmp_path):
     lines = err.splitlines()
     assert all(len(l) < len(str(p)) + 3 * SHOWN_LIMIT for l in lines), [len(l) for l in lines]
     assert any(("k" * (SHOWN_LIMIT - 20) + "...: expected") in l for l in lines), lines
+
+
+# -- 4. a design that misses a position is infeasible --------------------------------
+
+def test_a_three_position_design_missing_a_position_is_infeasible_and_still_shown(tmp_path):
+    import cmath
+    import math
+    p = tmp_path / "miss.toml"
+    p.write_text('type = "precision-position"\n[linkage]\nground = 50.0\n[positions]\n'
+                 "input = [45, 90, 135]\noutput = [52, 53, 200]\n")
+    code, out, err = run_cli("synth", str(p), "-f", "json")
+    assert code == 1 and json.loads(out)["status"] == "infeasible", err
+    from linkcli.cli import run_one
+    code, rep, _ = run_one(str(p), "synth", None, False)  # full precision
+    assert code == 1
+    assert rep["message"].endswith("; branch defect (see notes); infeasible: position 2 missed by up to "
+                                   "87.5959 deg on the reported branch")
+    # the exact solution of Freudenstein's equations is still reported: its open branch
+    # (psi = arg(v) - acos(...), v = a e^{i phi} - d) meets positions 1 and 3
+    lk = rep["linkage"]
+    a, b, c, d = lk["input"], lk["coupler"], lk["output"], 50.0
+    for row in (rep["positions"][0], rep["positions"][2]):
+        v = cmath.rect(a, math.radians(row["input"])) - d
+        psi = cmath.phase(v) - math.acos((abs(v) ** 2 + c * c - b * b) / (2 * abs(v) * c))
+        assert abs((math.degrees(psi) - row["target"] + 180) % 360 - 180) < 1e-6
+    assert abs(rep["positions"][1]["error"]) > 80
+
+
+def test_the_miss_rule_uses_the_noise_floor_and_counts_order_defects():
+    from linkcli.position_verdict import MISS_FLOOR_RAD, verdict
+    from linkcli.result import Status
+    from linkcli.solvers.precision_position import TRAVEL_NOTE
+    from linkcli.units import Units
+    u = Units()
+    assert verdict(Status.OK, "m", [], [0.0, 0.9 * MISS_FLOOR_RAD, 0.0], True, u) == (Status.OK, "m")
+    status, msg = verdict(Status.OK, "m", [], [0.0, 1.1 * MISS_FLOOR_RAD, 0.0], True, u)
+    assert status is Status.INFEASIBLE and msg.startswith("m; infeasible: position 2 missed")
+    # least squares: residuals are the fit, not misses; an order defect still counts
+    assert verdict(Status.OK, "m", [], [0.1, 0.2, 0.1, 0.3], False, u) == (Status.OK, "m")
+    assert verdict(Status.OK, "m", [TRAVEL_NOTE], [0.0] * 4, False, u) == (
+        Status.INFEASIBLE, "m; infeasible: the linkage cannot pass its positions in one assembly")
