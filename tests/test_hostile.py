@@ -150,3 +150,23 @@ def test_the_miss_rule_uses_the_noise_floor_and_counts_order_defects():
     assert verdict(Status.OK, "m", [], [0.1, 0.2, 0.1, 0.3], False, u) == (Status.OK, "m")
     assert verdict(Status.OK, "m", [TRAVEL_NOTE], [0.0] * 4, False, u) == (
         Status.INFEASIBLE, "m; infeasible: the linkage cannot pass its positions in one assembly")
+
+
+# -- 5. a written motion study keeps its speed and steps -------------------------------
+
+def test_analyze_of_a_written_motion_study_reproduces_its_report(tmp_path):
+    code, written, err = run_cli("synth", "problems/firedoor_motion.toml", "-f", "toml")
+    assert code == 0, err
+    result = tmp_path / "result.toml"
+    result.write_text(written)
+    _, direct, _ = run_cli("synth", "problems/firedoor_motion.toml", "-f", "json")
+    code, again, err = run_cli("analyze", str(result), "-f", "json")
+    assert code == 0, err
+    direct, again = json.loads(direct), json.loads(again)
+    assert again["motion"]["input_speed"] == 20 and again["motion"]["steps"] == 36
+    assert len(again["kinematics"]) == 36
+    again["file"] = direct["file"]
+    assert again == direct
+    # the table states the speed used
+    _, table, _ = run_cli("analyze", str(result))
+    assert any(l.split() == ["input", "speed", "(deg/s)", "20"] for l in table.splitlines())

@@ -68,6 +68,7 @@ def _build(problem, solution: Solution) -> dict:
         speed = getattr(problem, "input_speed", None) or u.to_rad(1.0)
         steps = getattr(problem, "steps", 360)
         rep["kinematics"] = kinematics_rows(fb, mot, speed, steps, u)
+        rep.setdefault("motion", {}).update(input_speed=_dang(u, speed), steps=steps)  # to reproduce it
     if solution.positions is not None and "positions" in want:
         rep["positions"] = position_rows(solution.positions, u)
     if solution.positions is not None and "error" in want:

@@ -185,7 +185,8 @@ def render(report: dict, digits: int = 6) -> Group:
                       fmt(tr["working_input_at_max"], digits))
         parts.append(t)
     if "motion" in r:
-        parts.append(_kv("Motion", [(k.replace("_", " "), v) for k, v in r["motion"].items()], digits))
+        parts.append(_kv("Motion", [(k.replace("_", " ") + (f" ({au}/s)" if k == "input_speed" else ""), v)
+                                    for k, v in r["motion"].items()], digits))
     if "positions" in r:
         parts.append(_rows("Positions", r["positions"], digits))
     if "error" in r:

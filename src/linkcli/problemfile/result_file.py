@@ -12,6 +12,7 @@ from linkcli.model import LinkageProblem, Meta
 from linkcli.problemfile.common import read_units
 from linkcli.problemfile.linkage import DEFAULT_SECTIONS, read_fourbar
 from linkcli.problemfile.reader import Reader
+from linkcli.result_motion import motion_study
 
 
 def is_result(data: dict) -> bool:
@@ -59,4 +60,4 @@ def parse(reader: Reader) -> LinkageProblem | None:
         return None
     meta = Meta(path=reader.path, type="linkage", title=title if isinstance(title, str) else None,
                 units=units, sections=DEFAULT_SECTIONS)
-    return LinkageProblem(meta=meta, linkage=fourbar, input_speed=units.to_rad(1.0), steps=360)
+    return motion_study(root, LinkageProblem(meta=meta, linkage=fourbar, input_speed=units.to_rad(1.0), steps=360))
