@@ -170,3 +170,90 @@ def test_analyze_of_a_written_motion_study_reproduces_its_report(tmp_path):
     # the table states the speed used
     _, table, _ = run_cli("analyze", str(result))
     assert any(l.split() == ["input", "speed", "(deg/s)", "20"] for l in table.splitlines())
+
+
+# -- 7. the newcomer's small traps -------------------------------------------------------
+
+def test_synth_of_a_result_file_is_one_line_pointing_to_analyze(tmp_path):
+    _, written, _ = run_cli("synth", "problems/firedoor_motion.toml", "-f", "toml")
+    result = tmp_path / "result.toml"
+    result.write_text(written)
+    line = written.splitlines().index(next(l for l in written.splitlines() if l.startswith("status"))) + 1
+    for command in ("synth", "check"):
+        code, out, err = run_cli(command, str(result))
+        assert code == 2 and out == ""
+        assert err == (f"{result}:{line}: expected a problem file, found a result file of linkcli synth "
+                       "(analyse it with linkcli analyze)\n")
+
+
+def test_a_top_level_key_after_a_table_header_gets_a_hint(tmp_path):
+    p = tmp_path / "t.toml"
+    p.write_text('title = "x"\n[units]\nlength = "mm"\ntype = "precision-position"\n')
+    code, _, err = run_cli("check", str(p))
+    assert code == 2 and err == (f"{p}:4: units.type: expected a known key (did you mean the top-level "
+                                 "key type? keys after a [table] header belong to that table), found "
+                                 '"type" inside [units]\n')
+    q = tmp_path / "m.toml"
+    q.write_text((ROOT / "problems" / "firedoor_motion.toml").read_text().replace(
+        "steps = 36", 'steps = 36\ntitle = "again"'))
+    code, _, err = run_cli("check", str(q))
+    assert code == 2 and f'{q}:13: motion.title: expected a known key (did you mean the top-level key title?' in err
+
+
+def test_a_deep_table_header_is_located(tmp_path):
+    p = tmp_path / "deep.toml"
+    p.write_text((ROOT / "problems" / "firedoor_motion.toml").read_text() + "\n[a.b.c.d]\nx = 1\n")
+    n = p.read_text().splitlines().index("[a.b.c.d]") + 1
+    code, _, err = run_cli("check", str(p))
+    assert code == 2 and err.startswith(f'{p}:{n}: a: expected a known key')
+
+
+@pytest.mark.parametrize("target,expected", [
+    ("x.pdf", 'x.pdf: expected a .png or .svg file name, found ".pdf"'),
+    ("afile/x.png", "afile/x.png: expected a plot path inside a folder, found afile is a file"),
+])
+def test_a_bad_plot_path_is_refused_before_solving(tmp_path, monkeypatch, target, expected):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "afile").write_text("")
+    import linkcli.solvers
+    monkeypatch.setattr(linkcli.solvers, "solve", lambda p: pytest.fail("solved before the check"))
+    code, out, err = run_cli("synth", str(ROOT / "problems" / "firedoor.toml"), "--plot", target)
+    assert code == 2 and out == "" and err == expected + "\n"
+
+
+def test_the_seed_rule_is_the_same_on_the_command_line_and_in_the_file(tmp_path):
+    code, _, err = run_cli("synth", "problems/firedoor.toml", "--seed", str(2 ** 70))
+    assert code == 2 and "not in the range 0<=x<=4294967295" in err
+    p = tmp_path / "s.toml"
+    p.write_text((ROOT / "problems" / "firedoor.toml").read_text() + "[solver]\nseed = 4294967296\n")
+    code, _, err = run_cli("check", str(p))
+    assert code == 2 and "solver.seed: expected an integer in [0, 4294967295], found 4294967296" in err
+    p.write_text((ROOT / "problems" / "firedoor.toml").read_text() + "[solver]\nseed = 4294967295\n")
+    assert run_cli("check", str(p))[0] == 0
+    assert run_cli("synth", "problems/firedoor.toml", "--seed", "4294967295")[0] == 0
+
+
+def test_jobs_is_clamped_to_the_files_and_the_cpus(monkeypatch):
+    import concurrent.futures
+
+    from linkcli import cli
+    seen = []
+
+    class Pool:
+        def __init__(self, max_workers):
+            seen.append(max_workers)
+
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *a):
+            return False
+
+        def map(self, fn, *args):
+            return map(fn, *args)
+
+    monkeypatch.setattr(concurrent.futures, "ProcessPoolExecutor", Pool)
+    monkeypatch.setattr(os, "cpu_count", lambda: 8)
+    list(cli._run_all(["problems/firedoor.toml"] * 3, "check", None, False, 1000))
+    list(cli._run_all(["problems/firedoor.toml"] * 30, "check", None, False, 1000))
+    assert seen == [3, 8]

@@ -12,6 +12,7 @@ import difflib
 import importlib
 
 from linkcli.errors import InputErrors
+from linkcli.misplaced_keys import refuse_misplaced_type, refuse_result_file
 from linkcli.problemfile.common import read_meta
 from linkcli.problemfile.reader import MISSING, Reader
 
@@ -31,9 +32,11 @@ def type_module(name: str):
 def load(path: str, text: str | None = None):
     """Read and validate one problem file; raise InputErrors with every problem found."""
     reader = Reader(path, text)
+    refuse_result_file(reader)
     root = reader.root()
     kind = root.raw("type", None)
     if not isinstance(kind, str) or kind not in TYPES:
+        refuse_misplaced_type(reader, kind)
         hint = difflib.get_close_matches(kind, list(TYPES), n=1) if isinstance(kind, str) else []
         extra = f' (did you mean "{hint[0]}"?)' if hint else ""
         root.error("type", f"one of: {', '.join(TYPES)}{extra}", MISSING if kind is None else kind)

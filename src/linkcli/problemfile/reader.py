@@ -18,6 +18,8 @@ import tomllib
 from linkcli.errors import InputError, InputErrors, SchemaError, TomlSyntaxError
 from linkcli.safe_read import read_problem_bytes
 from linkcli.terminal_text import shown as _one_line  # escaped, one line, at most 200 characters
+from linkcli.misplaced_keys import top_level_hint
+from linkcli.header_lines import with_parent_lines
 from linkcli.huge_numbers import refuse_huge_integers, too_many_digits
 
 MISSING = object()
@@ -177,7 +179,7 @@ def _line_map(text: str) -> dict[tuple[str, ...], int]:
             depth = max(0, depth + line.count("[") - line.count("]"))
     for path in twice:  # which element a key belongs to is not known here: no line
         del lines[path]
-    return lines
+    return with_parent_lines(lines, twice)
 
 
 class Reader:
@@ -262,6 +264,7 @@ class Reader:
                     hint = difflib.get_close_matches(key, sorted(allowed), n=1, cutoff=0.6)
                     expected = "a known key" + (f' (did you mean "{hint[0]}"?)' if hint
                                                 else f" (one of: {', '.join(sorted(allowed))})" if allowed else "")
+                    expected = top_level_hint(path, key, self._tables.get((), {}).keys() | self._seen.get((), set())) or expected
                     self.error(path + (key,), expected, raw_got=f'unknown key "{key}"')
         if self.errors:
             self.errors.sort(key=lambda e: (e.line or 0))
