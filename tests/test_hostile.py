@@ -257,3 +257,19 @@ def test_jobs_is_clamped_to_the_files_and_the_cpus(monkeypatch):
     list(cli._run_all(["problems/firedoor.toml"] * 3, "check", None, False, 1000))
     list(cli._run_all(["problems/firedoor.toml"] * 30, "check", None, False, 1000))
     assert seen == [3, 8]
+
+
+def test_a_transmission_a_rounding_error_outside_the_band_gives_no_warning(monkeypatch):
+    # the band test compares with a relative tolerance of 1e-9: 140.00000000000006 is 140
+    import math
+
+    from linkcli import analyse
+    from linkcli.model import FourBar
+    from linkcli.units import Units
+    fb = FourBar(ground=50, input=20, coupler=50, output=20, branch="open")
+    for mx, warned in ((140.00000000000006, False), (140.001, True)):
+        monkeypatch.setattr(analyse.kin, "transmission_extremes",
+                            lambda *a: (math.radians(50.0), 0.0, math.radians(mx), 1.0))
+        notes = []
+        analyse.transmission_section(fb, {"input_arc": (0.0, 6.0)}, None, Units(), notes)
+        assert bool(notes) is warned, notes

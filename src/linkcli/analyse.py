@@ -117,7 +117,7 @@ def transmission_section(fb, mot, span, u, notes) -> dict:
         out.update({"working_min": _dang(u, wmn), "working_max": _dang(u, wmx),
                     "working_input_at_min": _ang(u, wat_mn), "working_input_at_max": _ang(u, wat_mx)})
     band = TRANSMISSION_BAND
-    if math.degrees(mn) < band[0] or math.degrees(mx) > band[1]:
+    if math.degrees(mn) < band[0] * (1 - 1e-9) or math.degrees(mx) > band[1] * (1 + 1e-9):  # round-off is inside
         notes.append(f"transmission angle leaves the recommended {band[0]:g}..{band[1]:g} deg band "
                      f"({math.degrees(mn):.1f}..{math.degrees(mx):.1f} deg over the input's range)")
     return out
