@@ -152,7 +152,12 @@ def test_out_folder_problems_and_repeated_stems(tmp_path):
     assert files == [str(tmp_path / "x" / "firedoor.toml"), str(tmp_path / "y" / "firedoor.toml")]
 
 
-def test_one_bad_file_prints_nothing_on_stdout_in_any_format():
+def test_one_bad_file_prints_nothing_on_stdout_but_its_json_slot():
     for fmt in ("table", "json", "toml"):
         code, out, err = run_cli("synth", "tests/bad/coincident_positions.toml", "-f", fmt)
-        assert code == 2 and out == "" and err.startswith("tests/bad/coincident_positions.toml:")
+        assert code == 2 and err.startswith("tests/bad/coincident_positions.toml:")
+        if fmt == "json":  # the slot a batch would print for it (issue 21)
+            assert json.loads(out) == {"file": "tests/bad/coincident_positions.toml", "status": "bad-input",
+                                       "message": "; ".join(err.splitlines())}
+        else:
+            assert out == ""

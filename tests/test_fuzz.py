@@ -110,3 +110,46 @@ def test_garbage_bytes_and_empty_file(tmp_path):
         outcome = run(str(p), Request())
         code, errors = outcome.exit_code, outcome.errors
         assert code == 2 and errors and not any("internal error" in e for e in errors), errors
+
+
+def _number_leaves(node, prefix=()):
+    """Key paths of every number in parsed TOML (array elements as (key, index))."""
+    if isinstance(node, dict):
+        for k, v in node.items():
+            yield from _number_leaves(v, prefix + (k,))
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            yield from _number_leaves(v, prefix + (i,))
+    elif isinstance(node, (int, float)) and not isinstance(node, bool):
+        yield prefix
+
+
+HUGE = [(ex, path) for ex in EXAMPLES for path in _number_leaves(tomllib.loads(ex.read_text()))]
+
+
+@pytest.mark.parametrize("example,path", HUGE, ids=[f"{e.stem}-{'.'.join(map(str, p))}" for e, p in HUGE])
+def test_every_number_set_to_an_integer_beyond_double_range_is_a_located_bad_input(tmp_path, example, path):
+    data = tomllib.loads(example.read_text())
+    _set(data, path, -(10 ** 400) if len(path) % 2 else 10 ** 400)
+    p = tmp_path / example.name
+    p.write_text(tomli_w.dumps(data))
+    key = ".".join(str(k) for k in path if not isinstance(k, int))
+    key += "".join(f"[{k}]" for k in path if isinstance(k, int))
+    for mode in ("check", "synth", "analyze"):
+        code, report, errors = run_one(str(p), mode, None, False)
+        assert code == 2 and report is None, (mode, errors)
+        assert len(errors) == 1 and errors[0].startswith(f"{p}:"), errors
+        assert errors[0].endswith(f": {key}: expected a finite number, found an integer of 401 digits"), errors
+
+
+def test_special_files_and_escapes_fail_cleanly(tmp_path):
+    import os
+    fifo = tmp_path / "pipe.toml"
+    os.mkfifo(fifo)
+    escapes = tmp_path / "escapes.toml"
+    escapes.write_text('type = "linkage\\u001b[2J"\n"\\u001b[31mkey" = 1\n')
+    for p in (fifo, Path("/dev/zero"), escapes):
+        for mode in ("check", "synth", "analyze"):
+            code, _, errors = run_one(str(p), mode, None, False)
+            assert code == 2 and errors, (p, mode)
+            assert not any("\x1b" in e or "internal error" in e for e in errors), errors

@@ -239,7 +239,7 @@ def test_three_positions_on_two_branches_do_not_claim_an_exact_fit():
     # adversarial probe: "exact through 3 positions" while position 2 was missed by 43.6 deg
     phi, psi, d = [-100, 55, 165], [120, -140, -175], 50.0
     sol = solve_text(problem_text(phi, psi, ground=d))
-    assert sol.status.value == "ok"  # a branch defect is a warning (issue 2)
+    assert sol.status.value == "infeasible"  # a missed position is no design (issue 21)
     assert not sol.message.startswith("exact")
     assert "met exactly" in sol.message and "no one branch holds all" in sol.message
     assert "open branch holds positions 1, 3" in sol.message and "crossed branch 2" in sol.message

@@ -17,6 +17,7 @@ import time
 from dataclasses import replace
 
 from linkcli.errors import LinkcliError
+from linkcli.terminal_text import one_line
 
 DEFAULT_GLOB = "problems/bench/*.toml"
 COLUMNS = ("problem", "method", "budget", "seed", "seconds", "evaluations", "objective",
@@ -71,7 +72,7 @@ def command(files: list[str], fmt: str, seeds: int, precision: int, debug: bool)
             if debug:
                 raise
             for line in exc.lines() if hasattr(exc, "lines") else [str(exc)]:
-                sys.stderr.write(line + "\n")
+                sys.stderr.write(one_line(line) + "\n")
             worst = max(worst, getattr(exc, "exit_code", 1))
     if fmt == "json":
         from linkcli.io.export import to_json
@@ -90,7 +91,7 @@ def command(files: list[str], fmt: str, seeds: int, precision: int, debug: bool)
             t.add_column(c, justify="left" if c in ("problem", "method", "status") else "right",
                          no_wrap=True)
         for r in rows:
-            shown = dict(r, problem=os.path.splitext(os.path.basename(r["problem"]))[0])
+            shown = dict(r, problem=one_line(os.path.splitext(os.path.basename(r["problem"]))[0]))
             t.add_row(*(fmt_value(shown[c], precision) if shown[c] is not None else "-" for c in COLUMNS))
         console(width=None if sys.stdout.isatty() else 140).print(t)
     return worst

@@ -47,7 +47,8 @@ def main_callback(
 
 
 def _err(line: str) -> None:
-    sys.stderr.write(line.rstrip("\n") + "\n")
+    from linkcli.terminal_text import one_line
+    sys.stderr.write(one_line(line.rstrip("\n")) + "\n")
 
 
 def _progress(total: int):
@@ -68,6 +69,8 @@ def _solve_command(files: list[Path], mode: str, fmt: Format, out: Optional[Path
     names = [str(f) for f in files]
     request = Request(mode=mode, seed=seed, debug=debug, timing=timing, plot=plot is not None)
     if out is not None and not _prepare_out(out):
+        return 2
+    if plot is not None and _plot_problem(plot, names):
         return 2
     worst = 0
     counts = {0: 0, 1: 0, 2: 0}
@@ -90,7 +93,7 @@ def _solve_command(files: list[Path], mode: str, fmt: Format, out: Optional[Path
                 _err(line)
             worst = max(worst, code)
             counts[code] = counts.get(code, 0) + 1
-            if report is None and fmt is Format.json and len(names) > 1:
+            if report is None and fmt is Format.json:
                 # keep one object per file, in argument order, for scripts
                 reports.append({"file": name, "status": "bad-input" if code == 2 else "error",
                                 "message": "; ".join(errors)})
@@ -112,7 +115,7 @@ def _solve_command(files: list[Path], mode: str, fmt: Format, out: Optional[Path
             prog.stop()
     if out is not None:
         worst = max(worst, _write_out([r for r in reports if "type" in r], out, fmt, precision))
-    elif fmt is Format.json and (reports or len(names) > 1):  # one bad file: nothing on stdout
+    elif fmt is Format.json:  # a bad file has its slot object, alone or in a batch
         from linkcli.io.export import to_json
         sys.stdout.write(to_json(reports if len(names) > 1 else reports[0], precision))
     elif fmt is Format.toml and reports:
@@ -125,6 +128,14 @@ def _solve_command(files: list[Path], mode: str, fmt: Format, out: Optional[Path
         _err(f"{len(names)} files: {counts[0]} solved, {counts[1]} infeasible or not converged, "
              f"{counts[2]} bad input")
     return worst
+
+
+def _plot_problem(plot: Path, names: list[str]) -> bool:
+    from linkcli.plot_precheck import plot_path_problem
+    line = plot_path_problem(plot, names)
+    if line:
+        _err(line)
+    return bool(line)
 
 
 def _prepare_out(out: Path) -> bool:
@@ -171,7 +182,7 @@ def _plot(results, files: int, plot: Path, debug: bool) -> int:
 FILES = typer.Argument(..., help="Problem files (TOML).", exists=False)
 FORMAT = typer.Option(Format.table, "--format", "-f", help="Output format.")
 OUT = typer.Option(None, "--out", help="Write one result file per problem into this folder.")
-SEED = typer.Option(None, "--seed", help="Override the files' [solver] seed.", min=0)
+SEED = typer.Option(None, "--seed", help="Override the files' [solver] seed.", min=0, max=2**32 - 1)
 PRECISION = typer.Option(6, "--precision", help="Significant digits in the output.", min=1, max=17)
 JOBS = typer.Option(1, "--jobs", "-j", help="Solve files in N processes (output keeps argument order).", min=1)
 PLOT = typer.Option(None, "--plot", help="Draw the result to FILE.png|FILE.svg (a folder with several files).")

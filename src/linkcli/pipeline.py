@@ -149,5 +149,8 @@ def processes(jobs: int):
 
 def executor(jobs: int, files: list[str], debug: bool):
     """`--jobs N`: processes for a batch (not with --debug: tracebacks stay in this
-    process), otherwise serial."""
-    return processes(jobs) if jobs > 1 and len(files) > 1 and not debug else serial
+    process), otherwise serial. More processes than files or CPUs cannot help: `jobs` is
+    silently limited to both."""
+    import os
+    jobs = min(jobs, len(files), os.cpu_count() or 1)
+    return processes(jobs) if jobs > 1 and not debug else serial

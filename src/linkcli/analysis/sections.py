@@ -71,6 +71,7 @@ def _build(problem, solution: Solution) -> dict:
         speed = getattr(problem, "input_speed", None) or u.to_rad(1.0)
         steps = getattr(problem, "steps", 360)
         rep["kinematics"] = kinematics_rows(fb, mot, speed, steps, u)
+        rep.setdefault("motion", {}).update(input_speed=_dang(u, speed), steps=steps)  # to reproduce it
     if solution.positions is not None and "positions" in want:
         rep["positions"] = position_rows(solution.positions, u, max(fb.abcd) if has_linkage else 1.0)
     if solution.positions is not None and "error" in want:
@@ -121,7 +122,7 @@ def transmission_section(fb, mot, span, u, notes) -> dict:
         out.update({"working_min": _dang(u, wmn), "working_max": _dang(u, wmx),
                     "working_input_at_min": _ang(u, wat_mn), "working_input_at_max": _ang(u, wat_mx)})
     band = TRANSMISSION_BAND
-    if math.degrees(mn) < band[0] or math.degrees(mx) > band[1]:
+    if math.degrees(mn) < band[0] * (1 - 1e-9) or math.degrees(mx) > band[1] * (1 + 1e-9):  # round-off is inside
         notes.append(f"transmission angle leaves the recommended {band[0]:g}..{band[1]:g} deg band "
                      f"({num(math.degrees(mn))}..{num(math.degrees(mx))} deg over the input's range)")
     return out

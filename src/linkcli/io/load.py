@@ -14,14 +14,17 @@ from linkcli.errors import InputErrors
 from linkcli.io.meta import read_meta
 from linkcli.io.reader import MISSING, Reader
 from linkcli.registry import NAMES, problem_type
+from linkcli.misplaced_keys import refuse_misplaced_type, refuse_result_file
 
 
 def load(path: str, text: str | None = None):
     """Read and validate one problem file; raise InputErrors with every problem found."""
     reader = Reader(path, text)
+    refuse_result_file(reader)
     root = reader.root()
     kind = root.raw("type", None)
     if not isinstance(kind, str) or kind not in NAMES:
+        refuse_misplaced_type(reader, kind)
         hint = difflib.get_close_matches(kind, list(NAMES), n=1) if isinstance(kind, str) else []
         extra = f' (did you mean "{hint[0]}"?)' if hint else ""
         root.error("type", f"one of: {', '.join(NAMES)}{extra}", MISSING if kind is None else kind)

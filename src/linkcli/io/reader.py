@@ -16,6 +16,11 @@ import re
 import tomllib
 
 from linkcli.errors import InputError, InputErrors, SchemaError, TomlSyntaxError
+from linkcli.safe_read import read_problem_bytes
+from linkcli.terminal_text import shown as _one_line  # escaped, one line, at most 200 characters
+from linkcli.misplaced_keys import top_level_hint
+from linkcli.header_lines import with_parent_lines
+from linkcli.huge_numbers import refuse_huge_integers, too_many_digits
 
 MISSING = object()
 MAX_ARRAY = 10_000  # longest array accepted anywhere in a problem file
@@ -41,12 +46,6 @@ def _split_key(text: str) -> list[str]:
             pass
     parts = re.findall(r"""[A-Za-z0-9_\-]+|"[^"]*"|'[^']*'""", text)
     return [p.strip("\"'") for p in parts]
-
-
-def _one_line(text: str) -> str:
-    """Control characters (a newline in a multi-line string or a quoted key) escaped as
-    Python writes them, so that every error stays on one line."""
-    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
 def describe(value) -> str:
@@ -180,7 +179,7 @@ def _line_map(text: str) -> dict[tuple[str, ...], int]:
             depth = max(0, depth + line.count("[") - line.count("]"))
     for path in twice:  # which element a key belongs to is not known here: no line
         del lines[path]
-    return lines
+    return with_parent_lines(lines, twice)
 
 
 class Reader:
@@ -192,11 +191,7 @@ class Reader:
         self._seen: dict[tuple[str, ...], set[str]] = {}
         self._tables: dict[tuple[str, ...], dict] = {}
         if text is None:
-            try:
-                with open(path, "rb") as fh:
-                    raw = fh.read()
-            except OSError as exc:
-                raise InputError("a readable problem file", exc.strerror or str(exc), path=path) from None
+            raw = read_problem_bytes(path)
             try:
                 text = raw.decode("utf-8")
             except UnicodeDecodeError as exc:
@@ -214,9 +209,12 @@ class Reader:
                 msg += f" (column {m.group(2)})"
             msg = "a syntax error: " + msg[:1].lower() + msg[1:]
             raise TomlSyntaxError("valid TOML", msg, path=path, line=line) from None
+        except ValueError:  # not a TOMLDecodeError: an integer beyond Python's digit limit
+            raise too_many_digits(path, text) from None
         except RecursionError:
             raise TomlSyntaxError("valid TOML", "nesting too deep", path=path) from None
         self.lines = _line_map(text)
+        refuse_huge_integers(self)
 
     # -- errors ---------------------------------------------------------------
     def line_of(self, path: tuple[str, ...]) -> int | None:
@@ -266,6 +264,7 @@ class Reader:
                     hint = difflib.get_close_matches(key, sorted(allowed), n=1, cutoff=0.6)
                     expected = "a known key" + (f' (did you mean "{hint[0]}"?)' if hint
                                                 else f" (one of: {', '.join(sorted(allowed))})" if allowed else "")
+                    expected = top_level_hint(path, key, self._tables.get((), {}).keys() | self._seen.get((), set())) or expected
                     self.error(path + (key,), expected, raw_got=f'unknown key "{key}"')
         if self.errors:
             self.errors.sort(key=lambda e: (e.line or 0))

@@ -17,6 +17,7 @@ from rich.table import Table
 from rich.text import Text
 
 from linkcli.io.export import rounded
+from linkcli.terminal_text import terminal_safe
 
 MAX_TABLE_WIDTH = 400  # columns a table may take when printed to a file or a pipe
 STATUS_STYLE = {"ok": "bold green", "infeasible": "bold yellow", "not-converged": "bold red"}
@@ -143,7 +144,7 @@ def _flipper(name: str, section, digits: int, lu: str, au: str) -> list:
 
 def render(report: dict, digits: int = 6) -> Group:
     """One problem's block."""
-    r = rounded(report, digits)
+    r = terminal_safe(rounded(report, digits))
     lu, au = r["units"]["length"], r["units"]["angle"]
     parts: list = []
     head = Text()
@@ -184,7 +185,8 @@ def render(report: dict, digits: int = 6) -> Group:
                       fmt(tr["working_input_at_max"], digits))
         parts.append(t)
     if "motion" in r:
-        parts.append(_kv("Motion", [(k.replace("_", " "), v) for k, v in r["motion"].items()], digits))
+        parts.append(_kv("Motion", [(k.replace("_", " ") + (f" ({au}/s)" if k == "input_speed" else ""), v)
+                                    for k, v in r["motion"].items()], digits))
     if "positions" in r:
         parts.append(_rows("Positions", r["positions"], digits))
     if "error" in r:

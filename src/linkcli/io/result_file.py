@@ -13,6 +13,7 @@ from linkcli.io.meta import read_units
 from linkcli.types.linkage import TYPE as LINKAGE
 from linkcli.types.linkage.schema import read_fourbar
 from linkcli.io.reader import Reader
+from linkcli.result_motion import motion_study
 
 
 def is_result(data: dict) -> bool:
@@ -60,4 +61,4 @@ def parse(reader: Reader) -> LinkageProblem | None:
         return None
     meta = Meta(path=reader.path, type="linkage", title=title if isinstance(title, str) else None,
                 units=units, sections=LINKAGE.default_sections)
-    return LinkageProblem(meta=meta, linkage=fourbar, input_speed=units.to_rad(1.0), steps=360)
+    return motion_study(root, LinkageProblem(meta=meta, linkage=fourbar, input_speed=units.to_rad(1.0), steps=360))

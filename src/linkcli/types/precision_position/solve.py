@@ -25,6 +25,7 @@ from linkcli.mechanisms.four_bar import ground_distance, pose, wrap
 from linkcli.model import FourBar
 from linkcli.solution import Positions, Solution, Status
 from linkcli.types.precision_position.starts import (closure_gap, freudenstein_system, lengths_of, make_starts,
+from linkcli.position_verdict import verdict
                                               physical_angles, refine, travels)
 from linkcli.textnum import num
 
@@ -196,15 +197,17 @@ def solve(problem) -> Solution:
     if not travels(a, b, c, d, phi_phys, sweep):
         notes.append(TRAVEL_NOTE)
     if any(note.startswith("branch defect") for note in notes):
-        message += "; warning: branch defect (see notes)"
+        message += "; branch defect (see notes)"
     converged = bool(solver.get("converged", True))
     if not converged:
         budget = problem.meta.solver.budget
         message += (f"; the refinement stopped at its budget ({budget} evaluations) before converging"
                     if budget is not None else "; the refinement reached its iteration limit "
                     "before converging")
+    status, message = verdict(Status.OK if converged else Status.NOT_CONVERGED, message, notes, err, n == 3,
+                              problem.meta.units)
     return Solution(
-        status=Status.OK if converged else Status.NOT_CONVERGED,
+        status=status,
         linkage=linkage,
         message=message,
         positions=Positions(kind="angle", input=phi_phys, target=psi_phys, achieved=p.psi, error=err),

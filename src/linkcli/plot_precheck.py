@@ -1,0 +1,27 @@
+"""`--plot PATH` checked before any solve (as `--out` is): a long batch must not fail at
+its very end on a name it could have refused at once.
+
+The same rules as the plot itself (plot.output_paths: one file -> PATH.png|PATH.svg, several
+-> a folder), and the folder that will hold the picture must be creatable: its nearest
+existing ancestor must be a folder (`afile/x.png` is refused). Nothing is created here.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+def plot_path_problem(plot: Path, names: list[str]) -> str | None:
+    """The error line for a --plot PATH that cannot work, or None."""
+    from linkcli.plot import PlotError, output_paths
+    try:
+        output_paths([], names, plot)
+    except PlotError as exc:
+        return str(exc)
+    folder = plot.parent if len(names) <= 1 else plot
+    probe = folder
+    while not probe.exists() and probe != probe.parent:
+        probe = probe.parent
+    if probe.exists() and not probe.is_dir():
+        return f"{plot}: expected a plot path inside a folder, found {probe} is a file"
+    return None
