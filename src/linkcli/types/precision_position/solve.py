@@ -25,8 +25,8 @@ from linkcli.mechanisms.four_bar import ground_distance, pose, wrap
 from linkcli.model import FourBar
 from linkcli.solution import Positions, Solution, Status
 from linkcli.types.precision_position.starts import (closure_gap, freudenstein_system, lengths_of, make_starts,
-from linkcli.position_verdict import verdict
                                               physical_angles, refine, travels)
+from linkcli.position_verdict import verdict
 from linkcli.textnum import num
 
 COINCIDENT = 1e-9  # rad: two input (or output) angles closer than this are one position
