@@ -136,7 +136,8 @@ def test_every_number_set_to_an_integer_beyond_double_range_is_a_located_bad_inp
     key = ".".join(str(k) for k in path if not isinstance(k, int))
     key += "".join(f"[{k}]" for k in path if isinstance(k, int))
     for mode in ("check", "synth", "analyze"):
-        code, report, errors = run_one(str(p), mode, None, False)
+        outcome = run(str(p), Request(mode=mode))
+        code, report, errors = outcome.exit_code, outcome.result, list(outcome.errors)
         assert code == 2 and report is None, (mode, errors)
         assert len(errors) == 1 and errors[0].startswith(f"{p}:"), errors
         assert errors[0].endswith(f": {key}: expected a finite number, found an integer of 401 digits"), errors
@@ -150,6 +151,7 @@ def test_special_files_and_escapes_fail_cleanly(tmp_path):
     escapes.write_text('type = "linkage\\u001b[2J"\n"\\u001b[31mkey" = 1\n')
     for p in (fifo, Path("/dev/zero"), escapes):
         for mode in ("check", "synth", "analyze"):
-            code, _, errors = run_one(str(p), mode, None, False)
+            outcome = run(str(p), Request(mode=mode))
+            code, errors = outcome.exit_code, list(outcome.errors)
             assert code == 2 and errors, (p, mode)
             assert not any("\x1b" in e or "internal error" in e for e in errors), errors

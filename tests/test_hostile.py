@@ -121,10 +121,12 @@ def test_a_three_position_design_missing_a_position_is_infeasible_and_still_show
                  "input = [45, 90, 135]\noutput = [52, 53, 200]\n")
     code, out, err = run_cli("synth", str(p), "-f", "json")
     assert code == 1 and json.loads(out)["status"] == "infeasible", err
-    from linkcli.cli import run_one
-    code, rep, _ = run_one(str(p), "synth", None, False)  # full precision
+    from linkcli.pipeline import Request, run
+    from linkcli.textnum import render
+    outcome = run(str(p), Request())
+    code, rep = outcome.exit_code, outcome.result.report
     assert code == 1
-    assert rep["message"].endswith("; branch defect (see notes); infeasible: position 2 missed by up to "
+    assert render(rep["message"]).endswith("; branch defect (see notes); infeasible: position 2 missed by up to "
                                    "87.5959 deg on the reported branch")
     # the exact solution of Freudenstein's equations is still reported: its open branch
     # (psi = arg(v) - acos(...), v = a e^{i phi} - d) meets positions 1 and 3
@@ -236,7 +238,7 @@ def test_the_seed_rule_is_the_same_on_the_command_line_and_in_the_file(tmp_path)
 def test_jobs_is_clamped_to_the_files_and_the_cpus(monkeypatch):
     import concurrent.futures
 
-    from linkcli import cli
+    import os
     seen = []
 
     class Pool:
@@ -254,8 +256,9 @@ def test_jobs_is_clamped_to_the_files_and_the_cpus(monkeypatch):
 
     monkeypatch.setattr(concurrent.futures, "ProcessPoolExecutor", Pool)
     monkeypatch.setattr(os, "cpu_count", lambda: 8)
-    list(cli._run_all(["problems/firedoor.toml"] * 3, "check", None, False, 1000))
-    list(cli._run_all(["problems/firedoor.toml"] * 30, "check", None, False, 1000))
+    from linkcli.pipeline import Request, executor
+    for files in (["problems/firedoor.toml"] * 3, ["problems/firedoor.toml"] * 30):
+        list(executor(1000, files, False)(files, Request(mode="check")))
     assert seen == [3, 8]
 
 

@@ -411,5 +411,5 @@ def test_an_unwritable_target_is_bad_input(mpl, tmp_path):
     target = blocker / "door.png"
     code, _, err = run_cli("synth", "problems/firedoor.toml", "--plot", str(target))
     assert code == 2
-    assert err.startswith(f"{target}: expected a file name that can be written, found ")
+    assert err == f"{target}: expected a plot path inside a folder, found {blocker} is a file\n"  # before solving
     assert "Traceback" not in err

@@ -15,7 +15,7 @@ def plot_path_problem(plot: Path, names: list[str]) -> str | None:
     """The error line for a --plot PATH that cannot work, or None."""
     from linkcli.plot import PlotError, output_paths
     try:
-        output_paths([], names, plot)
+        output_paths([], len(names), plot)
     except PlotError as exc:
         return str(exc)
     folder = plot.parent if len(names) <= 1 else plot

@@ -18,6 +18,7 @@ import math
 import numpy as np
 
 from linkcli.solution import Status
+from linkcli.textnum import num
 
 MISS_FLOOR_RAD = 1e-6 * math.pi  # rad: 1e-6 of a half turn
 
@@ -40,7 +41,7 @@ def verdict(status: Status, message: str, notes: list[str], error_rad, exact: bo
     if missed:
         worst = max(abs(float(error_rad[i - 1])) for i in missed)
         reasons.append(f"position{'s' if len(missed) > 1 else ''} {', '.join(map(str, missed))} "
-                       f"missed by up to {units.from_rad(worst):.6g} {units.angle} on the reported branch")
+                       f"missed by up to {num(units.from_rad(worst))} {units.angle} on the reported branch")
     if defect and not missed:
         reasons.append("the linkage cannot pass its positions in one assembly")
     return Status.INFEASIBLE, f"{message}; infeasible: {'; '.join(reasons)}"

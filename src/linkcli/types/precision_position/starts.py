@@ -357,6 +357,7 @@ def travels(a, b, c, d, phi_phys, sweep) -> bool:
     if not arcs:
         return False
     lo, hi = choose_arc(arcs, phi_phys[0])
-    inside = np.mod(phi_phys - lo, TWO_PI) <= (hi - lo) + 1e-9
-    first, last = np.mod(phi_phys[0] - lo, TWO_PI), np.mod(phi_phys[-1] - lo, TWO_PI)
+    slack = 1e-9  # rad: a position at a limit up to round-off is inside the arc, on either side
+    inside = np.mod(phi_phys - lo + slack, TWO_PI) <= (hi - lo) + 2 * slack
+    first, last = np.mod(phi_phys[0] - lo + slack, TWO_PI), np.mod(phi_phys[-1] - lo + slack, TWO_PI)
     return bool(np.all(inside)) and ((sweep >= 0 and last >= first) or (sweep < 0 and last <= first))
