@@ -48,7 +48,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from linkcli.search.budget import Budget, BudgetSpent
-from linkcli.search.sampling import distinct
+from linkcli.search.sampling import distinct, latin_hypercube
 from linkcli.types.flipper_cylinder.statics import Statics
 
 DEFAULT_BUDGET = 4000  # designs evaluated by the optimizing methods
@@ -265,12 +265,6 @@ def _excess(peak, cap: float):
     peak = np.asarray(peak, dtype=float)
     with np.errstate(invalid="ignore"):
         return np.where(np.isfinite(peak), np.maximum(0.0, peak - cap) / cap, BIG)
-
-
-def latin_hypercube(rng, n: int, dim: int) -> np.ndarray:
-    """A Latin-hypercube sample of n points in [0, 1]^dim."""
-    cells = np.stack([rng.permutation(n) for _ in range(dim)], axis=1)
-    return (cells + rng.random((n, dim))) / n
 
 
 # ---------------------------------------------------------------------------- global stage
