@@ -128,12 +128,12 @@ def test_quick_return_ratio_matches_classical_formula():
     beta = abs(t_fold - t_ext)
     q = (math.pi + beta) / (math.pi - beta)
     m = kin.motion(a, b, c, d, "open")
-    assert m["input_full_turn"] and not m["output_full_turn"]
-    assert m["time_ratio"] == pytest.approx(q, rel=1e-9)
+    assert m.input_full_turn and not m.output_full_turn
+    assert m.time_ratio == pytest.approx(q, rel=1e-9)
     # output swing: psi at the two collinear positions (law of cosines)
     psi_ext = math.acos((c * c + d * d - (a + b) ** 2) / (2 * c * d))
     psi_fold = math.acos((c * c + d * d - (b - a) ** 2) / (2 * c * d))
-    assert m["output_swing"] == pytest.approx(abs(psi_ext - psi_fold), rel=1e-9)
+    assert m.output_swing == pytest.approx(abs(psi_ext - psi_fold), rel=1e-9)
 
 
 @settings(max_examples=150, deadline=None)
@@ -195,10 +195,10 @@ def test_toggle_and_change_point_give_finite_numbers():
     w3, w4 = kin.velocities(a, b, c, p, 1.0)
     assert not np.isnan(w3).any() and not np.isnan(w4).any()
     m = kin.motion(a, b, c, d, "open")
-    assert m["assembles"]
+    assert m.assembles
     # a linkage that never assembles says so
     assert kin.input_arcs(1.0, 1.0, 1.0, 10.0) == []
-    assert kin.motion(1.0, 1.0, 1.0, 10.0, "open") == {"assembles": False}
+    assert kin.motion(1.0, 1.0, 1.0, 10.0, "open") == kin.Motion(assembles=False)
 
 
 def test_change_point_row_has_no_round_off_quotients():
@@ -233,7 +233,7 @@ def test_kite_where_the_crank_pin_meets_the_output_pivot():
     a, b, c, d = 30.0, 60.0, 60.0, 30.0
     assert not bool(kin.pose(a, b, c, d, 0.0, "open").valid)
     m = kin.motion(a, b, c, d, "open")
-    assert m["input_full_turn"] and not m["output_full_turn"]
-    assert m["output_swing"] == pytest.approx(math.pi, abs=0.01)
-    lo, hi = m["output_range"]
+    assert m.input_full_turn and not m.output_full_turn
+    assert m.output_swing == pytest.approx(math.pi, abs=0.01)
+    lo, hi = m.output_range
     assert lo == pytest.approx(0.0, abs=0.01) and hi == pytest.approx(math.pi, abs=0.01)

@@ -63,11 +63,13 @@ def _progress(total: int):
                     console=Console(file=sys.stderr), transient=True)
 
 
-def _solve_command(files: list[Path], mode: str, fmt: Format, out: Optional[Path], seed,
-                   precision: int, jobs: int, plot: Optional[Path], debug: bool, timing: bool) -> int:
-    from linkcli.pipeline import Request, executor
+def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path], precision: int,
+                   jobs: int, plot: Optional[Path]) -> int:
+    """synth and analyze: run the pipeline over the files (`request`: mode, seed, debug,
+    timing), print or write the reports, draw them; the worst exit code."""
+    from linkcli.pipeline import executor
     names = [str(f) for f in files]
-    request = Request(mode=mode, seed=seed, debug=debug, timing=timing, plot=plot is not None)
+    debug = request.debug
     if out is not None and not _prepare_out(out):
         return 2
     if plot is not None and _plot_problem(plot, names):
@@ -195,7 +197,9 @@ def synth(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Path
           seed: Optional[int] = SEED, precision: int = PRECISION, jobs: int = JOBS,
           plot: Optional[Path] = PLOT, debug: bool = DEBUG, timing: bool = TIMING) -> None:
     """Solve each problem file and print its report."""
-    raise typer.Exit(_solve_command(files, "synth", format, out, seed, precision, jobs, plot, debug, timing))
+    from linkcli.pipeline import Request
+    request = Request(mode="synth", seed=seed, debug=debug, timing=timing, plot=plot is not None)
+    raise typer.Exit(_solve_command(files, request, format, out, precision, jobs, plot))
 
 
 @app.command()
@@ -203,7 +207,9 @@ def analyze(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Pa
             precision: int = PRECISION, jobs: int = JOBS, plot: Optional[Path] = PLOT,
             debug: bool = DEBUG) -> None:
     """Analyse given linkages: `type = "linkage"` files or results of `synth --format toml`."""
-    raise typer.Exit(_solve_command(files, "analyze", format, out, None, precision, jobs, plot, debug, False))
+    from linkcli.pipeline import Request
+    request = Request(mode="analyze", debug=debug, plot=plot is not None)
+    raise typer.Exit(_solve_command(files, request, format, out, precision, jobs, plot))
 
 
 @app.command()

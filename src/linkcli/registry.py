@@ -10,7 +10,7 @@ never imports numpy and a closed-form type never imports scipy.
 from __future__ import annotations
 
 import importlib
-from dataclasses import dataclass
+from typing import NamedTuple
 
 PACKAGES = {  # the `type` key of a problem file -> its package under linkcli.types
     "precision-position": "precision_position",
@@ -22,8 +22,7 @@ PACKAGES = {  # the `type` key of a problem file -> its package under linkcli.ty
 NAMES = tuple(PACKAGES)
 
 
-@dataclass(frozen=True)
-class ProblemType:
+class ProblemType(NamedTuple):
     """What the reader and `linkcli bench` need to know of a type before solving it."""
 
     package: str

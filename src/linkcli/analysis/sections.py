@@ -61,13 +61,13 @@ def _build(problem, solution: Solution) -> dict:
     if has_linkage and want & {"transmission", "motion", "kinematics"}:
         near = solution.working_span[0] if solution.working_span else None
         mot = kin.motion(*fb.abcd, fb.branch, near=near)
-        if not mot["assembles"]:
+        if not mot.assembles:
             notes.append("the linkage cannot assemble at any input angle")
-    if mot and mot["assembles"] and "transmission" in want:
+    if mot is not None and mot.assembles and "transmission" in want:
         rep["transmission"] = transmission_section(fb, mot, solution.working_span, u, notes)
-    if mot and mot["assembles"] and "motion" in want:
+    if mot is not None and mot.assembles and "motion" in want:
         rep["motion"] = motion_section(mot, u)
-    if mot and mot["assembles"] and "kinematics" in want:
+    if mot is not None and mot.assembles and "kinematics" in want:
         speed = getattr(problem, "input_speed", None) or u.to_rad(1.0)
         steps = getattr(problem, "steps", 360)
         rep["kinematics"] = kinematics_rows(fb, mot, speed, steps, u)
@@ -111,7 +111,7 @@ def linkage_section(fb, u) -> dict:
 
 def transmission_section(fb, mot, span, u, notes) -> dict:
     a, b, c, d = fb.abcd
-    lo, hi = mot["input_arc"]
+    lo, hi = mot.input_arc
     mn, at_mn, mx, at_mx = kin.transmission_extremes(a, b, c, d, lo, hi)
     out = {"min": _dang(u, mn), "max": _dang(u, mx),
            "input_at_min": _ang(u, at_mn), "input_at_max": _ang(u, at_mx)}
@@ -129,17 +129,17 @@ def transmission_section(fb, mot, span, u, notes) -> dict:
 
 
 def motion_section(mot, u) -> dict:
-    out = {"input_full_turn": mot["input_full_turn"]}
-    if not mot["input_full_turn"]:
-        lo, hi = mot["input_arc"]
+    out = {"input_full_turn": mot.input_full_turn}
+    if not mot.input_full_turn:
+        lo, hi = mot.input_arc
         out["input_range"] = [_ang(u, lo), _ang(u, hi)]
-    out["output_full_turn"] = mot["output_full_turn"]
-    if mot["output_range"] is not None:
-        lo, hi = mot["output_range"]
+    out["output_full_turn"] = mot.output_full_turn
+    if mot.output_range is not None:
+        lo, hi = mot.output_range
         out["output_range"] = [_ang(u, lo), _ang(u, hi)]
-    out["output_swing"] = _dang(u, mot["output_swing"])
-    if "time_ratio" in mot:
-        out["time_ratio"] = mot["time_ratio"]
+    out["output_swing"] = _dang(u, mot.output_swing)
+    if mot.time_ratio is not None:
+        out["time_ratio"] = mot.time_ratio
     return out
 
 
@@ -148,15 +148,15 @@ def kinematics_rows(fb, mot, speed, steps, u) -> list[dict]:
     a rocking input's arc (its ends are toggles, where a constant input speed would
     need infinite output speed)."""
     a, b, c, d = fb.abcd
-    if mot["input_full_turn"]:
+    if mot.input_full_turn:
         phi = np.arange(steps) * (kin.TWO_PI / steps)
     else:
-        lo, hi = mot["input_arc"]
+        lo, hi = mot.input_arc
         phi = lo + (np.arange(steps) + 0.5) * ((hi - lo) / steps)
     p = kin.pose(a, b, c, d, phi, fb.branch)
     w3, w4 = kin.velocities(a, b, c, p, speed)
     a3, a4 = kin.accelerations(a, b, c, p, speed)
-    shown = phi if mot["input_full_turn"] else kin.wrap(phi)  # full turn: 0 .. 360 (SPEC)
+    shown = phi if mot.input_full_turn else kin.wrap(phi)  # full turn: 0 .. 360 (SPEC)
     rate, rate2 = abs(speed), speed * speed  # natural scales of the velocity and acceleration columns
     cols = [("input", u.from_rad(shown)), ("coupler", u.from_rad(snap(kin.wrap(p.theta), 1.0))),
             ("output", u.from_rad(snap(kin.wrap(p.psi), 1.0))), ("transmission", u.from_rad(p.mu)),

@@ -318,16 +318,20 @@ class Table:
         return Table(self.reader, self.path + (key,), value)
 
     # -- scalars ----------------------------------------------------------------
+    def _absent(self, key: str, default, expected: str):
+        """A missing key: its default, or None after recording that `expected` is missing."""
+        if default is MISSING:
+            self.error(key, expected)
+            return None
+        return default
+
     def number(self, key: str, default=MISSING, *, positive: bool = False, nonnegative: bool = False,
                integer: bool = False, lo: float | None = None, hi: float | None = None,
                what: str | None = None):
         """A finite number (bool rejected); None when missing or bad (error recorded)."""
         value = self.raw(key)
         if value is MISSING:
-            if default is MISSING:
-                self.error(key, f"{what or self._kind(positive, nonnegative, integer)}")
-                return None
-            return default
+            return self._absent(key, default, f"{what or self._kind(positive, nonnegative, integer)}")
         return self.check_number(key, value, positive=positive, nonnegative=nonnegative,
                                  integer=integer, lo=lo, hi=hi, what=what)
 
@@ -362,10 +366,7 @@ class Table:
                max_len: int = 2000):
         value = self.raw(key)
         if value is MISSING:
-            if default is MISSING:
-                self.error(key, f"one of: {', '.join(choices)}" if choices else "a string")
-                return None
-            return default
+            return self._absent(key, default, f"one of: {', '.join(choices)}" if choices else "a string")
         if not isinstance(value, str) or len(value) > max_len:
             self.error(key, f"one of: {', '.join(choices)}" if choices
                        else f"a string of at most {max_len} characters", value)
@@ -377,27 +378,26 @@ class Table:
             return None
         return value
 
-    def boolean(self, key: str, default=MISSING):
+    def _of_type(self, key: str, default, kind: type, expected: str):
+        """The value of `key` when it is a `kind`; a missing key's default; else None after
+        recording the error."""
         value = self.raw(key)
         if value is MISSING:
-            if default is MISSING:
-                self.error(key, "true or false")
-                return None
-            return default
-        if not isinstance(value, bool):
-            self.error(key, "true or false", value)
+            return self._absent(key, default, expected)
+        if not isinstance(value, kind):
+            self.error(key, expected, value)
             return None
         return value
+
+    def boolean(self, key: str, default=MISSING):
+        return self._of_type(key, default, bool, "true or false")
 
     def number_list(self, key: str, default=MISSING, *, min_len: int = 1, max_len: int = MAX_ARRAY,
                     length: int | None = None, positive: bool = False, what: str = "numbers"):
         """An array of finite numbers; None when missing or bad."""
         value = self.raw(key)
         if value is MISSING:
-            if default is MISSING:
-                self.error(key, f"an array of {what}")
-                return None
-            return default
+            return self._absent(key, default, f"an array of {what}")
         want = (f"an array of {length} {what}" if length is not None
                 else f"an array of {min_len} to {max_len} {what}")
         if not isinstance(value, list) or (length is not None and len(value) != length) or not (min_len <= len(value) <= max_len):
@@ -416,10 +416,7 @@ class Table:
         """A bound: a number (fixed value) or [lo, hi] with lo <= hi; returns (lo, hi)."""
         value = self.raw(key)
         if value is MISSING:
-            if default is MISSING:
-                self.error(key, "a number or a range [lo, hi]")
-                return None
-            return default
+            return self._absent(key, default, "a number or a range [lo, hi]")
         if isinstance(value, list):
             nums = self.number_list(key, length=2, positive=positive)
             if nums is None:
@@ -439,15 +436,9 @@ class Table:
     def point_range(self, key: str, default=MISSING):
         """A bound on a point: `{ x = ..., y = ... }`, each coordinate a number (fixed) or a
         range [lo, hi]; returns ((x_lo, x_hi), (y_lo, y_hi)), or None (error recorded)."""
-        value = self.raw(key)
-        if value is MISSING:
-            if default is MISSING:
-                self.error(key, "a table { x = ..., y = ... } (each a number or a range [lo, hi])")
-                return None
-            return default
-        if not isinstance(value, dict):
-            self.error(key, "a table { x = ..., y = ... } (each a number or a range [lo, hi])", value)
-            return None
+        value = self._of_type(key, default, dict, "a table { x = ..., y = ... } (each a number or a range [lo, hi])")
+        if key not in self or value is None:  # missing (its default) or not a table
+            return value
         sub = self.table(key)
         xr = sub.range("x")
         yr = sub.range("y")

@@ -55,11 +55,12 @@ def _kv(title: str, rows: list[tuple[str, object]], digits: int) -> Table:
     return t
 
 
-def _rows(title: str, rows: list[dict], digits: int, headers: dict | None = None) -> Table:
+def _rows(title: str, rows: list[dict], digits: int, headers: dict | None = None,
+          no_wrap: bool = False) -> Table:
     cols = list(dict.fromkeys(k for r in rows for k in r))
     t = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
     for c in cols:
-        t.add_column((headers or {}).get(c, c.replace("_", " ")), justify="right")
+        t.add_column((headers or {}).get(c, c.replace("_", " ")), justify="right", no_wrap=no_wrap)
     for r in rows:
         t.add_row(*(fmt(r.get(c), digits) for c in cols))
     return t
@@ -97,49 +98,16 @@ def _tolerance_units(section: dict, lu: str, au: str) -> dict[str, str]:
     return out
 
 
-def _flipper(name: str, section, digits: int, lu: str, au: str) -> list:
-    """flipper-cylinder: the `cylinder` section as a key/value table with units and the
-    force table (`forces_full`, the full-resolution sweep, is left to JSON and TOML); the
-    `pareto` trade-off rows as a table. Empty for any other section."""
-    if name == "pareto" and isinstance(section, list) and section:
-        cols = [("closed_length", "closed length"), ("peak_force", "peak force (N)"), ("peak_angle", "at"),
-                ("peak_kind", "push/pull"), ("stroke", "stroke"), ("rod_pivot", "rod pivot A"),
-                ("base_pivot", "base pivot C")]
-        t = Table(title=f"Trade-off: least peak force for each closed length ({lu}, {au}; "
-                        "max length = closed + stroke)",
-                  title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
-        for _, head in cols:
-            t.add_column(head, justify="right", no_wrap=True)
-        for r in section:
-            t.add_row(*(fmt(r.get(k), digits) for k, _ in cols))
-        return [t]
-    if name != "cylinder" or not isinstance(section, dict):
+def _type_tables(kind: str, name: str, section, digits: int, lu: str, au: str) -> list:
+    """The tables a problem type lays out itself (`report_tables` of its sections.py);
+    empty when the generic layout serves."""
+    from linkcli.io.tables import KeyValues
+    from linkcli.registry import PACKAGES, problem_type
+    if kind not in PACKAGES:
         return []
-    labels = {"rod_pivot": f"rod pivot A at start ({lu})", "base_pivot": f"base pivot C ({lu})",
-              "peak_force": "peak force (N)", "peak_angle": f"peak at platform angle ({au})",
-              "peak_kind": "peak is a", "push_force": "largest push (N)", "push_angle": f"largest push at ({au})",
-              "pull_force": "largest pull (N)", "pull_angle": f"largest pull at ({au})",
-              "min_length": f"closed length, min ({lu})", "max_length": f"max length ({lu})",
-              "stroke": f"stroke ({lu})", "rod_motion": "rod (start to end)", "bore": f"bore ({lu})",
-              "rod": f"rod ({lu})", "push_pressure": "push pressure on bore (MPa)",
-              "pull_pressure": "pull pressure on annulus (MPa)", "dead_length": f"dead length ({lu})",
-              "dead_length_margin": f"closed - stroke - dead length ({lu})",
-              "max_force": "max force (N)", "force_margin": "max force - peak (N)"}
-    rows = [(labels.get(k, k.replace("_", " ")), v) for k, v in section.items()
-            if not (isinstance(v, list) and v and isinstance(v[0], dict))]
-    parts: list = [_kv("Cylinder", rows, digits)]
-    forces = section.get("forces") or []
-    if forces:
-        table = [{"angle": r.get("angle"), "force": r.get("force"),
-                  "push/pull": ("-" if r.get("force") is None else "push" if r["force"] > 0
-                                else "pull" if r["force"] < 0 else "-"),
-                  "arm": r.get("arm"), "length": r.get("length")} for r in forces]
-        heads = {"angle": f"platform angle ({au})", "force": "force (N)", "arm": f"moment arm ({lu})",
-                 "length": f"length C-A ({lu})"}
-        full = len(section.get("forces_full") or [])
-        note = f" ({full} angles in JSON/TOML: forces_full)" if full else ""
-        parts.append(_rows(f"Cylinder force over the sweep{note}", table, digits, heads))
-    return parts
+    blocks = problem_type(kind).module("sections").report_tables(name, section, lu, au)
+    return [_kv(b.title, b.rows, digits) if isinstance(b, KeyValues)
+            else _rows(b.title, b.rows, digits, b.headers, no_wrap=b.no_wrap) for b in blocks]
 
 
 def render(report: dict, digits: int = 6) -> Group:
@@ -200,7 +168,8 @@ def render(report: dict, digits: int = 6) -> Group:
     for name, section in r.items():
         if name not in KNOWN:
             units = _tolerance_units(section, lu, au) if name == "tolerance" else None
-            parts.extend(_flipper(name, section, digits, lu, au) or _generic(name, section, digits, units))
+            parts.extend(_type_tables(r["type"], name, section, digits, lu, au)
+                         or _generic(name, section, digits, units))
     if "solver" in r:
         parts.append(_kv("Solver", [(k.replace("_", " "), v) for k, v in r["solver"].items()], digits))
     for note in r.get("notes", []):

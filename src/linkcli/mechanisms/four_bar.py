@@ -276,7 +276,24 @@ def collinear_inputs(a, b, c, d, branch):
     return out
 
 
-def motion(a, b, c, d, branch, near=None) -> dict:
+@dataclass(frozen=True)
+class Motion:
+    """The range of motion of a four-bar on one branch (angles in rad). `input_arc` is
+    (0, 2 pi) for a full turn; `output_range` is None when the output turns fully;
+    `time_ratio` and `toggle_inputs` (extended, folded crank angles) only for a crank
+    whose output rocks between two collinear positions."""
+
+    assembles: bool
+    input_full_turn: bool = False
+    input_arc: tuple[float, float] | None = None
+    output_full_turn: bool = False
+    output_range: tuple[float, float] | None = None
+    output_swing: float = 0.0
+    time_ratio: float | None = None
+    toggle_inputs: tuple[float, float] | None = None
+
+
+def motion(a, b, c, d, branch, near=None) -> Motion:
     """Range of motion: full turn or the arc of the input, output range, swing, time ratio.
 
     Output extremes are at the arc ends or where crank and coupler are collinear; the
@@ -285,38 +302,33 @@ def motion(a, b, c, d, branch, near=None) -> dict:
     """
     arcs = input_arcs(a, b, c, d)
     if arcs == []:
-        return {"assembles": False}
+        return Motion(assembles=False)
     full = arcs is None
     lo, hi = (0.0, TWO_PI) if full else choose_arc(arcs, near)
     phi = np.linspace(lo, hi, 2049)
     p = pose(a, b, c, d, phi, branch)
     keep = p.valid if p.valid.any() else slice(None)  # not where A meets B0 (rho = 0): no psi there
     phi, psi = phi[keep], np.unwrap(p.psi[keep])
-    out = {"assembles": True, "input_full_turn": full, "input_arc": (lo, hi)}
     if full and abs(psi[-1] - psi[0]) > np.pi:
-        out["output_full_turn"] = True
-        out["output_range"] = None
-        out["output_swing"] = TWO_PI
-    else:
-        cands = [] if full else [lo, hi]
-        col = collinear_inputs(a, b, c, d, branch)
-        cands += [x for x in col.values() if full or arc_contains((lo, hi), x)]
-        vals = []
-        for x in cands:
-            k = int(np.argmin(np.abs(wrap(phi - x))))
-            px = pose(a, b, c, d, x, branch)
-            if not bool(px.valid):  # A on B0: no output angle there
-                continue
-            vals.append(psi[k] + float(wrap(float(px.psi) - psi[k])))
-        vals = vals or [float(psi.min()), float(psi.max())]
-        vals += [float(psi.min()), float(psi.max())]  # never narrower than the samples
-        o_lo, o_hi = min(vals), max(vals)
-        shift = float(wrap(o_lo)) - o_lo
-        out["output_full_turn"] = False
-        out["output_range"] = (o_lo + shift, o_hi + shift)
-        out["output_swing"] = o_hi - o_lo
-        if full and "extended" in col and "folded" in col:
-            t1 = float(np.mod(col["folded"] - col["extended"], TWO_PI))
-            out["time_ratio"] = max(t1, TWO_PI - t1) / min(t1, TWO_PI - t1)
-            out["toggle_inputs"] = (col["extended"], col["folded"])
-    return out
+        return Motion(True, full, (lo, hi), output_full_turn=True, output_range=None, output_swing=TWO_PI)
+    cands = [] if full else [lo, hi]
+    col = collinear_inputs(a, b, c, d, branch)
+    cands += [x for x in col.values() if full or arc_contains((lo, hi), x)]
+    vals = []
+    for x in cands:
+        k = int(np.argmin(np.abs(wrap(phi - x))))
+        px = pose(a, b, c, d, x, branch)
+        if not bool(px.valid):  # A on B0: no output angle there
+            continue
+        vals.append(psi[k] + float(wrap(float(px.psi) - psi[k])))
+    vals = vals or [float(psi.min()), float(psi.max())]
+    vals += [float(psi.min()), float(psi.max())]  # never narrower than the samples
+    o_lo, o_hi = min(vals), max(vals)
+    shift = float(wrap(o_lo)) - o_lo
+    ratio = toggles = None
+    if full and "extended" in col and "folded" in col:
+        t1 = float(np.mod(col["folded"] - col["extended"], TWO_PI))
+        ratio = max(t1, TWO_PI - t1) / min(t1, TWO_PI - t1)
+        toggles = (col["extended"], col["folded"])
+    return Motion(True, full, (lo, hi), output_full_turn=False, output_range=(o_lo + shift, o_hi + shift),
+                  output_swing=o_hi - o_lo, time_ratio=ratio, toggle_inputs=toggles)

@@ -9,9 +9,9 @@ from __future__ import annotations
 import numpy as np
 
 from linkcli.mechanisms import four_bar as kin
-from linkcli.plots.common import (CURVE_COLOR, TARGET_COLOR, Geometry, Units, angle_ticks, draw_linkage,
-                                  frame_drawing, header, input_grid, joint_paths, link_legend, no_linkage, num,
-                                  on_grid)
+from linkcli.plots.common import (CURVE_COLOR, TARGET_COLOR, Geometry, angle_ticks, draw_linkage,
+                                  frame_drawing, input_grid, joint_paths, link_legend, no_linkage, num,
+                                  on_grid, panels)
 
 NEEDS = ("linkage", "positions")
 GHOST_ALL = 6  # up to this many targets every one is ghosted; beyond, only the last
@@ -23,7 +23,7 @@ def output_curve(geo: Geometry, phi_targets: np.ndarray):
     """(grid, psi, valid): the achieved output angle over the whole motion, unwrapped
     and shifted by whole turns so that it passes near the first target."""
     mot = geo.motion(near=float(phi_targets[0]) if len(phi_targets) else None)
-    if not mot.get("assembles"):
+    if not mot.assembles:
         return None
     centre = float(np.mean(phi_targets)) if len(phi_targets) else None
     grid = input_grid(mot, centre=centre)
@@ -37,13 +37,8 @@ def align(values: np.ndarray, reference: np.ndarray) -> np.ndarray:
 
 
 def draw(fig, report: dict, problem=None) -> None:
-    u = Units.of(report)
+    u, ax_link, (ax_psi, ax_err) = panels(fig, report, 2, [1.0, 1.25], [1.6, 1.0])
     au, lu = u.angle, u.length
-    header(fig, report)
-    gs = fig.add_gridspec(2, 2, width_ratios=[1.0, 1.25], height_ratios=[1.6, 1.0])
-    ax_link = fig.add_subplot(gs[:, 0])
-    ax_psi = fig.add_subplot(gs[0, 1])
-    ax_err = fig.add_subplot(gs[1, 1], sharex=ax_psi)
 
     geo = Geometry.of(report)
     rows = report.get("positions") or []
@@ -93,7 +88,7 @@ def draw(fig, report: dict, problem=None) -> None:
             ax_psi.scatter(u.out(x_t), u.out(at_t), marker="o", s=26, facecolor="white",
                            edgecolor=CURVE_COLOR, zorder=5, label="achieved at the targets")
     ax_psi.set_ylabel(f"output angle \u03c8 ({au})")
-    ax_psi.set_title("Output angle over the whole motion" + (" (input turns fully)" if mot["input_full_turn"]
+    ax_psi.set_title("Output angle over the whole motion" + (" (input turns fully)" if mot.input_full_turn
                                                               else " (input rocks between its limits)"))
     ax_psi.legend(loc="best", framealpha=0.85)
     ax_psi.tick_params(labelbottom=False)

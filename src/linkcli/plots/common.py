@@ -148,17 +148,17 @@ class Geometry:
             out["P"] = self.to_global(*p.coupler_point(self.a, *self.coupler_point))
         return out
 
-    def motion(self, near=None) -> dict:
+    def motion(self, near=None) -> kin.Motion:
         return kin.motion(self.a, self.b, self.c, self.d, self.branch, near=near)
 
 
-def input_grid(mot: dict, n: int = 721, centre: float | None = None) -> np.ndarray:
+def input_grid(mot: kin.Motion, n: int = 721, centre: float | None = None) -> np.ndarray:
     """Input angles (rad) over the whole motion: a full turn starting 180 deg before
     `centre` (rounded to 45 deg) so that the targets sit mid-axis, or the reachable arc."""
-    if mot["input_full_turn"]:
+    if mot.input_full_turn:
         start = 0.0 if centre is None else math.radians(45.0 * round((math.degrees(centre) - 180.0) / 45.0))
         return start + np.linspace(0.0, kin.TWO_PI, n)
-    lo, hi = mot["input_arc"]
+    lo, hi = mot.input_arc
     return np.linspace(lo, hi, n)
 
 
@@ -268,6 +268,16 @@ def header(fig, report: dict) -> None:
     if status != "ok" and report.get("message"):
         text += f"\n{report['message']}"
     fig.suptitle(text, fontsize=13)
+
+
+def panels(fig, report: dict, right: int, width_ratios, height_ratios=None):
+    """The figure header, one tall axes on the left (the drawing to scale) and `right`
+    stacked axes on the right sharing their x axis -> (Units, left axes, right axes)."""
+    header(fig, report)
+    gs = fig.add_gridspec(right, 2, width_ratios=width_ratios, height_ratios=height_ratios)
+    left = fig.add_subplot(gs[:, 0])
+    first = fig.add_subplot(gs[0, 1])
+    return Units.of(report), left, [first] + [fig.add_subplot(gs[i, 1], sharex=first) for i in range(1, right)]
 
 
 def no_linkage(ax, text: str) -> None:

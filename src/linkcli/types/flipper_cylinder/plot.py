@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from linkcli.plots.common import LINK_COLORS, Units, frame_drawing, header, no_linkage, num
+from linkcli.plots.common import LINK_COLORS, Units, frame_drawing, no_linkage, num, panels
 
 NEEDS = ("cylinder",)
 PLATFORM = "#1f77b4"
@@ -100,14 +100,8 @@ def draw_platform(ax, cyl: dict, problem, start: float, end: float, lu: str) -> 
 
 
 def draw(fig, report: dict, problem=None) -> None:
-    u = Units.of(report)
+    u, ax_geo, (ax_f, ax_arm, ax_len) = panels(fig, report, 3, [1.0, 1.2])
     au, lu = u.angle, u.length
-    header(fig, report)
-    gs = fig.add_gridspec(3, 2, width_ratios=[1.0, 1.2])
-    ax_geo = fig.add_subplot(gs[:, 0])
-    ax_f = fig.add_subplot(gs[0, 1])
-    ax_arm = fig.add_subplot(gs[1, 1], sharex=ax_f)
-    ax_len = fig.add_subplot(gs[2, 1], sharex=ax_f)
     cyl = report.get("cylinder")
     if not cyl or "rod_pivot" not in cyl or "base_pivot" not in cyl:
         no_linkage(ax_geo, "no cylinder in the report")

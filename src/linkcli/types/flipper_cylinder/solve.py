@@ -18,6 +18,7 @@ import numpy as np
 
 from linkcli.types.flipper_cylinder.statics import Statics
 from linkcli.search.budget import Budget
+from linkcli.types.flipper_cylinder.sections import cylinder_section, facts, pareto_rows
 from linkcli.solution import Solution, Status
 from linkcli.types.flipper_cylinder.search import (DEFAULT_BUDGET, PARETO_BUDGET, PARETO_SHARE, TOLERANCE,
                                             Goal, Judge, Space, optimize, pareto)
@@ -27,123 +28,10 @@ from linkcli.textnum import num
 NEGLIGIBLE = 1e-3  # a closed length below this share of the largest pivot bound: the pivots all but meet
 
 
-# --------------------------------------------------------------------- one design, in full
-def facts(problem, st: Statics, design) -> dict:
-    """Everything reported about one design (radians, the file's length unit, N). The
-    lengths are the true extremes over the sweep (L turns back where the cylinder line
-    crosses the hinge); a design that cannot hold the platform somewhere (`crosses`) has
-    an infinite peak at that angle."""
-    p = np.asarray(design, dtype=float)[None, :]
-    sing = st.singular(p)
-    closed, opened, closed_at = (float(x[0]) for x in st.lengths(p, sing=sing))
-    ls, le = (float(x[0]) for x in st.end_lengths(p))
-    t0 = float(sing["tau0"][0])
-    turns = bool(sing["crosses"][0]) and 0.0 < t0 < st.sweep  # L has an interior extreme
-    if turns:  # d(L^2)/dt = 2 K: the rod extends while K > 0
-        k_start = float(st.terms(p, np.array([0.0]))[0][0, 0])
-        motion = "extends, then retracts" if k_start > 0 else "retracts, then extends"
-    else:
-        motion = "extends" if le > ls else "retracts"
-    out = {"design": p[0], "crosses": bool(sing["blocked"][0]), "min_length": closed,
-           "max_length": opened, "stroke": opened - closed, "rod_motion": motion,
-           "closed_at": closed_at, "cross_at": t0, "zero_length": bool(sing["meet"][0]),
-           "load_moment": float(sing["moment"][0])}
-    pk = st.peaks(p)
-    for k in ("push", "push_at", "pull", "pull_at", "peak", "peak_at"):
-        out[k] = float(pk[k][0])
-    out["is_push"] = bool(pk["is_push"][0])
-    return out
-
-
-def _nice_step(span: float) -> float:
-    """The smallest of 1, 2, 5 x 10^k that cuts `span` into at most 20 steps."""
-    for k in range(-6, 7):
-        for m in (1.0, 2.0, 5.0):
-            step = m * 10.0 ** k
-            if span / step <= 20.0 + 1e-9:
-                return step
-    return span
-
-
-def table_angles(problem) -> np.ndarray:
-    """Platform angles (file unit) of the force table: start, the multiples of the step
-    strictly inside the sweep, end."""
-    u = problem.meta.units
-    a, b = _file_angle(problem, "start"), _file_angle(problem, "end")
-    step = float(u.from_rad(problem.table_step)) if problem.table_step else _nice_step(b - a)
-    eps = 1e-9 * max(abs(step), 1.0)
-    k0, k1 = math.floor(a / step + 1e-9) + 1, math.ceil(b / step - 1e-9) - 1
-    inner = [float(f"{k * step:.12g}") for k in range(k0, k1 + 1) if a + eps < k * step < b - eps]
-    return np.array([a] + inner + [b])
-
-
-def _file_angle(problem, key: str) -> float:
-    """`start` or `end` in the file's unit, as written (no round trip through radians)."""
-    u = problem.meta.units
-    value = float(u.from_rad(getattr(problem, key)))
-    return float(f"{value:.15g}")  # the ulp of the round trip through radians
-
-
-def force_rows(problem, st: Statics, design, angles) -> list[dict]:
-    """Rows angle (file unit, as given), force (N; None where no finite force holds the
-    platform: the cylinder line through the hinge), arm and length (length unit)."""
-    u = problem.meta.units
-    angles = np.asarray(angles, dtype=float)
-    tau = np.array([u.to_rad(float(x)) for x in angles]) - problem.start
-    tau[0], tau[-1] = max(tau[0], 0.0), min(tau[-1], st.sweep)
-    force, arm, length = (x[0] for x in st.forces(np.asarray(design, dtype=float)[None, :], tau))
-    return [{"angle": float(angles[i]), "force": float(force[i]) if math.isfinite(force[i]) else None,
-             "arm": float(arm[i]), "length": float(length[i])} for i in range(len(tau))]
-
-
-def full_angles(problem, st: Statics) -> np.ndarray:
-    """The sweep grid in the file's unit, ends as given."""
-    a, b = _file_angle(problem, "start"), _file_angle(problem, "end")
-    out = a + (b - a) * (st.grid / st.sweep)
-    out[0], out[-1] = a, b
-    return out
-
-
-def cylinder_section(problem, st: Statics, f: dict) -> dict:
-    """The `cylinder` report section, output-ready (SPEC section 4)."""
-    u = problem.meta.units
-    p = f["design"]
-
-    def ang(tau):
-        return float(u.from_rad(problem.start + tau))
-
-    kind = "unbounded" if f["crosses"] else ("push" if f["is_push"] else "pull")
-    sec = {"rod_pivot": [float(p[0]), float(p[1])], "base_pivot": [float(p[2]), float(p[3])],
-           "peak_force": f["peak"], "peak_angle": ang(f["peak_at"]), "peak_kind": kind,
-           "push_force": f["push"], "push_angle": ang(f["push_at"]) if f["push"] > 0 else None,
-           "pull_force": f["pull"], "pull_angle": ang(f["pull_at"]) if f["pull"] > 0 else None,
-           "min_length": f["min_length"], "max_length": f["max_length"], "stroke": f["stroke"],
-           "rod_motion": f["rod_motion"]}
-    mm = u.mm_per_length
-    if problem.bore is not None:
-        bore_area = math.pi / 4.0 * (problem.bore * mm) ** 2  # mm^2: N / mm^2 = MPa
-        sec["bore"] = problem.bore
-        if problem.rod is not None:
-            sec["rod"] = problem.rod
-        sec["push_pressure"] = f["push"] / bore_area
-        if problem.rod is not None:
-            annulus = bore_area - math.pi / 4.0 * (problem.rod * mm) ** 2
-            sec["pull_pressure"] = f["pull"] / annulus
-    if problem.dead_length is not None:
-        sec["dead_length"] = problem.dead_length
-        sec["dead_length_margin"] = f["min_length"] - f["stroke"] - problem.dead_length
-    if problem.max_force is not None:
-        sec["max_force"] = problem.max_force
-        sec["force_margin"] = problem.max_force - f["peak"]
-    sec["forces"] = force_rows(problem, st, p, table_angles(problem))
-    sec["forces_full"] = force_rows(problem, st, p, full_angles(problem, st))
-    return sec
-
-
 # --------------------------------------------------------------------------- the verdict
 def verdict(problem, f: dict) -> tuple[Status, str]:
     """Status and message of a design: the violated constraint and by how much, else the peak.
-    A cylinder needs a length: closed >= Space.floor (flipper_search.MIN_LENGTH times the
+    A cylinder needs a length: closed >= Space.floor (search.MIN_LENGTH times the
     largest pivot bound); where the pivots meet, the force is 0 / 0."""
     u = problem.meta.units
     au = u.angle
@@ -185,19 +73,6 @@ def verdict(problem, f: dict) -> tuple[Status, str]:
 
 
 # --------------------------------------------------------------------------- trade-off table
-def pareto_rows(problem, st: Statics, designs) -> list[dict]:
-    u = problem.meta.units
-    rows = []
-    for d in designs:
-        f = facts(problem, st, d)
-        rows.append({"closed_length": f["min_length"], "peak_force": f["peak"],
-                     "peak_angle": float(u.from_rad(problem.start + f["peak_at"])),
-                     "peak_kind": "push" if f["is_push"] else "pull", "stroke": f["stroke"],
-                     "max_length": f["max_length"], "rod_pivot": [float(d[0]), float(d[1])],
-                     "base_pivot": [float(d[2]), float(d[3])]})
-    return rows
-
-
 # ------------------------------------------------------------------------------------ solve
 def solve(problem) -> Solution:
     """Evaluate the design (every pivot fixed) or optimize it; inf and nan are handled as

@@ -1,6 +1,6 @@
 """Function generation by optimization (SPEC section 2; seed: the crank-rocker case).
 
-The objective and the constraints are in function_model (numpy, vectorized over
+The objective and the constraints are in model.py (numpy, vectorized over
 candidates and points). Design variables: every length not fixed in [linkage] (within
 [bounds]) and the free start angles, mapped to the unit box: lengths on a log scale
 (lengths are ratios: bounds [0.02, 20] put 0.5 mid-box, where a linear map squeezes it
@@ -16,11 +16,11 @@ least squares (Model.freudenstein). The best of them seed the searches.
 Strategies, by `[solver] method`:
 - `auto`: rounds of seeded scipy differential evolution with `vectorized=True` (one call
   scores the whole population at every point) on the exact L1 penalty
-  f + W * sum(violations), each followed by the local polish (local_polish: Gauss-Newton
+  f + W * sum(violations), each followed by the local polish (linkcli.search.polish: Gauss-Newton
   SQP steps, then SLSQP with the constraints explicit) from its best; the first round's
   population holds the best Freudenstein designs, and the best SEED_POLISHES of those
   are polished too; rounds stop when one no longer improves on the best found;
-- `slsqp`: SLSQP alone (local_polish stage 2) from the best distinct points of a seeded
+- `slsqp`: SLSQP alone (search.polish stage 2) from the best distinct points of a seeded
   Latin hypercube sample and of the Freudenstein designs;
 - `differential-evolution`, `dual-annealing`: the scipy global method alone, on the penalty.
 The local polish works in a linear unit box (the valleys are straighter in the lengths
@@ -49,7 +49,7 @@ from linkcli.search import sampling
 from linkcli.search.budget import Budget, BudgetSpent
 from linkcli.search.sampling import latin_hypercube
 from linkcli.types.function_generation.model import BRANCH_SIGN, GRASHOF_MARGIN, STARTS, Batch, Model
-from linkcli.noise import first_max, snap
+from linkcli.types.function_generation.sections import structural_error, target_section
 from linkcli.textnum import num
 
 DEFAULT_BUDGET_PER_VARIABLE = 4000  # default budget: this many candidates per design variable
@@ -69,8 +69,6 @@ SEED_POLISH_STEPS = 60  # auto: a seed's polish gets this many Gauss-Newton step
 DISTINCT = 0.15  # slsqp: starts differ by this much in some variable (unit box)
 STEP = 1e-7  # central-difference step in the unit box
 FEASIBLE = 1e-8  # largest violation (rad, or fraction of L) accepted as feasible
-CURVE_ROWS = 41  # rows of the structural-error curve in the report
-DENSE = 1001  # points of the structural-error summary over the sweep
 AT_BOUND = 1e-6  # a free value this close to a bound (unit box) is "at" it (a note)
 
 
@@ -143,7 +141,7 @@ class Search:
 # ---------------------------------------------------------------- local stage
 
 class Local:
-    """One branch as the problem of local_polish: values and slopes at points of the unit
+    """One branch as the problem of search.polish: values and slopes at points of the unit
     box, counted against the budget (and a local cap) and cached (SLSQP asks for values
     and slopes separately). The local unit box is linear in every variable (lengths too,
     unlike the global search's log scale): the valleys of these objectives are
@@ -206,7 +204,7 @@ class Local:
 
 def polish(search: Search, u0: np.ndarray, branch: str, evaluations: int,
            gauss_newton_first: bool = True) -> bool:
-    """The local solver of local_polish on one branch from u0 (unit box of the global
+    """The local solver of search.polish on one branch from u0 (unit box of the global
     search), within `evaluations`; True if it converged."""
     local = Local(search, branch, evaluations)
     model = search.model
@@ -538,7 +536,7 @@ def build_solution(problem, model: Model, search: Search, converged: bool) -> So
     if "positions" in problem.meta.sections:
         sections["target"] = target_section(problem, phi0, psi0, u)
     if "error" in problem.meta.sections:
-        sections["structural_error"] = structural_error(problem, model, a, b, c, d, phi0, psi0, sign, u)
+        sections["structural_error"] = structural_error(problem, model, (a, b, c, d), (phi0, psi0), sign, u)
     return Solution(status=status, linkage=fb, message=message, positions=positions,
                     objective=float(batch.f[0]), solver=solver, sections=sections,
                     notes=bound_notes(problem, model, best.u),
@@ -604,55 +602,6 @@ def describe_violations(problem, model: Model, viol, det, u) -> list[str]:
         out.append(f"law: the target is not finite at {round(names['law'] * len(model.t))} of "
                    f"{len(model.t)} points")
     return out
-
-
-def target_section(problem, phi0: float, psi0: float, u) -> dict:
-    out = {"input_start": float(u.from_rad(float(kin.wrap(phi0))))}
-    if problem.form == "function" or problem.start == "extended" or problem.law.uses("psi0"):
-        out["output_start"] = float(u.from_rad(float(kin.wrap(psi0))))
-    out["input_sweep"] = float(u.from_rad(problem.input_sweep))
-    if problem.form == "function":
-        out["output_sweep"] = float(u.from_rad(problem.output_sweep))
-        out["x"] = [float(problem.x_range[0]), float(problem.x_range[1])]
-    out["points"] = len(problem.fractions)
-    out["spacing"] = problem.spacing
-    return out
-
-
-def dense_target(problem, model: Model, s, phi, phi0, psi0):
-    """psi_target at fractions s of the sweep (any s, not only the evaluation points)."""
-    if problem.form == "function":
-        x0, x1 = problem.x_range
-        law = problem.law
-        with np.errstate(all="ignore"):
-            f0, f1 = law.scalar(x=x0), law.scalar(x=x1)
-            y = law(x=x0 + s * (x1 - x0))
-            return psi0 + (y - f0) / (f1 - f0) * problem.output_sweep
-    with np.errstate(all="ignore"):
-        return model.target(phi, phi0, psi0)
-
-
-def structural_error(problem, model: Model, a, b, c, d, phi0, psi0, sign, u) -> dict:
-    """The error over the whole sweep, not only at the points: max and rms over DENSE
-    points, and a plot-ready curve of CURVE_ROWS rows (input, error)."""
-    s = np.linspace(0.0, 1.0, DENSE)
-    phi = phi0 + s * problem.input_sweep
-    target = dense_target(problem, model, s, phi, phi0, psi0)
-    with np.errstate(all="ignore"):
-        p = kin.pose(a, b, c, d, phi, sign)
-        ok = np.isfinite(target) & p.valid & np.isfinite(p.psi)
-        err = snap(np.where(ok, kin.wrap(np.where(ok, p.psi - target, 0.0)), np.nan), 1.0)
-    k = int(first_max(np.abs(err))) if ok.any() else 0  # equal maxima: the first along the sweep
-    rows = []
-    for i in np.linspace(0, DENSE - 1, CURVE_ROWS).round().astype(int):
-        e = err[i]
-        rows.append({"input": float(u.from_rad(float(kin.wrap(phi[i])))),
-                     "error": float(u.from_rad(e)) if math.isfinite(e) else None})
-    fin = err[np.isfinite(err)]
-    return {"max": float(u.from_rad(abs(err[k]))) if ok.any() else None,
-            "input_at_max": float(u.from_rad(float(kin.wrap(phi[k])))),
-            "rms": float(u.from_rad(math.sqrt(float(np.mean(fin * fin))))) if fin.size else None,
-            "samples": DENSE, "curve": rows}
 
 
 def bound_notes(problem, model: Model, unit) -> list[str]:

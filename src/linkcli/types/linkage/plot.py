@@ -12,20 +12,20 @@ import numpy as np
 from linkcli.mechanisms import four_bar as kin
 from linkcli.analysis.sections import TRANSMISSION_BAND
 from linkcli.plots.common import (BAND_COLOR, CURVE_COLOR, LINK_COLORS, Geometry, Units, angle_ticks,
-                                  draw_linkage, frame_drawing, header, link_legend, joint_paths, no_linkage, num,
+                                  draw_linkage, frame_drawing, link_legend, joint_paths, no_linkage, num, panels,
                                   robust_ylim)
 
 NEEDS = ("linkage",)
 SAMPLES = 720
 
 
-def study_grid(mot: dict, n: int = SAMPLES) -> np.ndarray:
+def study_grid(mot: kin.Motion, n: int = SAMPLES) -> np.ndarray:
     """Input angles of the study: 0..360 deg for a full turn; for a rocking input the
     centres of n equal cells of its arc (the ends are toggles, where a constant input
     speed asks for an infinite output speed)."""
-    if mot["input_full_turn"]:
+    if mot.input_full_turn:
         return np.linspace(0.0, kin.TWO_PI, n + 1)
-    lo, hi = mot["input_arc"]
+    lo, hi = mot.input_arc
     return lo + (np.arange(n) + 0.5) * ((hi - lo) / n)
 
 
@@ -41,14 +41,8 @@ def finite(x):
 
 
 def draw(fig, report: dict, problem=None) -> None:
-    u = Units.of(report)
+    u, ax_link, (ax_w, ax_a, ax_mu) = panels(fig, report, 3, [1.0, 1.25])
     au, lu = u.angle, u.length
-    header(fig, report)
-    gs = fig.add_gridspec(3, 2, width_ratios=[1.0, 1.25])
-    ax_link = fig.add_subplot(gs[:, 0])
-    ax_w = fig.add_subplot(gs[0, 1])
-    ax_a = fig.add_subplot(gs[1, 1], sharex=ax_w)
-    ax_mu = fig.add_subplot(gs[2, 1], sharex=ax_w)
     if "linkage" not in report:
         no_linkage(ax_link, "no linkage in the report")
         for ax in (ax_w, ax_a, ax_mu):
@@ -56,7 +50,7 @@ def draw(fig, report: dict, problem=None) -> None:
         return
     geo = Geometry.of(report)
     mot = geo.motion()
-    if not mot.get("assembles"):
+    if not mot.assembles:
         no_linkage(ax_link, "the linkage cannot assemble at any input angle")
         for ax in (ax_w, ax_a, ax_mu):
             ax.set_axis_off()

@@ -9,21 +9,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkcli.plots.common import (CURVE_COLOR, TARGET_COLOR, Geometry, Units, draw_linkage, frame_drawing,
-                                  header, link_legend, input_grid, joint_paths, no_linkage, num)
+from linkcli.plots.common import (CURVE_COLOR, TARGET_COLOR, Geometry, draw_linkage, frame_drawing,
+                                  input_grid, joint_paths, link_legend, num, panels)
 
 NEEDS = ("linkage", "positions")
 LABEL_ALL = 12  # up to this many targets each one is numbered; beyond, every k-th
 
 
 def draw(fig, report: dict, problem=None) -> None:
-    u = Units.of(report)
+    u, ax, (ax_err, ax_in) = panels(fig, report, 2, [1.45, 1.0])
     au, lu = u.angle, u.length
-    header(fig, report)
-    gs = fig.add_gridspec(2, 2, width_ratios=[1.45, 1.0])
-    ax = fig.add_subplot(gs[:, 0])
-    ax_err = fig.add_subplot(gs[0, 1])
-    ax_in = fig.add_subplot(gs[1, 1], sharex=ax_err)
     rows = report.get("positions") or []
     target = np.array([r["target"] for r in rows], dtype=float).reshape(-1, 2)
     achieved = np.array([r["achieved"] for r in rows], dtype=float).reshape(-1, 2)
@@ -36,14 +31,14 @@ def draw(fig, report: dict, problem=None) -> None:
         mot = geo.motion(near=float(phi_t[0]) if len(phi_t) else None)
     else:
         geo, mot = None, {}
-    if geo is not None and mot.get("assembles"):
+    if geo is not None and mot.assembles:
         grid = input_grid(mot)
         j = geo.joints(grid)
         ok = j["pose"].valid
         joint_paths(ax, geo, grid)
         cx, cy = j["P"]
         ax.plot(np.where(ok, cx, np.nan), np.where(ok, cy, np.nan), color=CURVE_COLOR, lw=2.0, zorder=2,
-                label="coupler curve" + ("" if mot["input_full_turn"] else " (input rocks)"))
+                label="coupler curve" + ("" if mot.input_full_turn else " (input rocks)"))
         draw_linkage(ax, geo, float(phi_t[0]) if len(phi_t) else float(grid[0]))
         title = "Coupler curve and targets, linkage to scale at target 1"
     else:
@@ -85,6 +80,6 @@ def draw(fig, report: dict, problem=None) -> None:
         from matplotlib.ticker import MaxNLocator
         ax_in.xaxis.set_major_locator(MaxNLocator(integer=True))
         ax_in.set_xlim(0.4, len(rows) + 0.6)
-    if geo is not None and not mot.get("assembles"):
+    if geo is not None and not mot.assembles:
         ax.text(0.5, 0.95, "the linkage cannot assemble at any input angle", transform=ax.transAxes,
                 ha="center", va="top", color="#b00000")

@@ -3,7 +3,7 @@
 The objective evaluations (one per candidate evaluated, every finite-difference column
 included) are counted by `linkcli.search.budget.Budget` against the `[solver] budget`.
 * `Space`: the free variables of a Design, optionally with the coupler point and the
-  ground pivot projected out (solved by `path_starts.fit_linear` at every evaluation:
+  ground pivot projected out (solved by `starts.fit_linear` at every evaluation:
   variable projection, which leaves the lengths, the angles and the timing to search);
   residuals and central-difference Jacobians of many candidates as one batch.
 * `distinct`: the best candidates, pairwise apart (restarts from distinct basins).

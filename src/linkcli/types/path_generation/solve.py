@@ -1,7 +1,7 @@
 """Path generation: a coupler point through target points (SPEC section 2).
 
 Objective: sum over the targets of |P_k - T_k|^2, P_k the coupler point in the global frame
-(`path_model`). Constraints: bounds, the Grashof class, the transmission window (over the
+(`model`). Constraints: bounds, the Grashof class, the transmission window (over the
 full turn for a crank-rocker or double-crank, else over the targets' span), assembly at
 every target on one branch with no dead point between the first and the last target, and
 for free timing the targets reached in order within one turn.
@@ -9,7 +9,7 @@ for free timing the targets reached in order within one turn.
 Methods (`[solver] method`):
 
 * `multistart` (what `auto` runs): seeded draws completed in closed form
-  (`path_starts`: timing hypotheses on the coupler curve, a similarity fit for scale,
+  (`starts`: timing hypotheses on the coupler curve, a similarity fit for scale,
   angle and pivot, a linear fit for coupler point and pivot), then Levenberg-Marquardt on
   the most promising distinct candidates at once with the linear part projected out, in
   rounds that halve the field, then scipy least_squares on every variable, bounds held,

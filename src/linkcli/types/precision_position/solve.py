@@ -8,7 +8,7 @@ Freudenstein (1955), "Approximate synthesis of four-bar linkages", Trans. ASME 7
 is linear in K1, K2, K3: three (phi_i, psi_i) pairs give the exact linkage. Four or more
 are fitted by Levenberg-Marquardt on the true output-angle error of the assembled linkage
 (the linear residual is not the angle error), started from the linear least-squares ratios
-and from the exact ratios of three-position subsets, on both branches (precision_starts);
+and from the exact ratios of three-position subsets, on both branches (starts.py);
 the fit that assembles everywhere and travels without a branch change wins. A negative
 ratio means that link points the other way (its angle is phi + 180 or psi + 180): the
 lengths are reported positive and the note says so. This module must not import scipy.
@@ -138,7 +138,7 @@ def _exact(problem, phi, psi, d):
 
 def _least_squares(problem, phi, psi, d):
     """Four or more positions: multi-start Levenberg-Marquardt on the true output-angle
-    error (precision_starts). The fit reported is, in order: one that assembles at every
+    error (starts.py). The fit reported is, in order: one that assembles at every
     position, then one that travels from the first to the last position without a branch
     change, then the smallest objective (ties: the earlier start, so the result is
     deterministic). When none assembles everywhere, the one whose loop misses closing the
