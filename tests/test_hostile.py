@@ -267,6 +267,7 @@ def test_a_transmission_a_rounding_error_outside_the_band_gives_no_warning(monke
     import math
 
     from linkcli.analysis import sections as analyse
+    from linkcli.mechanisms.four_bar import Motion
     from linkcli.model import FourBar
     from linkcli.units import Units
     fb = FourBar(ground=50, input=20, coupler=50, output=20, branch="open")
@@ -274,5 +275,5 @@ def test_a_transmission_a_rounding_error_outside_the_band_gives_no_warning(monke
         monkeypatch.setattr(analyse.kin, "transmission_extremes",
                             lambda *a: (math.radians(50.0), 0.0, math.radians(mx), 1.0))
         notes = []
-        analyse.transmission_section(fb, {"input_arc": (0.0, 6.0)}, None, Units(), notes)
+        analyse.transmission_section(fb, Motion(assembles=True, input_arc=(0.0, 6.0)), None, Units(), notes)
         assert bool(notes) is warned, notes
