@@ -1,0 +1,1 @@
+"""Analyses of a given linkage (loads, ...): pure numpy, vectorized over the motion's rows."""
