@@ -1,0 +1,1 @@
+"""Kinematics per mechanism (four-bar, slider-crank), vectorized over angles and populations."""
