@@ -29,18 +29,21 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from linkcli.model import LinkMass, Loads, Masses  # the problem's load case (re-exported)
+from linkcli.noise import first_max, snap
+
+__all__ = ["FourBarState", "SliderCrankState", "LinkMass", "Masses", "Loads", "LoadRows",
+           "four_bar_loads", "slider_crank_loads", "mechanical_advantage", "forces_rows",
+           "load_cycle"]
+
 SINGULAR_TOLERANCE = 1e-9
 """A row is singular (dead point: the system has no unique solution) when the sine of the angle
 between the two links that meet there is below this; the mechanical advantage is infinite
 (a toggle) when the sine between input and coupler is below it. Dimensionless, so scale-free."""
 
-NOISE_FLOOR = 1e-9
-"""Forces below NOISE_FLOOR * force_scale (torques below NOISE_FLOOR * torque_scale) are
-round-off and reported as 0 by `forces_rows` and `load_cycle`."""
-
-PEAK_TIE = 1e-9
-"""Two input torques whose magnitudes differ by less than this (relative) tie for the peak;
-the first in sweep order wins."""
+# Round-off: forces below linkcli.noise.NOISE_FLOOR x force_scale (torques below it x
+# torque_scale) are reported as 0 by `forces_rows` and `load_cycle`; the torque's peak ties
+# within linkcli.noise.TIE go to the first row in sweep order (noise.first_max).
 
 
 def _points(value, n: int | None = None) -> np.ndarray:
@@ -177,48 +180,7 @@ class SliderCrankState:
                    alpha_coupler, p)
 
 
-@dataclass(frozen=True)
-class LinkMass:
-    """A link's mass (kg), its centre in the link's own frame (m), inertia about it (kg m^2).
-
-    Frames: input origin A0, x to A; coupler origin A, x to B; output origin B0, x to B.
-    For a slider (slider-crank `output`) only the mass counts: it translates with B.
-    """
-
-    mass: float
-    center: tuple[float, float] = (0.0, 0.0)
-    inertia: float = 0.0
-
-    def __post_init__(self) -> None:
-        if not (self.mass >= 0 and self.inertia >= 0):
-            raise ValueError(f"mass and inertia must be >= 0, got {self.mass}, {self.inertia}")
-
-
 NO_MASS = LinkMass(0.0)
-
-
-@dataclass(frozen=True)
-class Masses:
-    """Mass properties per link; None is massless. Slider-crank: `output` is the slider."""
-
-    input: LinkMass | None = None
-    coupler: LinkMass | None = None
-    output: LinkMass | None = None
-
-
-@dataclass(frozen=True)
-class Loads:
-    """External loads, constant over the motion (SI, global frame).
-
-    coupler_force: (Fx, Fy) N at the coupler point; output_torque: N m on the output link
-    (four-bar, CCW +); output_force: N on the slider along +x (slider-crank);
-    gravity: (gx, gy) m/s^2 acting on the masses.
-    """
-
-    coupler_force: tuple[float, float] = (0.0, 0.0)
-    output_torque: float = 0.0
-    output_force: float = 0.0
-    gravity: tuple[float, float] = (0.0, 0.0)
 
 
 @dataclass(frozen=True)
@@ -423,9 +385,8 @@ def mechanical_advantage(state: FourBarState | SliderCrankState) -> np.ndarray:
 
 
 def _snap(values, scale):
-    """Round-off below NOISE_FLOOR * scale -> 0 (and -0.0 -> 0.0)."""
-    values = np.asarray(values, dtype=float)
-    return np.where(np.abs(values) <= NOISE_FLOOR * scale, 0.0, values) + 0.0
+    """Round-off below the noise floor of `scale` -> 0 (linkcli.noise.snap), as an array."""
+    return np.asarray(snap(np.asarray(values, dtype=float), float(scale)), dtype=float)
 
 
 def forces_rows(rows: LoadRows, inputs) -> list[dict]:
@@ -459,7 +420,7 @@ def load_cycle(rows: LoadRows, inputs) -> dict:
 
     pins: per pin max, min, mean, amplitude (half the range) of the magnitude, and the same
     for x and y; input_torque: peak (the signed torque of largest magnitude; ties within a
-    relative PEAK_TIE go to the first row in sweep order), at_input (its input), rms;
+    relative linkcli.noise.TIE go to the first row in sweep order), at_input (its input), rms;
     singular_rows: how many rows are dead points (left out; their loads are unbounded).
     """
     inputs = np.asarray(inputs, dtype=float)
@@ -472,8 +433,7 @@ def load_cycle(rows: LoadRows, inputs) -> dict:
         pins[name]["y"] = _cycle(xy[:, 1], rows.force_scale)
     torque = rows.input_torque[valid]
     if torque.size:
-        size = np.abs(torque)
-        first = int(np.argmax(size >= size.max() * (1.0 - PEAK_TIE)))
+        first = int(first_max(np.abs(torque)))
         peak, at_input = torque[first], inputs[valid][first]
         rms = np.sqrt(np.mean(torque ** 2))
         summary = {"peak": float(_snap(peak, rows.torque_scale)), "at_input": float(at_input),
