@@ -67,9 +67,14 @@ def read_loads(root: Table, kind: str) -> LoadCase | None:
             t.error(wrong, what, raw_got=f"{wrong} = {t.data[wrong]!r}")
         value = t.number(right, 0.0, lo=-MAX_LOAD, hi=MAX_LOAD)
         if force is not None and any(force) and not has_coupler_point(root, kind):
-            t.error("coupler_force", "a coupler_point in [linkage] (the point the force acts at)",
-                    raw_got=f'a coupler force on a linkage without one (type = "{kind}")'
-                    if kind not in ("linkage",) else "a linkage without a coupler_point")
+            if kind == "linkage":
+                t.error("coupler_force", "a coupler_point in [linkage] (the point the force acts at)",
+                        raw_got="a linkage without a coupler_point")
+            else:
+                t.error("coupler_force", "a linkage with a coupler point (the point the force acts "
+                        "at): apply the load as output_torque, or analyse the result as a "
+                        'type = "linkage" file with a coupler_point',
+                        raw_got=f'a {kind} result, which has no coupler point')
         loads = Loads(coupler_force=tuple(force or (0.0, 0.0)), gravity=tuple(gravity or (0.0, 0.0)),
                       **{right: value or 0.0})
         given["loads"] = {k: list(v) if isinstance(v, tuple) else v
@@ -109,16 +114,25 @@ def _pair(t: Table, key: str, expected: str):
     return tuple(float(v) for v in value)
 
 
+def _amount(t: Table, key: str, default, what: str):
+    """A number in [0, MAX_LOAD]; None when missing (without a default) or bad."""
+    value = t.number(key, default, what=what)
+    if value is not None and not 0.0 <= value <= MAX_LOAD:
+        t.error(key, what if value < 0 else f"{what}, at most {MAX_LOAD:g}", value)
+        return None
+    return value
+
+
 def _link_mass(masses: Table, link: str, slider: bool) -> LinkMass | None:
     """{ mass, center, inertia } of one link (a slider: { mass } only)."""
     t = masses.table(link)
     if t is None:
         return None
-    mass = t.number("mass", lo=0.0, hi=MAX_LOAD, what="a mass (kg)")
+    mass = _amount(t, "mass", MISSING, "a mass >= 0 (kg)")
     if slider:
         return None if mass is None else LinkMass(mass)
     center = t.number_list("center", [0.0, 0.0], length=2, what="coordinates [x, y] in the link's frame")
-    inertia = t.number("inertia", 0.0, lo=0.0, hi=MAX_LOAD, what="an inertia about the centre (kg m^2)")
+    inertia = _amount(t, "inertia", 0.0, "an inertia >= 0 about the centre (kg m^2)")
     if mass is None or center is None or inertia is None:
         return None
     return LinkMass(mass, tuple(center), inertia)
