@@ -294,3 +294,23 @@ def test_toggle_row_is_null_and_named_in_a_note(tmp_path):
     assert ma[0] == pytest.approx(m["w2"][0] / m["w4"][0], rel=1e-9)
     assert report["forces"]["rows"][1]["input_torque"] == 0  # the output cannot take the torque
     assert any("toggle" in note and "at input 90 deg" in note for note in report["notes"])
+
+
+def test_plot_adds_torque_and_pin_force_panels(tmp_path):
+    """--plot of a result with a forces section: the type's figure on top, two panels under
+    it drawn from the report's rows (torque curve through the rows' values)."""
+    pytest.importorskip("matplotlib")
+    from linkcli.pipeline import Request, run
+    from linkcli.plot import figure
+    outcome = run("problems/firedoor_loads.toml", Request(mode="synth", plot=True))
+    fig = figure(outcome.result)
+    bottom = fig.subfigs[1]
+    torque_axes, pin_axes = bottom.axes
+    rows = outcome.result.report["forces"]["rows"]
+    x, y = torque_axes.lines[0].get_data()
+    assert np.allclose(y, [r["input_torque"] for r in rows])
+    assert [line.get_label() for line in pin_axes.lines] == ["A0", "A", "B", "B0"]
+    target = tmp_path / "loads.png"
+    code, _, err = run_cli("synth", "problems/firedoor_loads.toml", "--plot", str(target))
+    assert code == 0, err
+    assert target.read_bytes().startswith(b"\x89PNG")
