@@ -314,3 +314,19 @@ def test_plot_adds_torque_and_pin_force_panels(tmp_path):
     code, _, err = run_cli("synth", "problems/firedoor_loads.toml", "--plot", str(target))
     assert code == 0, err
     assert target.read_bytes().startswith(b"\x89PNG")
+
+
+def test_rocking_input_rows_are_the_kinematics_rows(tmp_path):
+    """A triple-rocker (s + l > p + q): its input rocks; the forces rows sit at the same
+    inputs as the kinematics rows (centres of equal cells of the arc), and the static
+    torque there is the virtual-work value."""
+    a, b, c, d = 3.0, 2.5, 2.0, 4.0
+    text = LINKAGE.format(unit="m", d=d, a=a, b=b, c=c, px=0, py=0, gx=0, gy=0, gamma=0, speed=5, steps=24)
+    text += "[loads]\noutput_torque = 3\n"
+    report = analyse(tmp_path, text)
+    assert report["grashof"]["class"] == "triple-rocker"
+    inputs = [r["input"] for r in report["forces"]["rows"]]
+    assert inputs == [r["input"] for r in report["kinematics"]]
+    m = four_bar(a, b, c, d, np.radians(inputs))
+    got = np.array([r["input_torque"] for r in report["forces"]["rows"]], dtype=float)
+    assert np.allclose(got, -3.0 * m["w4"], rtol=1e-9, atol=1e-9 * 3.0)

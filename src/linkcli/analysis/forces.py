@@ -70,11 +70,11 @@ def slider_crank_rows(sc, phi, speed: float, loads, masses, scale: float) -> Loa
     return slider_crank_loads(state, loads, in_metres(masses, scale))
 
 
-def slider_study(sc) -> tuple[bool, tuple[float, float] | None] | None:
+def slider_study(sc, near=None) -> tuple[bool, tuple[float, float] | None] | None:
     """(full turn, arc with hi >= lo) of a slider-crank's motion study, None if it never
-    assembles (the four-bar's comes from kinematics.motion)."""
+    assembles."""
     from linkcli.mechanisms import slider_crank as slk
-    mot = slk.motion(*sc.abe, sc.branch)
+    mot = slk.motion(*sc.abe, sc.branch, near=near)
     if not mot["assembles"]:
         return None
     if mot["input_full_turn"]:
@@ -83,10 +83,30 @@ def slider_study(sc) -> tuple[bool, tuple[float, float] | None] | None:
     return False, (lo, lo + slk.arc_sweep(lo, hi))
 
 
+def study_of(linkage, motion=None, near=None) -> tuple[bool, tuple[float, float] | None] | None:
+    """(full turn, arc) of the motion study whose rows the kinematics and forces sections
+    share, None if the linkage never assembles: a four-bar's from its `Motion` (computed here
+    when not given), a slider-crank's from its own range of motion."""
+    if is_slider_crank(linkage):
+        return slider_study(linkage, near)
+    if motion is None:
+        from linkcli.mechanisms import four_bar as kin
+        motion = kin.motion(*linkage.abcd, linkage.branch, near=near)
+    return (motion.input_full_turn, motion.input_arc) if motion.assembles else None
+
+
+def is_slider_crank(linkage) -> bool:
+    """The linkage is a linkcli.mechanisms.slider_crank.SliderCrank (imported only then)."""
+    if type(linkage).__name__ != "SliderCrank":
+        return False
+    from linkcli.mechanisms.slider_crank import SliderCrank
+    return isinstance(linkage, SliderCrank)
+
+
 def load_rows(linkage, phi, speed, case, units) -> LoadRows:
     """Dispatch on the linkage's class: FourBar or SliderCrank."""
     scale = metres_per_unit(units)
-    if type(linkage).__name__ == "SliderCrank":
+    if is_slider_crank(linkage):
         return slider_crank_rows(linkage, phi, speed, case.loads, case.masses, scale)
     return four_bar_rows(linkage, phi, speed, case.loads, case.masses, scale)
 
@@ -109,7 +129,7 @@ def section(linkage, study, speed: float, steps: int, case, units, notes: list) 
     if cycle["singular_rows"]:
         out["dead_points"] = cycle["singular_rows"]
     out["rows"] = forces_rows(rows, inputs)
-    _notes(rows, inputs, units, type(linkage).__name__ == "SliderCrank", notes)
+    _notes(rows, inputs, units, is_slider_crank(linkage), notes)
     return out
 
 

@@ -58,7 +58,7 @@ def _build(problem, solution: Solution) -> dict:
     if has_linkage and "grashof" in want:
         rep["grashof"] = kin.grashof(*fb.abcd)
     mot = None
-    if has_linkage and want & {"transmission", "motion", "kinematics", "forces"}:
+    if has_linkage and want & {"transmission", "motion", "kinematics"}:
         near = solution.working_span[0] if solution.working_span else None
         mot = kin.motion(*fb.abcd, fb.branch, near=near)
         if not mot.assembles:
@@ -71,13 +71,14 @@ def _build(problem, solution: Solution) -> dict:
         speed, steps = motion_study(problem, u)
         rep["kinematics"] = kinematics_rows(fb, mot, speed, steps, u)
         rep.setdefault("motion", {}).update(input_speed=_dang(u, speed), steps=steps)  # to reproduce it
-    if mot is not None and mot.assembles and "forces" in want and meta.loads is not None:
+    if has_linkage and "forces" in want and meta.loads is not None:
         from linkcli.analysis import forces
-        rep.update(forces.echo(meta.loads))  # the load case as given: a result file round-trips
-        speed, steps = motion_study(problem, u)
-        study = (mot.input_full_turn, mot.input_arc)
-        rep["forces"] = forces.section(fb, study, speed, steps, meta.loads, u, notes)
-        if "motion" in rep:
+        study = forces.study_of(fb, mot, solution.working_span[0] if solution.working_span else None)
+        if study is not None:
+            rep.update(forces.echo(meta.loads))  # the load case as given: a result file round-trips
+            speed, steps = motion_study(problem, u)
+            rep["forces"] = forces.section(fb, study, speed, steps, meta.loads, u, notes)
+        if "motion" in rep and study is not None:
             rep["motion"].update(input_speed=_dang(u, speed), steps=steps)
     if solution.positions is not None and "positions" in want:
         rep["positions"] = position_rows(solution.positions, u, max(fb.abcd) if has_linkage else 1.0)
