@@ -10,7 +10,7 @@ and the body x axis makes coupler_angle with A -> B.
 
 Defects (Sandor & Erdman vol. 1 sec. 8; Balli & Chand, Mech. Mach. Theory 37, 2002):
 * branch (circuit): the poses lie on different branches, or on different arcs of
-  reachable input angles (kinematics.input_arcs): the linkage must be disassembled to
+  reachable input angles (four_bar.input_arcs): the linkage must be disassembled to
   pass through them all.
 * order: on its branch the input does not reach the poses in the given order during one
   turn (crank) or one stroke (rocker), in either sense of rotation.
@@ -22,7 +22,7 @@ from itertools import permutations
 
 import numpy as np
 
-from linkcli import kinematics
+from linkcli.mechanisms import four_bar as kin
 
 from .poses import as_poses, characteristic_length, to_global
 
@@ -49,14 +49,14 @@ def dyad_pair_params(poses, g1, m1, g2, m2):
     a = np.linalg.norm(a_pts[..., 0, :] - g1, axis=-1)
     c = np.linalg.norm(b_pts[..., 0, :] - g2, axis=-1)
     b = np.linalg.norm(m2 - m1, axis=-1)
-    phi = kinematics.wrap(_angle(a_pts - g1[..., None, :]) - ground_angle[..., None])
+    phi = kin.wrap(_angle(a_pts - g1[..., None, :]) - ground_angle[..., None])
     ra, rb = a_pts - g2[..., None, :], b_pts - g2[..., None, :]
     cross = ra[..., 0] * rb[..., 1] - ra[..., 1] * rb[..., 0]
     signs = np.where(cross < 0, -1.0, 1.0)  # open iff (A - B0) x (B - B0) < 0
     e = (m2 - m1) / np.where(b > 0, b, 1.0)[..., None]
     px = -(m1[..., 0] * e[..., 0] + m1[..., 1] * e[..., 1])
     py = -(-m1[..., 0] * e[..., 1] + m1[..., 1] * e[..., 0])
-    cang = kinematics.wrap(-_angle(e))
+    cang = kin.wrap(-_angle(e))
     params = np.stack([g1[..., 0], g1[..., 1], ground_angle, d, a, b, c, px, py, cang], -1)
     return params, phi, signs
 
@@ -70,7 +70,7 @@ def linkage_from_dyads(poses, input_dyad, output_dyad) -> dict:
     g1, m1 = (np.asarray(v, float) for v in input_dyad)
     g2, m2 = (np.asarray(v, float) for v in output_dyad)
     params, phi, signs = dyad_pair_params(poses, g1, m1, g2, m2)
-    psi = kinematics.wrap(_angle(to_global(poses, m2) - g2) - params[2])
+    psi = kin.wrap(_angle(to_global(poses, m2) - g2) - params[2])
     return {
         "ground_pivot": g1, "ground_angle": float(params[2]), "ground": float(params[3]),
         "input": float(params[4]), "coupler": float(params[5]), "output": float(params[6]),
@@ -84,16 +84,16 @@ def linkage_from_dyads(poses, input_dyad, output_dyad) -> dict:
 def body_poses(params, phi, branch) -> tuple[np.ndarray, np.ndarray]:
     """Body poses (..., 3) reached at input angles phi (rad, local frame) and whether the
     linkage assembles there. params (..., 10) in PARAM_NAMES order, branch "open",
-    "crossed" or signs (-1/+1); lengths broadcast against phi like kinematics.pose."""
+    "crossed" or signs (-1/+1); lengths broadcast against phi like four_bar.pose."""
     p = np.asarray(params, float)
     gx, gy, gang, d, a, b, c, px, py, cang = (p[..., k, None] for k in range(10))
     phi = np.asarray(phi, float)
-    sol = kinematics.pose(a, b, c, d, phi, branch)
+    sol = kin.pose(a, b, c, d, phi, branch)
     lx, ly = sol.coupler_point(a, px, py)
     cg, sg = np.cos(gang), np.sin(gang)
     x = gx + cg * lx - sg * ly
     y = gy + sg * lx + cg * ly
-    ang = kinematics.wrap(sol.theta + cang + gang)
+    ang = kin.wrap(sol.theta + cang + gang)
     return np.stack(np.broadcast_arrays(x, y, ang), -1), sol.valid
 
 
@@ -101,7 +101,7 @@ def pose_errors(target, achieved):
     """(position error |P_i - T_i|, angle error wrapped to (-pi, pi]) per pose."""
     target, achieved = np.asarray(target, float), np.asarray(achieved, float)
     pos = np.linalg.norm(achieved[..., :2] - target[..., :2], axis=-1)
-    return pos, kinematics.wrap(achieved[..., 2] - target[..., 2])
+    return pos, kin.wrap(achieved[..., 2] - target[..., 2])
 
 
 def _strictly_monotone(values) -> bool:
@@ -111,7 +111,7 @@ def _strictly_monotone(values) -> bool:
 
 def order_defect(phi, arcs) -> bool:
     """True if the poses are not reached in order (module docstring); phi in rad, arcs as
-    kinematics.input_arcs (None: the input turns fully)."""
+    four_bar.input_arcs (None: the input turns fully)."""
     phi = np.asarray(phi, float)
     if len(phi) < 3:
         return False
@@ -119,7 +119,7 @@ def order_defect(phi, arcs) -> bool:
         ccw = np.mod(phi - phi[0], TWO_PI)[1:]
         cw = np.mod(phi[0] - phi, TWO_PI)[1:]
         return not (np.all(np.diff(ccw) > 0) and ccw[0] > 0 or np.all(np.diff(cw) > 0) and cw[0] > 0)
-    arc = kinematics.choose_arc(arcs, phi[0])
+    arc = kin.choose_arc(arcs, phi[0])
     return not _strictly_monotone(np.mod(phi - arc[0], TWO_PI))
 
 
@@ -129,20 +129,20 @@ def check_linkage(a, b, c, d, phi, branch_signs) -> dict:
     transmission_min, transmission_max (rad), and `defects`, the names of those present."""
     phi = np.asarray(phi, float)
     branch_signs = np.asarray(branch_signs, float)
-    arcs = kinematics.input_arcs(a, b, c, d)
+    arcs = kin.input_arcs(a, b, c, d)
     if arcs is None:
         arc_index = np.zeros(len(phi), int)
     elif not arcs:
         arc_index = np.full(len(phi), -1)
     else:
         arc_index = np.array([next((k for k, arc in enumerate(arcs)
-                                    if kinematics.arc_contains(arc, x)), -1) for x in phi])
+                                    if kin.arc_contains(arc, x)), -1) for x in phi])
     branch_defect = bool(np.any(branch_signs != branch_signs[0]) or np.any(arc_index != arc_index[0])
                          or np.any(arc_index < 0))
     order = (not branch_defect) and order_defect(phi, arcs)
-    rho = kinematics.ground_distance(a, d, phi)
-    mu = kinematics.transmission_angle(b, c, rho)
-    klass = kinematics.grashof(a, b, c, d)
+    rho = kin.ground_distance(a, d, phi)
+    mu = kin.transmission_angle(b, c, rho)
+    klass = kin.grashof(a, b, c, d)
     defects = [name for name, on in (("branch", branch_defect), ("order", order)) if on]
     return {"branch_defect": branch_defect, "order_defect": bool(order), "grashof": klass,
             "input_is_crank": arcs is None, "transmission": mu,

@@ -20,6 +20,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from linkcli.mechanisms import four_bar as kin
+from linkcli.search.sampling import latin_hypercube
+
 from . import assemble
 from .burmester import burmester_dyads
 from .dyads import moving_pivots_for_ground
@@ -41,12 +44,9 @@ def default_bounds(poses):
     return lo, hi
 
 
-def latin_hypercube(rng, count, lo, hi):
-    """count points, one per stratum in every coordinate, scaled to [lo, hi]."""
-    dim = len(lo)
-    strata = np.argsort(rng.random((dim, count)), axis=1).T
-    unit = (strata + rng.random((count, dim))) / count
-    return lo + unit * (hi - lo)
+def box_sample(rng, count, lo, hi):
+    """count points of the box [lo, hi] from the house Latin hypercube (search.sampling)."""
+    return lo + latin_hypercube(rng, count, len(lo)) * (hi - lo)
 
 
 def _scores(params, poses, signs, phi_grid, weight, input_angles):
@@ -60,7 +60,7 @@ def _scores(params, poses, signs, phi_grid, weight, input_angles):
         phis = phi_grid if input_angles is None else input_angles
         ach, valid = assemble.body_poses(p, phis, signs)  # (N, K, 3)
         dpos = ach[:, :, None, :2] - poses[None, None, :, :2]
-        dang = assemble.kinematics.wrap(ach[:, :, None, 2] - poses[None, None, :, 2])
+        dang = kin.wrap(ach[:, :, None, 2] - poses[None, None, :, 2])
         cost = np.sum(dpos ** 2, -1) + (weight * dang) ** 2  # (N, K, n)
         cost = np.where(valid[:, :, None], cost, np.inf)
         if input_angles is None:
@@ -82,10 +82,10 @@ def residuals(x_full, poses, sign, weight, timing_angles):
     phi = x_full[..., 10:] if timing_angles is None else timing_angles + x_full[..., 10:11]
     ach, _ = assemble.body_poses(p, phi, sign)
     a, b, c, d = (p[..., k, None] for k in (4, 5, 6, 3))
-    rho = assemble.kinematics.ground_distance(a, d, phi)
+    rho = kin.ground_distance(a, d, phi)
     viol = np.maximum(0.0, np.maximum(rho - (b + c), np.abs(b - c) - rho))
     dpos = ach[..., :2] - poses[:, :2]
-    dang = assemble.kinematics.wrap(ach[..., 2] - poses[:, 2])
+    dang = kin.wrap(ach[..., 2] - poses[:, 2])
     lead = x_full.shape[:-1]
     return np.concatenate([dpos.reshape(lead + (-1,)), weight * dang, PENALTY * viol], -1)
 
@@ -103,7 +103,7 @@ def central_jacobian(fun, z):
 def _starts(poses, lo, hi, rng, population, signs):
     """Population rows: LHS, Burmester linkages of 5-pose subsets, 3-pose inversions."""
     n = len(poses)
-    rows = [latin_hypercube(rng, population, lo, hi)]
+    rows = [box_sample(rng, population, lo, hi)]
     if n >= 5:
         subsets = [np.linspace(0, n - 1, 5).round().astype(int)]
         subsets += [np.sort(rng.choice(n, 5, replace=False)) for _ in range(3)]
@@ -117,7 +117,7 @@ def _starts(poses, lo, hi, rng, population, signs):
                 rows.append(p)
     if n >= 3:
         sub = np.array([0, n // 2, n - 1])
-        pivots = latin_hypercube(rng, population, lo, hi)
+        pivots = box_sample(rng, population, lo, hi)
         g1 = pivots[:, :2]
         g2 = g1 + pivots[:, 3:4] * np.stack([np.cos(pivots[:, 2]), np.sin(pivots[:, 2])], -1)
         m1, s1 = moving_pivots_for_ground(poses[sub], g1)
@@ -127,7 +127,7 @@ def _starts(poses, lo, hi, rng, population, signs):
         rows.append(p)
     allp = np.concatenate(rows)
     # angles into [-pi, pi]; rows outside the bounds are clipped into them
-    allp[:, [2, 9]] = assemble.kinematics.wrap(allp[:, [2, 9]])
+    allp[:, [2, 9]] = kin.wrap(allp[:, [2, 9]])
     allp = np.clip(allp[np.all(np.isfinite(allp), -1)], lo, hi)
     return allp
 
@@ -220,7 +220,7 @@ def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
 
 def _evaluate(x, poses, sign, weight, t_angles, grashof, transmission) -> dict:
     p = x[:10]
-    phi = assemble.kinematics.wrap(x[10:] if t_angles is None else t_angles + x[10])
+    phi = kin.wrap(x[10:] if t_angles is None else t_angles + x[10])
     ach, valid = assemble.body_poses(p, phi, sign)
     pos, ang = assemble.pose_errors(poses, ach)
     objective = float(np.sum(pos ** 2 + (weight * ang) ** 2))
