@@ -135,7 +135,7 @@ def _starts(poses, lo, hi, rng, population, signs):
 def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
                         input_angles=None, offset_bounds=(0.0, 0.0), angle_weight=None,
                         grashof=None, transmission=None, seed=0, population=2000,
-                        polish=8, grid=180) -> dict:
+                        polish=8, grid=180, budget=None) -> dict:
     """Best four-bar through `poses` (n, 3; angles rad) in the least-squares sense.
 
     bounds: (lo, hi) arrays (10,) in PARAM_NAMES order (lo == hi fixes a value), default
@@ -145,9 +145,14 @@ def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
     Returns dict: params (10,), branch, input_angles (n,), objective, achieved (n, 3),
     position_error (n,), angle_error (n,), checks (assemble.check_linkage), feasible,
     why (reason when not feasible), angle_weight, evaluations (objective evaluations),
-    candidates (every polished design: params, branch, objective, defects)."""
+    converged (the polish of the best met its tolerances), candidates (every polished
+    design: params, branch, objective, defects). budget: a search.budget.Budget that counts
+    the evaluations (a fresh one without a cap when None); the polishes stop at its cap."""
     from scipy.optimize import least_squares
 
+    from linkcli.search.budget import Budget
+
+    counter = budget if budget is not None else Budget(2**62)
     poses = as_poses(poses)
     n = len(poses)
     lo, hi = (np.asarray(v, float) for v in (bounds if bounds is not None else default_bounds(poses)))
@@ -158,7 +163,6 @@ def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
     signs = {"open": [-1.0], "crossed": [1.0], "either": [-1.0, 1.0]}[branch]
     starts = _starts(poses, lo, hi, rng, population, signs)
     phi_grid = np.linspace(-np.pi, np.pi, grid, endpoint=False)
-    evaluations = 0
     pool = []
     for sign in signs:
         if prescribed:
@@ -168,11 +172,11 @@ def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
                 sc, ph = _scores(starts, poses, sign, None, weight, t_angles + off)
                 best = (sc, np.full(len(sc), off)) if best is None else (
                     np.where(sc < best[0], sc, best[0]), np.where(sc < best[0], off, best[1]))
-                evaluations += len(starts)
+                counter.add(len(starts))
             score, extra = best[0], best[1][:, None]
         else:
             score, extra = _scores(starts, poses, sign, phi_grid, weight, None)
-            evaluations += len(starts) * grid
+            counter.add(len(starts) * grid)
         order = np.argsort(score, kind="stable")[:polish * 4]
         chosen = []
         for k in order:  # pick distinct starts (a short loop over the best few)
@@ -204,15 +208,17 @@ def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
         z0 = np.clip(z0, lo_full[mask] + 1e-12 * span, hi_full[mask] - 1e-12 * span)
         sol = least_squares(fun, z0, jac=lambda z, fun=fun: central_jacobian(fun, z),
                             bounds=(lo_full[mask], hi_full[mask]), method="trf",
-                            xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=400 * (len(z0) + 1))
-        evaluations += sol.nfev
+                            xtol=1e-15, ftol=1e-15, gtol=1e-15,
+                            max_nfev=max(1, min(400 * (len(z0) + 1), counter.left // (2 * len(z0) + 1))))
+        counter.add(sol.nfev + 2 * len(z0) * (sol.njev or 0))  # a Jacobian costs 2 dim evaluations
         x = x0.copy()
         x[mask] = sol.x
         results.append(_evaluate(x, poses, sign, weight, t_angles, grashof, transmission))
+        results[-1]["converged"] = bool(sol.status > 0)
     ranked = sorted(results, key=lambda r: (not r["feasible"], r["objective"]))
     best = dict(ranked[0])
     best["angle_weight"] = weight
-    best["evaluations"] = evaluations
+    best["evaluations"] = counter.used
     best["candidates"] = [{k: r[k] for k in ("params", "branch", "objective", "feasible", "why")}
                           for r in ranked]
     return best
