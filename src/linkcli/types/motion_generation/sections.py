@@ -118,10 +118,16 @@ def burmester_section(g1, m1, g2, m2, u) -> dict:
 
 
 def polished_rows(candidates, u) -> list[dict]:
-    """Least squares: every polished design, best first (feasible first, then objective)."""
-    rows = []
+    """Least squares: every distinct polished design, best first (feasible first, then
+    objective); starts that reached the same design (parameters within 1e-6 relative of
+    the linkage's size) are listed once."""
+    rows, kept = [], []
     for c in candidates:
-        p = c["params"]
+        p = np.asarray(c["params"], float)
+        size = float(max(p[3:7]))
+        if any(np.max(np.abs(p - q)) <= 1e-6 * size for q in kept):
+            continue
+        kept.append(p)
         rows.append({"objective": float(c["objective"]), "branch": c["branch"], "ground": float(p[3]),
                      "input": float(p[4]), "coupler": float(p[5]), "output": float(p[6]),
                      "defects": c["why"] or "none"})

@@ -86,9 +86,7 @@ def _exact_candidates(problem, poses, scale):
     res = burmester.burmester_dyads(poses)
     k = len(res.ground)
     i, j = np.nonzero(~np.eye(k, dtype=bool))
-    notes = [f"{k} real Burmester dyads (resultant of degree {res.resultant_degree}, "
-             f"{res.roots} complex roots examined)"]
-    return "burmester", "burmester", res.ground[i], res.moving[i], res.ground[j], res.moving[j], notes
+    return "burmester", "burmester", res.ground[i], res.moving[i], res.ground[j], res.moving[j], []
 
 
 def _pivot_box(problem, poses, scale, rng, count):
