@@ -295,7 +295,7 @@ def _solution(problem, poses, scale, p, phi, signs, res, k, feasible, solver, ex
         status = Status.OK if solver["converged"] else Status.NOT_CONVERGED
         message = (f"{len(poses)} poses: reached in order on the {branch} branch, no branch or order "
                    f"defect; worst transmission deviation from 90 deg over the working span "
-                   f"{num(math.degrees(float(res['quality'][k])))} deg")
+                   f"{num(float(u.from_rad(float(res['quality'][k]))))} {u.angle}")
         if not solver["converged"]:
             message += "; the local polish stopped before meeting its tolerances"
     else:
