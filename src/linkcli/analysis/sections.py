@@ -114,6 +114,8 @@ def linkage_section(fb, u) -> dict:
         out["coupler_point"] = [snap(float(v), size) for v in fb.coupler_point]
         out["ground_pivot"] = [snap(float(v), size) for v in fb.ground_pivot]
         out["ground_angle"] = _ang(u, fb.ground_angle)
+        if fb.coupler_angle is not None:  # motion generation: the body's x axis from A -> B
+            out["coupler_angle"] = _ang(u, fb.coupler_angle)
     return out
 
 

@@ -131,6 +131,8 @@ def render(report: dict, digits: int = 6) -> Group:
             rows += [(f"coupler point ({lu})", lk["coupler_point"]),
                      (f"ground pivot ({lu})", lk["ground_pivot"]),
                      (f"ground angle ({au})", lk["ground_angle"])]
+            if "coupler_angle" in lk:
+                rows.append((f"coupler angle ({au})", lk["coupler_angle"]))
         parts.append(_kv("Link lengths", rows, digits))
     if "grashof" in r:
         g = r["grashof"]
