@@ -284,6 +284,7 @@ def test_three_positions_reproduce_the_generating_slider_crank(link, angles):
     assume(np.min(d[np.triu_indices(3, 1)]) > 0.3)
     assume(np.all(np.abs(e - a * np.sin(phi)) < 0.9 * b))
     s = ref_slider(a, b, e, phi, sign)
+    assume(np.max(np.abs(s)) > 1e-6 * (a + b))  # every slider position at the crank pivot: degenerate
     m = np.stack([s * np.cos(phi), np.sin(phi), -np.ones(3)], axis=1) / np.array([np.max(np.abs(s)), 1, 1])
     assume(np.linalg.cond(m) < 1e5)
     fit = spp.synthesize(phi, s)
