@@ -1,0 +1,1 @@
+"""Problem types, one package each (quick_return: design by time ratio)."""
