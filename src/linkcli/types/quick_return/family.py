@@ -126,7 +126,9 @@ def _pieces(ranges):
             1.0 if ends[1] == np.inf else _to_v(ends[1])
 
 
-def _feasible(lengths_of, names, bounds, max_ratio, sign):
+def _feasible(lengths_of, names, bounds, max_ratio, sign, accept=None):
+    """feasible(v): finite positive links within max_ratio, inside `bounds`, and (when
+    given) accept(lengths) (e.g. the transmission window met)."""
     bounds = dict(bounds or {})
     unknown = set(bounds) - set(names) - {"parameter"}
     if unknown:
@@ -143,15 +145,17 @@ def _feasible(lengths_of, names, bounds, max_ratio, sign):
         for key, (lo, hi) in bounds.items():
             val = rho if key == "parameter" else lengths[key]
             ok &= (val >= lo) & (val <= hi)
+        if accept is not None:
+            ok &= accept(lengths)
         return ok
     return feasible
 
 
-def _search(lengths_of, margins_of, names, ranges, bounds, max_ratio):
+def _search(lengths_of, margins_of, names, ranges, bounds, max_ratio, accept=None):
     """Best (value, rho, limited) over all pieces, or None when nothing is feasible."""
     best = None
     for sign, v_lo, v_hi in _pieces(ranges):
-        feasible = _feasible(lengths_of, names, bounds, max_ratio, sign)
+        feasible = _feasible(lengths_of, names, bounds, max_ratio, sign, accept)
         parts = (lambda s: lambda v: margins_of(lengths_of(_to_rho(v, s))))(sign)
         opt = maximize.maximize_min(parts, v_lo, v_hi, feasible)
         if opt is None:
@@ -170,11 +174,30 @@ def _no_member(bounds):
                        "none (swing or time ratio too extreme)", key="swing")
 
 
-def _crank_rocker_pieces(time_ratio, swing, scale):
+def _counted(lengths_of, counter):
+    """lengths_of that adds the members it evaluates to `counter` (a search.budget.Budget)."""
+    if counter is None:
+        return lengths_of
+
+    def counted(rho):
+        counter.add(np.size(rho))
+        return lengths_of(rho)
+    return counted
+
+
+def _within(margins_of, window):
+    """accept(lengths): the whole turn inside the transmission window (None: no window)."""
+    if window is None:
+        return None
+    return lambda lengths: np.min(margins_of(lengths, tuple(window)), axis=0) >= 0.0
+
+
+def _crank_rocker_pieces(time_ratio, swing, scale, counter=None):
     ranges = crank_rocker_ranges(time_ratio, swing)
 
-    def lengths_of(rho):
+    def member(rho):
         return crank_rocker_member(rho, time_ratio, swing, scale)
+    lengths_of = _counted(member, counter)
 
     def margins_of(lengths, window=(0.0, np.pi)):
         return transmission.four_bar_margins(lengths["input"], lengths["coupler"],
@@ -183,10 +206,15 @@ def _crank_rocker_pieces(time_ratio, swing, scale):
 
 
 def best_crank_rocker(time_ratio: float, swing: float, scale, bounds: Mapping | None = None,
-                      max_ratio: float = MAX_LINK_RATIO) -> Design:
-    """The member with the best worst transmission angle over the full turn."""
-    ranges, lengths_of, margins_of = _crank_rocker_pieces(time_ratio, swing, scale)
-    best = _search(lengths_of, margins_of, FOUR_BAR, ranges, bounds, max_ratio)
+                      max_ratio: float = MAX_LINK_RATIO, window=None, counter=None) -> Design | None:
+    """The member with the best worst transmission angle over the full turn; with a
+    transmission `window` (lo, hi) (rad), the best among the members that keep the whole
+    turn inside it (None when none does). `counter` counts the members evaluated."""
+    ranges, lengths_of, margins_of = _crank_rocker_pieces(time_ratio, swing, scale, counter)
+    best = _search(lengths_of, margins_of, FOUR_BAR, ranges, bounds, max_ratio,
+                   _within(margins_of, window))
+    if best is None and window is not None:
+        return None  # closest_crank_rocker says by how much (or that no member exists at all)
     if best is None:
         raise _no_member(bounds)
     value, rho, limited = best
@@ -222,17 +250,29 @@ def crank_rocker_family(time_ratio: float, swing: float, scale, rows: int = TABL
     return _table(lengths_of, FOUR_BAR, ranges, bounds, max_ratio, rows)
 
 
+def closest_crank_rocker(time_ratio: float, swing: float, scale, window,
+                         bounds: Mapping | None = None, max_ratio: float = MAX_LINK_RATIO,
+                         counter=None) -> tuple[Design, float]:
+    """(member, miss): the member whose transmission angle over the whole turn comes
+    closest to the window (lo, hi) (rad), and by how much it leaves it (0: inside)."""
+    ranges, lengths_of, margins_of = _crank_rocker_pieces(time_ratio, swing, scale, counter)
+    best = _search(lengths_of, lambda m: margins_of(m, tuple(window)), FOUR_BAR, ranges,
+                   bounds, max_ratio)
+    if best is None:
+        raise _no_member(bounds)
+    value, rho, limited = best
+    member = lengths_of(rho)
+    return (Design("crank-rocker", rho, {n: float(member[n]) for n in FOUR_BAR},
+                   float(member["worst_transmission"]), limited, tuple(ranges)),
+            max(0.0, -value))
+
+
 def crank_rocker_window_miss(time_ratio: float, swing: float, scale, window,
                              bounds: Mapping | None = None,
                              max_ratio: float = MAX_LINK_RATIO) -> float:
     """0 when some member keeps the transmission angle within window = (lo, hi) (rad) over
     the whole turn, else the smallest amount (rad) by which the members miss it."""
-    ranges, lengths_of, margins_of = _crank_rocker_pieces(time_ratio, swing, scale)
-    best = _search(lengths_of, lambda m: margins_of(m, tuple(window)), FOUR_BAR, ranges,
-                   bounds, max_ratio)
-    if best is None:
-        raise _no_member(bounds)
-    return max(0.0, -best[0])
+    return closest_crank_rocker(time_ratio, swing, scale, window, bounds, max_ratio)[1]
 
 
 # ---- slider-crank ----------------------------------------------------------------------------
@@ -282,11 +322,12 @@ def slider_crank_with_offset(time_ratio: float, stroke: float, offset: float) ->
                   tuple(slider_crank_ranges(time_ratio)))
 
 
-def _slider_pieces(time_ratio, stroke):
+def _slider_pieces(time_ratio, stroke, counter=None):
     ranges = slider_crank_ranges(time_ratio)
 
-    def lengths_of(rho):
+    def member(rho):
         return slider_crank_member(rho, time_ratio, stroke)
+    lengths_of = _counted(member, counter)
 
     def margins_of(lengths, window=(0.0, np.pi)):
         return transmission.slider_margins(lengths["input"], lengths["coupler"],
@@ -294,17 +335,26 @@ def _slider_pieces(time_ratio, stroke):
     return ranges, lengths_of, margins_of
 
 
-def best_slider_crank(time_ratio: float, stroke: float, bounds: Mapping | None = None,
-                      max_ratio: float = MAX_LINK_RATIO) -> Design:
-    """The free-offset member with the best worst transmission angle (offset >= 0)."""
-    ranges, lengths_of, margins_of = _slider_pieces(time_ratio, stroke)
-    best = _search(lengths_of, margins_of, SLIDER, ranges, bounds, max_ratio)
-    if best is None:
-        raise _no_member(bounds)
+def _slider_design(lengths_of, ranges, best) -> Design:
     value, rho, limited = best
     member = lengths_of(rho)
     return Design("slider-crank", rho, {n: float(member[n]) for n in SLIDER},
                   float(member["worst_transmission"]), limited, tuple(ranges))
+
+
+def best_slider_crank(time_ratio: float, stroke: float, bounds: Mapping | None = None,
+                      max_ratio: float = MAX_LINK_RATIO, window=None,
+                      counter=None) -> Design | None:
+    """The free-offset member with the best worst transmission angle (offset >= 0); with a
+    `window`, the best among the members inside it (None when none is)."""
+    ranges, lengths_of, margins_of = _slider_pieces(time_ratio, stroke, counter)
+    best = _search(lengths_of, margins_of, SLIDER, ranges, bounds, max_ratio,
+                   _within(margins_of, window))
+    if best is None and window is not None:
+        return None
+    if best is None:
+        raise _no_member(bounds)
+    return _slider_design(lengths_of, ranges, best)
 
 
 def slider_crank_family(time_ratio: float, stroke: float, rows: int = TABLE_ROWS,
@@ -316,18 +366,28 @@ def slider_crank_family(time_ratio: float, stroke: float, rows: int = TABLE_ROWS
     return _table(lengths_of, SLIDER, ranges, bounds, max_ratio, rows)
 
 
+def closest_slider_crank(time_ratio: float, stroke: float, window, bounds: Mapping | None = None,
+                         max_ratio: float = MAX_LINK_RATIO, counter=None) -> tuple[Design, float]:
+    """(member, miss) of the free-offset family, as closest_crank_rocker."""
+    ranges, lengths_of, margins_of = _slider_pieces(time_ratio, stroke, counter)
+    best = _search(lengths_of, lambda m: margins_of(m, tuple(window)), SLIDER, ranges,
+                   bounds, max_ratio)
+    if best is None:
+        raise _no_member(bounds)
+    return _slider_design(lengths_of, ranges, best), max(0.0, -best[0])
+
+
+def slider_window_miss(design: Design, window) -> float:
+    """How far (rad) one slider-crank's transmission angle leaves the window (0: inside)."""
+    L = design.lengths
+    m = transmission.slider_margins(L["input"], L["coupler"], L["offset"], tuple(window))
+    return max(0.0, -float(np.min(m)))
+
+
 def slider_crank_window_miss(time_ratio: float, stroke: float, window,
                              offset: float | None = None, bounds: Mapping | None = None,
                              max_ratio: float = MAX_LINK_RATIO) -> float:
     """As crank_rocker_window_miss; with a given offset, the miss of that unique design."""
     if offset is not None and not (offset == 0.0 and _theta(time_ratio) == 0.0):
-        d = slider_crank_with_offset(time_ratio, stroke, offset)
-        m = transmission.slider_margins(d.lengths["input"], d.lengths["coupler"], offset,
-                                        tuple(window))
-        return max(0.0, -float(np.min(m)))
-    ranges, lengths_of, margins_of = _slider_pieces(time_ratio, stroke)
-    best = _search(lengths_of, lambda m: margins_of(m, tuple(window)), SLIDER, ranges,
-                   bounds, max_ratio)
-    if best is None:
-        raise _no_member(bounds)
-    return max(0.0, -best[0])
+        return slider_window_miss(slider_crank_with_offset(time_ratio, stroke, offset), window)
+    return closest_slider_crank(time_ratio, stroke, window, bounds, max_ratio)[1]
