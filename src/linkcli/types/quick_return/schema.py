@@ -111,7 +111,7 @@ def refuse(t: Table, key: str, mechanism: str, takes: str) -> None:
 def read_time_ratio(root: Table):
     ratio = root.number("time_ratio", what="a time ratio K >= 1 (slow stroke over fast stroke)")
     if ratio is not None and ratio < 1.0:
-        root.error("time_ratio", "a time ratio K >= 1 (slow stroke over fast stroke)", ratio)
+        root.error("time_ratio", "a time ratio K >= 1 (slow stroke over fast stroke)", root.raw("time_ratio"))
         return None
     return ratio
 
@@ -122,7 +122,7 @@ def read_swing(root: Table, u):
     what = f"an angle strictly between 0 and {_fmt(top)} ({u.angle})"
     swing = root.number("swing", what=what)
     if swing is not None and not 0.0 < swing < top:
-        root.error("swing", what, swing)
+        root.error("swing", what, root.raw("swing"))
         return None
     return swing
 
@@ -149,7 +149,7 @@ def crank_rocker_exists(root: Table, ratio: float, swing: float, u) -> bool:
         return True
     root.error("time_ratio", f"a time ratio below {crank_rocker_ratio_limit(swing_deg):.6g} for "
                f"swing {_fmt(swing)} {u.angle} (a crank-rocker needs the dead-centre angle "
-               "180 (K - 1) / (K + 1) below 90 + swing / 2 deg)", ratio)
+               "180 (K - 1) / (K + 1) below 90 + swing / 2 deg)", root.raw("time_ratio"))
     return False
 
 
@@ -158,7 +158,7 @@ def slider_crank_exists(root: Table, ratio: float) -> bool:
     if ratio < 3.0:
         return True
     root.error("time_ratio", "a time ratio below 3 for a slider-crank (dead-centre angle "
-               "180 (K - 1) / (K + 1) below 90 deg)", ratio)
+               "180 (K - 1) / (K + 1) below 90 deg)", root.raw("time_ratio"))
     return False
 
 
@@ -167,18 +167,18 @@ def offset_fits(link: Table, offset: float, stroke: float, ratio: float) -> bool
     if ratio == 1.0:
         if offset != 0.0:
             link.error("offset", "offset 0 for time ratio 1 (only an in-line slider-crank has "
-                                 "equal strokes)", offset)
+                                 "equal strokes)", link.raw("offset"))
             return False
         return True
     if offset == 0.0:
         link.error("offset", f"a nonzero offset for time ratio {_fmt(ratio)} (an in-line "
-                             "slider-crank has time ratio 1)", offset)
+                             "slider-crank has time ratio 1)", link.raw("offset"))
         return False
     limit = offset_limit(stroke, ratio)
     if abs(offset) >= limit:
         link.error("offset", f"an offset of magnitude below stroke cot(theta) = {limit:.6g} for "
                              f"stroke {_fmt(stroke)} and time ratio {_fmt(ratio)} (beyond, the "
-                             "crank cannot turn fully)", offset)
+                             "crank cannot turn fully)", link.raw("offset"))
         return False
     return True
 
@@ -191,17 +191,18 @@ def read_bounds(root: Table, mechanism: str | None, scale, offset) -> dict | Non
             bnd.allow(*bnd.keys())
         return {}
     if mechanism == "slider-crank" and offset is not None:
-        first = next(iter(bnd.keys()), None)
         bnd.allow(*bnd.keys())
-        bnd.error(first, "no [bounds] with a given offset (the slider-crank is then unique)",
-                  raw_got="[bounds]")
+        bnd.error(None, "no [bounds] with a given offset (the slider-crank is then unique; "
+                        "leave the offset out to make it free)",
+                  raw_got=f"bounds on {', '.join(bnd.keys()) or 'nothing'}")
         return None
     out, ok = {}, True
     for key in BOUND_KEYS[mechanism]:
         if key not in bnd:
             continue
         if scale is not None and key == scale[0]:
-            bnd.error(key, f"no bounds on {key}: [linkage] {key} sets the scale", bnd.raw(key))
+            bnd.error(key, f"no bounds on {key}: [linkage] {key} sets the scale",
+                      raw_got=_show(bnd.raw(key)))
             ok = False
             continue
         signed = mechanism == "crank-rocker" and key == "parameter"
@@ -233,6 +234,8 @@ def read_window(root: Table, u):
 
 
 def _show(value) -> str:
+    if isinstance(value, list):
+        return "[" + ", ".join(_show(v) for v in value) + "]"
     return _fmt(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else repr(value)
 
 

@@ -36,14 +36,23 @@ def solve(problem) -> Solution:
 
 def located(problem, exc: SchemaError) -> SolveInputError:
     key = exc.key or "time_ratio"
+    expected, got = exc.expected, exc.got
+    if key == "bounds" and problem.bounds:
+        got = ", ".join(f"{k} [{num_text(lo)}, {num_text(hi)}]" for k, (lo, hi) in problem.bounds.items())
+    if key == "linkage":  # the chosen member did not recompute as a crank-rocker: degenerate
+        key, expected = "time_ratio", ("a time ratio and swing that leave room for a crank-rocker "
+                                       "(the members of this family are degenerate to round-off: "
+                                       "crank as long as the coupler)")
     if key == "swing" and problem.mechanism == "slider-crank":
         key = "stroke"
     if key == "bounds" and not problem.bounds:
         key = "swing" if problem.mechanism == "crank-rocker" else "stroke"
-    if key == "linkage" and problem.scale is not None:
-        key = f"linkage.{problem.scale[0]}"
-    return SolveInputError(exc.expected, exc.got, path=problem.meta.path,
+    return SolveInputError(expected, got, path=problem.meta.path,
                            line=problem.lines.get(key), key=key)
+
+
+def num_text(x: float) -> str:
+    return f"{x:.6g}"
 
 
 def _solve(problem, counter: Budget) -> Solution:
