@@ -17,7 +17,7 @@ import time
 from dataclasses import replace
 
 from linkcli.errors import LinkcliError
-from linkcli.terminal_text import one_line
+from linkcli.io.terminal_text import one_line
 
 DEFAULT_GLOB = "problems/bench/*.toml"
 COLUMNS = ("problem", "method", "budget", "seed", "seconds", "evaluations", "objective",

@@ -47,7 +47,7 @@ def main_callback(
 
 
 def _err(line: str) -> None:
-    from linkcli.terminal_text import one_line
+    from linkcli.io.terminal_text import one_line
     sys.stderr.write(one_line(line.rstrip("\n")) + "\n")
 
 
@@ -133,7 +133,7 @@ def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path],
 
 
 def _plot_problem(plot: Path, names: list[str]) -> bool:
-    from linkcli.plot_precheck import plot_path_problem
+    from linkcli.plots.precheck import plot_path_problem
     line = plot_path_problem(plot, names)
     if line:
         _err(line)

@@ -14,7 +14,7 @@ from linkcli.errors import InputErrors
 from linkcli.io.meta import read_meta
 from linkcli.io.reader import MISSING, Reader
 from linkcli.registry import NAMES, problem_type
-from linkcli.misplaced_keys import refuse_misplaced_type, refuse_result_file
+from linkcli.io.misplaced_keys import refuse_misplaced_type, refuse_result_file
 
 
 def load(path: str, text: str | None = None):

@@ -17,7 +17,7 @@ from rich.table import Table
 from rich.text import Text
 
 from linkcli.io.export import rounded
-from linkcli.terminal_text import terminal_safe
+from linkcli.io.terminal_text import terminal_safe
 
 MAX_TABLE_WIDTH = 400  # columns a table may take when printed to a file or a pipe
 STATUS_STYLE = {"ok": "bold green", "infeasible": "bold yellow", "not-converged": "bold red"}
