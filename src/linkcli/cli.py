@@ -1,4 +1,4 @@
-"""The command line: synth, analyze, check, bench; their options and exit codes.
+"""The command line: synth, analyze, check, bench, new; their options and exit codes.
 
 The work is `linkcli.pipeline` (load -> solve -> analyse); this module catches
 `LinkcliError` only and maps it to exit codes (0 solved, 1 infeasible or not
@@ -21,6 +21,15 @@ from linkcli import __version__
 app = typer.Typer(add_completion=False, no_args_is_help=True, rich_markup_mode=None,
                   pretty_exceptions_enable=False,
                   help="Design planar four-bar linkages from TOML problem files.")
+
+
+class PlainUsage(typer.core.TyperCommand):
+    """A usage line for people: `linkcli synth [OPTIONS] FILE...` (typer wraps a required
+    argument in braces, `{FILE...}`, which reads like shell syntax)."""
+
+    def collect_usage_pieces(self, ctx):
+        pieces = super().collect_usage_pieces(ctx)
+        return [p[1:-1] if p.startswith("{") and p.endswith("}") else p for p in pieces]
 
 
 class Format(str, Enum):
@@ -181,18 +190,24 @@ def _plot(results, files: int, plot: Path, debug: bool) -> int:
     return plotting.plot_command(results, files, plot, debug)
 
 
-FILES = typer.Argument(..., help="Problem files (TOML).", exists=False)
-FORMAT = typer.Option(Format.table, "--format", "-f", help="Output format.")
-OUT = typer.Option(None, "--out", help="Write one result file per problem into this folder.")
-SEED = typer.Option(None, "--seed", help="Override the files' [solver] seed.", min=0, max=2**32 - 1)
-PRECISION = typer.Option(6, "--precision", help="Significant digits in the output.", min=1, max=17)
-JOBS = typer.Option(1, "--jobs", "-j", help="Solve files in N processes (output keeps argument order).", min=1)
-PLOT = typer.Option(None, "--plot", help="Draw the result to FILE.png|FILE.svg (a folder with several files).")
+# metavars are written for people: FILE..., N, DIR (not click's {files}... or <int range>)
+FILES = typer.Argument(..., help="Problem files (TOML).", exists=False, metavar="FILE...")
+FORMAT = typer.Option(Format.table, "--format", "-f", metavar="table|json|toml",
+                      help="Output format.")
+OUT = typer.Option(None, "--out", metavar="DIR", help="Write one result file per problem into this folder.")
+SEED = typer.Option(None, "--seed", metavar="N", help="Override the files' [solver] seed (0 .. 4294967295).",
+                    min=0, max=2**32 - 1)
+PRECISION = typer.Option(6, "--precision", metavar="N", help="Significant digits in the output (1 .. 17).",
+                         min=1, max=17)
+JOBS = typer.Option(1, "--jobs", "-j", metavar="N",
+                    help="Solve files in N processes (output keeps argument order).", min=1)
+PLOT = typer.Option(None, "--plot", metavar="FILE",
+                    help="Draw the result to FILE.png|FILE.svg (a folder with several files).")
 DEBUG = typer.Option(False, "--debug", help="Show Python tracebacks.")
 TIMING = typer.Option(False, "--timing", help="Add the solver's wall-clock seconds to the report.")
 
 
-@app.command()
+@app.command(cls=PlainUsage)
 def synth(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
           seed: Optional[int] = SEED, precision: int = PRECISION, jobs: int = JOBS,
           plot: Optional[Path] = PLOT, debug: bool = DEBUG, timing: bool = TIMING) -> None:
@@ -202,7 +217,7 @@ def synth(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Path
     raise typer.Exit(_solve_command(files, request, format, out, precision, jobs, plot))
 
 
-@app.command()
+@app.command(cls=PlainUsage)
 def analyze(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
             precision: int = PRECISION, jobs: int = JOBS, plot: Optional[Path] = PLOT,
             debug: bool = DEBUG) -> None:
@@ -212,7 +227,7 @@ def analyze(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Pa
     raise typer.Exit(_solve_command(files, request, format, out, precision, jobs, plot))
 
 
-@app.command()
+@app.command(cls=PlainUsage)
 def check(files: List[Path] = FILES, debug: bool = DEBUG) -> None:
     """Validate problem files without solving (exit 2 on any error)."""
     from linkcli.pipeline import Request, serial
@@ -221,18 +236,50 @@ def check(files: List[Path] = FILES, debug: bool = DEBUG) -> None:
         for line in outcome.errors:
             _err(line)
         if outcome.exit_code == 0:
-            _err(f"{f}: ok")
+            sys.stdout.write(f"{f}: ok\n")  # the verdict is output; errors stay on stderr
         worst = max(worst, outcome.exit_code)
     raise typer.Exit(worst)
 
 
-@app.command()
-def bench(files: List[Path] = typer.Argument(None, help="Problem files (default: problems/bench/*.toml)."),
-          format: Format = FORMAT, seeds: int = typer.Option(3, "--seeds", help="Seeds per setting.", min=1),
-          precision: int = typer.Option(4, "--precision", min=1, max=17), debug: bool = DEBUG) -> None:
+@app.command(cls=PlainUsage)
+def bench(files: List[Path] = typer.Argument(None, metavar="[FILE...]",
+                                             help="Problem files (default: the bench set shipped with linkcli, "
+                                                  "a copy of problems/bench/)."),
+          format: Format = FORMAT,
+          seeds: int = typer.Option(3, "--seeds", metavar="N", help="Seeds per setting.", min=1),
+          precision: int = typer.Option(4, "--precision", metavar="N",
+                                        help="Significant digits in the output (1 .. 17).", min=1, max=17),
+          debug: bool = DEBUG) -> None:
     """Time each solver setting against its error on a set of problems (SPEC section 5)."""
     from linkcli import bench as benchmod
     raise typer.Exit(benchmod.command([str(f) for f in files or []], format.value, seeds, precision, debug))
+
+
+@app.command(cls=PlainUsage)
+def new(type_name: str = typer.Argument(..., metavar="TYPE", help="The problem type, e.g. linkage."),
+        file: Optional[Path] = typer.Argument(None, metavar="[FILE]",
+                                              help="Write the template here (never over an existing file); "
+                                                   "without FILE, print it.")) -> None:
+    """Write a commented template problem file of TYPE (to FILE, or to stdout)."""
+    from linkcli.templates import template_names, template_text
+    names = template_names()
+    if type_name not in names:
+        _err(f"{type_name}: expected a problem type, one of: {', '.join(names)}")
+        raise typer.Exit(2)
+    text = template_text(type_name)
+    if file is None:
+        sys.stdout.write(text)
+        raise typer.Exit(0)
+    try:
+        with open(file, "x", encoding="utf-8") as handle:  # "x": refuses an existing file
+            handle.write(text)
+    except FileExistsError:
+        _err(f"{file}: expected a new file name, found an existing file (not overwritten)")
+        raise typer.Exit(2)
+    except OSError as exc:
+        _err(f"{file}: expected a writable new file, found {exc.strerror or exc}")
+        raise typer.Exit(2)
+    raise typer.Exit(0)
 
 
 def main() -> None:

@@ -81,6 +81,8 @@ class PrecisionPositionProblem:
     input_angles: tuple[float, ...]
     output_angles: tuple[float, ...]
     lines: tuple[int | None, ...] = ()  # line of each position pair, for messages
+    input_speed: float = 1.0  # rad/s, [motion] of the kinematics section
+    steps: int = 360
 
 
 @dataclass(frozen=True)

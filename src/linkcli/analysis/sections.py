@@ -164,12 +164,42 @@ def kinematics_rows(fb, mot, speed, steps, u) -> list[dict]:
             ("output_velocity", u.from_rad(snap_series(w4, rate))),
             ("coupler_acceleration", u.from_rad(snap_series(a3, rate2))),
             ("output_acceleration", u.from_rad(snap_series(a4, rate2)))]
+    if fb.coupler_point is not None:
+        cols += coupler_point_columns(fb, p, speed, w3, a3)
     rows = []
     for k in range(len(phi)):
         ok = bool(p.valid[k])  # where it cannot assemble (or A meets B0) only the input is known
         rows.append({name: (float(v[k]) if math.isfinite(v[k]) and (ok or name == "input") else None)
                      for name, v in cols})
     return rows
+
+
+def coupler_point_columns(fb, p, speed, w3, a3) -> list[tuple[str, np.ndarray]]:
+    """The coupler point P over the motion, global frame (length unit, per s, per s^2).
+
+    With r = R(theta) (px, py) the point's offset from A in the local frame:
+        P = A0 + R(ground_angle) (a e^{i phi} + r),
+        dP/dt = R(ground_angle) (a w2 i e^{i phi} + w3 i r),
+        d2P/dt2 = R(ground_angle) (-a w2^2 e^{i phi} + alpha3 i r - w3^2 r)
+    (constant input speed w2; rigid-body kinematics, Norton ch. 6-7)."""
+    a = fb.input
+    px, py = fb.coupler_point
+    ct, st = np.cos(p.theta), np.sin(p.theta)
+    rx, ry = px * ct - py * st, px * st + py * ct
+    cp, sp = np.cos(p.phi), np.sin(p.phi)
+    x, y = a * cp + rx, a * sp + ry
+    vx, vy = -a * speed * sp - w3 * ry, a * speed * cp + w3 * rx
+    ax = -a * speed * speed * cp - a3 * ry - w3 * w3 * rx
+    ay = -a * speed * speed * sp + a3 * rx - w3 * w3 * ry
+    cg, sg = math.cos(fb.ground_angle), math.sin(fb.ground_angle)
+    gx, gy = fb.ground_pivot
+    size = max(*fb.abcd, math.hypot(px, py))  # the linkage's scale: round-off below it is 0
+    with np.errstate(invalid="ignore"):  # inf (a dead centre) times 0 stays undefined
+        cols = [("coupler_point_x", gx + cg * x - sg * y), ("coupler_point_y", gy + sg * x + cg * y),
+                ("coupler_point_vx", cg * vx - sg * vy), ("coupler_point_vy", sg * vx + cg * vy),
+                ("coupler_point_ax", cg * ax - sg * ay), ("coupler_point_ay", sg * ax + cg * ay)]
+    scales = (size + math.hypot(gx, gy),) * 2 + (size * abs(speed),) * 2 + (size * speed * speed,) * 2
+    return [(name, snap_series(v, scale)) for (name, v), scale in zip(cols, scales)]
 
 
 def error_scale(pos, length_scale: float) -> float:

@@ -7,6 +7,7 @@ import math
 from linkcli.model import Meta, PrecisionPositionProblem
 from linkcli.io.meta import bounded_length, in_motion_order
 from linkcli.io.reader import Table
+from linkcli.types.linkage.schema import read_motion
 
 MAX_POSITIONS = 1000
 
@@ -22,7 +23,8 @@ def parse(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
         if phi is not None and psi is not None and len(phi) != len(psi):
             pos.error("output", f"one output angle per input angle ({len(phi)})", psi)
             return None
-    if ground is None or phi is None or psi is None:
+    speed, steps = read_motion(root)  # [motion]: the kinematics section's speed and steps
+    if ground is None or phi is None or psi is None or speed is None or steps is None:
         return None
     u = meta.units
     full = u.from_rad(2 * math.pi)
@@ -40,5 +42,5 @@ def parse(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
         meta=meta, ground=ground,
         input_angles=tuple(in_motion_order([u.to_rad(v) for v in phi])),
         output_angles=tuple(u.to_rad(v) for v in psi),
-        lines=(line,),
+        lines=(line,), input_speed=u.to_rad(speed), steps=steps,
     )

@@ -1,0 +1,175 @@
+"""Issue 21, second half: the newcomer's path (linkcli new, check on stdout, help for
+people, the packaged bench set, [motion] for precision positions, the coupler point's
+kinematics, CSV, hints and notes) and the remaining hostile-input defects."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import ROOT, run_cli
+from linkcli.templates import template_names, template_text
+
+
+def write(tmp_path: Path, name: str, text: str) -> str:
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return str(path)
+
+
+# ---------------------------------------------------------------- linkcli new
+
+@pytest.mark.parametrize("name", ["precision-position", "function-generation", "path-generation",
+                                  "flipper-cylinder", "linkage"])
+def test_new_prints_the_template_and_writes_it_once(name, tmp_path):
+    code, out, err = run_cli("new", name)
+    assert (code, err) == (0, "") and out == template_text(name)
+    target = tmp_path / "mine.toml"
+    code, out, err = run_cli("new", name, str(target))
+    assert (code, out, err) == (0, "", "")
+    assert target.read_text(encoding="utf-8") == template_text(name)
+    code, _, err = run_cli("check", str(target))
+    assert code == 0
+    target.write_text("# my own work\n", encoding="utf-8")
+    code, out, err = run_cli("new", name, str(target))
+    assert code == 2 and out == ""
+    assert err == f"{target}: expected a new file name, found an existing file (not overwritten)\n"
+    assert target.read_text(encoding="utf-8") == "# my own work\n"
+
+
+def test_new_unknown_type_lists_the_types():
+    code, out, err = run_cli("new", "four-bar")
+    assert code == 2 and out == ""
+    assert err == f"four-bar: expected a problem type, one of: {', '.join(template_names())}\n"
+
+
+def test_templates_are_package_data_in_pyproject():
+    import tomllib
+    data = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+    package_data = data["tool"]["setuptools"]["package-data"]
+    assert package_data["linkcli.templates"] == ["*.toml"]
+    assert package_data["linkcli.bench_problems"] == ["*.toml"]
+
+
+# ---------------------------------------------------------------- check, help
+
+def test_check_says_ok_on_stdout_and_errors_on_stderr(tmp_path):
+    bad = write(tmp_path, "bad.toml", 'type = "linkage"\n')
+    code, out, err = run_cli("check", "problems/firedoor.toml", bad)
+    assert code == 2
+    assert out == "problems/firedoor.toml: ok\n"
+    assert "problems/firedoor.toml" not in err and bad in err
+
+
+@pytest.mark.parametrize("command", ["synth", "analyze", "check", "bench", "new"])
+def test_help_is_written_for_people(command):
+    code, out, _ = run_cli(command, "--help")
+    assert code == 0
+    assert "{" not in out and "}" not in out and "<int range>" not in out and "<path>" not in out
+    usage = out.splitlines()[0].split(" ", 2)[2]  # after "Usage: PROG" (the runner names it root)
+    assert usage == {"synth": "synth [OPTIONS] FILE...", "analyze": "analyze [OPTIONS] FILE...",
+                     "check": "check [OPTIONS] FILE...", "bench": "bench [OPTIONS] [FILE...]",
+                     "new": "new [OPTIONS] TYPE [FILE]"}[command]
+
+
+# ---------------------------------------------------------------- bench as package data
+
+def test_packaged_bench_set_equals_problems_bench():
+    from linkcli.bench_problems import bench_files
+    packaged = {Path(name).name: text for name, text in bench_files()}
+    shipped = {p.name: p.read_text(encoding="utf-8") for p in (ROOT / "problems" / "bench").glob("*.toml")}
+    assert packaged == shipped and len(packaged) >= 10
+
+
+def test_bench_without_files_runs_outside_the_repository(tmp_path, monkeypatch):
+    import linkcli.bench_problems as packaged
+    real = packaged.bench_files()
+    monkeypatch.setattr(packaged, "bench_files", lambda: tuple(f for f in real if f[0] == "bench/firedoor.toml"))
+    monkeypatch.chdir(tmp_path)  # no problems/ here
+    code, out, err = run_cli("bench", "--seeds", "1", "-f", "json")
+    assert code == 0, err
+    rows = json.loads(out)
+    assert rows and {r["problem"] for r in rows} == {"bench/firedoor.toml"}
+    assert {r["status"] for r in rows} == {"ok"}
+
+
+# ---------------------------------------------------------------- kinematics
+
+PLACED = """type = "linkage"
+[linkage]
+ground = 50
+input = 27.6293
+coupler = 57.2363
+output = 41.1104
+branch = "open"
+coupler_point = [20, 10]
+ground_pivot = [5, -3]
+ground_angle = 30
+[motion]
+input_speed = 20
+steps = 3600
+[report]
+sections = ["kinematics"]
+"""
+
+
+def test_coupler_point_columns_against_geometry_and_finite_differences(tmp_path):
+    code, out, err = run_cli("analyze", write(tmp_path, "placed.toml", PLACED), "-f", "json", "--precision", "17")
+    assert code == 0, err
+    rows = json.loads(out)["kinematics"]
+    col = {k: np.array([r[k] for r in rows]) for k in rows[0]}
+    # geometry: P sits 20, 10 from A in the coupler frame: |PA| and |PB| are those of the coupler triangle
+    g = math.radians(30)
+    rot = np.array([[math.cos(g), -math.sin(g)], [math.sin(g), math.cos(g)]])
+    phi, psi = np.radians(col["input"]), np.radians(col["output"])
+    a_pin = np.array([5.0, -3.0])[:, None] + rot @ np.vstack([27.6293 * np.cos(phi), 27.6293 * np.sin(phi)])
+    b_pin = np.array([5.0, -3.0])[:, None] + rot @ np.vstack([50 + 41.1104 * np.cos(psi), 41.1104 * np.sin(psi)])
+    p = np.vstack([col["coupler_point_x"], col["coupler_point_y"]])
+    np.testing.assert_allclose(np.hypot(*(p - a_pin)), math.hypot(20, 10), rtol=1e-9)
+    np.testing.assert_allclose(np.hypot(*(p - b_pin)), math.hypot(57.2363 - 20, 10), rtol=1e-9)
+    # on the left of A -> B (y = +10 in the coupler frame)
+    cross = (b_pin[0] - a_pin[0]) * (p[1] - a_pin[1]) - (b_pin[1] - a_pin[1]) * (p[0] - a_pin[0])
+    assert (cross > 0).all()
+    # velocity and acceleration: central differences over the full turn (dt per step)
+    dt = (2 * math.pi / 3600) / math.radians(20)
+    for axis in ("x", "y"):
+        pos = col[f"coupler_point_{axis}"]
+        vel = (np.roll(pos, -1) - np.roll(pos, 1)) / (2 * dt)
+        acc = (np.roll(pos, -1) - 2 * pos + np.roll(pos, 1)) / dt**2
+        np.testing.assert_allclose(col[f"coupler_point_v{axis}"], vel, atol=1e-5 * np.abs(vel).max())
+        np.testing.assert_allclose(col[f"coupler_point_a{axis}"], acc, atol=1e-4 * np.abs(acc).max())
+
+
+PRECISION_MOTION = """type = "precision-position"
+[linkage]
+ground = 50.0
+[positions]
+input = [45, 90, 135]
+output = [52, 82, 112]
+[motion]
+input_speed = {speed}
+steps = 36
+[report]
+sections = ["lengths", "kinematics"]
+"""
+
+
+def test_precision_position_takes_a_motion_table(tmp_path):
+    reports = {}
+    for speed in (1, 20):
+        code, out, err = run_cli("synth", write(tmp_path, f"pp{speed}.toml", PRECISION_MOTION.format(speed=speed)),
+                                 "-f", "json", "--precision", "17")
+        assert code == 0, err
+        reports[speed] = json.loads(out)
+    fast, slow = reports[20], reports[1]
+    assert fast["motion"] == {"input_speed": 20.0, "steps": 36}
+    assert len(fast["kinematics"]) == 36
+    assert "coupler_point_x" not in fast["kinematics"][0]
+    # angular velocity is linear in the input speed, acceleration quadratic (constant speed)
+    for f, s in zip(fast["kinematics"], slow["kinematics"]):
+        assert f["output_velocity"] == pytest.approx(20 * s["output_velocity"], rel=1e-12, abs=1e-12)
+        assert f["output_acceleration"] == pytest.approx(400 * s["output_acceleration"], rel=1e-12, abs=1e-12)
