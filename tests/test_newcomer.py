@@ -173,3 +173,53 @@ def test_precision_position_takes_a_motion_table(tmp_path):
     for f, s in zip(fast["kinematics"], slow["kinematics"]):
         assert f["output_velocity"] == pytest.approx(20 * s["output_velocity"], rel=1e-12, abs=1e-12)
         assert f["output_acceleration"] == pytest.approx(400 * s["output_acceleration"], rel=1e-12, abs=1e-12)
+
+
+# ---------------------------------------------------------------- 1. change points
+
+CHANGE_POINT = """type = "linkage"
+[units]
+angle = "{unit}"
+[linkage]
+ground = {d}
+input = {a}
+coupler = {b}
+output = {c}
+branch = "open"
+[motion]
+steps = 8
+[report]
+sections = ["grashof", "kinematics"]
+"""
+
+
+def test_parallelogram_change_point_note(tmp_path):
+    path = write(tmp_path, "para.toml", CHANGE_POINT.format(unit="deg", a=20, b=50, c=20, d=50))
+    code, out, err = run_cli("analyze", path, "-f", "json")
+    report = json.loads(out)
+    assert report["grashof"]["class"] == "change-point"
+    assert report["notes"] == ["change-point linkage: all four links lie in line at input 0 and 180 deg, "
+                               "where it can switch from parallelogram to antiparallelogram; the open "
+                               "branch reported changes form there"]
+    # what the note says, seen in the rows: a parallelogram (output parallel to the input) up to
+    # 180 deg, an antiparallelogram after it (output no longer parallel)
+    rows = {r["input"]: r for r in report["kinematics"]}
+    assert rows[45.0]["output"] == pytest.approx(45.0, abs=1e-9)
+    assert rows[90.0]["output"] == pytest.approx(90.0, abs=1e-9)
+    assert abs(rows[270.0]["output"] - (-90.0)) > 1.0
+    code, out, _ = run_cli("analyze", path)
+    assert "warning: change-point linkage: all four links lie in line at input 0 and 180 deg" in " ".join(out.split())
+
+
+def test_general_change_point_names_its_one_flat_input_in_radians(tmp_path):
+    # s + l = 20 + 40 = p + q = 30 + 30; flat at phi = 0 only (rho = |a - d| = 10 = |b - c|)
+    path = write(tmp_path, "kite.toml", CHANGE_POINT.format(unit="rad", a=20, b=40, c=30, d=30))
+    code, out, err = run_cli("analyze", path, "-f", "json")
+    notes = json.loads(out)["notes"]
+    assert notes == ["change-point linkage: all four links lie in line at input 0 rad, where it can switch "
+                     "between its open and crossed forms; the open branch reported changes form there"]
+
+
+def test_no_change_point_note_for_a_grashof_crank_rocker():
+    code, out, _ = run_cli("analyze", "problems/firedoor_motion.toml", "-f", "json")
+    assert not any("change-point" in n for n in json.loads(out).get("notes", []))

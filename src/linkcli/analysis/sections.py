@@ -57,6 +57,10 @@ def _build(problem, solution: Solution) -> dict:
         rep["linkage"] = linkage_section(fb, u)
     if has_linkage and "grashof" in want:
         rep["grashof"] = kin.grashof(*fb.abcd)
+    if has_linkage and want & {"grashof", "transmission", "motion", "kinematics"}:
+        flat = change_point_inputs(*fb.abcd)
+        if flat:
+            notes.append(change_point_note(flat, fb, u))
     mot = None
     if has_linkage and want & {"transmission", "motion", "kinematics"}:
         near = solution.working_span[0] if solution.working_span else None
@@ -90,6 +94,30 @@ def _build(problem, solution: Solution) -> dict:
     if notes:
         rep["notes"] = notes
     return rep
+
+
+def change_point_inputs(a, b, c, d) -> list[float]:
+    """Input angles (rad, 0 and/or pi) where a change-point linkage (s + l = p + q, SPEC
+    section 1) lies flat: A on the ground line, so rho = |a - d| (phi = 0) or a + d (phi =
+    pi), and rho = |b - c| or b + c, all four links in line, within the change-point
+    tolerance. There the open and crossed branches meet and the linkage may switch
+    between them (Norton, Design of Machinery, sec. 2.13: the change-point hazard)."""
+    if kin.GRASHOF_CLASSES[int(kin.grashof_code(a, b, c, d))] != "change-point":
+        return []
+    tol = kin.CHANGE_POINT_RTOL * max(a, b, c, d)
+    return [phi for phi, rho in ((0.0, abs(a - d)), (math.pi, a + d))
+            if min(abs(rho - abs(b - c)), abs(rho - (b + c))) <= tol]
+
+
+def change_point_note(flat: list[float], fb, u) -> str:
+    """The warning for a change-point linkage, naming the inputs where it lies flat."""
+    where = " and ".join(num(_ang(u, phi)) for phi in flat)
+    a, b, c, d = fb.abcd
+    parallel = kin.same_lengths(a, c) and kin.same_lengths(b, d)
+    switch = ("from parallelogram to antiparallelogram" if parallel
+              else "between its open and crossed forms")
+    return (f"change-point linkage: all four links lie in line at input {where} {u.angle}, where it can "
+            f"switch {switch}; the {fb.branch} branch reported changes form there")
 
 
 def gap(value: float, best: float) -> float:
