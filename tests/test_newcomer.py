@@ -223,3 +223,24 @@ def test_general_change_point_names_its_one_flat_input_in_radians(tmp_path):
 def test_no_change_point_note_for_a_grashof_crank_rocker():
     code, out, _ = run_cli("analyze", "problems/firedoor_motion.toml", "-f", "json")
     assert not any("change-point" in n for n in json.loads(out).get("notes", []))
+
+
+# ---------------------------------------------------------------- 3. a tolerance of 0
+
+def test_a_written_tolerance_of_zero_is_reported_as_zero(tmp_path):
+    """Inverse mode with `lengths = 0` written: the study is of exact parts (was reported at
+    the tolerance found, 0.0548 mm, as if lengths were not given)."""
+    text = (ROOT / "problems" / "firedoor_tolerance.toml").read_text(encoding="utf-8")
+    text = text.replace("lengths = 0.05 ", "lengths = 0 ").replace("clearance = 0.02 ", "clearance = 0 ")
+    code, out, err = run_cli("synth", write(tmp_path, "zero.toml", text), "-f", "json")
+    assert code == 0, err
+    tol = json.loads(out)["tolerance"]
+    assert tol["lengths"] == {"ground": 0.0, "input": 0.0, "coupler": 0.0, "output": 0.0}
+    # exact parts of an exact design: every sample is the nominal closer, which misses nothing
+    assert tol["error_max"] == 0.0 and tol["failure_probability"] == 0.0
+    assert tol["largest_tolerance"] > 0.0
+    # without `lengths`, the study is reported at the tolerance found (unchanged rule)
+    code, out, _ = run_cli("synth", write(tmp_path, "none.toml", text.replace("lengths = 0 ", "# lengths = 0 ")),
+                           "-f", "json")
+    tol = json.loads(out)["tolerance"]
+    assert set(tol["lengths"].values()) == {tol["largest_tolerance"]}

@@ -101,6 +101,7 @@ class InverseTolerance(Tolerance):
     same on every link, whose failure probability stays at or below that level."""
 
     max_failure_probability: float = 0.01
+    lengths_given: bool = False  # `lengths` written in the file (0 included): the study uses it
 
 
 @dataclass(frozen=True)

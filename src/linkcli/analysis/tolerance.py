@@ -344,19 +344,21 @@ def _analyse(problem, solution) -> dict:
     if level is not None:
         given = max((lengths.get(k, 0.0) for k in LINKS), default=0.0)
         t, p_t = largest_tolerance(fb, tg, tol, seed, level, given)
-        if given == 0.0:  # no tolerance given: report the study at the one found
+        if not tol.lengths_given:  # no tolerance written: report the study at the one found
+            # (a written 0, exact parts, is a study of its own and is reported as 0)
             lengths = {k: t for k in LINKS}
             out["lengths"] = {k: float(t) for k in LINKS}
     err, ok = monte_carlo(fb, tg, scale_vector(lengths), tol.clearance, tol.samples, seed,
                           tol.distribution)
     nominal, _ = sample_errors(fb, tg, np.zeros((1, len(COLUMNS))), None)
-    good = err[ok]
+    scale = 1.0 if tg.kind == "angle" else max(fb.abcd)
+    good = snap(err[ok], scale)  # round-off of an exact design (exact parts) is 0
     n = tol.samples
     k = failures(err, ok, tol.allowed_error)
     p = k / n
     lo, hi = wilson(k, n)
     out.update({
-        "nominal_error": opt(snap(float(nominal[0]), 1.0 if tg.kind == "angle" else max(fb.abcd))),
+        "nominal_error": opt(snap(float(nominal[0]), scale)),
         "error_mean": opt(float(good.mean())) if good.size else None,
         "error_p95": opt(float(np.percentile(good, 95))) if good.size else None,
         "error_max": opt(float(good.max())) if good.size else None,
