@@ -244,3 +244,20 @@ def test_a_written_tolerance_of_zero_is_reported_as_zero(tmp_path):
                            "-f", "json")
     tol = json.loads(out)["tolerance"]
     assert set(tol["lengths"].values()) == {tol["largest_tolerance"]}
+
+
+# ---------------------------------------------------------------- 2. targets 1e-9 apart
+
+def test_tiny_targets_give_lengths_a_file_may_hold(tmp_path):
+    """Targets 1e-9 apart: a lower length bound of 0 is clamped to the documented minimum
+    length 1e-9 (was a ground of 5e-10, below it), so the result reads back."""
+    path = write(tmp_path, "tiny.toml", 'type = "path-generation"\n[target]\n'
+                 "points = [[0, 0], [1e-9, 0], [1e-9, 1e-9], [0, 1e-9]]\ntiming = \"free\"\n")
+    code, out, err = run_cli("synth", path, "-f", "json", "--precision", "17")
+    assert code in (0, 1), err
+    linkage = json.loads(out)["linkage"]
+    assert min(linkage[k] for k in ("ground", "input", "coupler", "output")) >= 1e-9
+    as_file = "type = \"linkage\"\n[linkage]\n" + "".join(
+        f"{k} = {linkage[k]!r}\n" for k in ("ground", "input", "coupler", "output"))
+    code, _, err = run_cli("check", write(tmp_path, "back.toml", as_file))
+    assert code == 0, err
