@@ -261,3 +261,78 @@ def test_tiny_targets_give_lengths_a_file_may_hold(tmp_path):
         f"{k} = {linkage[k]!r}\n" for k in ("ground", "input", "coupler", "output"))
     code, _, err = run_cli("check", write(tmp_path, "back.toml", as_file))
     assert code == 0, err
+
+
+# ---------------------------------------------------------------- 4. check finds what synth refuses
+
+FIREDOOR_LINKAGE = """type = "linkage"
+[linkage]
+ground = 50
+input = 27.6293
+coupler = 57.2363
+output = 41.1104
+"""
+
+FUNCTION = """type = "function-generation"
+[linkage]
+input = 100
+ground = 500
+[target]
+output = "{law}"
+start = "extended"
+input_sweep = 90
+points = 31
+[bounds]
+coupler = [100, 1000]
+output = [100, 1000]
+"""
+
+
+@pytest.mark.parametrize("name, text, line", [
+    ("tolerance_over_link", FIREDOOR_LINKAGE + "[tolerance]\nlengths = 30\n",
+     "{f}:8: tolerance.lengths: expected a tolerance smaller than the input length (27.6293), found 30"),
+    ("clearance_over_link", FIREDOOR_LINKAGE + "[tolerance]\nclearance = 27.6293\n",
+     "{f}:8: tolerance.clearance: expected a clearance smaller than the shortest link (27.6293), found 27.6293"),
+    ("tolerance_over_fixed_link", FUNCTION.format(law="psi0 + 2/(3*pi)*(phi - phi0)**2")
+     + "[tolerance]\nlengths = { input = 100.5 }\n",
+     "{f}:14: tolerance.lengths.input: expected a tolerance smaller than the input length (100), found 100.5"),
+    ("clearance_over_fixed_link", FUNCTION.format(law="psi0 + 2/(3*pi)*(phi - phi0)**2")
+     + "[tolerance]\nclearance = 120\n",
+     "{f}:14: tolerance.clearance: expected a clearance smaller than every link (the input is 100), found 120"),
+    ("law_overflows", FUNCTION.format(law="psi0 + exp(1000*(phi - phi0))"),
+     "{f}:6: target.output: expected a law finite at every evaluation point for some start angles "
+     "(and within 1e+06 rad), found 5.49042e+22 at point 2 of 31 (phi = phi0 + 3 deg) for every start "
+     "angle tried"),
+    ("seam", 'type = "precision-position"\n[linkage]\nground = 50\n[positions]\n'
+             "input = [179.99999999999, -180, 45]\noutput = [52, 82, 112]\n",
+     "{f}:5: positions.input: expected distinct angles, one per position, found positions 1 and 2 at "
+     "the same angle (180 and -180 deg)"),
+    ("singular", 'type = "precision-position"\n[linkage]\nground = 50\n[positions]\n'
+                 "input = [10, 50, 90]\noutput = [10, 50, 90]\n",
+     "{f}:5: positions: expected positions that determine a linkage (Freudenstein's system is singular), "
+     "found positions 1, 2, 3 give a singular system"),
+    ("singular_four", 'type = "precision-position"\n[linkage]\nground = 50\n[positions]\n'
+                      "input = [10, 50, 90, 130]\noutput = [10, 50, 90, 130]\n",
+     "{f}:5: positions: expected positions that determine a linkage (Freudenstein's system is singular), "
+     "found positions 1, 2, 3, 4 give a singular system"),
+])
+def test_check_refuses_what_synth_refuses_with_the_same_line(tmp_path, name, text, line):
+    path = write(tmp_path, f"{name}.toml", text)
+    expected = line.format(f=path) + "\n"
+    for command in ("check", "synth"):
+        code, out, err = run_cli(command, path)
+        assert (code, out, err) == (2, "", expected), command
+
+
+def test_singular_system_against_an_independent_svd():
+    """The pure-Python condition number (one-sided Jacobi) against numpy's SVD."""
+    from linkcli.types.precision_position.system import condition_number, freudenstein_rows
+    rng = np.random.default_rng(5)
+    for n in (3, 4, 7):
+        for _ in range(20):
+            phi, psi = rng.uniform(-np.pi, np.pi, n), rng.uniform(-np.pi, np.pi, n)
+            m = np.stack([np.cos(psi), -np.cos(phi), np.ones(n)], axis=1)
+            s = np.linalg.svd(m, compute_uv=False)
+            assert condition_number(freudenstein_rows(phi, psi)) == pytest.approx(s[0] / s[-1], rel=1e-9)
+    # phi = psi: columns 1 and 2 opposite, exactly singular
+    assert condition_number(freudenstein_rows([0.1, 0.5, 0.9], [0.1, 0.5, 0.9])) > 1e12

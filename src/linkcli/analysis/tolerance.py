@@ -54,7 +54,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from linkcli.mechanisms import four_bar as kin
-from linkcli.errors import SolveInputError
+from linkcli.analysis.tolerance_input import check_lengths
 from linkcli.model import LINKS, FourBar, InverseTolerance, Tolerance
 from linkcli.noise import snap
 
@@ -300,21 +300,9 @@ def wilson(k: int, n: int, z: float = Z95) -> tuple[float, float]:
 
 
 def check_input(problem, fb: FourBar) -> None:
-    """A length tolerance must be smaller than its link, the clearance than every link:
-    anything larger is a typing error, not a workshop (InputError, exit 2)."""
-    tol = problem.meta.tolerance
-    lines = tol.lines
-    same = len({tol.lengths.get(k, 0.0) for k in LINKS}) == 1
-    for link in LINKS:
-        t, length = tol.lengths.get(link, 0.0), getattr(fb, link)
-        if t >= length:
-            key = "lengths" + ("" if same else f".{link}")
-            raise SolveInputError(f"a tolerance smaller than the {link} length ({length:.6g})", f"{t:g}",
-                             path=problem.meta.path, line=lines.get(key), key=f"tolerance.{key}")
-    if tol.clearance >= min(fb.abcd):
-        raise SolveInputError(f"a clearance smaller than the shortest link ({min(fb.abcd):.6g})",
-                         f"{tol.clearance:g}", path=problem.meta.path, line=lines.get("clearance"),
-                         key="tolerance.clearance")
+    """A length tolerance must be smaller than its link, the clearance than every link
+    (tolerance_input.check_lengths, which `check` runs on the lengths a file fixes)."""
+    check_lengths(problem.meta, {k: getattr(fb, k) for k in LINKS}, complete=True)
 
 
 def analyse(problem, solution) -> dict:

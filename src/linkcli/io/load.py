@@ -35,6 +35,9 @@ def load(path: str, text: str | None = None):
     reader.finish()
     if problem is None:  # a parser returns None only after recording errors
         raise AssertionError(f"{kind} parser returned no problem and no error")
+    if meta.tolerance is not None:  # what synth would refuse once solved, if the file fixes it
+        from linkcli.analysis.tolerance_input import check_lengths, known_lengths
+        check_lengths(meta, *known_lengths(problem))
     return problem
 
 
