@@ -336,3 +336,57 @@ def test_singular_system_against_an_independent_svd():
             assert condition_number(freudenstein_rows(phi, psi)) == pytest.approx(s[0] / s[-1], rel=1e-9)
     # phi = psi: columns 1 and 2 opposite, exactly singular
     assert condition_number(freudenstein_rows([0.1, 0.5, 0.9], [0.1, 0.5, 0.9])) > 1e12
+
+
+# ---------------------------------------------------------------- 5. printed digits re-check
+
+FIXED_CRANK_ROCKER = """type = "function-generation"
+[linkage]
+input = 100
+ground = 500
+coupler = {coupler}
+output = {output}
+[target]
+output = "psi0 + 2/(3*pi)*(phi - phi0)**2"
+start = "extended"
+input_sweep = 90
+points = 31
+[constraints]
+transmission = [45, 135]
+grashof = "crank-rocker"
+branch = "open"
+"""
+
+
+def transmission_max_deg(a, b, c, d):
+    """Independent: a crank's largest transmission angle is at phi = 180 deg, rho = a + d."""
+    return math.degrees(math.acos((b * b + c * c - (a + d) ** 2) / (2 * b * c)))
+
+
+def test_crank_rocker_says_its_six_printed_digits_do_not_hold(tmp_path):
+    code, out, err = run_cli("synth", "problems/crank_rocker.toml", "-f", "json")
+    report = json.loads(out)
+    assert report["status"] == "ok"
+    six = report["linkage"]
+    over = transmission_max_deg(100, six["coupler"], six["output"], 500) - 135
+    assert 1e-4 < over < 1e-3  # the issue's 0.0003 deg, from the closed form
+    note = ("the design rounded to the 6 printed digits and entered again does not re-check "
+            f"(transmission: mu reaches 135 deg over the full turn, {over:.6g} deg above the maximum 135); "
+            "it holds from 7 significant digits (--precision 7)")
+    assert note in report["notes"]
+    # what the note says, checked through the CLI: 6 digits entered again are infeasible,
+    # the 7 digits of --precision 7 hold
+    code, out, _ = run_cli("synth", write(tmp_path, "six.toml", FIXED_CRANK_ROCKER.format(**six)), "-f", "json")
+    assert code == 1 and json.loads(out)["status"] == "infeasible"
+    code, out, _ = run_cli("synth", "problems/crank_rocker.toml", "-f", "json", "--precision", "7")
+    seven = json.loads(out)["linkage"]
+    assert transmission_max_deg(100, seven["coupler"], seven["output"], 500) <= 135 + 1e-6
+    code, out, err = run_cli("synth", write(tmp_path, "seven.toml", FIXED_CRANK_ROCKER.format(**seven)),
+                             "-f", "json")
+    assert code == 0, out
+    assert not any("re-check" in n for n in json.loads(out).get("notes", []))
+
+
+def test_an_interior_optimum_has_no_digits_note():
+    code, out, _ = run_cli("synth", "problems/log_generator.toml", "-f", "json")
+    assert not any("re-check" in n for n in json.loads(out).get("notes", []))

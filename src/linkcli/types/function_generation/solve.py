@@ -42,6 +42,7 @@ import numpy as np
 
 from linkcli.mechanisms import four_bar as kin
 from linkcli.errors import SolveInputError
+from linkcli.types.function_generation.printed_digits import digits_note
 from linkcli.model import FourBar, FunctionGenerationProblem
 from linkcli.solution import Positions, Solution, Status
 from linkcli.search import polish as local_polish
@@ -532,6 +533,12 @@ def build_solution(problem, model: Model, search: Search, converged: bool) -> So
         status = Status.OK
         message = (f"optimized over {len(model.t)} points on the {best.branch} branch; "
                    "within every constraint")
+    notes = bound_notes(problem, model, best.u)
+    if status is not Status.INFEASIBLE:  # do the printed digits hold? (printed_digits)
+        note = digits_note(problem, model, v, sign, FEASIBLE,
+                           lambda viol, one: describe_violations(problem, model, viol, one, u))
+        if note:
+            notes.append(note)
     sections = {}
     if "positions" in problem.meta.sections:
         sections["target"] = target_section(problem, phi0, psi0, u)
@@ -539,7 +546,7 @@ def build_solution(problem, model: Model, search: Search, converged: bool) -> So
         sections["structural_error"] = structural_error(problem, model, (a, b, c, d), (phi0, psi0), sign, u)
     return Solution(status=status, linkage=fb, message=message, positions=positions,
                     objective=float(batch.f[0]), solver=solver, sections=sections,
-                    notes=bound_notes(problem, model, best.u),
+                    notes=notes,
                     working_span=(phi0, problem.input_sweep))
 
 
