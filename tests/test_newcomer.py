@@ -390,3 +390,54 @@ def test_crank_rocker_says_its_six_printed_digits_do_not_hold(tmp_path):
 def test_an_interior_optimum_has_no_digits_note():
     code, out, _ = run_cli("synth", "problems/log_generator.toml", "-f", "json")
     assert not any("re-check" in n for n in json.loads(out).get("notes", []))
+
+
+# ---------------------------------------------------------------- 6. hints and notes
+
+def test_textbook_link_names_in_bounds_get_a_hint(tmp_path):
+    path = write(tmp_path, "p.toml", 'type = "path-generation"\n[target]\n'
+                 "points = [[20, 20], [20, 25], [20, 30], [20, 35]]\n[bounds]\ncrank = [5, 60]\n")
+    code, out, err = run_cli("check", path)
+    assert code == 2 and out == ""
+    assert err == (f'{path}:5: bounds.crank: expected a known key (did you mean "input"? linkcli names the '
+                   'links input, coupler, output and ground), found unknown key "crank"\n')
+
+
+def test_a_name_without_that_key_in_its_table_gets_the_usual_hint(tmp_path):
+    # [units] has no link keys: "frame" is not turned into "ground" there
+    path = write(tmp_path, "u.toml", 'type = "linkage"\n[units]\nframe = "mm"\n[linkage]\nground = 50\n'
+                 "input = 27.6293\ncoupler = 57.2363\noutput = 41.1104\n")
+    code, _, err = run_cli("check", path)
+    assert code == 2 and "did you mean \"ground\"" not in err and 'unknown key "frame"' in err
+
+
+PRECISION_POSITIONS = """type = "precision-position"
+[units]
+angle = "{unit}"
+[linkage]
+ground = 50.0
+[positions]
+input = {phi}
+output = {psi}
+"""
+
+
+@pytest.mark.parametrize("unit, phi, psi, note", [
+    ("deg", "[0.785398, 1.5708, 2.35619]", "[0.907571, 1.43117, 1.95477]",
+     'every angle (positions.input, positions.output) is within 2 pi in a degree file: if they are in '
+     'radians, write [units] angle = "rad"'),
+    ("rad", "[45, 90, 135]", "[52, 82, 112]",
+     'positions.input = 45 rad is more than four turns: if the file\'s angles are in degrees, write '
+     '[units] angle = "deg"'),
+    ("deg", "[45, 90, 135]", "[52, 82, 112]", None),
+    ("rad", "[0.785398, 1.5708, 2.35619]", "[0.907571, 1.43117, 1.95477]", None),
+])
+def test_angles_that_look_like_the_other_unit_get_a_note(tmp_path, unit, phi, psi, note):
+    path = write(tmp_path, "pp.toml", PRECISION_POSITIONS.format(unit=unit, phi=phi, psi=psi))
+    code, out, err = run_cli("synth", path, "-f", "json")
+    assert code in (0, 1), err  # only a note, never an error
+    notes = json.loads(out).get("notes", [])
+    unit_notes = [n for n in notes if "in a degree file" in n or "more than four turns" in n]
+    assert unit_notes == ([note] if note else [])
+    code, _, _ = run_cli("check", path)
+    assert code == 0

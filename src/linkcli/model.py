@@ -51,6 +51,7 @@ class Meta:
     sections: tuple[str, ...] = ()
     reference: Reference | None = None
     tolerance: Tolerance | None = None
+    notes: tuple[str, ...] = ()  # notes on the file itself (angles that look like the other unit)
 
 
 @dataclass(frozen=True)

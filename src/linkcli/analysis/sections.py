@@ -50,7 +50,7 @@ def _build(problem, solution: Solution) -> dict:
         "message": solution.message or MESSAGES[solution.status],
         "units": {"length": u.length, "angle": u.angle},
     }
-    notes = list(solution.notes)
+    notes = list(getattr(meta, "notes", ())) + list(solution.notes)
     fb = solution.linkage
     has_linkage = fb is not None
     if has_linkage and "lengths" in want:

@@ -9,8 +9,10 @@ No numerics here.
 from __future__ import annotations
 
 import difflib
+from dataclasses import replace
 
 from linkcli.errors import InputErrors
+from linkcli.io.angle_units import angle_unit_note
 from linkcli.io.meta import read_meta
 from linkcli.io.reader import MISSING, Reader
 from linkcli.registry import NAMES, problem_type
@@ -38,6 +40,9 @@ def load(path: str, text: str | None = None):
     if meta.tolerance is not None:  # what synth would refuse once solved, if the file fixes it
         from linkcli.analysis.tolerance_input import check_lengths, known_lengths
         check_lengths(meta, *known_lengths(problem))
+    note = angle_unit_note(reader.data, meta.units.angle)
+    if note:
+        problem = replace(problem, meta=replace(problem.meta, notes=problem.meta.notes + (note,)))
     return problem
 
 
