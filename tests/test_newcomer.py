@@ -441,3 +441,51 @@ def test_angles_that_look_like_the_other_unit_get_a_note(tmp_path, unit, phi, ps
     assert unit_notes == ([note] if note else [])
     code, _, _ = run_cli("check", path)
     assert code == 0
+
+
+# ---------------------------------------------------------------- --format csv
+
+def test_csv_of_the_one_row_table_equals_the_json_rows():
+    import csv as csvmod
+    import io
+    code, out, err = run_cli("analyze", "problems/firedoor_motion.toml", "-f", "csv")
+    assert code == 0, err
+    rows = list(csvmod.DictReader(io.StringIO(out)))
+    code, js, _ = run_cli("analyze", "problems/firedoor_motion.toml", "-f", "json")
+    expected = json.loads(js)["kinematics"]
+    assert len(rows) == len(expected) == 36
+    assert list(rows[0]) == list(expected[0])
+    for got, want in zip(rows, expected):
+        for key, value in want.items():
+            assert (float(got[key]) if got[key] != "" else None) == value
+
+
+def test_csv_with_several_tables_asks_for_one_and_writes_each_with_out(tmp_path):
+    text = (ROOT / "problems" / "firedoor.toml").read_text(encoding="utf-8")
+    path = write(tmp_path, "fd.toml", text + '\n[report]\nsections = ["lengths", "kinematics", "positions"]\n')
+    code, out, err = run_cli("synth", path, "-f", "csv")
+    assert code == 2 and out == ""
+    assert err == (f"{path}: --format csv: expected one row table, or --table NAME or --out DIR; "
+                   "found 2: kinematics, positions\n")
+    code, out, err = run_cli("synth", path, "-f", "csv", "--table", "positions")
+    assert code == 0 and out.splitlines() == ["input,target,achieved,error", "45,52,52,0", "90,82,82,0",
+                                              "135,112,112,0"]
+    code, out, err = run_cli("synth", path, "-f", "csv", "--table", "forces")
+    assert code == 2 and err == f"{path}: --table: expected a row table of this report, one of: kinematics, positions; found forces\n"
+    folder = tmp_path / "out"
+    code, out, err = run_cli("synth", path, "-f", "csv", "--out", str(folder))
+    assert code == 0, err
+    assert sorted(p.name for p in folder.iterdir()) == ["fd.kinematics.csv", "fd.positions.csv"]
+    assert (folder / "fd.positions.csv").read_text(encoding="utf-8").splitlines()[1] == "45,52,52,0"
+
+
+def test_csv_flattens_points_into_x_and_y_columns(tmp_path):
+    from linkcli.io.csv_tables import to_csv
+    rows = [{"input": 1.0, "target": [2.0, 3.5], "pins": {"A0": {"x": 1e-12, "y": None}}, "ok": True}]
+    assert to_csv(rows, 6) == "input,target_x,target_y,pins.A0.x,pins.A0.y,ok\n1,2,3.5,1e-12,,true\n"
+
+
+def test_csv_needs_out_for_several_files():
+    code, out, err = run_cli("synth", "problems/firedoor.toml", "problems/firedoor.toml", "-f", "csv")
+    assert code == 2 and out == ""
+    assert err == "--format csv: expected --out DIR with several files (one CSV file per table), found 2 files\n"

@@ -78,6 +78,9 @@ def command(files: list[str], fmt: str, seeds: int, precision: int, debug: bool)
     if fmt == "json":
         from linkcli.io.export import to_json
         sys.stdout.write(to_json(rows, precision))
+    elif fmt == "csv":
+        from linkcli.io.csv_tables import to_csv
+        sys.stdout.write(to_csv(rows, precision) if rows else ",".join(COLUMNS) + "\n")
     elif fmt == "toml":
         from linkcli.io.export import to_toml
         sys.stdout.write(to_toml({"bench": rows}, precision))
