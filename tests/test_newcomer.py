@@ -489,3 +489,68 @@ def test_csv_needs_out_for_several_files():
     code, out, err = run_cli("synth", "problems/firedoor.toml", "problems/firedoor.toml", "-f", "csv")
     assert code == 2 and out == ""
     assert err == "--format csv: expected --out DIR with several files (one CSV file per table), found 2 files\n"
+
+
+# ---------------------------------------------------------------- clockwise flipper
+
+FLIPPER = """type = "flipper-cylinder"
+[load]
+mass = 2000
+center_of_mass = [{gx}, 500]
+gravity = 9.8
+[motion]
+start = {start}
+end = {end}
+[bounds]
+rod_pivot  = {{ x = [{ax0}, {ax1}], y = [320, 1380] }}
+base_pivot = {{ x = [{cx0}, {cx1}], y = 50 }}
+[cylinder]
+bore = 80
+rod = 45
+dead_length = 300
+max_force = 40000
+"""
+
+
+def test_a_clockwise_flipper_is_the_mirror_of_the_counter_clockwise_one(tmp_path):
+    """end < start turns clockwise: the mirror image (x -> -x) of the counter-clockwise
+    problem, so the same forces at mirrored angles, the force table in sweep order."""
+    ccw = write(tmp_path, "ccw.toml", FLIPPER.format(gx=830, start=10, end=100, ax0=0, ax1=350, cx0=400, cx1=1400))
+    cw = write(tmp_path, "cw.toml", FLIPPER.format(gx=-830, start=-10, end=-100, ax0=-350, ax1=0,
+                                                   cx0=-1400, cx1=-400))
+    reports = {}
+    for name, path in (("ccw", ccw), ("cw", cw)):
+        code, out, err = run_cli("synth", path, "-f", "json", "--precision", "12")
+        assert code == 0, err
+        reports[name] = json.loads(out)
+    a, b = reports["ccw"]["cylinder"], reports["cw"]["cylinder"]
+    assert b["peak_force"] == pytest.approx(a["peak_force"], rel=1e-9)
+    assert b["peak_angle"] == pytest.approx(-a["peak_angle"], abs=1e-9)
+    assert b["peak_kind"] == a["peak_kind"]
+    for key in ("rod_pivot", "base_pivot"):
+        assert b[key] == pytest.approx([-a[key][0], a[key][1]], rel=1e-9, abs=1e-9)
+    angles = [row["angle"] for row in b["forces"]]
+    assert angles[0] == -10 and angles[-1] == -100 and angles == sorted(angles, reverse=True)
+    assert angles == [-row["angle"] for row in a["forces"]]
+    for row_a, row_b in zip(a["forces"], b["forces"]):
+        assert row_b["force"] == pytest.approx(row_a["force"], rel=1e-9)
+        assert row_b["length"] == pytest.approx(row_a["length"], rel=1e-9)
+    # independent statics at the clockwise file's own first row: the cylinder's moment about
+    # the hinge balances the weight's, with the platform turned by 0 from its start position
+    gx, gy = -830.0, 500.0
+    ax, ay = b["rod_pivot"]
+    cx, cy = b["base_pivot"]
+    length = math.hypot(ax - cx, ay - cy)
+    ux, uy = (ax - cx) / length, (ay - cy) / length  # a push acts along C -> A on the platform
+    force = b["forces"][0]["force"]
+    moment = ax * (force * uy) - ay * (force * ux) + gx * (-2000 * 9.8)
+    assert abs(moment) <= 1e-6 * 2000 * 9.8 * 830
+    assert b["forces"][0]["length"] == pytest.approx(length, rel=1e-9)
+
+
+def test_equal_start_and_end_is_refused(tmp_path):
+    path = write(tmp_path, "f.toml", FLIPPER.format(gx=830, start=10, end=10, ax0=0, ax1=350, cx0=400, cx1=1400))
+    code, out, err = run_cli("check", path)
+    assert code == 2 and err == (f"{path}:8: motion.end: expected an end angle other than start (10 deg: the "
+                                 "platform turns counter-clockwise from start to a greater end, clockwise to a "
+                                 "smaller one), found 10\n")

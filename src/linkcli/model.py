@@ -185,6 +185,19 @@ class FlipperCylinderProblem:
     max_force: float | None = None  # N
     pareto: int = 0  # rows of the force/size trade-off table (0: none)
     table_step: float | None = None  # rad between rows of the force table; None: a round step
+    # A clockwise sweep (end < start in the file) is held as its mirror image in the vertical
+    # line through the hinge (x -> -x, angles -> -angles; gravity stays vertical, forces and
+    # lengths are the same): start < end above, and `shown_angle`/`shown_x` give the file's
+    # values back for every output.
+    clockwise: bool = False
+
+    def shown_angle(self, angle: float) -> float:
+        """An internal angle (rad) as the file's sweep has it."""
+        return -angle if self.clockwise else angle
+
+    def shown_x(self, x: float) -> float:
+        """An internal x coordinate as in the file's frame."""
+        return -x if self.clockwise else x
 
     @property
     def bounds(self) -> tuple[tuple[float, float], ...]:

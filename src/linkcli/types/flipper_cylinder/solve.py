@@ -37,7 +37,7 @@ def verdict(problem, f: dict) -> tuple[Status, str]:
     au = u.angle
 
     def ang(tau):
-        return f"{num(float(u.from_rad(problem.start + tau)))} {au}"
+        return f"{num(float(u.from_rad(problem.shown_angle(problem.start + tau))))} {au}"
 
     if f["crosses"]:
         if f.get("zero_length"):
