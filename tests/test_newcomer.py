@@ -23,8 +23,7 @@ def write(tmp_path: Path, name: str, text: str) -> str:
 
 # ---------------------------------------------------------------- linkcli new
 
-@pytest.mark.parametrize("name", ["precision-position", "function-generation", "path-generation",
-                                  "flipper-cylinder", "linkage"])
+@pytest.mark.parametrize("name", template_names())
 def test_new_prints_the_template_and_writes_it_once(name, tmp_path):
     code, out, err = run_cli("new", name)
     assert (code, err) == (0, "") and out == template_text(name)
