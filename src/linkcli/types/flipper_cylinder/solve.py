@@ -21,7 +21,7 @@ from linkcli.search.budget import Budget
 from linkcli.types.flipper_cylinder.sections import cylinder_section, facts, pareto_rows
 from linkcli.solution import Solution, Status
 from linkcli.types.flipper_cylinder.search import (DEFAULT_BUDGET, PARETO_BUDGET, PARETO_SHARE, TOLERANCE,
-                                            Goal, Judge, Space, optimize, pareto)
+                                            Goal, Judge, Space, optimize, pareto, settle)
 from linkcli.textnum import num
 
 
@@ -143,6 +143,8 @@ def _search(problem, st: Statics, notes: list[str]):
     rng = np.random.default_rng(meta.solver.seed)
     goal = Goal("peak") if problem.minimize == "peak-force" else Goal("length", force_cap=problem.max_force)
     out = optimize(judge, goal, method, share, rng)
+    if method != "differential-evolution":
+        out = settle(judge, goal, out)
     rows = None
     if problem.pareto and out.best.design is not None:
         found, complete = pareto(problem, judge, out, goal, method, budget.left, rng)

@@ -44,6 +44,7 @@ from linkcli.mechanisms import four_bar as kin
 from linkcli.errors import SolveInputError
 from linkcli.model import FourBar, FunctionGenerationProblem
 from linkcli.solution import Positions, Solution, Status
+from linkcli.search import kkt, linalg
 from linkcli.search import polish as local_polish
 from linkcli.search import sampling
 from linkcli.search.budget import Budget, BudgetSpent
@@ -69,6 +70,9 @@ SEED_POLISH_STEPS = 60  # auto: a seed's polish gets this many Gauss-Newton step
 DISTINCT = 0.15  # slsqp: starts differ by this much in some variable (unit box)
 STEP = 1e-7  # central-difference step in the unit box
 FEASIBLE = 1e-8  # largest violation (rad, or fraction of L) accepted as feasible
+SETTLE_EVALUATIONS = 4000  # the final KKT polish's evaluations, beyond the budget
+SETTLE_GAIN = 1e-7  # relative: the polished design (on its constraints) may be this much
+# above a best one that used the FEASIBLE allowance
 AT_BOUND = 1e-6  # a free value this close to a bound (unit box) is "at" it (a note)
 
 
@@ -500,7 +504,52 @@ def solve(problem: FunctionGenerationProblem) -> Solution:
             converged[branch] = STRATEGIES[opts.method](search, branch, share, opts.seed)
     if not search.least:  # no candidate fitted in the shares: one at the centre of the box
         search.run(np.full((1, n), 0.5), branches[-1])
-    return build_solution(problem, model, search, converged.get(search.answer().branch, False))
+    done = settle(search, converged.get(search.answer().branch, False))
+    return build_solution(problem, model, search, done)
+
+
+def settle(search: Search, converged: bool) -> bool:
+    """The final polish (linkcli.search.kkt): Newton on the KKT system of the constraints
+    that bind at the best feasible design, in the local unit box, to machine precision;
+    its end point becomes the answer when it meets every constraint and is as good within
+    SETTLE_GAIN (the printed digits are then the optimum's on every machine). It is counted
+    beyond the budget (at most SETTLE_EVALUATIONS). True if the search converged or the
+    polish did."""
+    if not search.feasible or search.model.n == 0:
+        return converged
+    best = search.answer()
+    model = search.model
+    budget = search.evaluations
+    budget.total += SETTLE_EVALUATIONS
+    budget.cap += SETTLE_EVALUATIONS
+    local = Local(search, best.branch, SETTLE_EVALUATIONS)
+
+    def values(w):  # (N, n) -> (N, M + C + 1): residuals, constraints, objective
+        batch, fv, cons = local._batch(w)
+        return np.concatenate([batch.err, cons, fv[:, None]], axis=1)
+
+    def evaluate(w):
+        v, jac = kkt.slopes(values, w)
+        m = len(model.t)
+        err, jr, cons, jc = v[:m], jac[:m], v[m:-1], jac[m:-1]
+        # grad f = 2 J^T r: its finite-difference error is that of J alone (f's own third
+        # derivatives, large along the start angles, do not enter)
+        return kkt.Point(float(v[-1]), 2.0 * linalg.matvec(jr.T, err), cons, jc, h=2.0 * linalg.gram(jr))
+
+    try:
+        out = kkt.settle(evaluate, model.linear_units(best.v[None, :])[0])
+    except BudgetSpent:
+        return converged
+    if not (out.converged and out.worst <= FEASIBLE and out.f <= best.f * (1.0 + SETTLE_GAIN) + 1e-30):
+        return converged
+    v = model.linear_values(np.clip(out.u, 0.0, 1.0)[None, :])
+    batch = search.run_values(v, best.branch)
+    worst = float(batch.violation[0].max())
+    if worst > FEASIBLE:
+        return converged
+    search.feasible[best.branch] = Best(float(batch.f[0]), worst, float(batch.penalized[0]),
+                                        model.units(v)[0], best.branch, v[0].copy())
+    return True
 
 
 # ---------------------------------------------------------------- the report

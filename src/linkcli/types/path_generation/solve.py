@@ -35,7 +35,7 @@ from linkcli.search.budget import Budget
 from linkcli.solution import Positions, Solution, Status
 from linkcli.types.path_generation import starts as st
 from linkcli.types.path_generation.model import N_LINK, SHORTEST, Design, build, rho2_extremes
-from linkcli.types.path_generation.search import Space, batch_lm, differential_evolution, distinct, polish
+from linkcli.types.path_generation.search import Space, batch_lm, differential_evolution, distinct, polish, settle
 from linkcli.noise import snap
 from linkcli.textnum import num
 
@@ -58,6 +58,7 @@ MAX_STALE = 3  # rounds in a row without improvement that end the search
 MEMORY = 4_000_000  # Jacobian elements held at once by the batched stage
 EXACT = 1e-28  # dimensionless cost below which a candidate is an exact fit
 EXACT_RMS = 1e-9  # rms error, relative to the targets' extent, that ends the rounds
+SETTLE_GAIN = 1e-9  # relative: the polished candidate may be this much worse (round-off)
 ANGLE_VIOLATIONS = ("transmission", "order")  # violations measured in radians (others: length)
 
 
@@ -90,6 +91,8 @@ def solve(problem) -> Solution:
         else:
             cands = evolve(d, counter, opts.seed, polish_after=method == "de-polish")
         best, violations = choose(d, cands)
+        if not violations and method != "differential-evolution":
+            best = settled(d, counter, best)
         return solution(problem, d, best, violations, method, counter)
 
 
@@ -225,6 +228,27 @@ def polish_all(d: Design, counter: Budget, x, sign, s, converged=None) -> list[C
                 break
         out.append(Candidate(space.full(z0[None])[0], sign[i], s[i], conv or space.k == 0))
     return out
+
+
+def settled(d: Design, counter: Budget, best: Candidate) -> Candidate:
+    """The best candidate after the final polish (`search.settle`: Newton on the KKT
+    system of the constraints that bind, to machine precision), when that polish
+    converges to a point that meets every constraint with an objective as low within a
+    relative SETTLE_GAIN (else the candidate as found). An exact fit (a point of a
+    continuum of them, when the unknowns outnumber the equations) is kept as found.
+    Counted beyond the budget: a polish is a few dozen evaluations of slopes."""
+    space = Space(d, counter)
+    f0 = _rank(d, best)[2]
+    if space.k == 0 or f0 <= exact_objective(d):
+        return best
+    out = settle(space, space.free(best.x[None])[0], best.sign, best.s)
+    if not out.converged:
+        return best
+    cand = Candidate(d.wrapped(space.full(out.u[None]))[0], best.sign, best.s, True)
+    rank = _rank(d, cand)
+    if rank[0] or rank[2] > f0 * (1.0 + SETTLE_GAIN):
+        return best
+    return cand
 
 
 # ---------------------------------------------------------------- checks
