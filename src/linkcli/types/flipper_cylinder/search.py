@@ -71,7 +71,8 @@ FEASIBLE = 1e-9  # relative violation a search still counts as feasible
 TOLERANCE = 1e-6  # relative: a reported design meets max_force and dead_length within this
 MARGIN = 1e-7  # relative: SLSQP aims this far inside max_force and dead_length
 BIG = 1e30  # penalty base: worse than any feasible design
-SETTLE_EVALUATIONS = 400  # the final KKT polish, on top of the budget
+SETTLE_EVALUATIONS = 400  # the final KKT polish's reserve in the budget, at most,
+SETTLE_SHARE = 10  # and at most this fraction (1/10) of the optimizing share
 MIN_LENGTH = 1e-6  # relative to the largest pivot bound: the shortest cylinder (the pivots never meet)
 
 
@@ -517,25 +518,15 @@ def settle(judge: Judge, goal: Goal, outcome: Outcome) -> Outcome:
     of the epigraph form (`Epigraph`, at the local search's angles and the design's own
     peak angles) with the constraints that bind held as equalities, to machine precision:
     forces that balance at the optimum (a push at one end against a pull at the other)
-    come out equal to round-off, so that the tie rule, not the path, names the peak. Its
-    evaluations come on top of the budget (at most SETTLE_EVALUATIONS). The polished design
-    replaces the found one when it meets every limit and is as good within a relative
-    1e-9 (its refined score)."""
+    come out equal to round-off, so that the tie rule, not the path, names the peak. The
+    polished design replaces the found one when it meets every limit and is as good within a relative
+    1e-9 (its refined score). It spends within the budget's current cap (`_search` keeps a
+    reserve for it, SETTLE_EVALUATIONS at most)."""
     best = outcome.best
     if best.design is None or best.violation > FEASIBLE or judge.space.size == 0:
         return outcome
-    budget = judge.budget
-    total, cap, used = budget.total, budget.cap, budget.used
-    budget.total, budget.cap = total + SETTLE_EVALUATIONS, budget.used + SETTLE_EVALUATIONS
-    try:
-        return _settle(judge, goal, outcome)
-    finally:  # what it spent is added to the budget: what is left for the rest is unchanged
-        budget.total, budget.cap = total + budget.used - used, cap + budget.used - used
-
-
-def _settle(judge: Judge, goal: Goal, outcome: Outcome) -> Outcome:
     from linkcli.search import kkt
-    best, st = outcome.best, judge.st
+    st = judge.st
     pk = st.peaks(best.design[None, :])
     tau = np.concatenate([local_angles(st), [float(pk["push_at"][0]), float(pk["pull_at"][0])]])
     tau = np.unique(np.clip(tau, 0.0, st.sweep))

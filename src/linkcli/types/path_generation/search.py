@@ -208,8 +208,8 @@ def settle(space: Space, z0, sign: float, s: float):
     m = 2 * d.n
 
     def values(u):  # (N, k) unit points -> (N, 2n + constraints): residuals, constraints
+        space.counter.spend(len(u))  # BudgetSpent beyond the cap
         x = space.full(space.lo + np.clip(u, 0.0, 1.0) * width)
-        space.counter.add(len(u))
         pts, pose, phi = d.points(x, np.full(len(u), sign), np.full(len(u), s))
         r = (pts - d.targets[None]).reshape(len(u), -1) / d.scale
         return np.concatenate([r, -d.constraints(x, pose, phi) / d.scale], axis=1)

@@ -31,7 +31,7 @@ import numpy as np
 
 from linkcli.mechanisms import four_bar as kin
 from linkcli.model import FourBar
-from linkcli.search.budget import Budget
+from linkcli.search.budget import Budget, BudgetSpent
 from linkcli.solution import Positions, Solution, Status
 from linkcli.types.path_generation import starts as st
 from linkcli.types.path_generation.model import N_LINK, SHORTEST, Design, build, rho2_extremes
@@ -58,6 +58,8 @@ MAX_STALE = 3  # rounds in a row without improvement that end the search
 MEMORY = 4_000_000  # Jacobian elements held at once by the batched stage
 EXACT = 1e-28  # dimensionless cost below which a candidate is an exact fit
 EXACT_RMS = 1e-9  # rms error, relative to the targets' extent, that ends the rounds
+SETTLE_EVALUATIONS = 5000  # the final KKT polish's reserve in the budget, at most,
+SETTLE_SHARE = 20  # and at most this fraction (1/20) of it
 SETTLE_GAIN = 1e-9  # relative: the polished candidate may be this much worse (round-off)
 ANGLE_VIOLATIONS = ("transmission", "order")  # violations measured in radians (others: length)
 
@@ -78,6 +80,9 @@ def solve(problem) -> Solution:
     opts = problem.meta.solver
     method = "multistart" if opts.method == "auto" else opts.method
     counter = Budget(opts.budget or default_budget(method, d.n))
+    polishes = method != "differential-evolution" and bool(d.free.any())  # a global method alone is not
+    reserve = min(SETTLE_EVALUATIONS, counter.total // SETTLE_SHARE) if polishes else 0
+    counter.cap -= reserve  # the searches' part; the reserve is the final polish's
     rng = np.random.default_rng(opts.seed)
     with np.errstate(all="ignore"):
         if not d.free.any():  # nothing to choose: the given linkage on the allowed branches
@@ -91,7 +96,8 @@ def solve(problem) -> Solution:
         else:
             cands = evolve(d, counter, opts.seed, polish_after=method == "de-polish")
         best, violations = choose(d, cands)
-        if not violations and method != "differential-evolution":
+        counter.cap = counter.total
+        if not violations and polishes:
             best = settled(d, counter, best)
         return solution(problem, d, best, violations, method, counter)
 
@@ -236,12 +242,15 @@ def settled(d: Design, counter: Budget, best: Candidate) -> Candidate:
     converges to a point that meets every constraint with an objective as low within a
     relative SETTLE_GAIN (else the candidate as found). An exact fit (a point of a
     continuum of them, when the unknowns outnumber the equations) is kept as found.
-    Counted beyond the budget: a polish is a few dozen evaluations of slopes."""
+    It spends what the search left of the budget, at least the reserve `solve` kept."""
     space = Space(d, counter)
     f0 = _rank(d, best)[2]
     if space.k == 0 or f0 <= exact_objective(d):
         return best
-    out = settle(space, space.free(best.x[None])[0], best.sign, best.s)
+    try:
+        out = settle(space, space.free(best.x[None])[0], best.sign, best.s)
+    except BudgetSpent:
+        return best
     if not out.converged:
         return best
     cand = Candidate(d.wrapped(space.full(out.u[None]))[0], best.sign, best.s, True)
