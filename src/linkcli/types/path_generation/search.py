@@ -10,10 +10,14 @@ included) are counted by `linkcli.search.budget.Budget` against the `[solver] bu
 * `batch_lm`: Levenberg-Marquardt on many candidates at once (stacked normal equations,
   Marquardt scaling), variables held inside their bounds (a variable at a bound with the
   gradient pushing out is frozen for the step).
-* `polish`: scipy.optimize.least_squares (trust-region reflective, bounds respected) on
-  the residual vector of one candidate.
+* `polish`: `batch_lm` on one candidate (it was scipy's least_squares, whose SVD follows
+  the BLAS kernel: one machine ended on another member of a continuum of exact fits).
+* `settle`: the final Newton-KKT polish on the constraints that bind (linkcli.search.kkt).
 * `differential_evolution`: scipy's, vectorized over its population, on the penalized
   sum of squares.
+
+Every linear system is solved by `linkcli.search.linalg` (no BLAS): the whole search takes
+the same steps under every BLAS kernel.
 """
 
 from __future__ import annotations

@@ -12,11 +12,11 @@ Methods (`[solver] method`):
   (`starts`: timing hypotheses on the coupler curve, a similarity fit for scale,
   angle and pivot, a linear fit for coupler point and pivot), then Levenberg-Marquardt on
   the most promising distinct candidates at once with the linear part projected out, in
-  rounds that halve the field, then scipy least_squares on every variable, bounds held,
+  rounds that halve the field, then Levenberg-Marquardt on every variable, bounds held,
   from the best distinct few.
-* `least-squares`: plain multistart, scipy least_squares from uniform random draws.
+* `least-squares`: plain multistart, Levenberg-Marquardt (`search.polish`) from uniform random draws.
 * `differential-evolution`: scipy's differential evolution alone, on the penalized sum.
-* `de-polish`: differential evolution on half the budget, then least_squares.
+* `de-polish`: differential evolution on half the budget, then the Levenberg-Marquardt polish.
 
 Whatever the method, the reported linkage is checked against every constraint with the
 exact kinematics (`violations`); a violation makes the status infeasible, named with its amount.
@@ -46,8 +46,8 @@ LM_WEIGHT = 1e2  # penalty weight (dimensionless residuals) in the batched stage
 POLISH_WEIGHTS = (1e3, 1e5, 1e7, 1e9)  # final polish; each stiffer one only while a violation is left
 LM_FIELD = 96  # candidates entering the batched Levenberg-Marquardt stage
 LM_ROUNDS = (25, 25, 40, 60, 100)  # iterations per round; the field halves after each round
-POLISHED = 4  # distinct candidates refined on every variable, then polished by scipy
-POLISHED_SCIPY = 2  # of those, polished by scipy least_squares
+POLISHED = 4  # distinct candidates refined on every variable, then polished
+POLISHED_SCIPY = 2  # of those, polished (`search.polish`, stiffer penalties)
 REFINE_ITERATIONS = 400  # batched Levenberg-Marquardt on every variable before the polish
 MAX_DRAWS = {"free": 600, "prescribed": 2000}
 SCAN_SHARE = 0.6  # share of a round's budget for the draws
@@ -147,7 +147,7 @@ def multistart(d: Design, counter: Budget, rng) -> list[Candidate]:
 def one_round(d: Design, counter: Budget, rng) -> list[Candidate]:
     """Draws completed in closed form, batched Levenberg-Marquardt with the linear part
     projected out (the field halving after each round of iterations), then the best
-    distinct few refined on every variable and polished by scipy."""
+    distinct few refined on every variable and polished."""
     per = st.hypotheses_per_draw(d)
     n_draws = min(MAX_DRAWS[d.timing], int(SCAN_SHARE * counter.left) // per)
     proj = Space(d, counter, project=True)
@@ -186,7 +186,7 @@ def one_round(d: Design, counter: Budget, rng) -> list[Candidate]:
 
 
 def plain_multistart(d: Design, counter: Budget, rng) -> list[Candidate]:
-    """scipy least_squares from uniform random draws until the budget is spent."""
+    """The Levenberg-Marquardt polish from uniform random draws until the budget is spent."""
     space = Space(d, counter)
     out: list[Candidate] = []
     while counter.left > 0:
@@ -216,7 +216,7 @@ def evolve(d: Design, counter: Budget, seed: int, polish_after: bool) -> list[Ca
 
 
 def polish_all(d: Design, counter: Budget, x, sign, s, converged=None) -> list[Candidate]:
-    """scipy least_squares on every free variable from each row of x, in turn; a second,
+    """The Levenberg-Marquardt polish on every free variable from each row of x, in turn; a second,
     stiffer penalty pass where the first leaves a constraint violated. A row converges
     when the polish meets its tolerances or the batched stage before it had converged."""
     space = Space(d, counter)
