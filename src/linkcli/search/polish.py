@@ -27,8 +27,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkcli.search import linalg
-
 GN_ITERATIONS = 1000  # Gauss-Newton steps at most (long curved valleys need hundreds)
 GN_TRIALS = 12  # damping increases tried for one step
 GN_STEP = 1e-12  # a step this small (unit box) ends stage 1
@@ -72,7 +70,7 @@ def least_distance(g: np.ndarray, h: np.ndarray) -> np.ndarray | None:
         y, _ = nnls(e, f, maxiter=50 * max(e.shape))
     except RuntimeError:
         return None
-    r = linalg.matvec(e, y) - f
+    r = e @ y - f
     if not np.all(np.isfinite(r)) or r[n] > -1e-12:
         return None
     return -r[:n] / r[n]
@@ -107,36 +105,36 @@ def gauss_newton(problem, u0: np.ndarray) -> np.ndarray:
         _, jc, jr = problem.slope(u, central=False)
         if not (_finite(cons, res, jc, jr)):
             return u  # slopes that overflow (absurd bounds): nothing to build a model from
-        jtj = linalg.gram(jr)
+        jtj = jr.T @ jr
         a = np.vstack([jc, box])
         c = np.concatenate([cons, u, 1.0 - u])
-        grad = 2.0 * linalg.matvec(jr.T, res)
+        grad = 2.0 * jr.T @ res
         violation = weight * float(np.sum(np.maximum(0.0, -cons)))
         for _ in range(GN_TRIALS):
             h = 2.0 * (jtj + mu * np.diag(np.diag(jtj))) + 1e-12 * max(float(np.trace(jtj)), 1e-300) * eye
-            r_inv = _inverse_factor(h)  # s = r_inv z
-            if r_inv is None:
+            try:
+                r_inv = np.linalg.inv(np.linalg.cholesky(h).T)  # s = r_inv @ z
+            except np.linalg.LinAlgError:
                 return u
-            b = linalg.matvec(r_inv.T, grad)  # 1/2 |z|^2 + b.z = 1/2 |z + b|^2 + const
-            g = linalg.matmul(a, r_inv)
-            gb = linalg.matvec(g, b)
-            if not _finite(b, g, gb):
+            b = r_inv.T @ grad  # 1/2 |z|^2 + b.z = 1/2 |z + b|^2 + const
+            g = a @ r_inv
+            if not _finite(b, g, g @ b):
                 return u
-            w = least_distance(g, -c + gb)
+            w = least_distance(g, -c + g @ b)
             if w is None:
                 return u
-            step = linalg.matvec(r_inv, w - b)
+            step = r_inv @ (w - b)
             trial = np.clip(u + step, 0.0, 1.0)
-            predicted = -(linalg.dot(grad, step) + 0.5 * linalg.dot(step, linalg.matvec(h, step))) + violation
+            predicted = -(grad @ step + 0.5 * step @ h @ step) + violation
             m_trial = merit(trial)
             if predicted <= 0.0 or np.max(np.abs(step)) < GN_STEP:
                 return trial if m_trial < m_u else u
             ratio = (m_u - m_trial) / predicted
             if ratio <= ACCEPT and len(cons):
-                shifted = np.concatenate([problem.value(trial)[1] - linalg.matvec(jc, step), u, 1.0 - u])
-                w = least_distance(g, -shifted + gb)
+                shifted = np.concatenate([problem.value(trial)[1] - jc @ step, u, 1.0 - u])
+                w = least_distance(g, -shifted + g @ b)
                 if w is not None:
-                    corrected = np.clip(u + linalg.matvec(r_inv, w - b), 0.0, 1.0)
+                    corrected = np.clip(u + r_inv @ (w - b), 0.0, 1.0)
                     m_corr = merit(corrected)
                     if (m_u - m_corr) / predicted > ratio:
                         trial, m_trial, ratio = corrected, m_corr, (m_u - m_corr) / predicted
@@ -173,26 +171,26 @@ def slsqp_rounds(problem, u0: np.ndarray) -> bool:
         grad, jc, jr = problem.slope(u)
         if not _finite(grad, jc, jr):
             return False
-        h = linalg.gram(jr)
+        h = jr.T @ jr
         h += (REGULARIZE * max(float(np.max(np.diag(h))), 0.0) + 1e-300) * eye
-        r_inv = _inverse_factor(h)
-        if r_inv is None:
+        try:
+            r_inv = np.linalg.inv(np.linalg.cholesky(h).T)
+        except np.linalg.LinAlgError:
             return False
         base = u.copy()
         box = np.vstack([r_inv, -r_inv])
         lim = np.concatenate([base, 1.0 - base])
-        at = lambda z: base + linalg.matvec(r_inv, z)
-        cons = [{"type": "ineq", "fun": lambda z: problem.value(at(z))[1],
-                 "jac": lambda z: linalg.matmul(problem.slope(at(z))[1], r_inv)},
-                {"type": "ineq", "fun": lambda z: linalg.matvec(box, z) + lim, "jac": lambda z: box}]
+        cons = [{"type": "ineq", "fun": lambda z: problem.value(base + r_inv @ z)[1],
+                 "jac": lambda z: problem.slope(base + r_inv @ z)[1] @ r_inv},
+                {"type": "ineq", "fun": lambda z: box @ z + lim, "jac": lambda z: box}]
         try:
-            res = minimize(lambda z: problem.value(at(z))[0], np.zeros(n),
-                           jac=lambda z: linalg.matvec(r_inv.T, problem.slope(at(z))[0]),
+            res = minimize(lambda z: problem.value(base + r_inv @ z)[0], np.zeros(n),
+                           jac=lambda z: r_inv.T @ problem.slope(base + r_inv @ z)[0],
                            method="SLSQP", constraints=cons,
                            options={"maxiter": SLSQP_ITERATIONS, "ftol": ftol})
         except ValueError:  # a non-finite value reached SLSQP
             return False
-        u = np.clip(at(res.x), 0.0, 1.0)
+        u = np.clip(base + r_inv @ res.x, 0.0, 1.0)
         f_end, c_end = problem.value(u)[:2]  # the end point is evaluated (and recorded)
         if res.success:
             return True
@@ -200,16 +198,6 @@ def slsqp_rounds(problem, u0: np.ndarray) -> bool:
             return True
         f_round = f_end
     return False
-
-
-def _inverse_factor(h: np.ndarray) -> np.ndarray | None:
-    """R^-1 for h = R^T R (R upper triangular, the transposed Cholesky factor), or None
-    when h is not positive definite; BLAS-free (`linalg`), R^-1 by solving R X = I."""
-    low = linalg.cholesky(h)
-    if not np.all(np.isfinite(low)):
-        return None
-    r_inv = linalg.solve(low.T, np.eye(len(h)))
-    return r_inv if np.all(np.isfinite(r_inv)) else None
 
 
 def _finite(*arrays) -> bool:
