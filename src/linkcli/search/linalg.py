@@ -10,8 +10,7 @@ over the stack, a loop over the columns only; sums of products are `np.einsum` w
 
 - `solve(a, b)`: Gaussian elimination with partial pivoting (Golub & Van Loan, Matrix
   Computations, 4th ed., alg. 3.4.1), for stacks of square systems.
-- `cholesky(a)`: the lower factor L of a = L L^T, stacks too (ibid., alg. 4.2.1).
-- `matvec`, `matmul`, `dot`: products as explicit sums.
+- `matvec`, `gram`, `dot`: products as explicit sums.
 
 Rows whose pivot is 0 (singular to working precision) come back as NaN; callers test
 for it (`np.isfinite`) instead of catching an exception.
@@ -30,11 +29,6 @@ def dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
 def matvec(a: np.ndarray, x: np.ndarray) -> np.ndarray:
     """(a x)_i = sum_j a_ij x_j, stacks over leading axes."""
     return np.einsum("...ij,...j->...i", a, x, optimize=False)
-
-
-def matmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """(a b)_ik = sum_j a_ij b_jk, stacks over leading axes."""
-    return np.einsum("...ij,...jk->...ik", a, b, optimize=False)
 
 
 def gram(j: np.ndarray) -> np.ndarray:
@@ -76,25 +70,3 @@ def solve(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     x[singular] = np.nan
     x = x.reshape(stack + x.shape[-2:])
     return x[..., 0] if vector else x
-
-
-def cholesky(a: np.ndarray) -> np.ndarray:
-    """Lower-triangular L with a = L L^T for symmetric a (..., n, n); a matrix that is not
-    positive definite (a pivot <= 0) gets NaN.
-
-    Column by column: L_jj = sqrt(a_jj - sum_k<j L_jk^2),
-    L_ij = (a_ij - sum_k<j L_ik L_jk) / L_jj for i > j."""
-    a = np.asarray(a, dtype=float)
-    n = a.shape[-1]
-    low = np.zeros_like(a)
-    bad = np.zeros(a.shape[:-2], dtype=bool)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        for j in range(n):
-            d = a[..., j, j] - np.einsum("...k,...k->...", low[..., j, :j], low[..., j, :j], optimize=False)
-            bad |= ~(d > 0.0)
-            ljj = np.sqrt(np.where(d > 0.0, d, np.nan))
-            low[..., j, j] = ljj
-            s = np.einsum("...ik,...k->...i", low[..., j + 1:, :j], low[..., j, :j], optimize=False)
-            low[..., j + 1:, j] = (a[..., j + 1:, j] - s) / ljj[..., None]
-    low[bad] = np.nan
-    return low
