@@ -12,7 +12,8 @@ import pytest
 
 from conftest import run_cli
 from linkcli.errors import InputErrors
-from linkcli.problemfile import TYPES, load
+from linkcli.io.load import load
+from linkcli.registry import NAMES as TYPES
 from linkcli.templates import template_names, template_text
 
 EXISTING = ("precision-position", "function-generation", "path-generation", "flipper-cylinder", "linkage")

@@ -68,10 +68,18 @@ def _build(problem, solution: Solution) -> dict:
     if mot is not None and mot.assembles and "motion" in want:
         rep["motion"] = motion_section(mot, u)
     if mot is not None and mot.assembles and "kinematics" in want:
-        speed = getattr(problem, "input_speed", None) or u.to_rad(1.0)
-        steps = getattr(problem, "steps", 360)
+        speed, steps = motion_study(problem, u)
         rep["kinematics"] = kinematics_rows(fb, mot, speed, steps, u)
         rep.setdefault("motion", {}).update(input_speed=_dang(u, speed), steps=steps)  # to reproduce it
+    if has_linkage and "forces" in want and meta.loads is not None:
+        from linkcli.analysis import forces
+        study = forces.study_of(fb, mot, solution.working_span[0] if solution.working_span else None)
+        if study is not None:
+            rep.update(forces.echo(meta.loads))  # the load case as given: a result file round-trips
+            speed, steps = motion_study(problem, u)
+            rep["forces"] = forces.section(fb, study, speed, steps, meta.loads, u, notes)
+        if "motion" in rep and study is not None:
+            rep["motion"].update(input_speed=_dang(u, speed), steps=steps)
     if solution.positions is not None and "positions" in want:
         rep["positions"] = position_rows(solution.positions, u, max(fb.abcd) if has_linkage else 1.0)
     if solution.positions is not None and "error" in want:
@@ -106,6 +114,8 @@ def linkage_section(fb, u) -> dict:
         out["coupler_point"] = [snap(float(v), size) for v in fb.coupler_point]
         out["ground_pivot"] = [snap(float(v), size) for v in fb.ground_pivot]
         out["ground_angle"] = _ang(u, fb.ground_angle)
+        if fb.coupler_angle is not None:  # motion generation: the body's x axis from A -> B
+            out["coupler_angle"] = _ang(u, fb.coupler_angle)
     return out
 
 
@@ -143,20 +153,34 @@ def motion_section(mot, u) -> dict:
     return out
 
 
+def study_inputs(full_turn: bool, arc, steps: int):
+    """(phi, shown): the input angles (rad) of the motion study's rows and as printed. A full
+    turn: phi = k 2 pi / steps from 0, shown 0 .. 360 deg (SPEC); a rocking input over the arc
+    (lo, hi): the centres of `steps` equal cells (its ends are toggles), shown wrapped. The
+    kinematics and the forces sections share these rows."""
+    if full_turn:
+        phi = np.arange(steps) * (kin.TWO_PI / steps)
+        return phi, phi
+    lo, hi = arc
+    phi = lo + (np.arange(steps) + 0.5) * ((hi - lo) / steps)
+    return phi, kin.wrap(phi)
+
+
+def motion_study(problem, u) -> tuple[float, int]:
+    """(input speed in rad/s, steps) of the motion study: the problem's [motion], else 1 angle
+    unit per second and 360 steps (types without [motion])."""
+    return getattr(problem, "input_speed", None) or u.to_rad(1.0), getattr(problem, "steps", 360)
+
+
 def kinematics_rows(fb, mot, speed, steps, u) -> list[dict]:
     """Rows at phi = k 360/steps for a full turn; at the centres of `steps` equal cells of
     a rocking input's arc (its ends are toggles, where a constant input speed would
     need infinite output speed)."""
     a, b, c, d = fb.abcd
-    if mot.input_full_turn:
-        phi = np.arange(steps) * (kin.TWO_PI / steps)
-    else:
-        lo, hi = mot.input_arc
-        phi = lo + (np.arange(steps) + 0.5) * ((hi - lo) / steps)
+    phi, shown = study_inputs(mot.input_full_turn, mot.input_arc, steps)
     p = kin.pose(a, b, c, d, phi, fb.branch)
     w3, w4 = kin.velocities(a, b, c, p, speed)
     a3, a4 = kin.accelerations(a, b, c, p, speed)
-    shown = phi if mot.input_full_turn else kin.wrap(phi)  # full turn: 0 .. 360 (SPEC)
     rate, rate2 = abs(speed), speed * speed  # natural scales of the velocity and acceleration columns
     cols = [("input", u.from_rad(shown)), ("coupler", u.from_rad(snap(kin.wrap(p.theta), 1.0))),
             ("output", u.from_rad(snap(kin.wrap(p.psi), 1.0))), ("transmission", u.from_rad(p.mu)),
