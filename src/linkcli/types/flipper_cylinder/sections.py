@@ -10,6 +10,7 @@ import math
 import numpy as np
 
 from linkcli.io.tables import KeyValues, Rows
+from linkcli.noise import snap
 from linkcli.types.flipper_cylinder.statics import Statics
 
 
@@ -122,10 +123,11 @@ def cylinder_section(problem, st: Statics, f: dict) -> dict:
             sec["pull_pressure"] = f["pull"] / annulus
     if problem.dead_length is not None:
         sec["dead_length"] = problem.dead_length
-        sec["dead_length_margin"] = f["min_length"] - f["stroke"] - problem.dead_length
+        # a margin of round-off (a design on its limit) is 0 (linkcli.noise)
+        sec["dead_length_margin"] = snap(f["min_length"] - f["stroke"] - problem.dead_length, f["max_length"])
     if problem.max_force is not None:
         sec["max_force"] = problem.max_force
-        sec["force_margin"] = problem.max_force - f["peak"]
+        sec["force_margin"] = snap(problem.max_force - f["peak"], problem.max_force)
     sec["forces"] = force_rows(problem, st, p, table_angles(problem))
     sec["forces_full"] = force_rows(problem, st, p, full_angles(problem, st))
     return sec
