@@ -23,7 +23,10 @@ from linkcli.pipeline import solve
 
 def psi_of(a, b, c, d, phi, branch="open"):
     v = cmath.rect(a, phi) - d
-    alpha = math.acos((abs(v) ** 2 + c * c - b * b) / (2 * abs(v) * c))
+    cos_alpha = (abs(v) ** 2 + c * c - b * b) / (2 * abs(v) * c)
+    if 1.0 < abs(cos_alpha) <= 1.0 + 1e-12:  # a position at a dead centre, up to round-off
+        cos_alpha = math.copysign(1.0, cos_alpha)
+    alpha = math.acos(cos_alpha)
     return cmath.phase(v) + (-alpha if branch == "open" else alpha)
 
 

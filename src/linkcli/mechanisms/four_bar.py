@@ -202,6 +202,12 @@ def input_arcs(a, b, c, d):
     a, b, c, d = (float(x) / big for x in (a, b, c, d))
     near, far = abs(a - d), a + d  # rho at phi = 0 and at phi = 180
     r_lo, r_hi = abs(b - c), b + c
+    # a change point (two pairs of links of equal sum within CHANGE_POINT_RTOL, as
+    # grashof() says) joins two arcs there: the input passes where all links are in line
+    if abs(r_lo - near) <= CHANGE_POINT_RTOL * far:
+        r_lo = near
+    if abs(r_hi - far) <= CHANGE_POINT_RTOL * far:
+        r_hi = far
     if r_lo <= near and r_hi >= far:
         return None
     if r_lo > far or r_hi < near:
