@@ -1,6 +1,6 @@
 """The planar four-bar, vectorized over angles and over candidate populations (numpy only).
 
-Conventions (SPEC section 1): A0 at the origin, B0 = (d, 0); a = input, b = coupler,
+Conventions (the conventions of docs/format.md): A0 at the origin, B0 = (d, 0); a = input, b = coupler,
 c = output, d = ground. Loop closure a e^{i phi} + b e^{i theta} = d + c e^{i psi}.
 With rho = |A B0| and theta_rho the direction of B0 -> A,
 
@@ -85,7 +85,7 @@ def branch_sign(branch) -> float:
 
 
 def pose(a, b, c, d, phi, branch="open") -> Pose:
-    """Closure of the loop at input angles phi on a branch (SPEC section 1).
+    """Closure of the loop at input angles phi on a branch (the conventions of docs/format.md).
 
     `branch` is "open", "crossed", or an array of signs (-1 open, +1 crossed) that
     broadcasts like the lengths. Where the linkage cannot assemble, `valid` is False and
