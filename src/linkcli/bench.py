@@ -10,16 +10,14 @@ method in its `methods` is run with the file's own budget.
 
 from __future__ import annotations
 
-import glob
 import os
 import sys
 import time
 from dataclasses import replace
 
 from linkcli.errors import LinkcliError
-from linkcli.terminal_text import one_line
+from linkcli.io.terminal_text import one_line
 
-DEFAULT_GLOB = "problems/bench/*.toml"
 COLUMNS = ("problem", "method", "budget", "seed", "seconds", "evaluations", "objective",
            "best_known", "gap", "status")
 
@@ -32,12 +30,13 @@ def settings_for(problem) -> list[tuple[str, int | None]]:
     return [(m, problem.meta.solver.budget) for m in spec.methods]
 
 
-def run_problem(path: str, seeds: int) -> list[dict]:
-    """Every setting and seed of one problem file."""
+def run_problem(path: str, seeds: int, text: str | None = None) -> list[dict]:
+    """Every setting and seed of one problem file (`text`: its content, when it is not
+    read from `path`, as for the packaged bench set)."""
     from linkcli.analysis.sections import gap
     from linkcli.io.load import load
     from linkcli.pipeline import solve
-    problem = load(path)
+    problem = load(path, text)
     import scipy.optimize  # noqa: F401  imported before any timing, so that no row pays for it
     best = problem.meta.reference.objective if problem.meta.reference else None
     rows = []
@@ -60,14 +59,16 @@ def run_problem(path: str, seeds: int) -> list[dict]:
 
 
 def command(files: list[str], fmt: str, seeds: int, precision: int, debug: bool) -> int:
-    files = files or sorted(glob.glob(DEFAULT_GLOB))
-    if not files:
-        sys.stderr.write(f"{DEFAULT_GLOB}: expected benchmark problem files, found none\n")
-        return 2
+    """Without files, the packaged bench set (linkcli.bench_problems, named bench/<name>.toml)."""
+    if files:
+        problems = [(path, None) for path in files]
+    else:
+        from linkcli.bench_problems import bench_files
+        problems = list(bench_files())
     rows, worst = [], 0
-    for path in files:
+    for path, text in problems:
         try:
-            rows.extend(run_problem(path, seeds))
+            rows.extend(run_problem(path, seeds, text))
         except LinkcliError as exc:
             if debug:
                 raise
@@ -77,6 +78,9 @@ def command(files: list[str], fmt: str, seeds: int, precision: int, debug: bool)
     if fmt == "json":
         from linkcli.io.export import to_json
         sys.stdout.write(to_json(rows, precision))
+    elif fmt == "csv":
+        from linkcli.io.csv_tables import to_csv
+        sys.stdout.write(to_csv(rows, precision) if rows else ",".join(COLUMNS) + "\n")
     elif fmt == "toml":
         from linkcli.io.export import to_toml
         sys.stdout.write(to_toml({"bench": rows}, precision))

@@ -81,7 +81,7 @@ class Loads:
 
 @dataclass(frozen=True)
 class LoadCase:
-    """[loads] and [masses] of a problem (SPEC "Loads"): what the `forces` section needs.
+    """[loads] and [masses] of a problem (docs/loads.md): what the `forces` section needs.
     Mass centres are in the file's length unit; `given` holds the keys as written (for the
     report's echo, so that a result file round-trips through `analyze`)."""
 
@@ -102,12 +102,13 @@ class Meta:
     sections: tuple[str, ...] = ()
     reference: Reference | None = None
     tolerance: Tolerance | None = None
+    notes: tuple[str, ...] = ()  # notes on the file itself (angles that look like the other unit)
     loads: LoadCase | None = None  # [loads] / [masses]: the forces section
 
 
 @dataclass(frozen=True)
 class FourBar:
-    """A planar four-bar (SPEC section 1). Lengths in the length unit, angles in radians."""
+    """A planar four-bar (the conventions of docs/format.md). Lengths in the length unit, angles in radians."""
 
     ground: float
     input: float
@@ -134,6 +135,8 @@ class PrecisionPositionProblem:
     input_angles: tuple[float, ...]
     output_angles: tuple[float, ...]
     lines: tuple[int | None, ...] = ()  # line of each position pair, for messages
+    input_speed: float = 1.0  # rad/s, [motion] of the kinematics section
+    steps: int = 360
 
 
 @dataclass(frozen=True)
@@ -152,11 +155,12 @@ class InverseTolerance(Tolerance):
     same on every link, whose failure probability stays at or below that level."""
 
     max_failure_probability: float = 0.01
+    lengths_given: bool = False  # `lengths` written in the file (0 included): the study uses it
 
 
 @dataclass(frozen=True)
 class PathGenerationProblem:
-    """A coupler point through target points (SPEC section 2, path-generation).
+    """A coupler point through target points (docs/format.md, path-generation).
 
     Every bound is (lo, hi); lo == hi fixes the value. Lengths in the length unit (a
     length's lo may be 0: the solver keeps it strictly positive), angles in radians.
@@ -180,7 +184,7 @@ class PathGenerationProblem:
 
 @dataclass(frozen=True)
 class MotionGenerationProblem:
-    """A body guided through poses (SPEC section 2, motion-generation). Poses (x, y, angle)
+    """A body guided through poses (docs/format.md, motion-generation). Poses (x, y, angle)
     in the length unit and radians, global frame; pivots as given ((x, y) pairs: A0 and B0
     global, or A and B in the body frame), bounds like PathGenerationProblem."""
 
@@ -204,7 +208,7 @@ class MotionGenerationProblem:
 @dataclass(frozen=True)
 class FunctionGenerationProblem:
     """Function generation by optimization: free lengths (and start angles) such that the
-    output angle psi follows a law over the input sweep (SPEC section 2).
+    output angle psi follows a law over the input sweep (docs/format.md).
 
     Two forms: `form = "output"`, psi = law(phi, phi0, psi0) with phi from phi0 to
     phi0 + input_sweep; `form = "function"`, y = f(x) mapped linearly onto the input and
@@ -257,6 +261,19 @@ class FlipperCylinderProblem:
     max_force: float | None = None  # N
     pareto: int = 0  # rows of the force/size trade-off table (0: none)
     table_step: float | None = None  # rad between rows of the force table; None: a round step
+    # A clockwise sweep (end < start in the file) is held as its mirror image in the vertical
+    # line through the hinge (x -> -x, angles -> -angles; gravity stays vertical, forces and
+    # lengths are the same): start < end above, and `shown_angle`/`shown_x` give the file's
+    # values back for every output.
+    clockwise: bool = False
+
+    def shown_angle(self, angle: float) -> float:
+        """An internal angle (rad) as the file's sweep has it."""
+        return -angle if self.clockwise else angle
+
+    def shown_x(self, x: float) -> float:
+        """An internal x coordinate as in the file's frame."""
+        return -x if self.clockwise else x
 
     @property
     def bounds(self) -> tuple[tuple[float, float], ...]:

@@ -1,4 +1,4 @@
-"""Problem + Solution -> report: an ordered dict of output-ready sections (SPEC section 4).
+"""Problem + Solution -> report: an ordered dict of output-ready sections (docs/format.md, Output).
 
 Angles leave here in the file's angle unit, wrapped to (-180, 180] deg where they are
 positions; lengths in the file's length unit. Only the sections the problem asks for
@@ -50,13 +50,17 @@ def _build(problem, solution: Solution) -> dict:
         "message": solution.message or MESSAGES[solution.status],
         "units": {"length": u.length, "angle": u.angle},
     }
-    notes = list(solution.notes)
+    notes = list(getattr(meta, "notes", ())) + list(solution.notes)
     fb = solution.linkage
     has_linkage = fb is not None
     if has_linkage and "lengths" in want:
         rep["linkage"] = linkage_section(fb, u)
     if has_linkage and "grashof" in want:
         rep["grashof"] = kin.grashof(*fb.abcd)
+    if has_linkage and want & {"grashof", "transmission", "motion", "kinematics"}:
+        flat = change_point_inputs(*fb.abcd)
+        if flat:
+            notes.append(change_point_note(flat, fb, u))
     mot = None
     if has_linkage and want & {"transmission", "motion", "kinematics"}:
         near = solution.working_span[0] if solution.working_span else None
@@ -98,6 +102,30 @@ def _build(problem, solution: Solution) -> dict:
     if notes:
         rep["notes"] = notes
     return rep
+
+
+def change_point_inputs(a, b, c, d) -> list[float]:
+    """Input angles (rad, 0 and/or pi) where a change-point linkage (s + l = p + q, the
+    conventions of docs/format.md) lies flat: A on the ground line, so rho = |a - d| (phi = 0) or a + d (phi =
+    pi), and rho = |b - c| or b + c, all four links in line, within the change-point
+    tolerance. There the open and crossed branches meet and the linkage may switch
+    between them (Norton, Design of Machinery, sec. 2.13: the change-point hazard)."""
+    if kin.GRASHOF_CLASSES[int(kin.grashof_code(a, b, c, d))] != "change-point":
+        return []
+    tol = kin.CHANGE_POINT_RTOL * max(a, b, c, d)
+    return [phi for phi, rho in ((0.0, abs(a - d)), (math.pi, a + d))
+            if min(abs(rho - abs(b - c)), abs(rho - (b + c))) <= tol]
+
+
+def change_point_note(flat: list[float], fb, u) -> str:
+    """The warning for a change-point linkage, naming the inputs where it lies flat."""
+    where = " and ".join(num(_ang(u, phi)) for phi in flat)
+    a, b, c, d = fb.abcd
+    parallel = kin.same_lengths(a, c) and kin.same_lengths(b, d)
+    switch = ("from parallelogram to antiparallelogram" if parallel
+              else "between its open and crossed forms")
+    return (f"change-point linkage: all four links lie in line at input {where} {u.angle}, where it can "
+            f"switch {switch}; the {fb.branch} branch reported changes form there")
 
 
 def gap(value: float, best: float) -> float:
@@ -155,7 +183,7 @@ def motion_section(mot, u) -> dict:
 
 def study_inputs(full_turn: bool, arc, steps: int):
     """(phi, shown): the input angles (rad) of the motion study's rows and as printed. A full
-    turn: phi = k 2 pi / steps from 0, shown 0 .. 360 deg (SPEC); a rocking input over the arc
+    turn: phi = k 2 pi / steps from 0, shown 0 .. 360 deg (docs/format.md); a rocking input over the arc
     (lo, hi): the centres of `steps` equal cells (its ends are toggles), shown wrapped. The
     kinematics and the forces sections share these rows."""
     if full_turn:
@@ -188,12 +216,42 @@ def kinematics_rows(fb, mot, speed, steps, u) -> list[dict]:
             ("output_velocity", u.from_rad(snap_series(w4, rate))),
             ("coupler_acceleration", u.from_rad(snap_series(a3, rate2))),
             ("output_acceleration", u.from_rad(snap_series(a4, rate2)))]
+    if fb.coupler_point is not None:
+        cols += coupler_point_columns(fb, p, speed, w3, a3)
     rows = []
     for k in range(len(phi)):
         ok = bool(p.valid[k])  # where it cannot assemble (or A meets B0) only the input is known
         rows.append({name: (float(v[k]) if math.isfinite(v[k]) and (ok or name == "input") else None)
                      for name, v in cols})
     return rows
+
+
+def coupler_point_columns(fb, p, speed, w3, a3) -> list[tuple[str, np.ndarray]]:
+    """The coupler point P over the motion, global frame (length unit, per s, per s^2).
+
+    With r = R(theta) (px, py) the point's offset from A in the local frame:
+        P = A0 + R(ground_angle) (a e^{i phi} + r),
+        dP/dt = R(ground_angle) (a w2 i e^{i phi} + w3 i r),
+        d2P/dt2 = R(ground_angle) (-a w2^2 e^{i phi} + alpha3 i r - w3^2 r)
+    (constant input speed w2; rigid-body kinematics, Norton ch. 6-7)."""
+    a = fb.input
+    px, py = fb.coupler_point
+    ct, st = np.cos(p.theta), np.sin(p.theta)
+    rx, ry = px * ct - py * st, px * st + py * ct
+    cp, sp = np.cos(p.phi), np.sin(p.phi)
+    x, y = a * cp + rx, a * sp + ry
+    vx, vy = -a * speed * sp - w3 * ry, a * speed * cp + w3 * rx
+    ax = -a * speed * speed * cp - a3 * ry - w3 * w3 * rx
+    ay = -a * speed * speed * sp + a3 * rx - w3 * w3 * ry
+    cg, sg = math.cos(fb.ground_angle), math.sin(fb.ground_angle)
+    gx, gy = fb.ground_pivot
+    size = max(*fb.abcd, math.hypot(px, py))  # the linkage's scale: round-off below it is 0
+    with np.errstate(invalid="ignore"):  # inf (a dead centre) times 0 stays undefined
+        cols = [("coupler_point_x", gx + cg * x - sg * y), ("coupler_point_y", gy + sg * x + cg * y),
+                ("coupler_point_vx", cg * vx - sg * vy), ("coupler_point_vy", sg * vx + cg * vy),
+                ("coupler_point_ax", cg * ax - sg * ay), ("coupler_point_ay", sg * ax + cg * ay)]
+    scales = (size + math.hypot(gx, gy),) * 2 + (size * abs(speed),) * 2 + (size * speed * speed,) * 2
+    return [(name, snap_series(v, scale)) for (name, v), scale in zip(cols, scales)]
 
 
 def error_scale(pos, length_scale: float) -> float:

@@ -201,5 +201,5 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     base = dict(lengths=lengths, distribution=distribution or "uniform", clearance=clearance or 0.0,
                 samples=samples or 20000, allowed_error=allowed, lines=lines)
     if level is not None:
-        return InverseTolerance(max_failure_probability=level, **base)
+        return InverseTolerance(max_failure_probability=level, lengths_given=raw is not None, **base)
     return Tolerance(**base)

@@ -17,7 +17,7 @@ from rich.table import Table
 from rich.text import Text
 
 from linkcli.io.export import rounded
-from linkcli.terminal_text import terminal_safe
+from linkcli.io.terminal_text import terminal_safe
 
 MAX_TABLE_WIDTH = 400  # columns a table may take when printed to a file or a pipe
 STATUS_STYLE = {"ok": "bold green", "infeasible": "bold yellow", "not-converged": "bold red"}
@@ -168,7 +168,10 @@ def render(report: dict, digits: int = 6) -> Group:
         heads = {"input": f"input ({au})", "coupler": f"coupler ({au})", "output": f"output ({au})",
                  "transmission": f"mu ({au})", "coupler_velocity": f"w coupler ({au}/s)",
                  "output_velocity": f"w output ({au}/s)", "coupler_acceleration": f"a coupler ({au}/s2)",
-                 "output_acceleration": f"a output ({au}/s2)"}
+                 "output_acceleration": f"a output ({au}/s2)",
+                 "coupler_point_x": f"P x ({lu})", "coupler_point_y": f"P y ({lu})",
+                 "coupler_point_vx": f"P vx ({lu}/s)", "coupler_point_vy": f"P vy ({lu}/s)",
+                 "coupler_point_ax": f"P ax ({lu}/s2)", "coupler_point_ay": f"P ay ({lu}/s2)"}
         parts.append(_rows("Kinematics", r["kinematics"], digits, heads))
     if "loads" in r:
         units = {"coupler_force": "N", "output_torque": "N m", "output_force": "N", "gravity": "m/s2"}

@@ -16,7 +16,7 @@ from linkcli.io.meta import MAX_LENGTH, read_units
 from linkcli.types.linkage import TYPE as LINKAGE
 from linkcli.types.linkage.schema import read_fourbar
 from linkcli.io.reader import Reader
-from linkcli.result_motion import motion_study
+from linkcli.io.result_motion import motion_study
 
 
 def is_result(data: dict) -> bool:

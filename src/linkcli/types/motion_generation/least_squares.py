@@ -1,6 +1,6 @@
 """Approximate motion generation: many poses (or bounds/constraints) by least squares.
 
-Objective (SPEC, motion-generation): F = sum_i |P_i - T_i|^2 + (w * dangle_i)^2, P_i the
+Objective (docs/format.md, motion-generation): F = sum_i |P_i - T_i|^2 + (w * dangle_i)^2, P_i the
 body origin reached at the input angle phi_i, T_i the target, dangle_i the wrapped angle
 error in rad and w a length, by default the RMS distance of the target origins from their
 centroid (poses.characteristic_length), so that a turn of 1 rad weighs like a typical
@@ -13,7 +13,9 @@ inversions (moving pivots for sampled ground pivots), each scored with its best 
 from a grid (free timing; the inner minimization is exact up to the grid); (2) the best
 distinct starts polished by scipy.optimize.least_squares (trust region reflective,
 bounds, tolerances 1e-15) on the residual vector; (3) the best polished design that has no
-branch or order defect and meets the constraints is returned.
+branch or order defect and meets the constraints is returned, (4) after a final
+Gauss-Newton settle to round-off (`_settle`, linkcli.search.kkt), so that its printed
+digits do not follow least_squares' path.
 """
 
 from __future__ import annotations
@@ -30,6 +32,8 @@ from .poses import as_poses, characteristic_length
 
 PENALTY = 10.0  # weight of the assembly violation (a length) in the residual vector
 CHUNK = 512  # population rows scored at once
+SETTLE_STEP = 3e-5  # unit box: the final polish's difference step (kkt.slopes)
+SETTLE_GAIN = 1e-9  # relative: the polished design may be this much worse (round-off)
 
 
 def default_bounds(poses):
@@ -187,7 +191,7 @@ def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
         for k in chosen:
             pool.append((sign, np.concatenate([starts[k], extra[k]])))
     free = hi > lo
-    results = []
+    results, setups = [], []
     for sign, x0 in pool:
         if prescribed:
             tlo, thi = np.array([offset_bounds[0]]), np.array([offset_bounds[1]])
@@ -215,13 +219,53 @@ def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
         x[mask] = sol.x
         results.append(_evaluate(x, poses, sign, weight, t_angles, grashof, transmission))
         results[-1]["converged"] = bool(sol.status > 0)
-    ranked = sorted(results, key=lambda r: (not r["feasible"], r["objective"]))
+        setups.append((fun, x, mask, lo_full, hi_full, sign))
+    order = sorted(range(len(results)), key=lambda i: (not results[i]["feasible"], results[i]["objective"]))
+    if order and results[order[0]]["feasible"]:
+        settled = _settle(counter, *setups[order[0]])
+        if settled is not None:
+            out = _evaluate(settled, poses, setups[order[0]][5], weight, t_angles, grashof, transmission)
+            if out["feasible"] and out["objective"] <= results[order[0]]["objective"] * (1.0 + SETTLE_GAIN):
+                out["converged"] = True
+                results[order[0]] = out
+    ranked = [results[i] for i in order]
     best = dict(ranked[0])
     best["angle_weight"] = weight
     best["evaluations"] = counter.used
     best["candidates"] = [{k: r[k] for k in ("params", "branch", "objective", "feasible", "why")}
                           for r in ranked]
     return best
+
+
+def _settle(counter, fun, x, mask, lo, hi, sign):
+    """The best polished design after the final polish (linkcli.search.kkt): Gauss-Newton
+    on its residuals in the unit box of its free variables, the bounds that bind held, to
+    round-off, so that the printed digits are the optimum's and not those of least_squares'
+    path (its SVD follows the BLAS kernel). None when it does not converge or the budget
+    has no room (evaluations counted against `counter`)."""
+    from linkcli.search import kkt, linalg
+    from linkcli.search.budget import BudgetSpent
+
+    width = hi[mask] - lo[mask]
+
+    def values(u):
+        counter.spend(len(u))
+        return fun(lo[mask] + np.clip(u, 0.0, 1.0) * width)
+
+    def evaluate(u):
+        r, jac = kkt.slopes(values, u, step=SETTLE_STEP)
+        return kkt.Point(float(linalg.dot(r, r)), 2.0 * linalg.matvec(jac.T, r), np.zeros(0),
+                         np.zeros((0, len(u))), h=2.0 * linalg.gram(jac))
+
+    try:
+        out = kkt.settle(evaluate, (x[mask] - lo[mask]) / width)
+    except BudgetSpent:
+        return None
+    if not out.converged:
+        return None
+    x = x.copy()
+    x[mask] = lo[mask] + out.u * width
+    return x
 
 
 def _evaluate(x, poses, sign, weight, t_angles, grashof, transmission) -> dict:
