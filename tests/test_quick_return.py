@@ -207,7 +207,9 @@ def test_family_recomputes_and_best_beats_grid(K, swing_deg):
     table = family.crank_rocker_family(K, swing, ("ground", 1.0), rows=15)
     for row in zip(*(table[n] for n in family.FOUR_BAR)):
         K2, swing2 = simulate.simulate_time_ratio_and_swing(*row)
-        assert K2 == pytest.approx(K, abs=1e-9) and swing2 == pytest.approx(swing, abs=1e-9)
+        # rows near a degenerate end of the family (K near 3, small swing) are ill-conditioned:
+        # lengths exact to 1e-16 recompute K only to ~1e-8 (hypothesis: K 2.890625, swing 5 deg)
+        assert K2 == pytest.approx(K, abs=1e-7) and swing2 == pytest.approx(swing, abs=1e-7)
     assert np.all(np.isfinite(table["worst_transmission"]))
     K3, swing3 = simulated_K_and_swing(*(best.lengths[n] for n in family.FOUR_BAR))
     assert K3 == pytest.approx(K, abs=1e-6) and swing3 == pytest.approx(swing, abs=1e-6)
