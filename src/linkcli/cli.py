@@ -9,6 +9,7 @@ light. `--debug` lets a traceback through.
 
 from __future__ import annotations
 
+import contextlib
 import sys
 from enum import Enum
 from pathlib import Path
@@ -64,12 +65,19 @@ def _progress(total: int):
 
 
 def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path], precision: int,
-                   jobs: int, plot: Optional[Path]) -> int:
+                   jobs: int, plot: Optional[Path], cluster: Optional[str] = None) -> int:
     """synth and analyze: run the pipeline over the files (`request`: mode, seed, debug,
-    timing), print or write the reports, draw them; the worst exit code."""
+    timing) with the executor the options ask for (serial, --jobs, --cluster), print or
+    write the reports, draw them; the worst exit code. An error of the executor itself
+    (a --cluster that cannot be reached, or lost mid-run) ends the command with its line."""
+    from linkcli.errors import LinkcliError
     from linkcli.pipeline import executor
     names = [str(f) for f in files]
     debug = request.debug
+    try:
+        execute = executor(jobs, names, debug, cluster)
+    except LinkcliError as exc:
+        return _fail(exc, debug)
     if out is not None and not _prepare_out(out):
         return 2
     if plot is not None and _plot_problem(plot, names):
@@ -84,34 +92,37 @@ def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path],
         prog.start()
         task = prog.add_task(f"solving {names[0]}", total=len(names))
     try:
-        for name, outcome in zip(names, executor(jobs, names, debug)(names, request)):
-            code, errors = outcome.exit_code, outcome.errors
-            report = outcome.result.report if outcome.result is not None else None
-            if outcome.result is not None:
-                results.append(outcome.result)
-            if prog is not None:
-                prog.stop()  # the transient bar clears; output prints cleanly below
-            for line in errors:
-                _err(line)
-            worst = max(worst, code)
-            counts[code] = counts.get(code, 0) + 1
-            if report is None and fmt is Format.json:
-                # keep one object per file, in argument order, for scripts
-                reports.append({"file": name, "status": "bad-input" if code == 2 else "error",
-                                "message": "; ".join(errors)})
-            elif report is not None:
-                reports.append(report)
-                if fmt is Format.table and out is None:
-                    from linkcli.io.report import print_reports
-                    print_reports([report], precision)
-                    if len(reports) < len(names):
-                        sys.stdout.write("\n")
-                    sys.stdout.flush()
-            if prog is not None:
-                done = int(prog.tasks[0].completed) + 1
-                nxt = names[done] if done < len(names) else ""
-                prog.update(task, advance=1, description=f"solving {nxt}" if nxt else "done")
-                prog.start()
+        with contextlib.closing(execute(names, request)) as outcomes:  # Ctrl-C: closed at once
+            for name, outcome in zip(names, outcomes):
+                code, errors = outcome.exit_code, outcome.errors
+                report = outcome.result.report if outcome.result is not None else None
+                if outcome.result is not None:
+                    results.append(outcome.result)
+                if prog is not None:
+                    prog.stop()  # the transient bar clears; output prints cleanly below
+                for line in errors:
+                    _err(line)
+                worst = max(worst, code)
+                counts[code] = counts.get(code, 0) + 1
+                if report is None and fmt is Format.json:
+                    # keep one object per file, in argument order, for scripts
+                    reports.append({"file": name, "status": "bad-input" if code == 2 else "error",
+                                    "message": "; ".join(errors)})
+                elif report is not None:
+                    reports.append(report)
+                    if fmt is Format.table and out is None:
+                        from linkcli.io.report import print_reports
+                        print_reports([report], precision)
+                        if len(reports) < len(names):
+                            sys.stdout.write("\n")
+                        sys.stdout.flush()
+                if prog is not None:
+                    done = int(prog.tasks[0].completed) + 1
+                    nxt = names[done] if done < len(names) else ""
+                    prog.update(task, advance=1, description=f"solving {nxt}" if nxt else "done")
+                    prog.start()
+    except LinkcliError as exc:  # the executor failed (--cluster): no file is to blame
+        return max(worst, _fail(exc, debug))
     finally:
         if prog is not None:
             prog.stop()
@@ -130,6 +141,16 @@ def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path],
         _err(f"{len(names)} files: {counts[0]} solved, {counts[1]} infeasible or not converged, "
              f"{counts[2]} bad input")
     return worst
+
+
+def _fail(exc, debug: bool) -> int:
+    """Print an error that ends the command (one line each) and return its exit code;
+    --debug lets it through with its traceback."""
+    if debug:
+        raise exc
+    for line in exc.lines():
+        _err(line)
+    return exc.exit_code
 
 
 def _plot_problem(plot: Path, names: list[str]) -> bool:
@@ -190,16 +211,20 @@ JOBS = typer.Option(1, "--jobs", "-j", help="Solve files in N processes (output 
 PLOT = typer.Option(None, "--plot", help="Draw the result to FILE.png|FILE.svg (a folder with several files).")
 DEBUG = typer.Option(False, "--debug", help="Show Python tracebacks.")
 TIMING = typer.Option(False, "--timing", help="Add the solver's wall-clock seconds to the report.")
+CLUSTER = typer.Option(None, "--cluster", metavar="ADDRESS",
+                       help="Run on the Dask scheduler at tcp://HOST:PORT, or local:N for N local "
+                            "worker processes (pip install \"linkcli[cluster]\"; not with --jobs).")
 
 
 @app.command()
 def synth(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
           seed: Optional[int] = SEED, precision: int = PRECISION, jobs: int = JOBS,
-          plot: Optional[Path] = PLOT, debug: bool = DEBUG, timing: bool = TIMING) -> None:
+          plot: Optional[Path] = PLOT, debug: bool = DEBUG, timing: bool = TIMING,
+          cluster: Optional[str] = CLUSTER) -> None:
     """Solve each problem file and print its report."""
     from linkcli.pipeline import Request
     request = Request(mode="synth", seed=seed, debug=debug, timing=timing, plot=plot is not None)
-    raise typer.Exit(_solve_command(files, request, format, out, precision, jobs, plot))
+    raise typer.Exit(_solve_command(files, request, format, out, precision, jobs, plot, cluster))
 
 
 @app.command()
@@ -229,10 +254,12 @@ def check(files: List[Path] = FILES, debug: bool = DEBUG) -> None:
 @app.command()
 def bench(files: List[Path] = typer.Argument(None, help="Problem files (default: problems/bench/*.toml)."),
           format: Format = FORMAT, seeds: int = typer.Option(3, "--seeds", help="Seeds per setting.", min=1),
-          precision: int = typer.Option(4, "--precision", min=1, max=17), debug: bool = DEBUG) -> None:
+          precision: int = typer.Option(4, "--precision", min=1, max=17), debug: bool = DEBUG,
+          cluster: Optional[str] = CLUSTER) -> None:
     """Time each solver setting against its error on a set of problems (SPEC section 5)."""
     from linkcli import bench as benchmod
-    raise typer.Exit(benchmod.command([str(f) for f in files or []], format.value, seeds, precision, debug))
+    raise typer.Exit(benchmod.command([str(f) for f in files or []], format.value, seeds, precision,
+                                      debug, cluster))
 
 
 def main() -> None:

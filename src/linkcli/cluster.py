@@ -37,6 +37,7 @@ DEFAULT_CONNECT_TIMEOUT = 5.0  # seconds to reach a scheduler before giving up (
 LOCAL_PREFIX = "local:"
 INSTALL_HINT = 'pip install "linkcli[cluster]"'
 OPTION = "--cluster"  # where errors point: the option, not a file
+BLAS_THREADS = ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS")
 
 
 def internal_error(item: Any, description: str) -> tuple[int, None, list[str]]:
@@ -139,10 +140,18 @@ def _connect(address: str, timeout: float) -> tuple[Any, Any]:
         raise InputError("a scheduler address (tcp://HOST:PORT) or local:N", "nothing",
                          path=OPTION)
     if address.startswith(LOCAL_PREFIX):
+        import dask
+
         workers = _local_workers(address)
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               # no dashboard port to collide over (8787)
-                               dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)
+        # Dask's nanny sets OMP/MKL/OPENBLAS_NUM_THREADS=1 in its workers; a few solvers'
+        # last digits follow the BLAS thread count, so local workers keep this process's
+        # environment instead (None unsets a variable in that config): the bytes of a
+        # serial run and of --jobs, whose processes inherit it too.
+        inherit = {f"distributed.nanny.pre-spawn-environ.{name}": None for name in BLAS_THREADS}
+        with dask.config.set(inherit):
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                   # no dashboard port to collide over (8787)
+                                   dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)
         try:
             return cluster, Client(cluster, set_as_default=False, timeout=timeout)
         except BaseException:
