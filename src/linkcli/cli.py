@@ -64,6 +64,17 @@ def _progress(total: int):
                     console=Console(file=sys.stderr), transient=True)
 
 
+@contextlib.contextmanager
+def _interruptible():
+    """Ctrl-C in a command: "interrupted" on stderr and exit 130 (typer would exit 130
+    silently). The executors clean up on the way out (--cluster cancels its tasks)."""
+    try:
+        yield
+    except KeyboardInterrupt:
+        _err("interrupted")
+        raise typer.Exit(130) from None
+
+
 def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path], precision: int,
                    jobs: int, plot: Optional[Path], cluster: Optional[str] = None) -> int:
     """synth and analyze: run the pipeline over the files (`request`: mode, seed, debug,
@@ -224,7 +235,9 @@ def synth(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Path
     """Solve each problem file and print its report."""
     from linkcli.pipeline import Request
     request = Request(mode="synth", seed=seed, debug=debug, timing=timing, plot=plot is not None)
-    raise typer.Exit(_solve_command(files, request, format, out, precision, jobs, plot, cluster))
+    with _interruptible():
+        code = _solve_command(files, request, format, out, precision, jobs, plot, cluster)
+    raise typer.Exit(code)
 
 
 @app.command()
@@ -234,7 +247,9 @@ def analyze(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Pa
     """Analyse given linkages: `type = "linkage"` files or results of `synth --format toml`."""
     from linkcli.pipeline import Request
     request = Request(mode="analyze", debug=debug, plot=plot is not None)
-    raise typer.Exit(_solve_command(files, request, format, out, precision, jobs, plot))
+    with _interruptible():
+        code = _solve_command(files, request, format, out, precision, jobs, plot)
+    raise typer.Exit(code)
 
 
 @app.command()
@@ -258,8 +273,10 @@ def bench(files: List[Path] = typer.Argument(None, help="Problem files (default:
           cluster: Optional[str] = CLUSTER) -> None:
     """Time each solver setting against its error on a set of problems (SPEC section 5)."""
     from linkcli import bench as benchmod
-    raise typer.Exit(benchmod.command([str(f) for f in files or []], format.value, seeds, precision,
-                                      debug, cluster))
+    with _interruptible():
+        code = benchmod.command([str(f) for f in files or []], format.value, seeds, precision,
+                                debug, cluster)
+    raise typer.Exit(code)
 
 
 def main() -> None:

@@ -38,6 +38,10 @@ LOCAL_PREFIX = "local:"
 INSTALL_HINT = 'pip install "linkcli[cluster]"'
 OPTION = "--cluster"  # where errors point: the option, not a file
 BLAS_THREADS = ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS")
+# A preload script (Dask runs text with a space in it) for local workers: a terminal's
+# Ctrl-C reaches the whole process group, but it is the client's to handle (it cancels
+# the tasks and closes the cluster); a worker would die of it with a traceback.
+IGNORE_CTRL_C = "import signal; signal.signal(signal.SIGINT, signal.SIG_IGN)"
 
 
 def internal_error(item: Any, description: str) -> tuple[int, None, list[str]]:
@@ -133,25 +137,14 @@ def _result_of(future: Any, outcome: Any, item: Any, address: str,
 def _connect(address: str, timeout: float) -> tuple[Any, Any]:
     """(LocalCluster or None, Client) for `address`; InputError for a malformed address
     or no scheduler answering within `timeout` seconds."""
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
     address = address.strip()
     if not address:
         raise InputError("a scheduler address (tcp://HOST:PORT) or local:N", "nothing",
                          path=OPTION)
     if address.startswith(LOCAL_PREFIX):
-        import dask
-
-        workers = _local_workers(address)
-        # Dask's nanny sets OMP/MKL/OPENBLAS_NUM_THREADS=1 in its workers; a few solvers'
-        # last digits follow the BLAS thread count, so local workers keep this process's
-        # environment instead (None unsets a variable in that config): the bytes of a
-        # serial run and of --jobs, whose processes inherit it too.
-        inherit = {f"distributed.nanny.pre-spawn-environ.{name}": None for name in BLAS_THREADS}
-        with dask.config.set(inherit):
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   # no dashboard port to collide over (8787)
-                                   dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)
+        cluster = start_local_cluster(_local_workers(address))
         try:
             return cluster, Client(cluster, set_as_default=False, timeout=timeout)
         except BaseException:
@@ -166,6 +159,24 @@ def _connect(address: str, timeout: float) -> tuple[Any, Any]:
     gc.collect()
     raise InputError(f"a Dask scheduler answering at {address} within {timeout:g} s", reason,
                      path=OPTION)
+
+
+def start_local_cluster(workers: int) -> Any:
+    """A LocalCluster of `workers` single-threaded worker processes, as `local:N` starts.
+
+    Dask's nanny sets OMP/MKL/OPENBLAS_NUM_THREADS=1 in its workers; a few solvers' last
+    digits follow the BLAS thread count, so these workers keep this process's environment
+    instead (None unsets a variable of that config): the bytes of a serial run and of
+    --jobs, whose processes inherit it too. The workers ignore Ctrl-C (IGNORE_CTRL_C)."""
+    import dask
+    from distributed import LocalCluster
+
+    inherit = {f"distributed.nanny.pre-spawn-environ.{name}": None for name in BLAS_THREADS}
+    with dask.config.set(inherit):
+        return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                            # no dashboard port to collide over (8787)
+                            dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR,
+                            preload=[IGNORE_CTRL_C])
 
 
 def _require_distributed() -> None:
