@@ -25,6 +25,17 @@ from linkcli.errors import InputError, LinkcliError  # noqa: E402
 SRC = Path(__file__).resolve().parent.parent / "src"
 
 
+@pytest.fixture(scope="module", autouse=True)
+def _keep_environment():
+    """Dask's nanny writes its worker environment (OMP/MKL/OPENBLAS_NUM_THREADS=1, ...)
+    into this process's os.environ as it starts a local worker; restore it after the
+    module, so that later modules' worker processes inherit the usual environment."""
+    saved = dict(os.environ)
+    yield
+    os.environ.clear()
+    os.environ.update(saved)
+
+
 @pytest.fixture(scope="module")
 def cluster():
     """Two single-threaded worker processes, shared by the module's tests."""

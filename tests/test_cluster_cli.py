@@ -30,6 +30,17 @@ BENCH_FILES = ["problems/bench/firedoor.toml", "problems/bench/crank_rocker.toml
 DASK_MODULES = ("dask", "distributed", "tornado", "cloudpickle", "msgpack")
 
 
+@pytest.fixture(scope="module", autouse=True)
+def _keep_environment():
+    """Dask's nanny writes its worker environment (OMP/MKL/OPENBLAS_NUM_THREADS=1, ...)
+    into this process's os.environ as it starts a local worker; restore it after the
+    module, so that later modules' worker processes inherit the usual environment."""
+    saved = dict(os.environ)
+    yield
+    os.environ.clear()
+    os.environ.update(saved)
+
+
 @pytest.fixture(scope="module")
 def cluster():
     """Two single-threaded worker processes (as `--cluster local:2` starts them), shared
