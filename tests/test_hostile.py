@@ -40,7 +40,7 @@ def test_a_fifo_and_dev_zero_are_refused_and_the_batch_goes_on(tmp_path, command
     assert f"{fifo}: expected a regular problem file, found a FIFO (named pipe)" in lines
     assert "/dev/zero: expected a regular problem file, found a character device" in lines
     if command == "check":
-        assert f"{good}: ok" in lines
+        assert out == f"{good}: ok\n"  # the verdict on stdout, the errors on stderr
     elif command == "bench":
         assert "firedoor" in out
     else:
@@ -49,7 +49,7 @@ def test_a_fifo_and_dev_zero_are_refused_and_the_batch_goes_on(tmp_path, command
 
 
 def test_a_file_beyond_the_size_cap_is_refused_without_reading_it(tmp_path):
-    from linkcli.safe_read import MAX_FILE_BYTES
+    from linkcli.io.safe_read import MAX_FILE_BYTES
     big = tmp_path / "big.toml"
     with open(big, "wb") as fh:  # sparse: 200 MB of size, no disk or memory used
         fh.truncate(200 * 1024 * 1024)
@@ -60,7 +60,7 @@ def test_a_file_beyond_the_size_cap_is_refused_without_reading_it(tmp_path):
 
 
 def test_a_file_at_the_cap_is_read(tmp_path):
-    from linkcli.safe_read import MAX_FILE_BYTES, read_problem_bytes
+    from linkcli.io.safe_read import MAX_FILE_BYTES, read_problem_bytes
     text = Path(ROOT / "problems" / "firedoor.toml").read_bytes()
     padded = text + b"#" * (MAX_FILE_BYTES - len(text))
     p = tmp_path / "padded.toml"
@@ -100,7 +100,7 @@ def test_a_file_name_with_escapes_is_shown_escaped_in_errors(tmp_path):
 
 
 def test_a_100k_character_key_gives_a_short_line(tmp_path):
-    from linkcli.terminal_text import SHOWN_LIMIT
+    from linkcli.io.terminal_text import SHOWN_LIMIT
     p = tmp_path / "longkey.toml"
     key = "k" * 100_000
     p.write_text((ROOT / "problems" / "firedoor.toml").read_text().replace("[linkage]", f"[linkage]\n{key} = 1", 1))
@@ -140,7 +140,7 @@ def test_a_three_position_design_missing_a_position_is_infeasible_and_still_show
 
 
 def test_the_miss_rule_uses_the_noise_floor_and_counts_order_defects():
-    from linkcli.position_verdict import MISS_FLOOR_RAD, verdict
+    from linkcli.types.precision_position.verdict import MISS_FLOOR_RAD, verdict
     from linkcli.solution import Status
     from linkcli.types.precision_position.solve import TRAVEL_NOTE
     from linkcli.units import Units

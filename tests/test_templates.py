@@ -12,7 +12,8 @@ import pytest
 
 from conftest import run_cli
 from linkcli.errors import InputErrors
-from linkcli.problemfile import TYPES, load
+from linkcli.io.load import load
+from linkcli.registry import NAMES as TYPES
 from linkcli.templates import template_names, template_text
 
 EXISTING = ("precision-position", "function-generation", "path-generation", "flipper-cylinder", "linkage")
@@ -39,9 +40,9 @@ def test_template_is_toml_of_its_type_and_passes_check(name, tmp_path):
     assert tomllib.loads(text)["type"] == name
     path = tmp_path / f"{name}.toml"
     path.write_text(text, encoding="utf-8")
-    code, _, err = run_cli("check", str(path))
+    code, out, err = run_cli("check", str(path))
     assert code == 0, err
-    assert err.strip().endswith(": ok")
+    assert out == f"{path}: ok\n" and err == ""
 
 
 @pytest.mark.parametrize("name", EXISTING)

@@ -15,7 +15,6 @@ same but for `seconds`, and come back in the same order.
 from __future__ import annotations
 
 import contextlib
-import glob
 import os
 import sys
 import time
@@ -23,9 +22,8 @@ from dataclasses import replace
 from typing import Iterator, NamedTuple
 
 from linkcli.errors import LinkcliError
-from linkcli.terminal_text import one_line
+from linkcli.io.terminal_text import one_line
 
-DEFAULT_GLOB = "problems/bench/*.toml"
 COLUMNS = ("problem", "method", "budget", "seed", "seconds", "evaluations", "objective",
            "best_known", "gap", "status")
 
@@ -39,11 +37,12 @@ def settings_for(problem) -> list[tuple[str, int | None]]:
 
 
 class Run(NamedTuple):
-    """One bench run: a problem file (its name and bytes, read once by the client), a
-    solver setting and a seed. Pickles, so it can run on a --cluster worker."""
+    """One bench run: a problem file (its name and content, read once by the client: the
+    file's bytes, or the text of a packaged bench problem), a solver setting and a seed.
+    Pickles, so it can run on a --cluster worker."""
 
     path: str
-    source: bytes
+    source: bytes | str
     method: str
     budget: int | None
     seed: int
@@ -59,12 +58,13 @@ class RunOutcome(NamedTuple):
     exit_code: int = 0
 
 
-def runs_of(path: str, seeds: int, debug: bool = False) -> list[Run]:
-    """Every setting x seed of one problem file (loaded here to learn its settings);
+def runs_of(path: str, seeds: int, debug: bool = False, text: str | None = None) -> list[Run]:
+    """Every setting x seed of one problem file (`text`: its content, when it is not read
+    from `path`, as for the packaged bench set; loaded here to learn its settings);
     InputError if the file is bad."""
     from linkcli.io.load import load
-    from linkcli.safe_read import read_problem_bytes
-    source = read_problem_bytes(path)
+    from linkcli.io.safe_read import read_problem_bytes
+    source = read_problem_bytes(path) if text is None else text
     problem = load(path, source)
     return [Run(path, source, method, budget, seed, debug)
             for method, budget in settings_for(problem) for seed in range(seeds)]
@@ -113,9 +113,10 @@ def solve_run(run: Run) -> dict:
     }
 
 
-def run_problem(path: str, seeds: int) -> list[dict]:
-    """Every setting and seed of one problem file, in this process; the first error raises."""
-    return [solve_run(run) for run in runs_of(path, seeds, debug=True)]
+def run_problem(path: str, seeds: int, text: str | None = None) -> list[dict]:
+    """Every setting and seed of one problem file (`text`: as for runs_of), in this
+    process; the first error raises."""
+    return [solve_run(run) for run in runs_of(path, seeds, debug=True, text=text)]
 
 
 def outcomes(runs: list[Run], cluster: str | None) -> Iterator[RunOutcome]:
@@ -133,17 +134,20 @@ def outcomes(runs: list[Run], cluster: str | None) -> Iterator[RunOutcome]:
 def command(files: list[str], fmt: str, seeds: int, precision: int, debug: bool,
             cluster: str | None = None) -> int:
     """Every problem x setting x seed, serially or on a --cluster; a file with an error
-    prints its lines (once each) and gives no rows; the rows as a table, JSON or TOML."""
-    files = files or sorted(glob.glob(DEFAULT_GLOB))
-    if not files:
-        sys.stderr.write(f"{DEFAULT_GLOB}: expected benchmark problem files, found none\n")
-        return 2
+    prints its lines (once each) and gives no rows; the rows as a table, JSON, CSV or TOML.
+    Without files, the packaged bench set (linkcli.bench_problems, named bench/<name>.toml)."""
+    if files:
+        problems = [(path, None) for path in files]
+    else:
+        from linkcli.bench_problems import bench_files
+        problems = list(bench_files())
+    files = [path for path, _ in problems]
     runs: list[Run] = []
     errors: dict[str, list[str]] = {path: [] for path in files}
     worst = 0
-    for path in files:
+    for path, text in problems:
         try:
-            runs.extend(runs_of(path, seeds, debug))
+            runs.extend(runs_of(path, seeds, debug, text))
         except LinkcliError as exc:
             if debug:
                 raise
@@ -171,6 +175,9 @@ def command(files: list[str], fmt: str, seeds: int, precision: int, debug: bool,
     if fmt == "json":
         from linkcli.io.export import to_json
         sys.stdout.write(to_json(rows, precision))
+    elif fmt == "csv":
+        from linkcli.io.csv_tables import to_csv
+        sys.stdout.write(to_csv(rows, precision) if rows else ",".join(COLUMNS) + "\n")
     elif fmt == "toml":
         from linkcli.io.export import to_toml
         sys.stdout.write(to_toml({"bench": rows}, precision))

@@ -1,4 +1,4 @@
-"""The command line: synth, analyze, check, bench; their options and exit codes.
+"""The command line: synth, analyze, check, bench, new; their options and exit codes.
 
 The work is `linkcli.pipeline` (load -> solve -> analyse); this module catches
 `LinkcliError` only and maps it to exit codes (0 solved, 1 infeasible or not
@@ -24,13 +24,23 @@ app = typer.Typer(add_completion=False, no_args_is_help=True, rich_markup_mode=N
                   help="Design planar four-bar linkages from TOML problem files.")
 
 
+class PlainUsage(typer.core.TyperCommand):
+    """A usage line for people: `linkcli synth [OPTIONS] FILE...` (typer wraps a required
+    argument in braces, `{FILE...}`, which reads like shell syntax)."""
+
+    def collect_usage_pieces(self, ctx):
+        pieces = super().collect_usage_pieces(ctx)
+        return [p[1:-1] if p.startswith("{") and p.endswith("}") else p for p in pieces]
+
+
 class Format(str, Enum):
     table = "table"
     json = "json"
     toml = "toml"
+    csv = "csv"
 
 
-EXT = {"table": "txt", "json": "json", "toml": "toml"}
+EXT = {"table": "txt", "json": "json", "toml": "toml", "csv": "csv"}
 
 
 def _version(value: bool) -> None:
@@ -48,7 +58,7 @@ def main_callback(
 
 
 def _err(line: str) -> None:
-    from linkcli.terminal_text import one_line
+    from linkcli.io.terminal_text import one_line
     sys.stderr.write(one_line(line.rstrip("\n")) + "\n")
 
 
@@ -76,7 +86,8 @@ def _interruptible():
 
 
 def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path], precision: int,
-                   jobs: int, plot: Optional[Path], cluster: Optional[str] = None) -> int:
+                   jobs: int, plot: Optional[Path], table: Optional[str] = None,
+                   cluster: Optional[str] = None) -> int:
     """synth and analyze: run the pipeline over the files (`request`: mode, seed, debug,
     timing) with the executor the options ask for (serial, --jobs, --cluster), print or
     write the reports, draw them; the worst exit code. An error of the executor itself
@@ -89,6 +100,10 @@ def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path],
         execute = executor(jobs, names, debug, cluster)
     except LinkcliError as exc:
         return _fail(exc, debug)
+    if fmt is Format.csv and out is None and len(names) > 1:
+        _err(f"--format csv: expected --out DIR with several files (one CSV file per table), "
+             f"found {len(names)} files")
+        return 2
     if out is not None and not _prepare_out(out):
         return 2
     if plot is not None and _plot_problem(plot, names):
@@ -121,6 +136,8 @@ def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path],
                                     "message": "; ".join(errors)})
                 elif report is not None:
                     reports.append(report)
+                    if fmt is Format.csv and out is None:
+                        worst = max(worst, _print_csv(report, table, precision))
                     if fmt is Format.table and out is None:
                         from linkcli.io.report import print_reports
                         print_reports([report], precision)
@@ -138,7 +155,7 @@ def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path],
         if prog is not None:
             prog.stop()
     if out is not None:
-        worst = max(worst, _write_out([r for r in reports if "type" in r], out, fmt, precision))
+        worst = max(worst, _write_out([r for r in reports if "type" in r], out, fmt, precision, table))
     elif fmt is Format.json:  # a bad file has its slot object, alone or in a batch
         from linkcli.io.export import to_json
         sys.stdout.write(to_json(reports if len(names) > 1 else reports[0], precision))
@@ -165,7 +182,7 @@ def _fail(exc, debug: bool) -> int:
 
 
 def _plot_problem(plot: Path, names: list[str]) -> bool:
-    from linkcli.plot_precheck import plot_path_problem
+    from linkcli.plots.precheck import plot_path_problem
     line = plot_path_problem(plot, names)
     if line:
         _err(line)
@@ -185,10 +202,52 @@ def _prepare_out(out: Path) -> bool:
     return True
 
 
-def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int) -> int:
+def _csv_tables(report: dict, table: Optional[str]) -> tuple[dict, str | None]:
+    """The row tables --format csv writes for one report (all, or the one --table names),
+    or an error line."""
+    from linkcli.io.csv_tables import row_tables
+    tables = row_tables(report)
+    if table is None:
+        return tables, None
+    if table not in tables:
+        known = ", ".join(tables) or "none (ask for a section with rows, e.g. kinematics or positions)"
+        return {}, f"{report['file']}: --table: expected a row table of this report, one of: {known}; found {table}"
+    return {table: tables[table]}, None
+
+
+def _print_csv(report: dict, table: Optional[str], precision: int) -> int:
+    """One problem's one row table as CSV on stdout (the only one, or --table NAME)."""
+    from linkcli.io.csv_tables import to_csv
+    tables, problem = _csv_tables(report, table)
+    if problem is None and len(tables) != 1:
+        known = ", ".join(tables) or "none (ask for a section with rows, e.g. kinematics or positions)"
+        problem = (f"{report['file']}: --format csv: expected one row table, or --table NAME or --out DIR; "
+                   f"found {len(tables)}: {known}")
+    if problem:
+        _err(problem)
+        return 2
+    sys.stdout.write(to_csv(next(iter(tables.values())), precision))
+    return 0
+
+
+def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int, table: Optional[str] = None) -> int:
     from linkcli.io.export import result_stems, to_json, to_toml
     from linkcli.io.report import render_text
     for rep, stem in zip(reports, result_stems([rep["file"] for rep in reports])):
+        if fmt is Format.csv:  # one file per row table: <stem>.<table>.csv
+            from linkcli.io.csv_tables import to_csv
+            tables, problem = _csv_tables(rep, table)
+            if problem:
+                _err(problem)
+                return 2
+            for name, rows in tables.items():
+                target = out / f"{stem}.{name}.csv"
+                try:
+                    target.write_text(to_csv(rows, precision), encoding="utf-8")
+                except OSError as exc:
+                    _err(f"{target}: expected a writable result file, found {exc.strerror or exc}")
+                    return 2
+            continue
         target = out / f"{stem}.{EXT[fmt.value]}"
         if fmt is Format.json:
             text = to_json(rep, precision)
@@ -213,13 +272,21 @@ def _plot(results, files: int, plot: Path, debug: bool) -> int:
     return plotting.plot_command(results, files, plot, debug)
 
 
-FILES = typer.Argument(..., help="Problem files (TOML).", exists=False)
-FORMAT = typer.Option(Format.table, "--format", "-f", help="Output format.")
-OUT = typer.Option(None, "--out", help="Write one result file per problem into this folder.")
-SEED = typer.Option(None, "--seed", help="Override the files' [solver] seed.", min=0, max=2**32 - 1)
-PRECISION = typer.Option(6, "--precision", help="Significant digits in the output.", min=1, max=17)
-JOBS = typer.Option(1, "--jobs", "-j", help="Solve files in N processes (output keeps argument order).", min=1)
-PLOT = typer.Option(None, "--plot", help="Draw the result to FILE.png|FILE.svg (a folder with several files).")
+# metavars are written for people: FILE..., N, DIR (not click's {files}... or <int range>)
+FILES = typer.Argument(..., help="Problem files (TOML).", exists=False, metavar="FILE...")
+FORMAT = typer.Option(Format.table, "--format", "-f", metavar="table|json|toml|csv",
+                      help="Output format (csv: the row tables, see --table).")
+TABLE = typer.Option(None, "--table", metavar="NAME",
+                     help="With --format csv: the row table to write (e.g. kinematics, positions, forces.rows).")
+OUT = typer.Option(None, "--out", metavar="DIR", help="Write one result file per problem into this folder.")
+SEED = typer.Option(None, "--seed", metavar="N", help="Override the files' [solver] seed (0 .. 4294967295).",
+                    min=0, max=2**32 - 1)
+PRECISION = typer.Option(6, "--precision", metavar="N", help="Significant digits in the output (1 .. 17).",
+                         min=1, max=17)
+JOBS = typer.Option(1, "--jobs", "-j", metavar="N",
+                    help="Solve files in N processes (output keeps argument order).", min=1)
+PLOT = typer.Option(None, "--plot", metavar="FILE",
+                    help="Draw the result to FILE.png|FILE.svg (a folder with several files).")
 DEBUG = typer.Option(False, "--debug", help="Show Python tracebacks.")
 TIMING = typer.Option(False, "--timing", help="Add the solver's wall-clock seconds to the report.")
 CLUSTER = typer.Option(None, "--cluster", metavar="ADDRESS",
@@ -227,32 +294,32 @@ CLUSTER = typer.Option(None, "--cluster", metavar="ADDRESS",
                             "worker processes (pip install \"linkcli[cluster]\"; not with --jobs).")
 
 
-@app.command()
+@app.command(cls=PlainUsage)
 def synth(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
           seed: Optional[int] = SEED, precision: int = PRECISION, jobs: int = JOBS,
           plot: Optional[Path] = PLOT, debug: bool = DEBUG, timing: bool = TIMING,
-          cluster: Optional[str] = CLUSTER) -> None:
+          table: Optional[str] = TABLE, cluster: Optional[str] = CLUSTER) -> None:
     """Solve each problem file and print its report."""
     from linkcli.pipeline import Request
     request = Request(mode="synth", seed=seed, debug=debug, timing=timing, plot=plot is not None)
     with _interruptible():
-        code = _solve_command(files, request, format, out, precision, jobs, plot, cluster)
+        code = _solve_command(files, request, format, out, precision, jobs, plot, table, cluster)
     raise typer.Exit(code)
 
 
-@app.command()
+@app.command(cls=PlainUsage)
 def analyze(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
             precision: int = PRECISION, jobs: int = JOBS, plot: Optional[Path] = PLOT,
-            debug: bool = DEBUG) -> None:
+            debug: bool = DEBUG, table: Optional[str] = TABLE) -> None:
     """Analyse given linkages: `type = "linkage"` files or results of `synth --format toml`."""
     from linkcli.pipeline import Request
     request = Request(mode="analyze", debug=debug, plot=plot is not None)
     with _interruptible():
-        code = _solve_command(files, request, format, out, precision, jobs, plot)
+        code = _solve_command(files, request, format, out, precision, jobs, plot, table)
     raise typer.Exit(code)
 
 
-@app.command()
+@app.command(cls=PlainUsage)
 def check(files: List[Path] = FILES, debug: bool = DEBUG) -> None:
     """Validate problem files without solving (exit 2 on any error)."""
     from linkcli.pipeline import Request, serial
@@ -261,22 +328,53 @@ def check(files: List[Path] = FILES, debug: bool = DEBUG) -> None:
         for line in outcome.errors:
             _err(line)
         if outcome.exit_code == 0:
-            _err(f"{f}: ok")
+            sys.stdout.write(f"{f}: ok\n")  # the verdict is output; errors stay on stderr
         worst = max(worst, outcome.exit_code)
     raise typer.Exit(worst)
 
 
-@app.command()
-def bench(files: List[Path] = typer.Argument(None, help="Problem files (default: problems/bench/*.toml)."),
-          format: Format = FORMAT, seeds: int = typer.Option(3, "--seeds", help="Seeds per setting.", min=1),
-          precision: int = typer.Option(4, "--precision", min=1, max=17), debug: bool = DEBUG,
-          cluster: Optional[str] = CLUSTER) -> None:
+@app.command(cls=PlainUsage)
+def bench(files: List[Path] = typer.Argument(None, metavar="[FILE...]",
+                                             help="Problem files (default: the bench set shipped with linkcli, "
+                                                  "a copy of problems/bench/)."),
+          format: Format = FORMAT,
+          seeds: int = typer.Option(3, "--seeds", metavar="N", help="Seeds per setting.", min=1),
+          precision: int = typer.Option(4, "--precision", metavar="N",
+                                        help="Significant digits in the output (1 .. 17).", min=1, max=17),
+          debug: bool = DEBUG, cluster: Optional[str] = CLUSTER) -> None:
     """Time each solver setting against its error on a set of problems (SPEC section 5)."""
     from linkcli import bench as benchmod
     with _interruptible():
         code = benchmod.command([str(f) for f in files or []], format.value, seeds, precision,
                                 debug, cluster)
     raise typer.Exit(code)
+
+
+@app.command(cls=PlainUsage)
+def new(type_name: str = typer.Argument(..., metavar="TYPE", help="The problem type, e.g. linkage."),
+        file: Optional[Path] = typer.Argument(None, metavar="[FILE]",
+                                              help="Write the template here (never over an existing file); "
+                                                   "without FILE, print it.")) -> None:
+    """Write a commented template problem file of TYPE (to FILE, or to stdout)."""
+    from linkcli.templates import template_names, template_text
+    names = template_names()
+    if type_name not in names:
+        _err(f"{type_name}: expected a problem type, one of: {', '.join(names)}")
+        raise typer.Exit(2)
+    text = template_text(type_name)
+    if file is None:
+        sys.stdout.write(text)
+        raise typer.Exit(0)
+    try:
+        with open(file, "x", encoding="utf-8") as handle:  # "x": refuses an existing file
+            handle.write(text)
+    except FileExistsError:
+        _err(f"{file}: expected a new file name, found an existing file (not overwritten)")
+        raise typer.Exit(2)
+    except OSError as exc:
+        _err(f"{file}: expected a writable new file, found {exc.strerror or exc}")
+        raise typer.Exit(2)
+    raise typer.Exit(0)
 
 
 def main() -> None:

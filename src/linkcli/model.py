@@ -40,6 +40,57 @@ class Tolerance:
 
 
 @dataclass(frozen=True)
+class LinkMass:
+    """A link's mass (kg), its centre in the link's own frame (input: origin A0, x to A;
+    coupler: origin A, x to B; output: origin B0, x to B), inertia about it (kg m^2).
+    In a problem the centre is in the file's length unit; the loads analysis takes metres.
+    A slider (slider-crank) translates with B: only its mass counts."""
+
+    mass: float
+    center: tuple[float, float] = (0.0, 0.0)
+    inertia: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not (self.mass >= 0 and self.inertia >= 0):
+            raise ValueError(f"mass and inertia must be >= 0, got {self.mass}, {self.inertia}")
+
+
+@dataclass(frozen=True)
+class Masses:
+    """Mass properties per link; None is massless. Slider-crank: `output` is the slider."""
+
+    input: LinkMass | None = None
+    coupler: LinkMass | None = None
+    output: LinkMass | None = None
+
+
+@dataclass(frozen=True)
+class Loads:
+    """External loads, constant over the motion (SI, global frame).
+
+    coupler_force: (Fx, Fy) N at the coupler point; output_torque: N m on the output link
+    (four-bar, CCW +); output_force: N on the slider along +x (slider-crank);
+    gravity: (gx, gy) m/s^2 acting on the masses.
+    """
+
+    coupler_force: tuple[float, float] = (0.0, 0.0)
+    output_torque: float = 0.0
+    output_force: float = 0.0
+    gravity: tuple[float, float] = (0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class LoadCase:
+    """[loads] and [masses] of a problem (SPEC "Loads"): what the `forces` section needs.
+    Mass centres are in the file's length unit; `given` holds the keys as written (for the
+    report's echo, so that a result file round-trips through `analyze`)."""
+
+    loads: Loads = field(default_factory=Loads)
+    masses: Masses = field(default_factory=Masses)
+    given: dict = field(default_factory=dict, compare=False)
+
+
+@dataclass(frozen=True)
 class Meta:
     """What every problem file has: where it came from and how to solve and report it."""
 
@@ -51,6 +102,8 @@ class Meta:
     sections: tuple[str, ...] = ()
     reference: Reference | None = None
     tolerance: Tolerance | None = None
+    notes: tuple[str, ...] = ()  # notes on the file itself (angles that look like the other unit)
+    loads: LoadCase | None = None  # [loads] / [masses]: the forces section
 
 
 @dataclass(frozen=True)
@@ -65,6 +118,7 @@ class FourBar:
     coupler_point: tuple[float, float] | None = None
     ground_pivot: tuple[float, float] = (0.0, 0.0)
     ground_angle: float = 0.0
+    coupler_angle: float | None = None  # motion generation: the body's x axis from A -> B, rad
 
     @property
     def abcd(self) -> tuple[float, float, float, float]:
@@ -81,6 +135,8 @@ class PrecisionPositionProblem:
     input_angles: tuple[float, ...]
     output_angles: tuple[float, ...]
     lines: tuple[int | None, ...] = ()  # line of each position pair, for messages
+    input_speed: float = 1.0  # rad/s, [motion] of the kinematics section
+    steps: int = 360
 
 
 @dataclass(frozen=True)
@@ -99,6 +155,7 @@ class InverseTolerance(Tolerance):
     same on every link, whose failure probability stays at or below that level."""
 
     max_failure_probability: float = 0.01
+    lengths_given: bool = False  # `lengths` written in the file (0 included): the study uses it
 
 
 @dataclass(frozen=True)
@@ -122,6 +179,29 @@ class PathGenerationProblem:
     grashof: str = "any"  # a class of mechanisms.four_bar.GRASHOF_CLASSES (not change-point) or "any"
     transmission: tuple[float, float] | None = None  # window on mu, rad
     branch: str = "either"  # "open", "crossed" or "either"
+    lines: dict = field(default_factory=dict)  # key -> line of the file, for messages
+
+
+@dataclass(frozen=True)
+class MotionGenerationProblem:
+    """A body guided through poses (SPEC section 2, motion-generation). Poses (x, y, angle)
+    in the length unit and radians, global frame; pivots as given ((x, y) pairs: A0 and B0
+    global, or A and B in the body frame), bounds like PathGenerationProblem."""
+
+    meta: Meta
+    poses: tuple[tuple[float, float, float], ...]
+    timing: str  # "free" or "prescribed"
+    input_angles: tuple[float, ...] | None  # prescribed timing: one per pose, rad
+    angle_weight: float | None  # length; None: the poses' characteristic length
+    ground_pivots: tuple[tuple[float, float], tuple[float, float]] | None
+    moving_pivots: tuple[tuple[float, float], tuple[float, float]] | None
+    lengths: dict  # "ground", "input", "coupler", "output" -> (lo, hi)
+    ground_pivot: tuple[tuple[float, float], tuple[float, float]]
+    ground_angle: tuple[float, float]  # rad
+    input_offset: tuple[float, float] | None = None  # prescribed timing: rad
+    grashof: str = "any"
+    transmission: tuple[float, float] | None = None  # window on mu, rad
+    branch: str = "either"
     lines: dict = field(default_factory=dict)  # key -> line of the file, for messages
 
 
@@ -181,6 +261,19 @@ class FlipperCylinderProblem:
     max_force: float | None = None  # N
     pareto: int = 0  # rows of the force/size trade-off table (0: none)
     table_step: float | None = None  # rad between rows of the force table; None: a round step
+    # A clockwise sweep (end < start in the file) is held as its mirror image in the vertical
+    # line through the hinge (x -> -x, angles -> -angles; gravity stays vertical, forces and
+    # lengths are the same): start < end above, and `shown_angle`/`shown_x` give the file's
+    # values back for every output.
+    clockwise: bool = False
+
+    def shown_angle(self, angle: float) -> float:
+        """An internal angle (rad) as the file's sweep has it."""
+        return -angle if self.clockwise else angle
+
+    def shown_x(self, x: float) -> float:
+        """An internal x coordinate as in the file's frame."""
+        return -x if self.clockwise else x
 
     @property
     def bounds(self) -> tuple[tuple[float, float], ...]:

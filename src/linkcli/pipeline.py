@@ -155,7 +155,7 @@ def processes(jobs: int):
 def read_source(path: str) -> bytes | InputError:
     """The bytes of one problem file, or the InputError reading it raises (it travels in
     the item and is raised where the file is loaded, as a serial run raises it)."""
-    from linkcli.safe_read import read_problem_bytes
+    from linkcli.io.safe_read import read_problem_bytes
     try:
         return read_problem_bytes(path)
     except InputError as exc:

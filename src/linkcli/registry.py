@@ -18,6 +18,7 @@ PACKAGES = {  # the `type` key of a problem file -> its package under linkcli.ty
     "path-generation": "path_generation",
     "flipper-cylinder": "flipper_cylinder",
     "linkage": "linkage",
+    "motion-generation": "motion_generation",
 }
 NAMES = tuple(PACKAGES)
 

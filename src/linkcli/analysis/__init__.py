@@ -1,2 +1,2 @@
 """The report sections every linkage shares: class, transmission, motion, kinematics,
-error and tolerance (generic over mechanisms)."""
+error, tolerance and loads (generic over mechanisms)."""

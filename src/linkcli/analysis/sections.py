@@ -50,13 +50,17 @@ def _build(problem, solution: Solution) -> dict:
         "message": solution.message or MESSAGES[solution.status],
         "units": {"length": u.length, "angle": u.angle},
     }
-    notes = list(solution.notes)
+    notes = list(getattr(meta, "notes", ())) + list(solution.notes)
     fb = solution.linkage
     has_linkage = fb is not None
     if has_linkage and "lengths" in want:
         rep["linkage"] = linkage_section(fb, u)
     if has_linkage and "grashof" in want:
         rep["grashof"] = kin.grashof(*fb.abcd)
+    if has_linkage and want & {"grashof", "transmission", "motion", "kinematics"}:
+        flat = change_point_inputs(*fb.abcd)
+        if flat:
+            notes.append(change_point_note(flat, fb, u))
     mot = None
     if has_linkage and want & {"transmission", "motion", "kinematics"}:
         near = solution.working_span[0] if solution.working_span else None
@@ -68,10 +72,18 @@ def _build(problem, solution: Solution) -> dict:
     if mot is not None and mot.assembles and "motion" in want:
         rep["motion"] = motion_section(mot, u)
     if mot is not None and mot.assembles and "kinematics" in want:
-        speed = getattr(problem, "input_speed", None) or u.to_rad(1.0)
-        steps = getattr(problem, "steps", 360)
+        speed, steps = motion_study(problem, u)
         rep["kinematics"] = kinematics_rows(fb, mot, speed, steps, u)
         rep.setdefault("motion", {}).update(input_speed=_dang(u, speed), steps=steps)  # to reproduce it
+    if has_linkage and "forces" in want and meta.loads is not None:
+        from linkcli.analysis import forces
+        study = forces.study_of(fb, mot, solution.working_span[0] if solution.working_span else None)
+        if study is not None:
+            rep.update(forces.echo(meta.loads))  # the load case as given: a result file round-trips
+            speed, steps = motion_study(problem, u)
+            rep["forces"] = forces.section(fb, study, speed, steps, meta.loads, u, notes)
+        if "motion" in rep and study is not None:
+            rep["motion"].update(input_speed=_dang(u, speed), steps=steps)
     if solution.positions is not None and "positions" in want:
         rep["positions"] = position_rows(solution.positions, u, max(fb.abcd) if has_linkage else 1.0)
     if solution.positions is not None and "error" in want:
@@ -92,6 +104,30 @@ def _build(problem, solution: Solution) -> dict:
     return rep
 
 
+def change_point_inputs(a, b, c, d) -> list[float]:
+    """Input angles (rad, 0 and/or pi) where a change-point linkage (s + l = p + q, SPEC
+    section 1) lies flat: A on the ground line, so rho = |a - d| (phi = 0) or a + d (phi =
+    pi), and rho = |b - c| or b + c, all four links in line, within the change-point
+    tolerance. There the open and crossed branches meet and the linkage may switch
+    between them (Norton, Design of Machinery, sec. 2.13: the change-point hazard)."""
+    if kin.GRASHOF_CLASSES[int(kin.grashof_code(a, b, c, d))] != "change-point":
+        return []
+    tol = kin.CHANGE_POINT_RTOL * max(a, b, c, d)
+    return [phi for phi, rho in ((0.0, abs(a - d)), (math.pi, a + d))
+            if min(abs(rho - abs(b - c)), abs(rho - (b + c))) <= tol]
+
+
+def change_point_note(flat: list[float], fb, u) -> str:
+    """The warning for a change-point linkage, naming the inputs where it lies flat."""
+    where = " and ".join(num(_ang(u, phi)) for phi in flat)
+    a, b, c, d = fb.abcd
+    parallel = kin.same_lengths(a, c) and kin.same_lengths(b, d)
+    switch = ("from parallelogram to antiparallelogram" if parallel
+              else "between its open and crossed forms")
+    return (f"change-point linkage: all four links lie in line at input {where} {u.angle}, where it can "
+            f"switch {switch}; the {fb.branch} branch reported changes form there")
+
+
 def gap(value: float, best: float) -> float:
     """Relative gap to the best known value: (value - best) / |best| (absolute if best = 0),
     to whole multiples of the noise floor (its digits below are round-off)."""
@@ -106,6 +142,8 @@ def linkage_section(fb, u) -> dict:
         out["coupler_point"] = [snap(float(v), size) for v in fb.coupler_point]
         out["ground_pivot"] = [snap(float(v), size) for v in fb.ground_pivot]
         out["ground_angle"] = _ang(u, fb.ground_angle)
+        if fb.coupler_angle is not None:  # motion generation: the body's x axis from A -> B
+            out["coupler_angle"] = _ang(u, fb.coupler_angle)
     return out
 
 
@@ -143,20 +181,34 @@ def motion_section(mot, u) -> dict:
     return out
 
 
+def study_inputs(full_turn: bool, arc, steps: int):
+    """(phi, shown): the input angles (rad) of the motion study's rows and as printed. A full
+    turn: phi = k 2 pi / steps from 0, shown 0 .. 360 deg (SPEC); a rocking input over the arc
+    (lo, hi): the centres of `steps` equal cells (its ends are toggles), shown wrapped. The
+    kinematics and the forces sections share these rows."""
+    if full_turn:
+        phi = np.arange(steps) * (kin.TWO_PI / steps)
+        return phi, phi
+    lo, hi = arc
+    phi = lo + (np.arange(steps) + 0.5) * ((hi - lo) / steps)
+    return phi, kin.wrap(phi)
+
+
+def motion_study(problem, u) -> tuple[float, int]:
+    """(input speed in rad/s, steps) of the motion study: the problem's [motion], else 1 angle
+    unit per second and 360 steps (types without [motion])."""
+    return getattr(problem, "input_speed", None) or u.to_rad(1.0), getattr(problem, "steps", 360)
+
+
 def kinematics_rows(fb, mot, speed, steps, u) -> list[dict]:
     """Rows at phi = k 360/steps for a full turn; at the centres of `steps` equal cells of
     a rocking input's arc (its ends are toggles, where a constant input speed would
     need infinite output speed)."""
     a, b, c, d = fb.abcd
-    if mot.input_full_turn:
-        phi = np.arange(steps) * (kin.TWO_PI / steps)
-    else:
-        lo, hi = mot.input_arc
-        phi = lo + (np.arange(steps) + 0.5) * ((hi - lo) / steps)
+    phi, shown = study_inputs(mot.input_full_turn, mot.input_arc, steps)
     p = kin.pose(a, b, c, d, phi, fb.branch)
     w3, w4 = kin.velocities(a, b, c, p, speed)
     a3, a4 = kin.accelerations(a, b, c, p, speed)
-    shown = phi if mot.input_full_turn else kin.wrap(phi)  # full turn: 0 .. 360 (SPEC)
     rate, rate2 = abs(speed), speed * speed  # natural scales of the velocity and acceleration columns
     cols = [("input", u.from_rad(shown)), ("coupler", u.from_rad(snap(kin.wrap(p.theta), 1.0))),
             ("output", u.from_rad(snap(kin.wrap(p.psi), 1.0))), ("transmission", u.from_rad(p.mu)),
@@ -164,12 +216,42 @@ def kinematics_rows(fb, mot, speed, steps, u) -> list[dict]:
             ("output_velocity", u.from_rad(snap_series(w4, rate))),
             ("coupler_acceleration", u.from_rad(snap_series(a3, rate2))),
             ("output_acceleration", u.from_rad(snap_series(a4, rate2)))]
+    if fb.coupler_point is not None:
+        cols += coupler_point_columns(fb, p, speed, w3, a3)
     rows = []
     for k in range(len(phi)):
         ok = bool(p.valid[k])  # where it cannot assemble (or A meets B0) only the input is known
         rows.append({name: (float(v[k]) if math.isfinite(v[k]) and (ok or name == "input") else None)
                      for name, v in cols})
     return rows
+
+
+def coupler_point_columns(fb, p, speed, w3, a3) -> list[tuple[str, np.ndarray]]:
+    """The coupler point P over the motion, global frame (length unit, per s, per s^2).
+
+    With r = R(theta) (px, py) the point's offset from A in the local frame:
+        P = A0 + R(ground_angle) (a e^{i phi} + r),
+        dP/dt = R(ground_angle) (a w2 i e^{i phi} + w3 i r),
+        d2P/dt2 = R(ground_angle) (-a w2^2 e^{i phi} + alpha3 i r - w3^2 r)
+    (constant input speed w2; rigid-body kinematics, Norton ch. 6-7)."""
+    a = fb.input
+    px, py = fb.coupler_point
+    ct, st = np.cos(p.theta), np.sin(p.theta)
+    rx, ry = px * ct - py * st, px * st + py * ct
+    cp, sp = np.cos(p.phi), np.sin(p.phi)
+    x, y = a * cp + rx, a * sp + ry
+    vx, vy = -a * speed * sp - w3 * ry, a * speed * cp + w3 * rx
+    ax = -a * speed * speed * cp - a3 * ry - w3 * w3 * rx
+    ay = -a * speed * speed * sp + a3 * rx - w3 * w3 * ry
+    cg, sg = math.cos(fb.ground_angle), math.sin(fb.ground_angle)
+    gx, gy = fb.ground_pivot
+    size = max(*fb.abcd, math.hypot(px, py))  # the linkage's scale: round-off below it is 0
+    with np.errstate(invalid="ignore"):  # inf (a dead centre) times 0 stays undefined
+        cols = [("coupler_point_x", gx + cg * x - sg * y), ("coupler_point_y", gy + sg * x + cg * y),
+                ("coupler_point_vx", cg * vx - sg * vy), ("coupler_point_vy", sg * vx + cg * vy),
+                ("coupler_point_ax", cg * ax - sg * ay), ("coupler_point_ay", sg * ax + cg * ay)]
+    scales = (size + math.hypot(gx, gy),) * 2 + (size * abs(speed),) * 2 + (size * speed * speed,) * 2
+    return [(name, snap_series(v, scale)) for (name, v), scale in zip(cols, scales)]
 
 
 def error_scale(pos, length_scale: float) -> float:

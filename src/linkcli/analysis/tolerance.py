@@ -54,7 +54,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from linkcli.mechanisms import four_bar as kin
-from linkcli.errors import SolveInputError
+from linkcli.analysis.tolerance_input import check_lengths
 from linkcli.model import LINKS, FourBar, InverseTolerance, Tolerance
 from linkcli.noise import snap
 
@@ -300,21 +300,9 @@ def wilson(k: int, n: int, z: float = Z95) -> tuple[float, float]:
 
 
 def check_input(problem, fb: FourBar) -> None:
-    """A length tolerance must be smaller than its link, the clearance than every link:
-    anything larger is a typing error, not a workshop (InputError, exit 2)."""
-    tol = problem.meta.tolerance
-    lines = tol.lines
-    same = len({tol.lengths.get(k, 0.0) for k in LINKS}) == 1
-    for link in LINKS:
-        t, length = tol.lengths.get(link, 0.0), getattr(fb, link)
-        if t >= length:
-            key = "lengths" + ("" if same else f".{link}")
-            raise SolveInputError(f"a tolerance smaller than the {link} length ({length:.6g})", f"{t:g}",
-                             path=problem.meta.path, line=lines.get(key), key=f"tolerance.{key}")
-    if tol.clearance >= min(fb.abcd):
-        raise SolveInputError(f"a clearance smaller than the shortest link ({min(fb.abcd):.6g})",
-                         f"{tol.clearance:g}", path=problem.meta.path, line=lines.get("clearance"),
-                         key="tolerance.clearance")
+    """A length tolerance must be smaller than its link, the clearance than every link
+    (tolerance_input.check_lengths, which `check` runs on the lengths a file fixes)."""
+    check_lengths(problem.meta, {k: getattr(fb, k) for k in LINKS}, complete=True)
 
 
 def analyse(problem, solution) -> dict:
@@ -344,19 +332,21 @@ def _analyse(problem, solution) -> dict:
     if level is not None:
         given = max((lengths.get(k, 0.0) for k in LINKS), default=0.0)
         t, p_t = largest_tolerance(fb, tg, tol, seed, level, given)
-        if given == 0.0:  # no tolerance given: report the study at the one found
+        if not tol.lengths_given:  # no tolerance written: report the study at the one found
+            # (a written 0, exact parts, is a study of its own and is reported as 0)
             lengths = {k: t for k in LINKS}
             out["lengths"] = {k: float(t) for k in LINKS}
     err, ok = monte_carlo(fb, tg, scale_vector(lengths), tol.clearance, tol.samples, seed,
                           tol.distribution)
     nominal, _ = sample_errors(fb, tg, np.zeros((1, len(COLUMNS))), None)
-    good = err[ok]
+    scale = 1.0 if tg.kind == "angle" else max(fb.abcd)
+    good = snap(err[ok], scale)  # round-off of an exact design (exact parts) is 0
     n = tol.samples
     k = failures(err, ok, tol.allowed_error)
     p = k / n
     lo, hi = wilson(k, n)
     out.update({
-        "nominal_error": opt(snap(float(nominal[0]), 1.0 if tg.kind == "angle" else max(fb.abcd))),
+        "nominal_error": opt(snap(float(nominal[0]), scale)),
         "error_mean": opt(float(good.mean())) if good.size else None,
         "error_p95": opt(float(np.percentile(good, 95))) if good.size else None,
         "error_max": opt(float(good.max())) if good.size else None,

@@ -9,12 +9,14 @@ No numerics here.
 from __future__ import annotations
 
 import difflib
+from dataclasses import replace
 
 from linkcli.errors import InputErrors
+from linkcli.io.angle_units import angle_unit_note
 from linkcli.io.meta import read_meta
 from linkcli.io.reader import MISSING, Reader
 from linkcli.registry import NAMES, problem_type
-from linkcli.misplaced_keys import refuse_misplaced_type, refuse_result_file
+from linkcli.io.misplaced_keys import refuse_misplaced_type, refuse_result_file
 
 
 def load(path: str, text: str | bytes | None = None):
@@ -35,6 +37,12 @@ def load(path: str, text: str | bytes | None = None):
     reader.finish()
     if problem is None:  # a parser returns None only after recording errors
         raise AssertionError(f"{kind} parser returned no problem and no error")
+    if meta.tolerance is not None:  # what synth would refuse once solved, if the file fixes it
+        from linkcli.analysis.tolerance_input import check_lengths, known_lengths
+        check_lengths(meta, *known_lengths(problem))
+    note = angle_unit_note(reader.data, meta.units.angle)
+    if note:
+        problem = replace(problem, meta=replace(problem.meta, notes=problem.meta.notes + (note,)))
     return problem
 
 

@@ -11,7 +11,7 @@ from linkcli.registry import ProblemType
 from linkcli.units import ANGLE_UNITS, LENGTH_TO_MM, Units
 
 ALL_SECTIONS = ("lengths", "grashof", "transmission", "motion", "kinematics", "positions",
-                "error", "cylinder", "solver", "tolerance")
+                "error", "cylinder", "solver", "tolerance", "forces")
 MAX_BUDGET = 10**9
 MAX_SAMPLES = 1_000_000  # a tolerance study: more gains nothing but minutes
 MIN_FAILURES = 10  # inverse mode: expected failures at the level, for a stable bisection
@@ -71,6 +71,9 @@ def read_meta(root: Table, kind: str, spec: ProblemType) -> Meta:
     reference = read_reference(root)
     tolerance = read_tolerance(root, units) if spec.tolerance else None
     sections = read_sections(root, spec.default_sections, spec.sections)
+    loads = read_load_case(root, kind, spec, sections)
+    if loads is not None and "forces" not in sections:
+        sections = sections + ("forces",)  # on when [loads] or [masses] is given (as tolerance)
     report = root.data.get("report")
     asked = report.get("sections") if isinstance(report, dict) else None
     if (isinstance(asked, list) and "tolerance" in asked and "tolerance" in sections
@@ -81,7 +84,23 @@ def read_meta(root: Table, kind: str, spec: ProblemType) -> Meta:
     if tolerance is not None and "tolerance" not in sections:
         sections = sections + ("tolerance",)
     return Meta(path=root.reader.path, type=kind, title=title, units=units, solver=solver,
-                sections=sections, reference=reference, tolerance=tolerance)
+                sections=sections, reference=reference, tolerance=tolerance, loads=loads)
+
+
+def read_load_case(root: Table, kind: str, spec: ProblemType, sections: tuple[str, ...]):
+    """[loads] / [masses] (linkcli.io.loads) on a type that can report `forces`; refused,
+    located, on one that cannot (no linkage); the `forces` section asked for by name
+    without them is an error too (an empty section would pass for a result)."""
+    from linkcli.io.loads import read_loads, refuse_loads
+    from linkcli.registry import NAMES, problem_type
+    if "forces" not in spec.sections:
+        refuse_loads(root, kind, tuple(n for n in NAMES if "forces" in problem_type(n).sections))
+        return None
+    loads = read_loads(root, kind)
+    if "forces" in sections and "loads" not in root and "masses" not in root:
+        root.reader.error(("report", "sections"), 'a [loads] or [masses] table for the "forces" '
+                          "section (the loads to analyse)", raw_got="neither")
+    return loads
 
 
 def read_units(root: Table) -> Units:
@@ -182,5 +201,5 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     base = dict(lengths=lengths, distribution=distribution or "uniform", clearance=clearance or 0.0,
                 samples=samples or 20000, allowed_error=allowed, lines=lines)
     if level is not None:
-        return InverseTolerance(max_failure_probability=level, **base)
+        return InverseTolerance(max_failure_probability=level, lengths_given=raw is not None, **base)
     return Tolerance(**base)

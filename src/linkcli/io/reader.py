@@ -16,11 +16,12 @@ import re
 import tomllib
 
 from linkcli.errors import InputError, InputErrors, SchemaError, TomlSyntaxError
-from linkcli.safe_read import read_problem_bytes
-from linkcli.terminal_text import shown as _one_line  # escaped, one line, at most 200 characters
-from linkcli.misplaced_keys import top_level_hint
-from linkcli.header_lines import with_parent_lines
-from linkcli.huge_numbers import refuse_huge_integers, too_many_digits
+from linkcli.io.safe_read import read_problem_bytes
+from linkcli.io.terminal_text import shown as _one_line  # escaped, one line, at most 200 characters
+from linkcli.io.misplaced_keys import top_level_hint
+from linkcli.io.link_names import link_name_hint
+from linkcli.io.header_lines import with_parent_lines
+from linkcli.io.huge_numbers import refuse_huge_integers, too_many_digits
 
 MISSING = object()
 MAX_ARRAY = 10_000  # longest array accepted anywhere in a problem file
@@ -268,6 +269,7 @@ class Reader:
                     hint = difflib.get_close_matches(key, sorted(allowed), n=1, cutoff=0.6)
                     expected = "a known key" + (f' (did you mean "{hint[0]}"?)' if hint
                                                 else f" (one of: {', '.join(sorted(allowed))})" if allowed else "")
+                    expected = link_name_hint(key, allowed) or expected
                     expected = top_level_hint(path, key, self._tables.get((), {}).keys() | self._seen.get((), set())) or expected
                     self.error(path + (key,), expected, raw_got=f'unknown key "{key}"')
         if self.errors:

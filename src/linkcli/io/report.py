@@ -17,12 +17,12 @@ from rich.table import Table
 from rich.text import Text
 
 from linkcli.io.export import rounded
-from linkcli.terminal_text import terminal_safe
+from linkcli.io.terminal_text import terminal_safe
 
 MAX_TABLE_WIDTH = 400  # columns a table may take when printed to a file or a pipe
 STATUS_STYLE = {"ok": "bold green", "infeasible": "bold yellow", "not-converged": "bold red"}
 KNOWN = ("file", "title", "type", "status", "message", "units", "linkage", "grashof",
-         "transmission", "motion", "kinematics", "positions", "error", "solver", "notes")
+         "transmission", "motion", "kinematics", "positions", "error", "solver", "notes", "forces", "loads", "masses")
 
 
 def console(file=None, width: int | None = None) -> Console:
@@ -131,6 +131,8 @@ def render(report: dict, digits: int = 6) -> Group:
             rows += [(f"coupler point ({lu})", lk["coupler_point"]),
                      (f"ground pivot ({lu})", lk["ground_pivot"]),
                      (f"ground angle ({au})", lk["ground_angle"])]
+            if "coupler_angle" in lk:
+                rows.append((f"coupler angle ({au})", lk["coupler_angle"]))
         parts.append(_kv("Link lengths", rows, digits))
     if "grashof" in r:
         g = r["grashof"]
@@ -163,8 +165,21 @@ def render(report: dict, digits: int = 6) -> Group:
         heads = {"input": f"input ({au})", "coupler": f"coupler ({au})", "output": f"output ({au})",
                  "transmission": f"mu ({au})", "coupler_velocity": f"w coupler ({au}/s)",
                  "output_velocity": f"w output ({au}/s)", "coupler_acceleration": f"a coupler ({au}/s2)",
-                 "output_acceleration": f"a output ({au}/s2)"}
+                 "output_acceleration": f"a output ({au}/s2)",
+                 "coupler_point_x": f"P x ({lu})", "coupler_point_y": f"P y ({lu})",
+                 "coupler_point_vx": f"P vx ({lu}/s)", "coupler_point_vy": f"P vy ({lu}/s)",
+                 "coupler_point_ax": f"P ax ({lu}/s2)", "coupler_point_ay": f"P ay ({lu}/s2)"}
         parts.append(_rows("Kinematics", r["kinematics"], digits, heads))
+    if "loads" in r:
+        units = {"coupler_force": "N", "output_torque": "N m", "output_force": "N", "gravity": "m/s2"}
+        parts.append(_kv("Loads", [(f"{k.replace('_', ' ')} ({units[k]})", v) for k, v in r["loads"].items()],
+                         digits))
+    if "masses" in r:
+        units = {"mass": "kg", "center": lu, "inertia": "kg m2"}
+        parts.append(_kv("Masses", [(f"{link} {k} ({units[k]})", v) for link, props in r["masses"].items()
+                                    for k, v in props.items()], digits))
+    if "forces" in r:
+        parts.extend(_forces(r["forces"], digits, au))
     for name, section in r.items():
         if name not in KNOWN:
             units = _tolerance_units(section, lu, au) if name == "tolerance" else None
@@ -175,6 +190,31 @@ def render(report: dict, digits: int = 6) -> Group:
     for note in r.get("notes", []):
         parts.append(Text(f"warning: {note}", style="yellow"))
     return Group(*parts)
+
+
+def _forces(forces: dict, digits: int, au: str) -> list:
+    """The forces section: the input torque, the load cycle per pin (magnitudes; the x/y
+    components are in JSON/TOML) and the rows with one column of magnitudes per pin."""
+    torque = forces["input_torque"]
+    rows = [("peak (N m)", torque["peak"]), (f"at input ({au})", torque["at_input"]),
+            ("rms (N m)", torque["rms"])]
+    if "dead_points" in forces:
+        rows.append(("dead points (rows left out)", forces["dead_points"]))
+    parts: list = [_kv("Input torque", rows, digits)]
+    cycle = [{"pin": name, **{k: v for k, v in pin.items() if k not in ("x", "y")}}
+             for name, pin in forces["pins"].items()]
+    parts.append(_rows("Pin forces over the cycle (N, magnitude)", cycle, digits))
+    heads = {"input": f"input ({au})", "input_torque": "torque (N m)", "mechanical_advantage": "MA"}
+    table = []
+    for row in forces["rows"]:
+        line = {"input": row["input"], "input_torque": row["input_torque"]}
+        for name, pin in row["pins"].items():
+            line[name] = pin["magnitude"]
+            heads[name] = f"|{name}| (N)"
+        line["mechanical_advantage"] = row["mechanical_advantage"]
+        table.append(line)
+    parts.append(_rows("Forces", table, digits, heads))
+    return parts
 
 
 def _compact(table: Table) -> None:

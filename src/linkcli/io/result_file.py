@@ -1,6 +1,6 @@
 """Result files written by `linkcli synth --format toml`, read back as a linkage to analyse.
 
-Only `title`, `[units]` and `[linkage]` are read; the rest of a result file is linkcli's
+Only `title`, `[units]`, `[linkage]`, `[motion]`'s study and `[loads]`/`[masses]` are read; the rest of a result file is linkcli's
 own output (status, tables) and is ignored, so a result always round-trips. A batch
 written by `synth A B --format toml` (`[[result]]` tables) is refused with a clear line:
 `analyze` makes one report per file, so each result must be in a file of its own.
@@ -8,12 +8,15 @@ written by `synth A B --format toml` (`[[result]]` tables) is refused with a cle
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from linkcli.model import LinkageProblem, Meta
-from linkcli.io.meta import read_units
+from linkcli.io.loads import read_loads
+from linkcli.io.meta import MAX_LENGTH, read_units
 from linkcli.types.linkage import TYPE as LINKAGE
 from linkcli.types.linkage.schema import read_fourbar
 from linkcli.io.reader import Reader
-from linkcli.result_motion import motion_study
+from linkcli.io.result_motion import motion_study
 
 
 def is_result(data: dict) -> bool:
@@ -56,9 +59,14 @@ def parse(reader: Reader) -> LinkageProblem | None:
     link = root.table("linkage", required=True)
     fourbar = read_fourbar(link, units) if link else None
     if link is not None:
-        link.allow("ground_pivot", "ground_angle", "coupler_point")
+        link.allow("ground_pivot", "ground_angle", "coupler_point", "coupler_angle")
+        angle = link.number("coupler_angle", None, lo=-MAX_LENGTH, hi=MAX_LENGTH)
+        if fourbar is not None and angle is not None and fourbar.coupler_point is not None:
+            fourbar = replace(fourbar, coupler_angle=units.to_rad(angle))  # a motion-generation result
+    loads = read_loads(root, "linkage")  # [loads] / [masses]: echoed by synth, or added by hand
     if reader.errors or fourbar is None:
         return None
+    sections = LINKAGE.default_sections + (("forces",) if loads is not None else ())
     meta = Meta(path=reader.path, type="linkage", title=title if isinstance(title, str) else None,
-                units=units, sections=LINKAGE.default_sections)
+                units=units, sections=sections, loads=loads)
     return motion_study(root, LinkageProblem(meta=meta, linkage=fourbar, input_speed=units.to_rad(1.0), steps=360))

@@ -167,6 +167,11 @@ def grashof_code(a, b, c, d):
     return np.where(change, 4, np.where(s_plus_l > p_plus_q, 5, by_shortest))
 
 
+def same_lengths(x: float, y: float) -> bool:
+    """Two lengths equal within the change-point tolerance (relative CHANGE_POINT_RTOL)."""
+    return abs(x - y) <= CHANGE_POINT_RTOL * max(abs(x), abs(y))
+
+
 def grashof(a, b, c, d) -> dict:
     """Grashof class of one linkage with the figures that decide it."""
     names = {"input": a, "coupler": b, "output": c, "ground": d}

@@ -44,14 +44,16 @@ def _sweep(problem, table, u: Units) -> tuple[float, float]:
     """(start, end) platform angles in rad: the problem's [motion], else the table's ends."""
     for lo, hi in ((getattr(problem, "start", None), getattr(problem, "end", None)),):
         if lo is not None and hi is not None:
-            return float(lo), float(hi)
+            sign = -1.0 if getattr(problem, "clockwise", False) else 1.0  # solved mirrored in x
+            return sign * float(lo), sign * float(hi)
     ang = table["angle"]
     return (float(u.rad(ang[0])), float(u.rad(ang[-1]))) if len(ang) else (0.0, 0.0)
 
 
 def centre_of_mass(problem):
     g = getattr(problem, "center_of_mass", None)
-    return None if g is None else np.array([float(g[0]), float(g[1])])
+    sign = -1.0 if getattr(problem, "clockwise", False) else 1.0  # solved mirrored in x
+    return None if g is None else np.array([sign * float(g[0]), float(g[1])])
 
 
 def draw_platform(ax, cyl: dict, problem, start: float, end: float, lu: str) -> None:

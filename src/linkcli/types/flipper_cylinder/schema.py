@@ -77,7 +77,8 @@ def _load(root: Table):
 
 
 def _motion(root: Table, units):
-    """start < end, end - start < 180 deg, and the optional table step (radians out)."""
+    """start != end (end < start: the platform turns clockwise), |end - start| < 180 deg,
+    and the optional table step (radians out)."""
     t = root.table("motion", required=True)
     if t is None:
         return None
@@ -86,19 +87,19 @@ def _motion(root: Table, units):
     step = t.number("table_step", None, positive=True, what="a positive angle step")
     if start is None or end is None:
         return None
-    if end <= start:
-        t.error("end", f"an end angle greater than start ({start:g} {units.angle}: the platform "
-                "turns counter-clockwise from start to end)", t.raw("end"))
+    if end == start:
+        t.error("end", f"an end angle other than start ({start:g} {units.angle}: the platform turns "
+                "counter-clockwise from start to a greater end, clockwise to a smaller one)", t.raw("end"))
         return None
-    sweep = units.to_rad(end) - units.to_rad(start)
+    sweep = abs(units.to_rad(end) - units.to_rad(start))
     if sweep >= MAX_SWEEP * (1.0 - 1e-12):
         half = units.from_rad(math.pi)
         t.error("end", f"a sweep end - start below {half:g} {units.angle} (over a half turn the "
                 "cylinder line must pass through the hinge)",
                 raw_got=f"end - start = {end - start:g} {units.angle}")
         return None
-    if step is not None and (end - start) / step > MAX_ROWS:
-        t.error("table_step", f"a step of at least {(end - start) / MAX_ROWS:g} {units.angle} "
+    if step is not None and abs(end - start) / step > MAX_ROWS:
+        t.error("table_step", f"a step of at least {abs(end - start) / MAX_ROWS:g} {units.angle} "
                 f"(at most {MAX_ROWS} rows over the sweep)", t.raw("table_step"))
         return None
     return units.to_rad(start), units.to_rad(end), (None if step is None else units.to_rad(step))
@@ -171,7 +172,17 @@ def parse(root: Table, meta: Meta) -> FlipperCylinderProblem | None:
         return None
     mass, com, gravity = load
     start, end, step = motion
+    clockwise = end < start
+    if clockwise:  # solved as its mirror image in x (see FlipperCylinderProblem)
+        start, end, com = -start, -end, (-com[0], com[1])
+        rod_pivot, base_pivot = (_mirror_x(b) for b in (rod_pivot, base_pivot))
     return FlipperCylinderProblem(
         meta=meta, mass=mass, center_of_mass=com, gravity=gravity, start=start, end=end,
         rod_pivot=rod_pivot, base_pivot=base_pivot, minimize=minimize, pareto=pareto,
-        table_step=step, **cylinder)
+        table_step=step, clockwise=clockwise, **cylinder)
+
+
+def _mirror_x(bounds):
+    """((x lo, hi), (y lo, hi)) mirrored in the vertical line through the hinge: x -> -x."""
+    (x_lo, x_hi), y = bounds
+    return (-x_hi, -x_lo), y

@@ -71,6 +71,8 @@ FEASIBLE = 1e-9  # relative violation a search still counts as feasible
 TOLERANCE = 1e-6  # relative: a reported design meets max_force and dead_length within this
 MARGIN = 1e-7  # relative: SLSQP aims this far inside max_force and dead_length
 BIG = 1e30  # penalty base: worse than any feasible design
+SETTLE_EVALUATIONS = 400  # the final KKT polish's reserve in the budget, at most,
+SETTLE_SHARE = 10  # and at most this fraction (1/10) of the optimizing share
 MIN_LENGTH = 1e-6  # relative to the largest pivot bound: the shortest cylinder (the pivots never meet)
 
 
@@ -320,8 +322,9 @@ class Epigraph:
     scaled to order one. Every new v evaluates one design (spends one).
     """
 
-    def __init__(self, judge: Judge, goal: Goal, tau: np.ndarray, start) -> None:
+    def __init__(self, judge: Judge, goal: Goal, tau: np.ndarray, start, margin: float = MARGIN) -> None:
         self.judge, self.goal, self.tau = judge, goal, tau
+        self.margin = margin  # relative: how far inside max_force and dead_length to aim
         st, space = judge.st, judge.space
         self.w = st.moment(tau)
         self.end_index = 1  # tau[0] = 0 and tau[1] = sweep: local_angles puts the ends first
@@ -336,7 +339,7 @@ class Epigraph:
         if goal.kind == "peak":
             self.fs = peak0 if math.isfinite(peak0) and peak0 > 0 else max(st.weight * space.scale, 1e-300)
         else:
-            self.fs = goal.force_cap * (1.0 - MARGIN) if goal.force_cap else None
+            self.fs = goal.force_cap * (1.0 - margin) if goal.force_cap else None
         self.ns = (self.fs or 1.0) * space.scale ** 2
         self.best = Best()
         self._cache: tuple[bytes, tuple] | None = None
@@ -376,7 +379,7 @@ class Epigraph:
         ls, le, dls, dle = length[i_s], length[i_e], dl[i_s], dl[i_e]
         lc, lo_, dlc, dlo = (le, ls, dle, dls) if self.closed_at_end else (ls, le, dls, dle)
         rows = []  # (value, gradient over the free coordinates), lengths / scale
-        dead = None if judge.dead is None else judge.dead + MARGIN * space.scale
+        dead = None if judge.dead is None else judge.dead + self.margin * space.scale
         floor = space.floor * (1.0 + MARGIN / MIN_LENGTH)  # the pivots stay apart, 10 % inside
         if self.uses_length:
             rows.append((lo_ - lc, dlo - dlc))  # this end stays the closed one
@@ -507,6 +510,58 @@ def _refined_score(judge: Judge, goal: Goal, design, peak: float) -> tuple[float
     closed, opened = (float(x[0]) for x in st.lengths(p, sing=sing)[:2])
     obj, viol = judge.score(goal, crosses, peak, closed, opened)
     return float(obj), float(viol)
+
+
+# --------------------------------------------------------------------------- final polish
+def settle(judge: Judge, goal: Goal, outcome: Outcome) -> Outcome:
+    """The final polish (linkcli.search.kkt) of the best design: Newton on the KKT system
+    of the epigraph form (`Epigraph`, at the local search's angles and the design's own
+    peak angles) with the constraints that bind held as equalities, to machine precision:
+    forces that balance at the optimum (a push at one end against a pull at the other)
+    come out equal to round-off, so that the tie rule, not the path, names the peak. The
+    polished design replaces the found one when it meets every limit and is as good within a relative
+    1e-9 (its refined score). It spends within the budget's current cap (`_search` keeps a
+    reserve for it, SETTLE_EVALUATIONS at most)."""
+    best = outcome.best
+    if best.design is None or best.violation > FEASIBLE or judge.space.size == 0:
+        return outcome
+    from linkcli.search import kkt
+    st = judge.st
+    pk = st.peaks(best.design[None, :])
+    tau = np.concatenate([local_angles(st), [float(pk["push_at"][0]), float(pk["pull_at"][0])]])
+    tau = np.unique(np.clip(tau, 0.0, st.sweep))
+    tau = np.concatenate([[0.0, st.sweep], tau[(tau > 0.0) & (tau < st.sweep)]])  # the ends first
+    ep = Epigraph(judge, goal, tau, best.design, margin=0.0)  # on the limits themselves
+    n = judge.space.size
+    # the unit box of the polish: the free coordinates, and (peak goal) z / (2 F_s)
+    half = 0.5 if goal.kind == "peak" else 1.0
+
+    def values(w):
+        v = np.append(w[:n], w[n:] / half)
+        f, df, c, a = ep._compute(v)
+        a = a.copy()
+        df = np.array(df, dtype=float)
+        if goal.kind == "peak":
+            df[n:] /= half
+            a[:, n:] /= half
+        return kkt.Point(f, df, c, a)
+
+    try:
+        out = kkt.settle(values, np.append(ep.x0(best.design)[:n], ep.x0(best.design)[n:] * half),
+                         active_tol=100.0 * MARGIN)  # the local search aims MARGIN inside
+    except BudgetSpent:
+        return outcome
+    if not out.converged:
+        return outcome
+    design = judge.space.full(np.clip(out.u[:n], 0.0, 1.0))[0]
+    try:
+        polished = _rescore(judge, goal, design)
+    except BudgetSpent:
+        return outcome
+    (v0, f0), (v1, f1) = _key(best), _key(polished)
+    if v1 <= v0 and f1 <= f0 + 1e-9 * abs(f0):
+        return Outcome(polished, True, outcome.archive, outcome.completed)
+    return outcome
 
 
 # ------------------------------------------------------------------------------ strategy

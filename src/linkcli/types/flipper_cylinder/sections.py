@@ -10,6 +10,7 @@ import math
 import numpy as np
 
 from linkcli.io.tables import KeyValues, Rows
+from linkcli.noise import snap
 from linkcli.types.flipper_cylinder.statics import Statics
 
 
@@ -77,7 +78,8 @@ def force_rows(problem, st: Statics, design, angles) -> list[dict]:
     tau = np.array([u.to_rad(float(x)) for x in angles]) - problem.start
     tau[0], tau[-1] = max(tau[0], 0.0), min(tau[-1], st.sweep)
     force, arm, length = (x[0] for x in st.forces(np.asarray(design, dtype=float)[None, :], tau))
-    return [{"angle": float(angles[i]), "force": float(force[i]) if math.isfinite(force[i]) else None,
+    shown = -angles if problem.clockwise else angles  # sweep order: start first, as written
+    return [{"angle": float(shown[i]) + 0.0, "force": float(force[i]) if math.isfinite(force[i]) else None,
              "arm": float(arm[i]), "length": float(length[i])} for i in range(len(tau))]
 
 
@@ -89,16 +91,21 @@ def full_angles(problem, st: Statics) -> np.ndarray:
     return out
 
 
+def shown_point(problem, x, y) -> list[float]:
+    """A pivot [x, y] in the file's frame (a clockwise sweep is solved mirrored in x)."""
+    return [float(problem.shown_x(float(x))) + 0.0, float(y)]
+
+
 def cylinder_section(problem, st: Statics, f: dict) -> dict:
     """The `cylinder` report section, output-ready (SPEC section 4)."""
     u = problem.meta.units
     p = f["design"]
 
     def ang(tau):
-        return float(u.from_rad(problem.start + tau))
+        return float(u.from_rad(problem.shown_angle(problem.start + tau))) + 0.0
 
     kind = "unbounded" if f["crosses"] else ("push" if f["is_push"] else "pull")
-    sec = {"rod_pivot": [float(p[0]), float(p[1])], "base_pivot": [float(p[2]), float(p[3])],
+    sec = {"rod_pivot": shown_point(problem, p[0], p[1]), "base_pivot": shown_point(problem, p[2], p[3]),
            "peak_force": f["peak"], "peak_angle": ang(f["peak_at"]), "peak_kind": kind,
            "push_force": f["push"], "push_angle": ang(f["push_at"]) if f["push"] > 0 else None,
            "pull_force": f["pull"], "pull_angle": ang(f["pull_at"]) if f["pull"] > 0 else None,
@@ -116,10 +123,11 @@ def cylinder_section(problem, st: Statics, f: dict) -> dict:
             sec["pull_pressure"] = f["pull"] / annulus
     if problem.dead_length is not None:
         sec["dead_length"] = problem.dead_length
-        sec["dead_length_margin"] = f["min_length"] - f["stroke"] - problem.dead_length
+        # a margin of round-off (a design on its limit) is 0 (linkcli.noise)
+        sec["dead_length_margin"] = snap(f["min_length"] - f["stroke"] - problem.dead_length, f["max_length"])
     if problem.max_force is not None:
         sec["max_force"] = problem.max_force
-        sec["force_margin"] = problem.max_force - f["peak"]
+        sec["force_margin"] = snap(problem.max_force - f["peak"], problem.max_force)
     sec["forces"] = force_rows(problem, st, p, table_angles(problem))
     sec["forces_full"] = force_rows(problem, st, p, full_angles(problem, st))
     return sec
@@ -131,10 +139,10 @@ def pareto_rows(problem, st: Statics, designs) -> list[dict]:
     for d in designs:
         f = facts(problem, st, d)
         rows.append({"closed_length": f["min_length"], "peak_force": f["peak"],
-                     "peak_angle": float(u.from_rad(problem.start + f["peak_at"])),
+                     "peak_angle": float(u.from_rad(problem.shown_angle(problem.start + f["peak_at"]))) + 0.0,
                      "peak_kind": "push" if f["is_push"] else "pull", "stroke": f["stroke"],
-                     "max_length": f["max_length"], "rod_pivot": [float(d[0]), float(d[1])],
-                     "base_pivot": [float(d[2]), float(d[3])]})
+                     "max_length": f["max_length"], "rod_pivot": shown_point(problem, d[0], d[1]),
+                     "base_pivot": shown_point(problem, d[2], d[3])})
     return rows
 
 

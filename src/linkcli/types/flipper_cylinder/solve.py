@@ -21,7 +21,8 @@ from linkcli.search.budget import Budget
 from linkcli.types.flipper_cylinder.sections import cylinder_section, facts, pareto_rows
 from linkcli.solution import Solution, Status
 from linkcli.types.flipper_cylinder.search import (DEFAULT_BUDGET, PARETO_BUDGET, PARETO_SHARE, TOLERANCE,
-                                            Goal, Judge, Space, optimize, pareto)
+                                            SETTLE_EVALUATIONS, SETTLE_SHARE, Goal, Judge, Space,
+                                            optimize, pareto, settle)
 from linkcli.textnum import num
 
 
@@ -37,7 +38,7 @@ def verdict(problem, f: dict) -> tuple[Status, str]:
     au = u.angle
 
     def ang(tau):
-        return f"{num(float(u.from_rad(problem.start + tau)))} {au}"
+        return f"{num(float(u.from_rad(problem.shown_angle(problem.start + tau))))} {au}"
 
     if f["crosses"]:
         if f.get("zero_length"):
@@ -116,8 +117,9 @@ def _solve(problem) -> Solution:
         message = f"no design found within the limits; the nearest: {message}"
     elif not solver["converged"]:  # an infeasible design may only show that the search stopped early
         status = Status.NOT_CONVERGED
-        message = (f"the search did not converge within {solver['evaluations']} evaluations (budget "
-                   f"{solver['budget']}); best design found: {message}")
+        # no evaluation count here: it differs between machines (solver.evaluations has it)
+        message = (f"the search did not converge within its budget ({solver['budget']} evaluations); "
+                   f"best design found: {message}")
     elif problem.fixed and status is Status.OK:
         message = f"design evaluated over the sweep: {message}"
     solver.pop("budget", None)
@@ -142,7 +144,12 @@ def _search(problem, st: Statics, notes: list[str]):
     judge = Judge(problem, st, Space(problem), budget)
     rng = np.random.default_rng(meta.solver.seed)
     goal = Goal("peak") if problem.minimize == "peak-force" else Goal("length", force_cap=problem.max_force)
-    out = optimize(judge, goal, method, share, rng)
+    polishes = method != "differential-evolution"  # a global method alone is not polished
+    reserve = min(SETTLE_EVALUATIONS, share // SETTLE_SHARE) if polishes else 0
+    out = optimize(judge, goal, method, share - reserve, rng)
+    if polishes:
+        with budget.limit(max(0, share - budget.used)):  # the reserve and what the search left
+            out = settle(judge, goal, out)
     rows = None
     if problem.pareto and out.best.design is not None:
         found, complete = pareto(problem, judge, out, goal, method, budget.left, rng)

@@ -42,8 +42,10 @@ import numpy as np
 
 from linkcli.mechanisms import four_bar as kin
 from linkcli.errors import SolveInputError
+from linkcli.types.function_generation.printed_digits import digits_note
 from linkcli.model import FourBar, FunctionGenerationProblem
 from linkcli.solution import Positions, Solution, Status
+from linkcli.search import kkt, linalg
 from linkcli.search import polish as local_polish
 from linkcli.search import sampling
 from linkcli.search.budget import Budget, BudgetSpent
@@ -69,6 +71,11 @@ SEED_POLISH_STEPS = 60  # auto: a seed's polish gets this many Gauss-Newton step
 DISTINCT = 0.15  # slsqp: starts differ by this much in some variable (unit box)
 STEP = 1e-7  # central-difference step in the unit box
 FEASIBLE = 1e-8  # largest violation (rad, or fraction of L) accepted as feasible
+SETTLE_EVALUATIONS = 1000  # the final KKT polish's reserve in the budget, at most,
+SETTLE_SHARE = 20  # and at most this fraction (1/20) of it
+SETTLED = ("auto", "slsqp")  # methods whose result is polished (a global method alone is not)
+SETTLE_GAIN = 1e-7  # relative: the polished design (on its constraints) may be this much
+# above a best one that used the FEASIBLE allowance
 AT_BOUND = 1e-6  # a free value this close to a bound (unit box) is "at" it (a note)
 
 
@@ -90,6 +97,7 @@ class Search:
     def __init__(self, model: Model, budget: int, branches: tuple[str, ...]) -> None:
         self.model = model
         self.evaluations = Budget(budget)
+        self.budget = int(budget)  # as asked
         self.branches = branches
         self.feasible: dict[str, Best] = {}
         self.least: dict[str, Best] = {}
@@ -490,6 +498,9 @@ def solve(problem: FunctionGenerationProblem) -> Solution:
     budget = opts.budget if opts.budget is not None else DEFAULT_BUDGET_PER_VARIABLE * max(n, 1)
     branches = ("open", "crossed") if problem.branch == "either" else (problem.branch,)
     search = Search(model, budget, branches)
+    polishes = opts.method in SETTLED and n > 0
+    reserve = min(SETTLE_EVALUATIONS, budget // SETTLE_SHARE) if polishes else 0
+    search.evaluations.total = search.evaluations.cap = budget - reserve  # the searches' part
     converged = {}
     for k, branch in enumerate(branches):
         share = search.left // (len(branches) - k)
@@ -498,9 +509,54 @@ def solve(problem: FunctionGenerationProblem) -> Solution:
             converged[branch] = True
         elif share > 0:
             converged[branch] = STRATEGIES[opts.method](search, branch, share, opts.seed)
+    search.evaluations.total = search.evaluations.cap = budget  # the reserve joins what is left
     if not search.least:  # no candidate fitted in the shares: one at the centre of the box
         search.run(np.full((1, n), 0.5), branches[-1])
-    return build_solution(problem, model, search, converged.get(search.answer().branch, False))
+    done = converged.get(search.answer().branch, False)
+    if polishes:
+        done = settle(search, done)
+    return build_solution(problem, model, search, done)
+
+
+def settle(search: Search, converged: bool) -> bool:
+    """The final polish (linkcli.search.kkt): Newton on the KKT system of the constraints
+    that bind at the best feasible design, in the local unit box, to machine precision;
+    its end point becomes the answer when it meets every constraint and is as good within
+    SETTLE_GAIN (the printed digits are then the optimum's on every machine). It spends what
+    the searches left of the budget, at least their reserve (`solve`). True if the search
+    converged or the polish did."""
+    if not search.feasible or search.model.n == 0:
+        return converged
+    best = search.answer()
+    model = search.model
+    local = Local(search, best.branch, search.left)
+
+    def values(w):  # (N, n) -> (N, M + C + 1): residuals, constraints, objective
+        batch, fv, cons = local._batch(w)
+        return np.concatenate([batch.err, cons, fv[:, None]], axis=1)
+
+    def evaluate(w):
+        v, jac = kkt.slopes(values, w)
+        m = len(model.t)
+        err, jr, cons, jc = v[:m], jac[:m], v[m:-1], jac[m:-1]
+        # grad f = 2 J^T r: its finite-difference error is that of J alone (f's own third
+        # derivatives, large along the start angles, do not enter)
+        return kkt.Point(float(v[-1]), 2.0 * linalg.matvec(jr.T, err), cons, jc, h=2.0 * linalg.gram(jr))
+
+    try:
+        out = kkt.settle(evaluate, model.linear_units(best.v[None, :])[0])
+    except BudgetSpent:
+        return converged
+    if not (out.converged and out.worst <= FEASIBLE and out.f <= best.f * (1.0 + SETTLE_GAIN) + 1e-30):
+        return converged
+    v = model.linear_values(np.clip(out.u, 0.0, 1.0)[None, :])
+    batch = search.run_values(v, best.branch)
+    worst = float(batch.violation[0].max())
+    if worst > FEASIBLE:
+        return converged
+    search.feasible[best.branch] = Best(float(batch.f[0]), worst, float(batch.penalized[0]),
+                                        model.units(v)[0], best.branch, v[0].copy())
+    return True
 
 
 # ---------------------------------------------------------------- the report
@@ -526,12 +582,19 @@ def build_solution(problem, model: Model, search: Search, converged: bool) -> So
         status, message = Status.INFEASIBLE, "; ".join(violations)
     elif not converged:
         status = Status.NOT_CONVERGED
-        message = (f"the solver stopped before converging after {search.evaluations.used} evaluations "
-                   f"(budget {search.evaluations.total}); the best linkage found meets every constraint")
+        # no evaluation count here: it differs between machines (solver.evaluations has it)
+        message = (f"the solver stopped before converging (budget {search.budget} "
+                   "evaluations); the best linkage found meets every constraint")
     else:
         status = Status.OK
         message = (f"optimized over {len(model.t)} points on the {best.branch} branch; "
                    "within every constraint")
+    notes = bound_notes(problem, model, best.u)
+    if status is not Status.INFEASIBLE:  # do the printed digits hold? (printed_digits)
+        note = digits_note(problem, model, v, sign, FEASIBLE,
+                           lambda viol, one: describe_violations(problem, model, viol, one, u))
+        if note:
+            notes.append(note)
     sections = {}
     if "positions" in problem.meta.sections:
         sections["target"] = target_section(problem, phi0, psi0, u)
@@ -539,7 +602,7 @@ def build_solution(problem, model: Model, search: Search, converged: bool) -> So
         sections["structural_error"] = structural_error(problem, model, (a, b, c, d), (phi0, psi0), sign, u)
     return Solution(status=status, linkage=fb, message=message, positions=positions,
                     objective=float(batch.f[0]), solver=solver, sections=sections,
-                    notes=bound_notes(problem, model, best.u),
+                    notes=notes,
                     working_span=(phi0, problem.input_sweep))
 
 

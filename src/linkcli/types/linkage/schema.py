@@ -41,9 +41,9 @@ def read_fourbar(t: Table, units) -> FourBar | None:
                    ground_pivot=tuple(gp), ground_angle=units.to_rad(ga), **lengths)
 
 
-def parse(root: Table, meta: Meta) -> LinkageProblem | None:
-    link = root.table("linkage", required=True)
-    fourbar = read_fourbar(link, meta.units) if link else None
+def read_motion(root: Table) -> tuple[float | None, int | None]:
+    """[motion] of a kinematics study: input_speed (angle unit per second, non-zero,
+    default 1) and steps (2 .. MAX_STEPS, default 360); None for a value in error."""
     mot = root.table("motion")
     speed, steps = 1.0, 360
     if mot is not None:
@@ -53,6 +53,13 @@ def parse(root: Table, meta: Meta) -> LinkageProblem | None:
             mot.error("input_speed", "a non-zero number (angle unit per second)", 0.0)
             speed = None
         steps = mot.number("steps", 360, integer=True, lo=2, hi=MAX_STEPS)
+    return speed, steps
+
+
+def parse(root: Table, meta: Meta) -> LinkageProblem | None:
+    link = root.table("linkage", required=True)
+    fourbar = read_fourbar(link, meta.units) if link else None
+    speed, steps = read_motion(root)
     if fourbar is None or speed is None or steps is None:
         return None
     return LinkageProblem(meta=meta, linkage=fourbar, input_speed=meta.units.to_rad(speed), steps=steps)

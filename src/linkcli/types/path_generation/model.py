@@ -30,12 +30,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from linkcli.mechanisms import four_bar as kin
+from linkcli.io.meta import MIN_LENGTH as FILE_MIN_LENGTH
 
 NAMES = ("ground", "input", "coupler", "output", "coupler_point_x", "coupler_point_y",
          "ground_pivot_x", "ground_pivot_y", "ground_angle")
 N_LINK = len(NAMES)
 FULL_TURN = ("crank-rocker", "double-crank")  # classes whose input must turn fully
 MIN_LENGTH = 1e-6  # relative to the length's upper bound: a lower bound of 0 becomes this
+ABSOLUTE_MIN_LENGTH = FILE_MIN_LENGTH  # and at least the shortest length a file may hold
 HUGE = 1e100  # a residual that overflowed
 GRASHOF_MARGIN = 1e-7  # relative: s + l <= (p + q)(1 - margin), clear of the change point
 # The link that must be shortest for each Grashof class (index into d, a, b, c).
@@ -209,7 +211,10 @@ def build(problem) -> Design:
     ext = targets.max(axis=0) - targets.min(axis=0)
     scale = float(max(ext.max(), 1e-300))
     lengths = [problem.lengths[k] for k in ("ground", "input", "coupler", "output")]
-    lo = [max(l, MIN_LENGTH * h) if l < h else l for l, h in lengths]
+    # a lower bound of 0 becomes MIN_LENGTH x its upper bound, and never less than the
+    # smallest length a file may hold (io.meta.MIN_LENGTH, absolute): targets 1e-9 apart
+    # must not give a ground of 5e-10 that no file could state
+    lo = [max(l, MIN_LENGTH * h, ABSOLUTE_MIN_LENGTH) if l < h else l for l, h in lengths]
     hi = [h for _, h in lengths]
     (cxl, cxh), (cyl, cyh) = problem.coupler_point
     (gxl, gxh), (gyl, gyh) = problem.ground_pivot

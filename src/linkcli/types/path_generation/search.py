@@ -10,10 +10,14 @@ included) are counted by `linkcli.search.budget.Budget` against the `[solver] bu
 * `batch_lm`: Levenberg-Marquardt on many candidates at once (stacked normal equations,
   Marquardt scaling), variables held inside their bounds (a variable at a bound with the
   gradient pushing out is frozen for the step).
-* `polish`: scipy.optimize.least_squares (trust-region reflective, bounds respected) on
-  the residual vector of one candidate.
+* `polish`: `batch_lm` on one candidate (it was scipy's least_squares, whose SVD follows
+  the BLAS kernel: one machine ended on another member of a continuum of exact fits).
+* `settle`: the final Newton-KKT polish on the constraints that bind (linkcli.search.kkt).
 * `differential_evolution`: scipy's, vectorized over its population, on the penalized
   sum of squares.
+
+Every linear system is solved by `linkcli.search.linalg` (no BLAS): the whole search takes
+the same steps under every BLAS kernel.
 """
 
 from __future__ import annotations
@@ -22,13 +26,17 @@ import math
 
 import numpy as np
 
-from linkcli.search import sampling
+from linkcli.search import linalg, sampling
 from linkcli.search.budget import Budget
 from linkcli.types.path_generation.model import Design
 from linkcli.types.path_generation.starts import fit_linear
 
-POLISH_ITERATIONS = 100  # residual evaluations of one least_squares polish, at most
+POLISH_ITERATIONS = 100  # Levenberg-Marquardt steps of one polish, at most
 DE_TOL = 1e-8  # differential evolution stops when the costs' spread is this small
+SETTLE_STEP = 3e-5  # unit box: the final polish's difference step (kkt.slopes). Path optima
+# lie in flat valleys that turn a slope's truncation error (~ step^4) into a shift of the
+# optimum: at 1e-4 closed18_timed's ground moves in the 6th digit, at 3e-5 in the 8th, while
+# the round-off left (~ eps / step) keeps seeds within 1e-9 of each other
 LINEAR = [4, 5, 6, 7]  # px, py, gx, gy: linear in the coupler point once the rest is set
 
 
@@ -157,7 +165,7 @@ def batch_lm(space: Space, z, sign, s, weight: float, iterations: int, reserve: 
         diag = np.einsum("nkk->nk", h)
         damp = lam[rows, None] * (diag + 1e-12 * diag.max(axis=1, keepdims=True)) + frozen + 1e-300
         a = h + np.einsum("nk,kl->nkl", damp, np.eye(k))
-        step = -np.linalg.solve(a, g[..., None])[..., 0]
+        step = -linalg.solve(a, g)
         step = np.nan_to_num(step) * keep
         znew = np.clip(zr + step, space.lo, space.hi)
         rnew = space.residuals(znew, sign[rows], s[rows], weight)
@@ -177,33 +185,49 @@ def batch_lm(space: Space, z, sign, s, weight: float, iterations: int, reserve: 
 # ---------------------------------------------------------------- scipy polish
 
 def polish(space: Space, z0, sign: float, s: float, weight: float, max_nfev: int):
-    """scipy least_squares (trf, bounds) from z0 (k,). Returns (z, cost, converged)."""
-    from scipy.optimize import least_squares
-
-    sg, ss = np.array([sign]), np.array([s])
-    k = space.k
-
-    def fun(z):
-        return space.residuals(z[None, :], sg, ss, weight)[0]
-
-    def jac(z):
-        r0 = fun(z)
-        return space.jacobian(z[None, :], sg, ss, weight, r0[None, :])[0]
-
-    z0 = np.clip(z0, space.lo, space.hi)
-    # least_squares needs a start strictly inside the bounds
-    width = space.hi - space.lo
-    z0 = np.clip(z0, space.lo + 1e-10 * width, space.hi - 1e-10 * width)
-    max_nfev = max(1, min(max_nfev // (2 * k + 2), POLISH_ITERATIONS))
-    inside = np.all(np.isfinite(z0)) and np.all(z0 >= space.lo) and np.all(z0 <= space.hi)
-    if not inside or not np.all(space.lo < space.hi):
-        return z0, math.inf, False  # bounds too wide or too close for floating point
-    try:
-        res = least_squares(fun, z0, jac=jac, bounds=(space.lo, space.hi), method="trf",
-                            x_scale="jac", ftol=1e-12, xtol=1e-12, gtol=1e-12, max_nfev=max_nfev)
-    except (ValueError, np.linalg.LinAlgError):  # non-finite residuals or Jacobian
+    """Levenberg-Marquardt (`batch_lm`, one row) on every free variable from z0 (k,),
+    within max_nfev evaluations and POLISH_ITERATIONS steps. Returns (z, cost, converged).
+    BLAS-free like every step of the search, so that the end point (one of a continuum
+    of exact fits, say) does not follow the machine's BLAS kernel."""
+    z0 = np.clip(np.asarray(z0, dtype=float), space.lo, space.hi)
+    if not np.all(np.isfinite(z0)) or not np.all(space.lo <= space.hi):
         return z0, math.inf, False
-    return res.x, 2.0 * float(res.cost), bool(res.status > 0)
+    reserve = max(0, space.counter.left - max_nfev)
+    z, f, done = batch_lm(space, z0[None, :], np.array([sign]), np.array([s]), weight,
+                          POLISH_ITERATIONS, reserve=reserve)
+    return z[0], float(f[0]), bool(done[0])
+
+
+# ---------------------------------------------------------------- final polish
+
+def settle(space: Space, z0, sign: float, s: float):
+    """Newton on the KKT system of the constraints that bind at z0 (linkcli.search.kkt),
+    on the objective sum |P_k - T_k|^2 / L^2 (no penalty), in the unit box of the free
+    variables, slopes by `kkt.slopes`; constraints c = -g / L from `Design.constraints`
+    (g <= 0 feasible). Returns the kkt.Settled record with z in place of the unit
+    coordinates."""
+    from linkcli.search import kkt
+    d = space.design
+    width = space.hi - space.lo
+    m = 2 * d.n
+
+    def values(u):  # (N, k) unit points -> (N, 2n + constraints): residuals, constraints
+        space.counter.spend(len(u))  # BudgetSpent beyond the cap
+        x = space.full(space.lo + np.clip(u, 0.0, 1.0) * width)
+        pts, pose, phi = d.points(x, np.full(len(u), sign), np.full(len(u), s))
+        r = (pts - d.targets[None]).reshape(len(u), -1) / d.scale
+        return np.concatenate([r, -d.constraints(x, pose, phi) / d.scale], axis=1)
+
+    def evaluate(u):
+        v, jac = kkt.slopes(values, u, step=SETTLE_STEP)
+        r, jr = v[:m], jac[:m]
+        return kkt.Point(float(linalg.dot(r, r)), 2.0 * linalg.matvec(jr.T, r), v[m:], jac[m:],
+                         h=2.0 * linalg.gram(jr))
+
+    u0 = np.clip((np.asarray(z0, dtype=float) - space.lo) / np.where(width > 0, width, 1.0), 0.0, 1.0)
+    out = kkt.settle(evaluate, u0)
+    out.u = space.lo + out.u * width
+    return out
 
 
 # ---------------------------------------------------------------- differential evolution

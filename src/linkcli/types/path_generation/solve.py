@@ -12,11 +12,11 @@ Methods (`[solver] method`):
   (`starts`: timing hypotheses on the coupler curve, a similarity fit for scale,
   angle and pivot, a linear fit for coupler point and pivot), then Levenberg-Marquardt on
   the most promising distinct candidates at once with the linear part projected out, in
-  rounds that halve the field, then scipy least_squares on every variable, bounds held,
+  rounds that halve the field, then Levenberg-Marquardt on every variable, bounds held,
   from the best distinct few.
-* `least-squares`: plain multistart, scipy least_squares from uniform random draws.
+* `least-squares`: plain multistart, Levenberg-Marquardt (`search.polish`) from uniform random draws.
 * `differential-evolution`: scipy's differential evolution alone, on the penalized sum.
-* `de-polish`: differential evolution on half the budget, then least_squares.
+* `de-polish`: differential evolution on half the budget, then the Levenberg-Marquardt polish.
 
 Whatever the method, the reported linkage is checked against every constraint with the
 exact kinematics (`violations`); a violation makes the status infeasible, named with its amount.
@@ -31,11 +31,11 @@ import numpy as np
 
 from linkcli.mechanisms import four_bar as kin
 from linkcli.model import FourBar
-from linkcli.search.budget import Budget
+from linkcli.search.budget import Budget, BudgetSpent
 from linkcli.solution import Positions, Solution, Status
 from linkcli.types.path_generation import starts as st
 from linkcli.types.path_generation.model import N_LINK, SHORTEST, Design, build, rho2_extremes
-from linkcli.types.path_generation.search import Space, batch_lm, differential_evolution, distinct, polish
+from linkcli.types.path_generation.search import Space, batch_lm, differential_evolution, distinct, polish, settle
 from linkcli.noise import snap
 from linkcli.textnum import num
 
@@ -46,8 +46,8 @@ LM_WEIGHT = 1e2  # penalty weight (dimensionless residuals) in the batched stage
 POLISH_WEIGHTS = (1e3, 1e5, 1e7, 1e9)  # final polish; each stiffer one only while a violation is left
 LM_FIELD = 96  # candidates entering the batched Levenberg-Marquardt stage
 LM_ROUNDS = (25, 25, 40, 60, 100)  # iterations per round; the field halves after each round
-POLISHED = 4  # distinct candidates refined on every variable, then polished by scipy
-POLISHED_SCIPY = 2  # of those, polished by scipy least_squares
+POLISHED = 4  # distinct candidates refined on every variable, then polished
+POLISHED_SCIPY = 2  # of those, polished (`search.polish`, stiffer penalties)
 REFINE_ITERATIONS = 400  # batched Levenberg-Marquardt on every variable before the polish
 MAX_DRAWS = {"free": 600, "prescribed": 2000}
 SCAN_SHARE = 0.6  # share of a round's budget for the draws
@@ -58,6 +58,9 @@ MAX_STALE = 3  # rounds in a row without improvement that end the search
 MEMORY = 4_000_000  # Jacobian elements held at once by the batched stage
 EXACT = 1e-28  # dimensionless cost below which a candidate is an exact fit
 EXACT_RMS = 1e-9  # rms error, relative to the targets' extent, that ends the rounds
+SETTLE_EVALUATIONS = 5000  # the final KKT polish's reserve in the budget, at most,
+SETTLE_SHARE = 20  # and at most this fraction (1/20) of it
+SETTLE_GAIN = 1e-9  # relative: the polished candidate may be this much worse (round-off)
 ANGLE_VIOLATIONS = ("transmission", "order")  # violations measured in radians (others: length)
 
 
@@ -77,6 +80,9 @@ def solve(problem) -> Solution:
     opts = problem.meta.solver
     method = "multistart" if opts.method == "auto" else opts.method
     counter = Budget(opts.budget or default_budget(method, d.n))
+    polishes = method != "differential-evolution" and bool(d.free.any())  # a global method alone is not
+    reserve = min(SETTLE_EVALUATIONS, counter.total // SETTLE_SHARE) if polishes else 0
+    counter.cap -= reserve  # the searches' part; the reserve is the final polish's
     rng = np.random.default_rng(opts.seed)
     with np.errstate(all="ignore"):
         if not d.free.any():  # nothing to choose: the given linkage on the allowed branches
@@ -90,6 +96,9 @@ def solve(problem) -> Solution:
         else:
             cands = evolve(d, counter, opts.seed, polish_after=method == "de-polish")
         best, violations = choose(d, cands)
+        counter.cap = counter.total
+        if not violations and polishes:
+            best = settled(d, counter, best)
         return solution(problem, d, best, violations, method, counter)
 
 
@@ -138,7 +147,7 @@ def multistart(d: Design, counter: Budget, rng) -> list[Candidate]:
 def one_round(d: Design, counter: Budget, rng) -> list[Candidate]:
     """Draws completed in closed form, batched Levenberg-Marquardt with the linear part
     projected out (the field halving after each round of iterations), then the best
-    distinct few refined on every variable and polished by scipy."""
+    distinct few refined on every variable and polished."""
     per = st.hypotheses_per_draw(d)
     n_draws = min(MAX_DRAWS[d.timing], int(SCAN_SHARE * counter.left) // per)
     proj = Space(d, counter, project=True)
@@ -177,7 +186,7 @@ def one_round(d: Design, counter: Budget, rng) -> list[Candidate]:
 
 
 def plain_multistart(d: Design, counter: Budget, rng) -> list[Candidate]:
-    """scipy least_squares from uniform random draws until the budget is spent."""
+    """The Levenberg-Marquardt polish from uniform random draws until the budget is spent."""
     space = Space(d, counter)
     out: list[Candidate] = []
     while counter.left > 0:
@@ -207,7 +216,7 @@ def evolve(d: Design, counter: Budget, seed: int, polish_after: bool) -> list[Ca
 
 
 def polish_all(d: Design, counter: Budget, x, sign, s, converged=None) -> list[Candidate]:
-    """scipy least_squares on every free variable from each row of x, in turn; a second,
+    """The Levenberg-Marquardt polish on every free variable from each row of x, in turn; a second,
     stiffer penalty pass where the first leaves a constraint violated. A row converges
     when the polish meets its tolerances or the batched stage before it had converged."""
     space = Space(d, counter)
@@ -225,6 +234,30 @@ def polish_all(d: Design, counter: Budget, x, sign, s, converged=None) -> list[C
                 break
         out.append(Candidate(space.full(z0[None])[0], sign[i], s[i], conv or space.k == 0))
     return out
+
+
+def settled(d: Design, counter: Budget, best: Candidate) -> Candidate:
+    """The best candidate after the final polish (`search.settle`: Newton on the KKT
+    system of the constraints that bind, to machine precision), when that polish
+    converges to a point that meets every constraint with an objective as low within a
+    relative SETTLE_GAIN (else the candidate as found). An exact fit (a point of a
+    continuum of them, when the unknowns outnumber the equations) is kept as found.
+    It spends what the search left of the budget, at least the reserve `solve` kept."""
+    space = Space(d, counter)
+    f0 = _rank(d, best)[2]
+    if space.k == 0 or f0 <= exact_objective(d):
+        return best
+    try:
+        out = settle(space, space.free(best.x[None])[0], best.sign, best.s)
+    except BudgetSpent:
+        return best
+    if not out.converged:
+        return best
+    cand = Candidate(d.wrapped(space.full(out.u[None]))[0], best.sign, best.s, True)
+    rank = _rank(d, cand)
+    if rank[0] or rank[2] > f0 * (1.0 + SETTLE_GAIN):
+        return best
+    return cand
 
 
 # ---------------------------------------------------------------- checks

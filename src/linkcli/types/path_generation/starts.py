@@ -28,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from linkcli.mechanisms import four_bar as kin
+from linkcli.search import linalg
 from linkcli.types.path_generation.model import N_LINK, SHORTEST, Design
 
 CURVE_SAMPLES = 120  # samples of the coupler curve over one turn (free timing)
@@ -251,7 +252,7 @@ def bounded_lstsq(h: np.ndarray, rhs: np.ndarray, lo: np.ndarray, hi: np.ndarray
         r = rhs - np.einsum("nij,nj->ni", h, value * held)
         a = np.where(free[:, :, None] & free[:, None, :], h, 0.0) + np.where(held[:, :, None] & eye, 1.0, 0.0)
         b = np.where(free, r, value)
-        y = np.nan_to_num(np.linalg.solve(a, b[..., None])[..., 0])
+        y = np.nan_to_num(linalg.solve(a, b))
         low, high = free & (y < lo), free & (y > hi)
         if not (low.any() or high.any()):
             break

@@ -6,7 +6,10 @@ import math
 
 from linkcli.model import Meta, PrecisionPositionProblem
 from linkcli.io.meta import bounded_length, in_motion_order
+from linkcli.errors import SchemaError
 from linkcli.io.reader import Table
+from linkcli.types.precision_position.system import position_problem
+from linkcli.types.linkage.schema import read_motion
 
 MAX_POSITIONS = 1000
 
@@ -22,7 +25,8 @@ def parse(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
         if phi is not None and psi is not None and len(phi) != len(psi):
             pos.error("output", f"one output angle per input angle ({len(phi)})", psi)
             return None
-    if ground is None or phi is None or psi is None:
+    speed, steps = read_motion(root)  # [motion]: the kinematics section's speed and steps
+    if ground is None or phi is None or psi is None or speed is None or steps is None:
         return None
     u = meta.units
     full = u.from_rad(2 * math.pi)
@@ -36,9 +40,14 @@ def parse(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
                                       f"({values[i]:g} and {values[j]:g} {u.angle})")
                     return None
     line = root.reader.line_of(("positions", "input"))
+    phi_rad = in_motion_order([u.to_rad(v) for v in phi])
+    psi_rad = [u.to_rad(v) for v in psi]
+    refused = position_problem(phi_rad, psi_rad, ground)  # as the solver would, but before it
+    if refused is not None:
+        root.reader.errors.append(SchemaError(*refused, path=meta.path, line=line, key="positions"))
+        return None
     return PrecisionPositionProblem(
         meta=meta, ground=ground,
-        input_angles=tuple(in_motion_order([u.to_rad(v) for v in phi])),
-        output_angles=tuple(u.to_rad(v) for v in psi),
-        lines=(line,),
+        input_angles=tuple(phi_rad), output_angles=tuple(psi_rad),
+        lines=(line,), input_speed=u.to_rad(speed), steps=steps,
     )

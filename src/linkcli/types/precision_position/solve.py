@@ -26,11 +26,11 @@ from linkcli.model import FourBar
 from linkcli.solution import Positions, Solution, Status
 from linkcli.types.precision_position.starts import (closure_gap, freudenstein_system, lengths_of, make_starts,
                                               physical_angles, refine, travels)
-from linkcli.position_verdict import verdict
+from linkcli.types.precision_position.system import ILL_CONDITIONED  # one threshold with check
+from linkcli.types.precision_position.verdict import verdict
 from linkcli.textnum import num
 
 COINCIDENT = 1e-9  # rad: two input (or output) angles closer than this are one position
-ILL_CONDITIONED = 1e12
 BRANCHES = ("open", "crossed")
 HELD = 1e-6  # rad: an exact fit's closure on a branch within this of psi holds the position
 

@@ -1,0 +1,219 @@
+"""The last step of every search: Newton on the KKT system of the active set, to machine
+precision, so that the printed digits are the optimum's and not the path's.
+
+    minimize f(u)  subject to  c(u) >= 0,  0 <= u <= 1
+
+A search (differential evolution, SLSQP, Levenberg-Marquardt with penalties) stops where
+its own tolerances let it: at 1e-8 of a binding constraint, or part way along a flat
+valley, at a point that differs in the 6th digit from one machine to another. At such a
+point the binding set is known: the constraints with c_i <= ACTIVE and the variables at a
+bound. Held as equalities (the variables at bounds fixed there), the optimum is a root of
+
+    g(u) - A(u)^T lambda = 0,   c_A(u) = 0          (g = grad f, A = dc_A/du)
+
+and Newton's method on it (Nocedal & Wright, Numerical Optimization, 2nd ed., 2006,
+section 18.1, the Newton-KKT / SQP step with an equality-constrained QP)
+
+    [ H  -A^T ] [ s      ]   [ -g   ]
+    [ A   0   ] [ lambda ] = [ -c_A ]
+
+converges quadratically (H the Hessian of the Lagrangian; the Gauss-Newton matrix
+2 J^T J for least squares), to round-off of the KKT residual. A multiplier of the wrong
+sign (lambda_i < 0: the constraint does not bind) or an inactive constraint that the step
+breaks changes the active set, and Newton starts again (at most ROUNDS times). The linear
+algebra is `linalg` (no BLAS): the same steps on every machine.
+
+The end point is only offered: the caller keeps it when it is at least as good under its
+own ranking (`settle` returns it with its f and worst violation).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from linkcli.search import linalg
+
+ACTIVE = 1e-7  # a constraint this close to 0 (its own scale, order one) binds at the start
+SLOPE_STEP = 3e-4  # unit box: the step of `slopes`
+AT_BOUND = 1e-6  # unit box: a variable this close to 0 or 1 sits on its bound at the start
+ITERATIONS = 30  # Newton steps per active set
+ROUNDS = 6  # active sets tried
+STEP_TOL = 1e-10  # unit box: a Newton step this small has converged (round-off of the
+# slopes leaves steps of 1e-12 on a well-posed problem; six printed digits need 1e-7)
+NEAR = 1e-4  # unit box: a step this small is taken whole (no line search: the merit no
+# longer resolves it, while Newton converges quadratically from here)
+HALVINGS = 12  # step halvings before Newton gives up on an active set
+RIDGE = 1e-12  # relative ridge on H (a flat direction, a continuum of optima)
+SIGN_TOL = 1e-10  # a multiplier below -SIGN_TOL * (|g| + 1) has the wrong sign
+ROUND_OFF = 1e-13  # relative change of the merit that is round-off
+FEASIBLE = 1e-10  # an inactive constraint may fall this far below 0
+
+
+@dataclass
+class Point:
+    """What `settle` needs at u: objective f, gradient g (n,), constraint values c (m,)
+    (>= 0 feasible, order-one scale) and their Jacobian a (m, n); h (n, n) a model of the
+    Hessian of f, or None to have `settle` form the Hessian of the Lagrangian by central
+    differences of g - a^T lambda."""
+
+    f: float
+    g: np.ndarray
+    c: np.ndarray
+    a: np.ndarray
+    h: np.ndarray | None = None
+
+
+@dataclass
+class Settled:
+    u: np.ndarray
+    f: float
+    worst: float  # largest constraint violation (max(0, -c)), box excluded
+    converged: bool  # the KKT residual vanished with multipliers of the right sign
+
+
+def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e-6,
+           active_tol: float = ACTIVE) -> Settled:
+    """Newton-KKT from u0 on the active set found there (constraints within `active_tol`
+    of 0: above the margin a search keeps from its limits; see the module docstring).
+    A round that ends with a multiplier of the wrong sign (or fails on it) releases the
+    most negative one, a round that breaks an inactive constraint adds it, and the next
+    round starts again from u0. `evaluate` may raise to stop (a spent budget): the
+    exception passes through."""
+    start = np.clip(np.asarray(u0, dtype=float), 0.0, 1.0)
+    p = evaluate(start)
+    active = p.c <= active_tol
+    lower, upper = start <= AT_BOUND, start >= 1.0 - AT_BOUND
+    here = start
+    for _ in range(ROUNDS):
+        u = np.where(lower, 0.0, np.where(upper, 1.0, here))
+        u, p, lam, ok = _newton(evaluate, u, evaluate(u), active, lower | upper, hessian_step)
+        here = u if ok else start  # a round that failed leaves no point to go on from
+        # multipliers of the bounds: the gradient of the Lagrangian pushing outwards
+        grad_l = p.g - linalg.matvec(p.a[active].T, lam) if active.any() else p.g
+        scale = float(np.max(np.abs(p.g), initial=0.0)) + 1.0
+        wrong = np.full(len(p.c) + 2 * len(u), 0.0)  # how wrong: constraints, lower, upper
+        wrong[np.flatnonzero(active)] = -lam
+        wrong[len(p.c):len(p.c) + len(u)] = np.where(lower, -grad_l, 0.0)
+        wrong[len(p.c) + len(u):] = np.where(upper, grad_l, 0.0)
+        worst_sign = int(np.argmax(wrong))
+        if wrong[worst_sign] > SIGN_TOL * scale:  # release the most wrong one
+            if worst_sign < len(p.c):
+                active[worst_sign] = False
+            elif worst_sign < len(p.c) + len(u):
+                lower[worst_sign - len(p.c)] = False
+            else:
+                upper[worst_sign - len(p.c) - len(u)] = False
+            continue
+        if not ok:
+            break
+        broken = ~active & (p.c < -FEASIBLE)
+        if not broken.any():
+            worst = float(np.max(np.maximum(0.0, -p.c), initial=0.0)) + 0.0
+            return Settled(u, float(p.f), worst, True)
+        active |= broken
+    worst = float(np.max(np.maximum(0.0, -p.c), initial=0.0)) + 0.0
+    return Settled(u, float(p.f), worst, False)
+
+
+def _newton(evaluate, u, p: Point, active, fixed, hessian_step):
+    """Newton steps on the KKT system with `active` constraints as equalities and the
+    `fixed` variables held; a step is halved until the merit f + rho |c_A|_1 falls (rho
+    above every multiplier). Returns (u, point, multipliers, ok)."""
+    free = np.flatnonzero(~fixed)
+    rows = np.flatnonzero(active)
+    lam = np.zeros(len(rows))
+    if len(free) == 0:
+        return u, p, lam, True
+    for _ in range(ITERATIONS):
+        h = p.h if p.h is not None else _lagrangian_hessian(evaluate, u, rows, lam, hessian_step)
+        step, lam_new = _kkt_step(h, p.g, p.a[rows], p.c[rows], free)
+        if step is None:
+            return u, p, lam, False
+        lam = lam_new
+        size = float(np.max(np.abs(step)))
+        if size <= NEAR:  # Newton's own region: the step is taken whole
+            u = np.clip(u + step, 0.0, 1.0)
+            p = evaluate(u)
+            if size <= STEP_TOL:  # the root to round-off
+                break
+            continue
+        rho = 2.0 * float(np.max(np.abs(lam), initial=0.0)) + 1e-300
+        merit = p.f + rho * float(np.sum(np.abs(p.c[rows])))
+        residual = _kkt_residual(p, rows, lam, free)
+        t = 1.0
+        for _ in range(HALVINGS):
+            trial = np.clip(u + t * step, 0.0, 1.0)
+            q = evaluate(trial)
+            # progress: a lower merit, or (where the merit no longer resolves the step: a
+            # change within round-off) a smaller KKT residual
+            m_q = q.f + rho * float(np.sum(np.abs(q.c[rows])))
+            if m_q < merit or (m_q <= merit + ROUND_OFF * abs(merit)
+                               and _kkt_residual(q, rows, lam, free) < residual):
+                break
+            t *= 0.5
+        else:
+            return u, p, lam, size < 1e-9  # round-off size: the root to working precision
+        u, p = trial, q
+    else:
+        return u, p, lam, False  # still moving after ITERATIONS steps: not settled
+    return u, p, lam, True
+
+
+def slopes(values: Callable[[np.ndarray], np.ndarray], u: np.ndarray, step: float = SLOPE_STEP):
+    """(values at u (m,), Jacobian (m, n)) of a vectorized function of unit-box points
+    ((N, n) -> (N, m)) by the fourth-order central difference
+    (8 (v(u + h) - v(u - h)) - (v(u + 2h) - v(u - 2h))) / (12 h), about u moved 2h inside
+    the box where it is nearer a bound. The step is large (round-off in the slopes ~ eps / h
+    is what leaves a Newton root uncertain) since the truncation error ~ h^4 is small and
+    the same on every machine. One batch of 4n + 1 points."""
+    n = len(u)
+    centre = np.clip(u, 2.0 * step, 1.0 - 2.0 * step)
+    shift = np.eye(n) * step
+    batch = values(np.vstack([u[None, :], centre + shift, centre - shift, centre + 2 * shift, centre - 2 * shift]))
+    v0, p1, m1, p2, m2 = batch[0], batch[1:n + 1], batch[n + 1:2 * n + 1], batch[2 * n + 1:3 * n + 1], batch[3 * n + 1:]
+    return v0, (8.0 * (p1 - m1) - (p2 - m2)).T / (12.0 * step)
+
+
+def _kkt_residual(p: Point, rows, lam, free) -> float:
+    """|grad f - A^T lambda| over the free variables plus |c_A| (max norms)."""
+    grad_l = p.g - linalg.matvec(p.a[rows].T, lam) if len(rows) else p.g
+    return float(np.max(np.abs(grad_l[free]), initial=0.0)) + float(np.max(np.abs(p.c[rows]), initial=0.0))
+
+
+def _kkt_step(h, g, a, c, free):
+    """The Newton-KKT step over the free variables (zero on the others) and the new
+    multipliers, or (None, None) if the system is singular."""
+    k, m = len(free), len(c)
+    hf = h[np.ix_(free, free)]
+    ridge = RIDGE * max(float(np.max(np.abs(np.diag(hf)), initial=0.0)), 1e-300)
+    kkt = np.zeros((k + m, k + m))
+    kkt[:k, :k] = hf + ridge * np.eye(k)
+    af = a[:, free]
+    kkt[:k, k:] = -af.T
+    kkt[k:, :k] = af
+    rhs = np.concatenate([-g[free], -c])
+    sol = linalg.solve(kkt, rhs)
+    if not np.all(np.isfinite(sol)):
+        return None, None
+    step = np.zeros(len(g))
+    step[free] = sol[:k]
+    return step, sol[k:]
+
+
+def _lagrangian_hessian(evaluate, u, rows, lam, h_step):
+    """Central differences of grad f - A^T lambda, symmetrized; steps kept inside the box."""
+    n = len(u)
+    cols = []
+    for j in range(n):
+        e = np.zeros(n)
+        e[j] = h_step
+        lo, hi = np.clip(u - e, 0.0, 1.0), np.clip(u + e, 0.0, 1.0)
+        ph, pl = evaluate(hi), evaluate(lo)
+        gh = ph.g - linalg.matvec(ph.a[rows].T, lam) if len(rows) else ph.g
+        gl = pl.g - linalg.matvec(pl.a[rows].T, lam) if len(rows) else pl.g
+        cols.append((gh - gl) / max(hi[j] - lo[j], 1e-300))
+    h = np.stack(cols, axis=1)
+    return 0.5 * (h + h.T)

@@ -1,0 +1,72 @@
+"""Small dense linear algebra without BLAS or LAPACK: the same bits on every machine.
+
+numpy's `@`, `np.dot` and `np.linalg` call OpenBLAS/LAPACK, whose kernels (chosen by CPU,
+`OPENBLAS_CORETYPE`) sum in different orders and so round differently. A search whose
+steps come from them follows the kernel: one machine's multistart lands on another exact
+fit than another's. The systems of linkcli's searches are small (a few to a few dozen
+unknowns) and many at once, so they are solved here with elementwise numpy, vectorized
+over the stack, a loop over the columns only; sums of products are `np.einsum` with
+`optimize=False` (numpy's own loops, never BLAS).
+
+- `solve(a, b)`: Gaussian elimination with partial pivoting (Golub & Van Loan, Matrix
+  Computations, 4th ed., alg. 3.4.1), for stacks of square systems.
+- `matvec`, `gram`, `dot`: products as explicit sums.
+
+Rows whose pivot is 0 (singular to working precision) come back as NaN; callers test
+for it (`np.isfinite`) instead of catching an exception.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """sum_i x_i y_i over the last axis."""
+    return np.einsum("...i,...i->...", x, y, optimize=False)
+
+
+def matvec(a: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """(a x)_i = sum_j a_ij x_j, stacks over leading axes."""
+    return np.einsum("...ij,...j->...i", a, x, optimize=False)
+
+
+def gram(j: np.ndarray) -> np.ndarray:
+    """j^T j: (..., m, n) -> (..., n, n)."""
+    return np.einsum("...mi,...mj->...ij", j, j, optimize=False)
+
+
+def solve(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """x with a x = b for a (..., n, n) and b (..., n) (or (..., n, k)); a system whose
+    elimination meets a zero pivot gets NaN.
+
+    Forward elimination with partial pivoting (the largest remaining entry of the column
+    swaps up, the first of equal ones), then back substitution."""
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    vector = b.ndim == a.ndim - 1
+    if vector:
+        b = b[..., None]
+    n = a.shape[-1]
+    stack = np.broadcast_shapes(a.shape[:-2], b.shape[:-2])
+    a = np.broadcast_to(a, stack + (n, n)).reshape((-1, n, n)).copy()
+    x = np.broadcast_to(b, stack + b.shape[-2:]).reshape((-1, n, b.shape[-1])).copy()
+    rows = np.arange(len(a))
+    singular = np.zeros(len(a), dtype=bool)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        for k in range(n):
+            p = k + np.argmax(np.abs(a[:, k:, k]), axis=1)
+            for m in (a, x):
+                top, low = m[rows, k].copy(), m[rows, p].copy()
+                m[rows, k], m[rows, p] = low, top
+            pivot = a[:, k, k]
+            singular |= ~(np.abs(pivot) > 0.0)
+            factor = a[:, k + 1:, k] / pivot[:, None]
+            a[:, k + 1:, k:] -= factor[:, :, None] * a[:, None, k, k:]
+            x[:, k + 1:] -= factor[:, :, None] * x[:, None, k]
+        for k in range(n - 1, -1, -1):
+            s = np.einsum("rj,rjc->rc", a[:, k, k + 1:], x[:, k + 1:], optimize=False)
+            x[:, k] = (x[:, k] - s) / a[:, k, k][:, None]
+    x[singular] = np.nan
+    x = x.reshape(stack + x.shape[-2:])
+    return x[..., 0] if vector else x

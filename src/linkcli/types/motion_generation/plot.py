@@ -1,0 +1,97 @@
+"""motion-generation: in the global frame, on equal axes, the body drawn at each pose (an
+L-shaped frame marker: its origin and x axis; targets in black, achieved in red dashes),
+the coupler curve of the body origin over the input's whole motion, the linkage to scale
+at the first pose; for four poses the centre-point curve (ground pivots) and the
+circle-point curve (moving pivots at pose 1) of burmester.centre_point_curve. Beside it
+each pose's position error and angle error.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from linkcli.plots.common import (CURVE_COLOR, TARGET_COLOR, Geometry, draw_linkage, frame_drawing, input_grid,
+                                  joint_paths, link_legend, num, panels)
+
+NEEDS = ("linkage", "positions")
+BODY = 0.12  # the body marker's arm, as a share of the longest link (or of the poses' spread)
+
+
+def _body(ax, poses, arm, **style):
+    """Body frames at poses (n, 3) (angles rad): the x axis (arm long) and a shorter y axis."""
+    for x, y, t in poses:
+        c, s = np.cos(t), np.sin(t)
+        ax.plot([x + 0.5 * arm * -s, x, x + arm * c], [y + 0.5 * arm * c, y, y + arm * s], **style)
+
+
+def draw(fig, report: dict, problem=None) -> None:
+    u, ax, (ax_pos, ax_ang) = panels(fig, report, 2, [1.45, 1.0])
+    lu, au = u.length, u.angle
+    rows = report.get("positions") or []
+    target = np.array([r["target"] for r in rows], float).reshape(-1, 3)
+    achieved = np.array([r["achieved"] for r in rows], float).reshape(-1, 3)
+    target[:, 2], achieved[:, 2] = u.rad(target[:, 2]), u.rad(achieved[:, 2])
+    origins = target[:, :2]
+    scale = float(np.sqrt(np.mean(np.sum((origins - origins.mean(0)) ** 2, 1)))) if len(rows) else 1.0
+    size = max(float(max(report["linkage"][k] for k in ("ground", "input", "coupler", "output")))
+               if "linkage" in report else 0.0, 2 * scale)
+    arm = BODY * (size if size > 0 else 1.0)
+    phi = u.rad([r["input"] for r in rows])
+    if "linkage" in report:
+        geo = Geometry.of(report)
+        mot = geo.motion(near=float(phi[0]) if len(phi) else None)
+        if mot.assembles:
+            grid = input_grid(mot)
+            j = geo.joints(grid)
+            ok = j["pose"].valid
+            joint_paths(ax, geo, grid)
+            cx, cy = j["P"]
+            ax.plot(np.where(ok, cx, np.nan), np.where(ok, cy, np.nan), color=CURVE_COLOR, lw=1.8, zorder=2,
+                    label="coupler curve (body origin)")
+            draw_linkage(ax, geo, float(phi[0]) if len(phi) else float(grid[0]))
+        link_legend(ax, geo, lu)
+    if problem is not None and len(problem.poses) == 4:
+        from linkcli.types.motion_generation.burmester import centre_point_curve
+        poses = np.array(problem.poses, float)
+        with np.errstate(all="ignore"):
+            curve = centre_point_curve(poses, samples=361, max_distance=4.0)
+        for data, color, name in ((curve.ground, "#8c564b", "centre-point curve"),
+                                  (curve.circle, "#17becf", "circle-point curve (pose 1)")):
+            for branch in range(2):
+                ax.plot(data[:, branch, 0], data[:, branch, 1], ".", ms=1.6, color=color,
+                        label=name if branch == 0 else None, zorder=1)
+        ax.plot(curve.poles[:, 0], curve.poles[:, 1], "D", ms=4, color="#8c564b", zorder=2, label="poles")
+    if len(rows):
+        _body(ax, target, arm, color=TARGET_COLOR, lw=2.2, zorder=6)
+        _body(ax, achieved, arm, color="#d62728", lw=1.4, ls=(0, (3, 2)), zorder=7)
+        ax.plot([], [], color=TARGET_COLOR, lw=2.2, label=f"target poses ({len(rows)})")
+        ax.plot([], [], color="#d62728", lw=1.4, ls=(0, (3, 2)), label="achieved poses")
+        for k in range(len(rows)):
+            ax.annotate(str(k + 1), (target[k, 0], target[k, 1]), xytext=(-12, 5), textcoords="offset points",
+                        fontsize=9.5, color=TARGET_COLOR, zorder=8)
+        ax.legend(loc="best", framealpha=0.85, fontsize=8.5)
+    frame_drawing(ax, lu, "Body at each pose, coupler curve, linkage at pose 1")
+    idx = np.arange(1, len(rows) + 1)
+    pos = np.array([r["position_error"] for r in rows], float)
+    ang = np.array([r["angle_error"] for r in rows], float)
+    for axis, err in ((ax_pos, pos), (ax_ang, ang)):
+        if len(rows) and not np.any(err):
+            axis.text(0.5, 0.5, "exact: 0 at every pose", ha="center", va="center", transform=axis.transAxes)
+            axis.set_yticks([])
+    if len(rows):
+        ax_pos.bar(idx, pos, color="#d62728", alpha=0.8, width=0.6)
+        ax_pos.set_ylim(0.0, max(float(pos.max()), 1e-12) * 1.25)
+        ax_ang.bar(idx, ang, color="#1f77b4", alpha=0.8, width=0.6)
+        top = max(float(np.abs(ang).max()), 1e-12) * 1.25
+        ax_ang.set_ylim(-top, top)
+        ax_ang.axhline(0.0, color="#444444", lw=0.8)
+    ax_pos.set_ylabel(f"position error ({lu})")
+    ax_pos.set_title(f"Error at each pose (max {num(float(pos.max()), 3) if len(pos) else '-'} {lu})")
+    ax_pos.tick_params(labelbottom=False)
+    ax_ang.set_ylabel(f"angle error ({au})")
+    ax_ang.set_xlabel("pose")
+    ax_ang.set_title(f"Angle error (max {num(float(np.abs(ang).max()), 3) if len(ang) else '-'} {au})")
+    if len(rows):
+        from matplotlib.ticker import MaxNLocator
+        ax_ang.xaxis.set_major_locator(MaxNLocator(integer=True))
+        ax_ang.set_xlim(0.4, len(rows) + 0.6)

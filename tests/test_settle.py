@@ -1,0 +1,134 @@
+"""The BLAS-free linear algebra (search.linalg) and the final Newton-KKT polish
+(search.kkt), each against an independent reference: numpy's LAPACK for the algebra,
+closed-form constrained optima for the polish. That a solver's stage does not follow the
+BLAS kernel cannot be tested here (OpenBLAS reads OPENBLAS_CORETYPE when it loads):
+benchmarks/compare_kernels.py checks that; these tests check the properties it rests on."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+from linkcli.search import kkt, linalg
+
+
+def _well_conditioned(rng, batch, n):
+    """Random systems with singular values in [1, 10] (condition number <= 10)."""
+    q1, _ = np.linalg.qr(rng.normal(size=(batch, n, n)))
+    q2, _ = np.linalg.qr(rng.normal(size=(batch, n, n)))
+    s = rng.uniform(1.0, 10.0, size=(batch, n))
+    return np.einsum("bij,bj,bkj->bik", q1, s, q2)
+
+
+@pytest.mark.parametrize("n", [1, 2, 5, 12])
+def test_solve_matches_lapack_on_well_conditioned_stacks(n):
+    rng = np.random.default_rng(n)
+    a = _well_conditioned(rng, 40, n)
+    b = rng.normal(size=(40, n))
+    assert_allclose(linalg.solve(a, b), np.linalg.solve(a, b[..., None])[..., 0], rtol=0, atol=1e-12)
+    many = rng.normal(size=(40, n, 3))
+    assert_allclose(linalg.solve(a, many), np.linalg.solve(a, many), rtol=0, atol=1e-12)
+
+
+def test_solve_needs_pivoting_and_marks_singular_systems():
+    # a zero in the first pivot position: elimination without row swaps would divide by 0
+    a = np.array([[[0.0, 1.0], [1.0, 0.0]], [[1.0, 2.0], [2.0, 4.0]]])
+    x = linalg.solve(a, np.array([[2.0, 3.0], [1.0, 1.0]]))
+    assert_allclose(x[0], [3.0, 2.0])
+    assert np.all(np.isnan(x[1]))  # rank one: no solution is claimed
+
+
+def test_products_match_numpy():
+    rng = np.random.default_rng(3)
+    a, j, x = rng.normal(size=(4, 3)), rng.normal(size=(10, 8, 5)), rng.normal(size=3)
+    assert_allclose(linalg.gram(j), np.swapaxes(j, 1, 2) @ j, atol=1e-12)
+    assert_allclose(linalg.matvec(a, x), a @ x, atol=1e-14)
+    assert linalg.dot(x, x) == pytest.approx(float(x @ x), abs=1e-14)
+
+
+def test_slopes_match_the_analytic_jacobian():
+    def values(u):  # (N, 2) -> (N, 2)
+        return np.stack([np.sin(3 * u[:, 0]) * u[:, 1], np.exp(u[:, 0] - u[:, 1])], axis=1)
+
+    u = np.array([0.3, 0.7])
+    v, jac = kkt.slopes(values, u)
+    exact = np.array([[3 * np.cos(0.9) * 0.7, np.sin(0.9)], [np.exp(-0.4), -np.exp(-0.4)]])
+    assert_allclose(v, values(u[None])[0])
+    assert_allclose(jac, exact, rtol=0, atol=1e-11)
+
+
+# ---------------------------------------------------------------- the KKT polish
+
+def _circle_problem(u):
+    """min (x - 1)^2 + (y - 1)^2 subject to x^2 + y^2 <= 1/2 and x >= 0.1: the optimum is
+    the point of the circle nearest (1, 1), (1/2, 1/2), with multiplier 1 (grad f =
+    (-1, -1) = -lambda * grad(x^2 + y^2) = -lambda (1, 1)); x >= 0.1 does not bind."""
+    x, y = u
+    return kkt.Point(f=(x - 1) ** 2 + (y - 1) ** 2, g=np.array([2 * (x - 1), 2 * (y - 1)]),
+                     c=np.array([0.5 - x * x - y * y, x - 0.1]),
+                     a=np.array([[-2 * x, -2 * y], [1.0, 0.0]]))
+
+
+def test_settle_lands_on_a_curved_active_constraint_to_round_off():
+    # started 1e-4 inside the circle: the constraint binds within ACTIVE only after a
+    # first, unconstrained round breaks it; Newton on the Lagrangian's Hessian (by
+    # differences of the gradients) ends on the circle
+    out = kkt.settle(_circle_problem, np.array([0.49, 0.5]))
+    assert out.converged
+    assert_allclose(out.u, [0.5, 0.5], rtol=0, atol=1e-12)
+    assert out.worst <= 1e-12
+
+
+def test_settle_on_a_linear_constraint_with_a_given_hessian():
+    # min (x - 0.8)^2 + (y - 0.9)^2 subject to x + y <= 1: projection of (0.8, 0.9) on the
+    # line, (0.45, 0.55)
+    def point(u):
+        x, y = u
+        return kkt.Point((x - 0.8) ** 2 + (y - 0.9) ** 2, np.array([2 * (x - 0.8), 2 * (y - 0.9)]),
+                         np.array([1.0 - x - y]), np.array([[-1.0, -1.0]]), h=2.0 * np.eye(2))
+
+    out = kkt.settle(point, np.array([0.45 - 3e-8, 0.55]))
+    assert out.converged
+    assert_allclose(out.u, [0.45, 0.55], rtol=0, atol=1e-13)
+
+
+def test_settle_releases_a_bound_and_a_constraint_that_do_not_bind():
+    # min (x + 1)^2 + (y - 0.3)^2 in the unit box subject to y <= 0.8: x sits on its lower
+    # bound (the gradient pushes out), y is interior at 0.3; starting from y at its upper
+    # bound 1 (held there first) and on y = 0.8 (within ACTIVE), both must be released
+    def point(u):
+        x, y = u
+        return kkt.Point((x + 1) ** 2 + (y - 0.3) ** 2, np.array([2 * (x + 1), 2 * (y - 0.3)]),
+                         np.array([0.8 - y]), np.array([[0.0, -1.0]]), h=2.0 * np.eye(2))
+
+    for start in ([1e-9, 1.0], [0.0, 0.8 - 1e-9]):
+        out = kkt.settle(point, np.array(start))
+        assert out.converged
+        assert_allclose(out.u, [0.0, 0.3], rtol=0, atol=1e-13)
+
+
+def test_settle_is_deterministic_and_independent_of_the_start_within_its_basin():
+    # a least-squares fit with a binding constraint, from three starts near the optimum:
+    # the same point to round-off, and the same bits when run twice
+    t = np.linspace(0.0, 1.0, 9)
+    data = 0.3 + 0.5 * t + 0.2 * t * t
+
+    def point(u):  # line fit a + b t, subject to a + b <= 0.75 (unconstrained: a + b = 1)
+        r = u[0] + u[1] * t - data
+        j = np.stack([np.ones_like(t), t], axis=1)
+        return kkt.Point(float(r @ r), 2.0 * j.T @ r, np.array([0.75 - u[0] - u[1]]),
+                         np.array([[-1.0, -1.0]]), h=2.0 * j.T @ j)
+
+    # closed form: minimize |A x - d|^2 on a + b = 0.75, by substitution a = 0.75 - b
+    col = t - 1.0
+    b = float(col @ (data - 0.75) / (col @ col))
+    expected = np.array([0.75 - b, b])
+    ends = [kkt.settle(point, expected + np.array(dx)).u for dx in ([1e-6, -2e-6], [-3e-6, 1e-6], [0.0, 0.0])]
+    for end in ends:
+        assert_allclose(end, expected, rtol=0, atol=1e-12)
+    again = kkt.settle(point, expected + np.array([1e-6, -2e-6])).u
+    assert again.tobytes() == ends[0].tobytes()
+    assert math.isclose(float(np.sum(expected)), 0.75)
