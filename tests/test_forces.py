@@ -2,7 +2,7 @@
 against physics written here, never against linkcli's own output.
 
 The kinematics below are the test's own (complex numbers: A = a e^{i phi},
-B = B0 + c e^{i psi} closed per SPEC section 1, velocities from the loop equation
+B = B0 + c e^{i psi} closed per the conventions of docs/format.md, velocities from the loop equation
 a e'(t2) + b w3 e'(t3) = c w4 e'(t4) solved by Cramer's rule); checks:
 - statics: the input torque equals the virtual-work value -(F . dP/dphi + T_out dpsi/dphi)
   at every row, 1e-9 relative;

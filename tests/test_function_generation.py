@@ -2,7 +2,7 @@
 
 References written here, not taken from linkcli:
 - the output angle by circle-circle intersection for the joint B, the branch picked by
-  the sign of a cross product (SPEC: open puts B clockwise of B0 -> A, seen from B0);
+  the sign of a cross product (docs/format.md: open puts B clockwise of B0 -> A, seen from B0);
 - the extended dead-centre from the triangle A0 B0 B with |A0 B| = input + coupler (law
   of cosines), the side of the ground line picked by the same cross product;
 - the seed's objective as a plain sum over the points with the math module;
@@ -383,7 +383,7 @@ def test_log_generator_objective_matches_the_reference(log_result):
 def law_any(a, b, c, d, branch, var="phi"):
     """psi(var) of any linkage as a whitelist expression: theta_rho = atan2(ry, rx) by the
     half-angle form pi - 2 atan(ry / (rho - rx)) (singular only at theta_rho = 0), and
-    psi = theta_rho -+ alpha (SPEC section 1)."""
+    psi = theta_rho -+ alpha (the conventions of docs/format.md)."""
     rho2 = f"({a}**2 + {d}**2 - 2*{a}*{d}*cos({var}))"
     theta = f"(pi - 2*atan({a}*sin({var})/(sqrt({rho2}) - ({a}*cos({var}) - {d}))))"
     alpha = f"acos(({rho2} + {c}**2 - {b}**2)/(2*{c}*sqrt({rho2})))"
@@ -475,7 +475,7 @@ def test_a_law_undefined_at_some_points_only_is_left_to_the_search():
 
 def freudenstein_design(phis, psis, d):
     """Freudenstein's equation through the points (exact for three, least squares beyond),
-    derived in SPEC's frame from |B - A| = b with A = a(cos phi, sin phi), B = (d + c cos psi,
+    derived in the file format's frame from |B - A| = b with A = a(cos phi, sin phi), B = (d + c cos psi,
     c sin psi): K1 cos psi - K2 cos phi + K3 = cos(phi - psi), K1 = d/a, K2 = d/c,
     K3 = (a^2 + c^2 + d^2 - b^2)/(2ac). (a, b, c) or None (a negative ratio)."""
     rows = np.array([[math.cos(s), -math.cos(p), 1.0] for p, s in zip(phis, psis)])

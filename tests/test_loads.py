@@ -1,6 +1,6 @@
 """Loads (issue 18): inverse dynamics checked by virtual work, energy balance and closed forms.
 
-The kinematics here are written in the test (closed-form positions per SPEC section 1, the
+The kinematics here are written in the test (closed-form positions per the conventions of docs/format.md, the
 loop equations differentiated by hand for velocities and accelerations), independent of
 linkcli.kinematics; every check compares with a physical law, not with the solver's output.
 """
@@ -89,7 +89,7 @@ def four_bar_state(m):
 
 
 def slider_crank_motion(a, b, e, phi, w2, al2, point=None):
-    """Slider-crank (SPEC): A = a e(phi), B = (s, e), s with the + root; rod angle t3 from
+    """Slider-crank (docs/format.md): A = a e(phi), B = (s, e), s with the + root; rod angle t3 from
     a sin(phi) + b sin(t3) = e, differentiated twice."""
     phi = np.asarray(phi, dtype=float)
     s = a * np.cos(phi) + np.sqrt(b ** 2 - (e - a * np.sin(phi)) ** 2)

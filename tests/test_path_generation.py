@@ -1,6 +1,6 @@
 """Path generation against independent references.
 
-The reference here is written with the math/cmath modules from SPEC section 1, not taken
+The reference here is written with the math/cmath modules from the conventions of docs/format.md, not taken
 from linkcli: the loop closure at each target on the reported branch, the coupler point
 in the coupler frame, then the global placement X = ground_pivot + R(ground_angle) x. It
 recomputes the objective, the order of the targets and the branch from the REPORTED
@@ -343,7 +343,7 @@ def paper_point(x, theta2):
     rcx, rcy, x0, y0, theta0 (rad)], theta2 the input angle from the ground line;
     tan(theta3 / 2) = (-E - sqrt(E^2 - 4 D F)) / (2 D) with K1 = r1/r2, K4 = r1/r3,
     K5 = (r4^2 - r1^2 - r2^2 - r3^2) / (2 r2 r3), D = cos t - K1 + K4 cos t + K5,
-    E = -2 sin t, F = K1 + (K4 - 1) cos t + K5. That root is SPEC's open branch."""
+    E = -2 sin t, F = K1 + (K4 - 1) cos t + K5. That root is the file format's open branch."""
     r1, r2, r3, r4, rcx, rcy, x0, y0, th0 = x
     k1, k4, k5 = r1 / r2, r1 / r3, (r4 ** 2 - r1 ** 2 - r2 ** 2 - r3 ** 2) / (2 * r3 * r2)
     dd = math.cos(theta2) - k1 + k4 * math.cos(theta2) + k5

@@ -34,7 +34,7 @@ def mpl():
 # ---------------------------------------------------------------- independent references
 
 def closure(a, b, c, d, phi, branch="open"):
-    """One sample of the loop (SPEC section 1): (A, B, theta, psi, mu) in the local frame."""
+    """One sample of the loop (the conventions of docs/format.md): (A, B, theta, psi, mu) in the local frame."""
     ax, ay = a * math.cos(phi), a * math.sin(phi)
     rx, ry = ax - d, ay
     rho = math.hypot(rx, ry)

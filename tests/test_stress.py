@@ -13,7 +13,7 @@ from conftest import run_cli
 
 
 def psi_of(a, b, c, d, phi, branch="open"):
-    """Output angle by the closure of SPEC section 1, one sample, math module."""
+    """Output angle by the closure of the conventions of docs/format.md, one sample, math module."""
     rx, ry = a * math.cos(phi) - d, a * math.sin(phi)
     rho = math.hypot(rx, ry)
     cos_alpha = (rho * rho + c * c - b * b) / (2 * rho * c)

@@ -29,7 +29,7 @@ from linkcli.units import Units
 
 ROOT = Path(__file__).resolve().parent.parent
 DEG = math.pi / 180
-# The fire-door linkage (SPEC section 2, precision-position example)
+# The fire-door linkage (docs/format.md, precision-position example)
 FIREDOOR = FourBar(ground=50.0, input=27.6293, coupler=57.2363, output=41.1104, branch="open")
 # A path linkage: the fire-door lengths with a coupler point, placed and turned
 PATHBAR = FourBar(ground=50.0, input=27.6293, coupler=57.2363, output=41.1104, branch="open",

@@ -91,7 +91,7 @@ def run_failed(run: Run, description: str) -> RunOutcome:
 
 
 def solve_run(run: Run) -> dict:
-    """The bench row of one run (SPEC section 5)."""
+    """The bench row of one run (its columns: docs/format.md, Commands)."""
     from linkcli.analysis.sections import gap
     from linkcli.io.load import load
     from linkcli.pipeline import solve

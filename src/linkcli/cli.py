@@ -342,7 +342,7 @@ def bench(files: List[Path] = typer.Argument(None, metavar="[FILE...]",
           precision: int = typer.Option(4, "--precision", metavar="N",
                                         help="Significant digits in the output (1 .. 17).", min=1, max=17),
           debug: bool = DEBUG, cluster: Optional[str] = CLUSTER) -> None:
-    """Time each solver setting against its error on a set of problems (SPEC section 5)."""
+    """Time each solver setting against its error on a set of problems."""
     from linkcli import bench as benchmod
     with _interruptible():
         code = benchmod.command([str(f) for f in files or []], format.value, seeds, precision,

@@ -1,6 +1,6 @@
 """Target expressions: text -> a numpy function, through an `ast` whitelist (never eval).
 
-SPEC section 2 allows in a target law: numbers, `+ - * / **`, unary `+ -`, parentheses,
+docs/format.md allows in a target law: numbers, `+ - * / **`, unary `+ -`, parentheses,
 the constants `pi` and `e`, the variables of the form (`phi, phi0, psi0` or `x`), and
 calls of one argument to `sin cos tan asin acos atan sqrt exp log log10 abs`. Anything
 else (attribute access, calls of other names, subscripts, lambdas, comprehensions,

@@ -81,7 +81,7 @@ class Loads:
 
 @dataclass(frozen=True)
 class LoadCase:
-    """[loads] and [masses] of a problem (SPEC "Loads"): what the `forces` section needs.
+    """[loads] and [masses] of a problem (docs/loads.md): what the `forces` section needs.
     Mass centres are in the file's length unit; `given` holds the keys as written (for the
     report's echo, so that a result file round-trips through `analyze`)."""
 
@@ -108,7 +108,7 @@ class Meta:
 
 @dataclass(frozen=True)
 class FourBar:
-    """A planar four-bar (SPEC section 1). Lengths in the length unit, angles in radians."""
+    """A planar four-bar (the conventions of docs/format.md). Lengths in the length unit, angles in radians."""
 
     ground: float
     input: float
@@ -160,7 +160,7 @@ class InverseTolerance(Tolerance):
 
 @dataclass(frozen=True)
 class PathGenerationProblem:
-    """A coupler point through target points (SPEC section 2, path-generation).
+    """A coupler point through target points (docs/format.md, path-generation).
 
     Every bound is (lo, hi); lo == hi fixes the value. Lengths in the length unit (a
     length's lo may be 0: the solver keeps it strictly positive), angles in radians.
@@ -184,7 +184,7 @@ class PathGenerationProblem:
 
 @dataclass(frozen=True)
 class MotionGenerationProblem:
-    """A body guided through poses (SPEC section 2, motion-generation). Poses (x, y, angle)
+    """A body guided through poses (docs/format.md, motion-generation). Poses (x, y, angle)
     in the length unit and radians, global frame; pivots as given ((x, y) pairs: A0 and B0
     global, or A and B in the body frame), bounds like PathGenerationProblem."""
 
@@ -208,7 +208,7 @@ class MotionGenerationProblem:
 @dataclass(frozen=True)
 class FunctionGenerationProblem:
     """Function generation by optimization: free lengths (and start angles) such that the
-    output angle psi follows a law over the input sweep (SPEC section 2).
+    output angle psi follows a law over the input sweep (docs/format.md).
 
     Two forms: `form = "output"`, psi = law(phi, phi0, psi0) with phi from phi0 to
     phi0 + input_sweep; `form = "function"`, y = f(x) mapped linearly onto the input and

@@ -1,4 +1,4 @@
-"""The `forces` section (SPEC "Loads"): input torque, pin forces and mechanical advantage at
+"""The `forces` section (docs/loads.md): input torque, pin forces and mechanical advantage at
 the motion study's rows, from a problem's [loads] and [masses].
 
 The rows are the kinematics section's (`sections.study_inputs`: the same input angles at the
@@ -112,7 +112,7 @@ def load_rows(linkage, phi, speed, case, units) -> LoadRows:
 
 
 def section(linkage, study, speed: float, steps: int, case, units, notes: list) -> dict:
-    """SPEC `forces`: input_torque {peak, at_input, rms}, pins {name: {max, min, mean,
+    """The `forces` section: input_torque {peak, at_input, rms}, pins {name: {max, min, mean,
     amplitude, x: {...}, y: {...}}}, rows [{input, input_torque, pins {name: {x, y,
     magnitude}}, mechanical_advantage}], at the rows of the motion study `study` = (full
     turn, arc). Notes name the toggles (infinite mechanical advantage) and dead points

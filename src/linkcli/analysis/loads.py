@@ -121,7 +121,7 @@ class FourBarState:
                     phi, psi, omega_input, omega_coupler, omega_output,
                     alpha_input=0.0, alpha_coupler=0.0, alpha_output=0.0,
                     coupler_point=None, ground_pivot=(0.0, 0.0), ground_angle=0.0):
-        """State from SPEC section 1's angles (local frame, radians) and lengths in metres.
+        """State from the conventions of docs/format.md's angles (local frame, radians) and lengths in metres.
 
         A0 = ground_pivot, B0 = A0 + d e(gamma), A = A0 + a e(gamma + phi),
         B = B0 + c e(gamma + psi); P from `coupler_point` (m) in the coupler frame
@@ -170,7 +170,7 @@ class SliderCrankState:
     @classmethod
     def from_angles(cls, *, input_length, coupler_length, phi, theta, omega_input,
                     omega_coupler, alpha_input=0.0, alpha_coupler=0.0, coupler_point=None):
-        """State from SPEC's slider-crank frame: A0 at the origin, A = a e(phi),
+        """State from the file format's slider-crank frame: A0 at the origin, A = a e(phi),
         B = A + b e(theta) (on the axis y = offset), lengths in metres, angles in radians."""
         phi = np.atleast_1d(np.asarray(phi, dtype=float))
         a = input_length * _unit_angle(phi)
@@ -390,7 +390,7 @@ def _snap(values, scale):
 
 
 def forces_rows(rows: LoadRows, inputs) -> list[dict]:
-    """SPEC `forces.rows`: per row input, input_torque, pins {name: {x, y, magnitude}},
+    """`forces.rows`: per row input, input_torque, pins {name: {x, y, magnitude}},
     mechanical_advantage; None where the row is singular (forces) or a toggle (MA)."""
     def column(values, scale=None):
         values = values if scale is None else _snap(values, scale)

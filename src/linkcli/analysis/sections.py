@@ -1,4 +1,4 @@
-"""Problem + Solution -> report: an ordered dict of output-ready sections (SPEC section 4).
+"""Problem + Solution -> report: an ordered dict of output-ready sections (docs/format.md, Output).
 
 Angles leave here in the file's angle unit, wrapped to (-180, 180] deg where they are
 positions; lengths in the file's length unit. Only the sections the problem asks for
@@ -105,8 +105,8 @@ def _build(problem, solution: Solution) -> dict:
 
 
 def change_point_inputs(a, b, c, d) -> list[float]:
-    """Input angles (rad, 0 and/or pi) where a change-point linkage (s + l = p + q, SPEC
-    section 1) lies flat: A on the ground line, so rho = |a - d| (phi = 0) or a + d (phi =
+    """Input angles (rad, 0 and/or pi) where a change-point linkage (s + l = p + q, the
+    conventions of docs/format.md) lies flat: A on the ground line, so rho = |a - d| (phi = 0) or a + d (phi =
     pi), and rho = |b - c| or b + c, all four links in line, within the change-point
     tolerance. There the open and crossed branches meet and the linkage may switch
     between them (Norton, Design of Machinery, sec. 2.13: the change-point hazard)."""
@@ -183,7 +183,7 @@ def motion_section(mot, u) -> dict:
 
 def study_inputs(full_turn: bool, arc, steps: int):
     """(phi, shown): the input angles (rad) of the motion study's rows and as printed. A full
-    turn: phi = k 2 pi / steps from 0, shown 0 .. 360 deg (SPEC); a rocking input over the arc
+    turn: phi = k 2 pi / steps from 0, shown 0 .. 360 deg (docs/format.md); a rocking input over the arc
     (lo, hi): the centres of `steps` equal cells (its ends are toggles), shown wrapped. The
     kinematics and the forces sections share these rows."""
     if full_turn:

@@ -1,4 +1,4 @@
-"""Tolerance analysis: Monte Carlo over manufactured linkages (SPEC section 2, [tolerance]).
+"""Tolerance analysis: Monte Carlo over manufactured linkages (docs/format.md, [tolerance]).
 
 Lengths. Every link length l (ground included) is made as l + dl, dl uniform on [-t, t] or
 normal with 3 sigma = t (not truncated). For a path generator the coupler point (px, py)

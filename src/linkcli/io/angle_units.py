@@ -15,7 +15,7 @@ import math
 
 from linkcli.textnum import num
 
-ANGLE_KEYS = (  # (table, key) of the angles a problem file may hold (SPEC section 2)
+ANGLE_KEYS = (  # (table, key) of the angles a problem file may hold (docs/format.md)
     ("positions", "input"), ("positions", "output"),
     ("target", "input_sweep"), ("target", "output_sweep"), ("target", "input_start"),
     ("target", "output_start"), ("target", "input_angles"),

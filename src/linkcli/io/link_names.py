@@ -1,10 +1,10 @@
 """Hints for the textbook names of the links: a newcomer writes `crank = 30` where linkcli
-(SPEC section 1) says `input`. Such a key is still unknown (an error, never a silent
+(the conventions of docs/format.md) says `input`. Such a key is still unknown (an error, never a silent
 alias); its message names the key meant."""
 
 from __future__ import annotations
 
-LINK_SYNONYMS = {  # textbook name -> linkcli's key (SPEC section 1: seed-paper letters a, b, c, d)
+LINK_SYNONYMS = {  # textbook name -> linkcli's key (the conventions of docs/format.md: seed-paper letters a, b, c, d)
     "crank": "input", "driver": "input",
     "rocker": "output", "follower": "output", "lever": "output",
     "connecting_rod": "coupler", "conrod": "coupler", "connecting-rod": "coupler",

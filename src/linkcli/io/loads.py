@@ -1,4 +1,4 @@
-"""[loads] and [masses] (SPEC "Loads — forces, torques and joint loads"), read and checked in
+"""[loads] and [masses] (docs/loads.md), read and checked in
 one place for every problem whose result is a linkage (and for result files read by
 `analyze`). Returns a `LoadCase`; no numerics here.
 

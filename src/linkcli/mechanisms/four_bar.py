@@ -1,6 +1,6 @@
 """The planar four-bar, vectorized over angles and over candidate populations (numpy only).
 
-Conventions (SPEC section 1): A0 at the origin, B0 = (d, 0); a = input, b = coupler,
+Conventions (the conventions of docs/format.md): A0 at the origin, B0 = (d, 0); a = input, b = coupler,
 c = output, d = ground. Loop closure a e^{i phi} + b e^{i theta} = d + c e^{i psi}.
 With rho = |A B0| and theta_rho the direction of B0 -> A,
 
@@ -85,7 +85,7 @@ def branch_sign(branch) -> float:
 
 
 def pose(a, b, c, d, phi, branch="open") -> Pose:
-    """Closure of the loop at input angles phi on a branch (SPEC section 1).
+    """Closure of the loop at input angles phi on a branch (the conventions of docs/format.md).
 
     `branch` is "open", "crossed", or an array of signs (-1 open, +1 crossed) that
     broadcasts like the lengths. Where the linkage cannot assemble, `valid` is False and
@@ -202,6 +202,12 @@ def input_arcs(a, b, c, d):
     a, b, c, d = (float(x) / big for x in (a, b, c, d))
     near, far = abs(a - d), a + d  # rho at phi = 0 and at phi = 180
     r_lo, r_hi = abs(b - c), b + c
+    # a change point (two pairs of links of equal sum within CHANGE_POINT_RTOL, as
+    # grashof() says) joins two arcs there: the input passes where all links are in line
+    if abs(r_lo - near) <= CHANGE_POINT_RTOL * far:
+        r_lo = near
+    if abs(r_hi - far) <= CHANGE_POINT_RTOL * far:
+        r_hi = far
     if r_lo <= near and r_hi >= far:
         return None
     if r_lo > far or r_hi < near:

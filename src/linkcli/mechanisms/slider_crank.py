@@ -1,6 +1,6 @@
 """The offset slider-crank, vectorized over angles and over populations (numpy only).
 
-Conventions (SPEC, "Slider-crank — the second mechanism"): crank `input` a pivoted at A0 =
+Conventions (docs/format.md, slider-crank): crank `input` a pivoted at A0 =
 origin, connecting rod `coupler` b, signed `offset` e; the slider axis is parallel to x at
 y = e, and the slider position s is the x coordinate of the slider pin B = (s, e). The loop
 
@@ -47,7 +47,7 @@ SLIDER_CLASSES = ("slider-crank", "rocking-slider", "change-point", "no-assembly
 @dataclass(frozen=True)
 class SliderCrank:
     """An offset slider-crank: lengths in the length unit; coupler_point (px, py) in the
-    coupler frame (origin A, x along A -> B), as the four-bar's (SPEC section 1)."""
+    coupler frame (origin A, x along A -> B), as the four-bar's (the conventions of docs/format.md)."""
 
     input: float
     coupler: float

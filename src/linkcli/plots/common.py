@@ -1,7 +1,7 @@
 """What every plot shares: the style, the report's units, the four-bar drawn to scale in
 its global placement, and the figure header.
 
-Geometry follows SPEC section 1: in the local frame A0 = (0, 0), B0 = (d, 0),
+Geometry follows the conventions of docs/format.md: in the local frame A0 = (0, 0), B0 = (d, 0),
 A = a e^{i phi}, B = B0 + c e^{i psi}, coupler point P = A + (px + i py) e^{i theta};
 the global frame puts A0 at `ground_pivot` and turns the ground line by `ground_angle`:
 X = G + R(ground_angle) x. The closure itself is `linkcli.mechanisms.four_bar.pose`.
@@ -129,7 +129,7 @@ class Geometry:
         return max(self.a, self.b, self.c, self.d)
 
     def to_global(self, x, y):
-        """X = G + R(ground_angle) x (SPEC section 1: global placement)."""
+        """X = G + R(ground_angle) x (the conventions of docs/format.md: global placement)."""
         cg, sg = math.cos(self.ground_angle), math.sin(self.ground_angle)
         x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
         return self.ground_pivot[0] + cg * x - sg * y, self.ground_pivot[1] + sg * x + cg * y

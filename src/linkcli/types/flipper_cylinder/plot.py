@@ -36,7 +36,7 @@ def force_table(cyl: dict) -> dict[str, np.ndarray]:
 
 
 def force_scale(peak: float) -> tuple[float, str]:
-    """Newtons shown as kN from 10 kN up (SPEC: forces are in newtons)."""
+    """Newtons shown as kN from 10 kN up (forces are in newtons)."""
     return (1e-3, "kN") if abs(peak) >= 1e4 else (1.0, "N")
 
 

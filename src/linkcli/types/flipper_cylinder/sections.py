@@ -97,7 +97,7 @@ def shown_point(problem, x, y) -> list[float]:
 
 
 def cylinder_section(problem, st: Statics, f: dict) -> dict:
-    """The `cylinder` report section, output-ready (SPEC section 4)."""
+    """The `cylinder` report section, output-ready (docs/format.md, Output)."""
     u = problem.meta.units
     p = f["design"]
 

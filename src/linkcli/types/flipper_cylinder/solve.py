@@ -1,4 +1,4 @@
-"""flipper-cylinder: place a hydraulic cylinder that turns a loaded platform (SPEC section 2).
+"""flipper-cylinder: place a hydraulic cylinder that turns a loaded platform (docs/format.md).
 
 The statics is linkcli.types.flipper_cylinder.statics: at platform angle t the cylinder force that holds
 the platform is F(t) = W(t) L(t) / K(t), W = m g G_x(t), L = |A - C|, K = C x A(t), push
@@ -6,7 +6,7 @@ positive. With every pivot coordinate fixed the design is evaluated (method "eva
 otherwise linkcli.types.flipper_cylinder.search minimizes the peak force or the closed length
 (`[objective] minimize`) within `[solver] budget` designs, and `[objective] pareto` adds
 the trade-off table between peak force and closed length. This module turns the design
-found into the report: the `cylinder` section (SPEC section 4), the `pareto` rows, the
+found into the report: the `cylinder` section (docs/format.md, Output), the `pareto` rows, the
 status and its message (the violated limit and by how much).
 """
 

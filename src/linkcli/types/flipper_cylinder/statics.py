@@ -1,6 +1,6 @@
 """Statics of a platform turned about its hinge by a hydraulic cylinder (numpy only).
 
-Geometry (SPEC section 2, flipper-cylinder). The platform is hinged at B = (0, 0) and turns
+Geometry (docs/format.md, flipper-cylinder). The platform is hinged at B = (0, 0) and turns
 counter-clockwise by the platform angle t from `start` to `end`. The rod pivot A and the
 centre of mass G are given at the start position and turn with the platform,
 X(t) = R(t - start) X_start; the base pivot C is fixed. The cylinder acts along C -> A,

@@ -7,7 +7,7 @@ The evaluation points are phi_k = phi0 + t_k * input_sweep, and
 
     f = sum_k wrap(psi(phi_k) - psi_target_k)^2            (rad^2, the seed's objective)
 
-with psi from the loop closure (SPEC section 1, as kinematics.pose). The start phi0, psi0
+with psi from the loop closure (the conventions of docs/format.md, as kinematics.pose). The start phi0, psi0
 is given, free, or the extended dead-centre of crank and coupler (|A0 B| = a + b), closed
 form from the triangle A0 B0 B (law of cosines):
 
@@ -229,7 +229,7 @@ class Model:
         psi_s) by Freudenstein's equation fitted to the target at the evaluation points.
 
         With A = a(cos phi, sin phi) and B = (d + c cos psi, c sin psi), |B - A| = b is
-        (Freudenstein 1955, in SPEC section 1's frame)
+        (Freudenstein 1955, in the conventions of docs/format.md's frame)
 
             K1 cos(psi) - K2 cos(phi) + K3 = cos(phi - psi),
             K1 = d / a, K2 = d / c, K3 = (a^2 + c^2 + d^2 - b^2) / (2 a c),
@@ -265,7 +265,7 @@ class Model:
 
 
 def output_angle(a, b, c, d, phi, sign):
-    """psi = theta_rho + sign * alpha (SPEC section 1): the output angle alone, as
+    """psi = theta_rho + sign * alpha (the conventions of docs/format.md): the output angle alone, as
     kinematics.pose computes it, without the coupler and transmission angles (the hot
     path); where the linkage cannot assemble, the angle of the nearest toggle."""
     rx = a * np.cos(phi) - d

@@ -9,7 +9,7 @@
                    ranges make the start angles free
     [constraints]  transmission = [lo, hi], grashof, branch
 
-Choices where SPEC is silent: a length (or start angle) is either fixed or bounded, never
+Choices where the format leaves a choice: a length (or start angle) is either fixed or bounded, never
 both (an error names both keys); a bound given as one number, or as [v, v], fixes the
 value; a length neither fixed nor bounded is an error, and so is a file with no fixed
 length. Expressions are checked here (expr.py, no numpy); a law whose value at the

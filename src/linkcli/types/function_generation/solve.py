@@ -1,4 +1,4 @@
-"""Function generation by optimization (SPEC section 2; seed: the crank-rocker case).
+"""Function generation by optimization (docs/format.md; seed: the crank-rocker case).
 
 The objective and the constraints are in model.py (numpy, vectorized over
 candidates and points). Design variables: every length not fixed in [linkage] (within

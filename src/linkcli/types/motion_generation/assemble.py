@@ -1,10 +1,10 @@
 """A four-bar from two dyads, its body poses for given input angles, and its defects.
 
-Dyads (G1, M1) input and (G2, M2) output give, in SPEC section 1 terms: A0 = G1,
+Dyads (G1, M1) input and (G2, M2) output give, in the conventions of docs/format.md terms: A0 = G1,
 B0 = G2, A_i = T_i(M1), B_i = T_i(M2); ground d = |B0 - A0|, input a = |A_i - A0|,
 coupler b = |M2 - M1|, output c = |B_i - B0|; ground_angle the direction of A0 -> B0;
 phi_i, psi_i the directions of A0 -> A_i, B0 -> B_i less ground_angle. Branch at pose i:
-open iff (A_i - B0) x (B_i - B0) < 0 (psi = theta_rho - alpha, SPEC section 1), crossed
+open iff (A_i - B0) x (B_i - B0) < 0 (psi = theta_rho - alpha, the conventions of docs/format.md), crossed
 if > 0. The body origin in the coupler frame (origin A, x along A -> B) is coupler_point,
 and the body x axis makes coupler_angle with A -> B.
 

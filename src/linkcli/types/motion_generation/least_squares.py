@@ -1,6 +1,6 @@
 """Approximate motion generation: many poses (or bounds/constraints) by least squares.
 
-Objective (SPEC, motion-generation): F = sum_i |P_i - T_i|^2 + (w * dangle_i)^2, P_i the
+Objective (docs/format.md, motion-generation): F = sum_i |P_i - T_i|^2 + (w * dangle_i)^2, P_i the
 body origin reached at the input angle phi_i, T_i the target, dangle_i the wrapped angle
 error in rad and w a length, by default the RMS distance of the target origins from their
 centroid (poses.characteristic_length), so that a turn of 1 rad weighs like a typical

@@ -1,5 +1,5 @@
-"""Motion generation: a four-bar whose coupler carries a body through the poses (SPEC
-section 2, motion-generation). Strategy by pose count (free timing):
+"""Motion generation: a four-bar whose coupler carries a body through the poses
+(docs/format.md, motion-generation). Strategy by pose count (free timing):
 
 * 2 poses: given ground pivots, each moving pivot lies on a line (dyads.moving_pivot_line);
   given moving pivots, each ground pivot on a perpendicular bisector; the pair of points

@@ -10,9 +10,9 @@ Variables of one candidate (the full vector; a fixed one has lo == hi):
 Free timing: phi_k = phi_1 + s (delta_2 + ... + delta_k), s = +1 (the input turns
 counter-clockwise) or -1; the order of the targets is then held by the bounds delta_k >= 0,
 and "within one turn" is the inequality sum(delta) <= 2 pi. Each candidate also carries a
-branch sign (-1 open, +1 crossed, SPEC section 1), held at every target.
+branch sign (-1 open, +1 crossed, the conventions of docs/format.md), held at every target.
 
-Coupler point in the global frame (SPEC section 1): with A = a e^{i phi}, theta the coupler
+Coupler point in the global frame (the conventions of docs/format.md): with A = a e^{i phi}, theta the coupler
 angle from the closure on the branch,
 
     P = G + R(gamma) (A + R(theta) p),    objective = sum_k |P_k - T_k|^2.

@@ -1,4 +1,4 @@
-"""Path generation: a coupler point through target points (SPEC section 2).
+"""Path generation: a coupler point through target points (docs/format.md).
 
 Objective: sum over the targets of |P_k - T_k|^2, P_k the coupler point in the global frame
 (`model`). Constraints: bounds, the Grashof class, the transmission window (over the

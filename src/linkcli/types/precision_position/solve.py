@@ -28,6 +28,7 @@ from linkcli.types.precision_position.starts import (closure_gap, freudenstein_s
                                               physical_angles, refine, travels)
 from linkcli.types.precision_position.system import ILL_CONDITIONED  # one threshold with check
 from linkcli.types.precision_position.verdict import verdict
+from linkcli.noise import TIE
 from linkcli.textnum import num
 
 COINCIDENT = 1e-9  # rad: two input (or output) angles closer than this are one position
@@ -72,6 +73,20 @@ def _freudenstein_lengths(problem, phi, psi, d, why: str = ""):
         raise _bad_positions(problem, "positions that a real coupler can join",
                              f"positions {names} need coupler^2 = {b2:.6g} <= 0{why}")
     return a, math.sqrt(b2), c
+
+
+def tie_order(candidates, cost, converged) -> list[int]:
+    """`candidates` by cost, where costs within a relative TIE (linkcli.noise) of the first
+    of their group are equal and go converged first, then in start order: several starts
+    reach the same minimum, and which of them rounds lowest must not pick the report."""
+    ranked = [int(i) for i in np.asarray(candidates)[np.argsort(cost[candidates], kind="stable")]]
+    out: list[int] = []
+    while ranked:  # a few dozen starts at most
+        lead = cost[ranked[0]]
+        group = [i for i in ranked if cost[i] <= lead + TIE * abs(lead)]
+        out += sorted(group, key=lambda i: (not converged[i], i))
+        ranked = [i for i in ranked if i not in group]
+    return out
 
 
 def _orientation_notes(a_turned: bool, c_turned: bool) -> list[str]:
@@ -154,8 +169,7 @@ def _least_squares(problem, phi, psi, d):
     sweep = float(phi[-1] - phi[0])
     phi_p, psi_p = physical_angles(phi, psi, st.sa, st.sc)
     if np.any(assembles):
-        order = np.nonzero(assembles)[0]
-        order = order[np.argsort(cost[order], kind="stable")]
+        order = tie_order(np.nonzero(assembles)[0], cost, fit.converged)
         chosen = order[0]
         for i in order:  # usually the first passes: a loop over a few candidates
             if travels(*fit.abc[i], d, phi_p[i], sweep):

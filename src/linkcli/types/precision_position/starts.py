@@ -9,7 +9,7 @@ the linear least-squares one over every position and the exact ones through subs
 three positions, each on both branches. A negative a (or c) means the link points the
 other way: the start keeps that orientation (its physical angle is phi + pi, or psi + pi)
 and refines positive lengths. Every start is refined at once by damped Newton steps (Levenberg-Marquardt with a finite-difference Hessian) on
-the true output-angle error of the assembled linkage (SPEC section 1 closure), over
+the true output-angle error of the assembled linkage (the conventions of docs/format.md closure), over
 parameters that assemble at every position by construction (`lengths`): a start that does
 not assemble is first moved to the nearest lengths that do, so the search is never stopped
 by a non-assembling position nor pulled into one.
@@ -152,7 +152,7 @@ def lengths(x, phi_p, d, gaps=False):
 
 
 def closure(x, phi_p, sign, d):
-    """Output angles psi (k, n) of the linkages of x on their branches: SPEC section 1,
+    """Output angles psi (k, n) of the linkages of x on their branches: the conventions of docs/format.md,
     psi = theta_rho -+ alpha, with alpha from its half angle
 
         tan(alpha / 2) = sqrt((u - rho)(rho + v) / ((rho - v)(u + rho))),
