@@ -20,8 +20,8 @@ import math
 
 from linkcli.io.reader import MISSING, Table, describe
 from linkcli.model import LINKS, Meta, MotionGenerationProblem
-from linkcli.types.path_generation.schema import (BRANCHES, GRASHOF, MAX_MAGNITUDE, angle_range, length_bound,
-                                                  point_range, read_input_angles, transmission_window)
+from linkcli.types.path_generation.schema import (MAX_MAGNITUDE, angle_range, length_bound,
+                                                  point_range, read_constraints, read_input_angles)
 
 MIN_POSES = 2
 MAX_POSES = 200  # free timing adds one input angle per pose to the unknowns
@@ -155,13 +155,7 @@ def parse(root: Table, meta: Meta) -> MotionGenerationProblem | None:
             offset = angle_range(bnd, "input_offset", None, u)
             offset_ok = offset is not None
 
-    con = root.table("constraints")
-    grashof, branch, window, window_ok = "any", "either", None, True
-    if con is not None:
-        con.allow("grashof", "transmission", "branch")
-        grashof = con.string("grashof", "any", choices=GRASHOF)
-        branch = con.string("branch", "either", choices=BRANCHES)
-        window, window_ok = transmission_window(con, u)
+    grashof, branch, window, window_ok = read_constraints(root, u)
 
     if (poses is None or timing is None or angles is None or (weight is None and "angle_weight" in tgt)
             or not pivots_ok or not lengths_ok or gp is None or ga is None or not offset_ok

@@ -64,6 +64,20 @@ def _points(t: Table):
     return out
 
 
+def read_constraints(root: Table, u):
+    """[constraints] of a coupler-point synthesis (path or motion generation): grashof
+    (default "any"), branch (default "either"), transmission window (None: no window);
+    (grashof, branch, window, window_ok), None for a value in error."""
+    con = root.table("constraints")
+    grashof, branch, window, window_ok = "any", "either", None, True
+    if con is not None:
+        con.allow("grashof", "transmission", "branch")
+        grashof = con.string("grashof", "any", choices=GRASHOF)
+        branch = con.string("branch", "either", choices=BRANCHES)
+        window, window_ok = transmission_window(con, u)
+    return grashof, branch, window, window_ok
+
+
 def read_input_angles(t: Table, timing: str, n: int, units, item: str = "point", max_len: int = MAX_POINTS):
     """Prescribed timing: one input angle per `item` (a path's point, a body's pose), distinct
     modulo a full turn, taken in the order of motion (rad)."""
@@ -209,13 +223,7 @@ def parse(root: Table, meta: Meta) -> PathGenerationProblem | None:
             offset = angle_range(bnd, "input_offset", None, u)
             ok = ok and offset is not None
 
-    con = root.table("constraints")
-    grashof, branch, window, window_ok = "any", "either", None, True
-    if con is not None:
-        con.allow("grashof", "transmission", "branch")
-        grashof = con.string("grashof", "any", choices=GRASHOF)
-        branch = con.string("branch", "either", choices=BRANCHES)
-        window, window_ok = transmission_window(con, u)
+    grashof, branch, window, window_ok = read_constraints(root, u)
 
     if (not ok or timing is None or direction is None or angles is None or None in lengths.values()
             or cp is None or gp is None or ga is None or grashof is None or branch is None
