@@ -321,6 +321,11 @@ def position_rows(pos, u, length_scale: float) -> list[dict]:
         if pos.kind == "angle":
             rows.append({"input": _ang(u, pos.input[k]), "target": _ang(u, pos.target[k]),
                          "achieved": _ang(u, pos.achieved[k]), "error": _dang(u, err[k])})
+        elif pos.kind == "slider":  # slider-crank: slider positions, length unit
+            achieved = float(pos.achieved[k])
+            rows.append({"input": _ang(u, pos.input[k]), "target": float(pos.target[k]),
+                         "achieved": snap(achieved, length_scale) if math.isfinite(achieved) else None,
+                         "error": float(err[k]) if math.isfinite(err[k]) else None})
         else:
             rows.append({"input": _ang(u, pos.input[k]),
                          "target": [float(pos.target[k][0]), float(pos.target[k][1])],

@@ -91,10 +91,11 @@ def _generic(name: str, section, digits: int, units: dict[str, str] | None = Non
 
 
 def _tolerance_units(section: dict, lu: str, au: str) -> dict[str, str]:
-    err = lu if "coupler point" in str(section.get("measure", "")) else au
+    measure = str(section.get("measure", ""))
+    err = lu if ("coupler point" in measure or "slider" in measure) else au  # a length error
     keys = ("nominal_error", "error_mean", "error_p95", "error_max", "allowed_error")
     out = {k: err for k in keys}
-    out.update({"lengths": lu, "clearance": lu, "largest_tolerance": lu, "sensitivity": f"{err}/{lu}"})
+    out.update({"lengths": lu, "clearance": lu, "clearance_slider": lu, "largest_tolerance": lu, "sensitivity": f"{err}/{lu}"})
     return out
 
 
@@ -166,9 +167,7 @@ def render(report: dict, digits: int = 6) -> Group:
                       fmt(tr["working_input_at_max"], digits))
         parts.append(t)
     if "motion" in r:
-        suffix = {"input_speed": f" ({au}/s)", "input_range": f" ({au})", "output_range": f" ({au})",
-                  "output_swing": f" ({au})", "slider_range": f" ({lu})", "stroke": f" ({lu})"}
-        parts.append(_kv("Motion", [(k.replace("_", " ") + suffix.get(k, ""), v)
+        parts.append(_kv("Motion", [(k.replace("_", " ") + (f" ({au}/s)" if k == "input_speed" else ""), v)
                                     for k, v in r["motion"].items()], digits))
     if "positions" in r:
         parts.append(_rows("Positions", r["positions"], digits))

@@ -36,6 +36,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from linkcli.mechanisms.four_bar import wrap  # the one wrap: angles in (-pi, pi]
+
 TWO_PI = 2.0 * math.pi
 BRANCHES = ("open", "crossed")
 ASSEMBLY_SLACK = 1e-12  # relative: b^2 - h^2 down to -slack b^2 still assembles (w = 0)
@@ -68,12 +70,6 @@ def root_sign(branch):
             raise ValueError(f"branch must be one of {BRANCHES}, got {branch!r}")
         return 1.0 if branch == "open" else -1.0
     return np.asarray(branch, dtype=float)
-
-
-def wrap(angle):
-    """Angles in (-pi, pi] (an angle within 1e-12 of -pi becomes +pi)."""
-    out = np.mod(np.asarray(angle, dtype=float) + math.pi, TWO_PI) - math.pi
-    return np.where(out <= -math.pi + 1e-12, out + TWO_PI, out)
 
 
 # ---------------------------------------------------------------- position
