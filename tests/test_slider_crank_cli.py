@@ -205,3 +205,15 @@ def test_inverse_mode_finds_a_tolerance_at_the_level(tmp_path):
     above = np.mean(independent_monte_carlo(a, b, e, 1.2 * t, 0.0, 0.0, 40000, 8) > 0.1)
     assert at_t == pytest.approx(0.05, abs=0.015)
     assert above > 0.05
+
+
+@pytest.mark.parametrize("name", ["slider_crank", "slider_positions"])
+def test_plot_is_drawn_and_deterministic(tmp_path, name):
+    pytest.importorskip("matplotlib")
+    pictures = []
+    for k in range(2):
+        target = tmp_path / f"{name}_{k}.png"
+        code, _, err = run_cli("synth", f"problems/{name}.toml", "--plot", str(target))
+        assert code == 0, err
+        pictures.append(target.read_bytes())
+    assert pictures[0].startswith(b"\x89PNG") and pictures[0] == pictures[1]
