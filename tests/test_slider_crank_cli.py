@@ -217,3 +217,24 @@ def test_plot_is_drawn_and_deterministic(tmp_path, name):
         assert code == 0, err
         pictures.append(target.read_bytes())
     assert pictures[0].startswith(b"\x89PNG") and pictures[0] == pictures[1]
+
+
+def test_check_of_slider_crank_files_imports_neither_numpy_nor_scipy():
+    import subprocess
+    import sys
+    args = ["check", "problems/slider_crank.toml", "problems/slider_positions.toml", "problems/slider_tolerance.toml"]
+    code = ("import sys; from linkcli.cli import app\n"
+            "try:\n    app(%r, prog_name='linkcli')\nexcept SystemExit as e:\n    assert e.code == 0, e.code\n"
+            "heavy = [m for m in ('numpy', 'scipy') if m in sys.modules]\n"
+            "assert not heavy, heavy" % (args,))
+    subprocess.run([sys.executable, "-c", code], check=True, capture_output=True)
+
+
+def test_solving_slider_crank_files_does_not_import_scipy():
+    import subprocess
+    import sys
+    args = ["synth", "problems/slider_crank.toml", "problems/slider_positions.toml", "problems/slider_tolerance.toml"]
+    code = ("import sys; from linkcli.cli import app\n"
+            "try:\n    app(%r, prog_name='linkcli')\nexcept SystemExit as e:\n    assert e.code == 0, e.code\n"
+            "assert 'scipy' not in sys.modules" % (args,))
+    subprocess.run([sys.executable, "-c", code], check=True, capture_output=True)

@@ -15,6 +15,23 @@ BRANCHES = ("open", "crossed")
 
 
 @dataclass(frozen=True)
+class SliderCrank:
+    """An offset slider-crank: lengths in the length unit; coupler_point (px, py) in the
+    coupler frame (origin A, x along A -> B), as the four-bar's (the conventions of docs/format.md)."""
+
+    input: float
+    coupler: float
+    offset: float
+    branch: str = "open"
+    coupler_point: tuple[float, float] | None = None
+
+    @property
+    def abe(self) -> tuple[float, float, float]:
+        """(crank, rod, offset)."""
+        return self.input, self.coupler, self.offset
+
+
+@dataclass(frozen=True)
 class SolverOptions:
     method: str = "auto"
     seed: int = 0

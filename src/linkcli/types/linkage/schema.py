@@ -6,7 +6,7 @@ files and result files alike."""
 
 from __future__ import annotations
 
-from linkcli.model import BRANCHES, FourBar, LinkageProblem, Meta
+from linkcli.model import BRANCHES, FourBar, LinkageProblem, Meta, SliderCrank
 from linkcli.io.meta import MAX_LENGTH, MAX_RATIO, bounded_length, bounded_point, over_ratio
 from linkcli.io.reader import Table, describe
 
@@ -43,7 +43,6 @@ def read_slider_crank(t: Table, units):
     """[linkage] of a slider-crank: input (crank a), coupler (rod b), signed offset e, branch,
     optional coupler_point. It must assemble over a range of crank angles: |e| < a + b
     (|e - a sin(phi)| <= b for some phi; at |e| = a + b only at one angle, a structure)."""
-    from linkcli.mechanisms.slider_crank import SliderCrank
     lengths = {k: bounded_length(t, k) for k in ("input", "coupler")}
     offset = t.number("offset", lo=-MAX_LENGTH, hi=MAX_LENGTH, what="a signed length (the slider axis at y = offset)")
     branch = t.string("branch", "open", choices=BRANCHES)
