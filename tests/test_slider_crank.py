@@ -22,8 +22,8 @@ from numpy.testing import assert_allclose
 
 from linkcli.errors import SchemaError
 from linkcli.mechanisms import slider_crank as sc
-from linkcli.mechanisms import slider_precision as spp
-from linkcli.mechanisms import slider_tolerance as stol
+from linkcli.types.precision_position import slider_synthesis as spp
+from linkcli.analysis import slider_tolerance as stol
 
 pytestmark = pytest.mark.filterwarnings("error")
 

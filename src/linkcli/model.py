@@ -15,6 +15,23 @@ BRANCHES = ("open", "crossed")
 
 
 @dataclass(frozen=True)
+class SliderCrank:
+    """An offset slider-crank: lengths in the length unit; coupler_point (px, py) in the
+    coupler frame (origin A, x along A -> B), as the four-bar's (the conventions of docs/format.md)."""
+
+    input: float
+    coupler: float
+    offset: float
+    branch: str = "open"
+    coupler_point: tuple[float, float] | None = None
+
+    @property
+    def abe(self) -> tuple[float, float, float]:
+        """(crank, rod, offset)."""
+        return self.input, self.coupler, self.offset
+
+
+@dataclass(frozen=True)
 class SolverOptions:
     method: str = "auto"
     seed: int = 0
@@ -34,6 +51,7 @@ class Tolerance:
     lengths: dict  # link name -> +- tolerance in the length unit (all four links present)
     distribution: str = "uniform"  # or "normal" (tolerance = 3 sigma)
     clearance: float = 0.0  # radial joint clearance, length unit
+    clearance_slider: float = 0.0  # slider-crank: radial play of the slider in its guide, length unit
     samples: int = 20000
     allowed_error: float | None = None  # radians for angle errors, length unit for paths
     lines: dict = field(default_factory=dict, compare=False)  # key ("lengths.input") -> line, for messages
@@ -131,12 +149,13 @@ class PrecisionPositionProblem:
     """Freudenstein function generation through paired (phi_i, psi_i) positions."""
 
     meta: Meta
-    ground: float
+    ground: float | None  # None for a slider-crank (it has no ground link)
     input_angles: tuple[float, ...]
-    output_angles: tuple[float, ...]
+    output_angles: tuple[float, ...]  # slider-crank: slider positions s_i (length unit)
     lines: tuple[int | None, ...] = ()  # line of each position pair, for messages
     input_speed: float = 1.0  # rad/s, [motion] of the kinematics section
     steps: int = 360
+    mechanism: str = "four-bar"  # or "slider-crank" ([linkage] mechanism)
 
 
 @dataclass(frozen=True)

@@ -30,7 +30,8 @@ MESSAGES = {
 @dataclass
 class Positions:
     """One row per target. `kind` "angle": target/achieved are output angles (rad), error in
-    rad. `kind` "point": target/achieved are (n, 2) coupler points, error a distance."""
+    rad. `kind` "point": target/achieved are (n, 2) coupler points, error a distance.
+    `kind` "slider": target/achieved are slider positions, error a length (slider-crank)."""
 
     kind: str
     input: np.ndarray  # input angle used at each target, rad

@@ -53,16 +53,19 @@ def _build(problem, solution: Solution) -> dict:
     notes = list(getattr(meta, "notes", ())) + list(solution.notes)
     fb = solution.linkage
     has_linkage = fb is not None
-    if has_linkage and "lengths" in want:
+    mot = None
+    slider = has_linkage and is_slider_crank(fb)
+    if slider:
+        _slider_sections(rep, problem, solution, fb, want, u, notes)
+    if has_linkage and not slider and "lengths" in want:
         rep["linkage"] = linkage_section(fb, u)
-    if has_linkage and "grashof" in want:
+    if has_linkage and not slider and "grashof" in want:
         rep["grashof"] = kin.grashof(*fb.abcd)
-    if has_linkage and want & {"grashof", "transmission", "motion", "kinematics"}:
+    if has_linkage and not slider and want & {"grashof", "transmission", "motion", "kinematics"}:
         flat = change_point_inputs(*fb.abcd)
         if flat:
             notes.append(change_point_note(flat, fb, u))
-    mot = None
-    if has_linkage and want & {"transmission", "motion", "kinematics"}:
+    if has_linkage and not slider and want & {"transmission", "motion", "kinematics"}:
         near = solution.working_span[0] if solution.working_span else None
         mot = kin.motion(*fb.abcd, fb.branch, near=near)
         if not mot.assembles:
@@ -85,9 +88,9 @@ def _build(problem, solution: Solution) -> dict:
         if "motion" in rep and study is not None:
             rep["motion"].update(input_speed=_dang(u, speed), steps=steps)
     if solution.positions is not None and "positions" in want:
-        rep["positions"] = position_rows(solution.positions, u, max(fb.abcd) if has_linkage else 1.0)
+        rep["positions"] = position_rows(solution.positions, u, linkage_scale(fb))
     if solution.positions is not None and "error" in want:
-        rep["error"] = error_section(solution, u, meta.reference, max(fb.abcd) if has_linkage else 1.0)
+        rep["error"] = error_section(solution, u, meta.reference, linkage_scale(fb))
     for name, section in solution.sections.items():
         if name in want or name not in ALL_SECTIONS:
             rep[name] = section
@@ -102,6 +105,57 @@ def _build(problem, solution: Solution) -> dict:
     if notes:
         rep["notes"] = notes
     return rep
+
+
+def is_slider_crank(linkage) -> bool:
+    """The linkage is a linkcli.mechanisms.slider_crank.SliderCrank (else a FourBar)."""
+    from linkcli.analysis.forces import is_slider_crank as check
+    return check(linkage)
+
+
+def linkage_scale(linkage) -> float:
+    """The linkage's size, the scale of its length errors (1 without a linkage)."""
+    if linkage is None:
+        return 1.0
+    if is_slider_crank(linkage):
+        from linkcli.analysis.slider_sections import size
+        return size(linkage)
+    return max(linkage.abcd)
+
+
+def _slider_sections(rep, problem, solution, sl, want, u, notes) -> None:
+    """linkage, grashof, transmission, motion and kinematics of a slider-crank
+    (linkcli.analysis.slider_sections), in the four-bar's order and keys where they fit."""
+    from linkcli.analysis import slider_sections as ss
+    if "lengths" in want:
+        rep["linkage"] = ss.linkage_section(sl, u)
+    if "grashof" in want:
+        rep["grashof"] = ss.grashof_section(sl)
+        if rep["grashof"]["class"] == "change-point":
+            notes.append("change-point slider-crank: input + |offset| = coupler (within 1e-9), the rod "
+                         f"stands normal to the guide once a turn, where it can switch branch; the {sl.branch} "
+                         "branch reported changes form there")
+    if not want & {"transmission", "motion", "kinematics"}:
+        return
+    near = solution.working_span[0] if solution.working_span else None
+    study = ss.study_arc(sl, near)
+    if study is None:
+        notes.append("the slider-crank cannot assemble at any crank angle")
+        return
+    full, arc = study
+    if "transmission" in want:
+        rep["transmission"] = ss.transmission_section(sl, full, arc, u)
+        mn, _, mx, _ = ss.transmission_extremes(sl, full, arc)
+        band = TRANSMISSION_BAND[0]
+        if math.degrees(mn) < band * (1 - 1e-9):
+            notes.append(f"transmission angle falls below the recommended {band:g} deg "
+                         f"({num(math.degrees(mn))}..{num(math.degrees(mx))} deg over the crank's range)")
+    if "motion" in want:
+        rep["motion"] = ss.motion_section(sl, full, arc, u)
+    if "kinematics" in want:
+        speed, steps = motion_study(problem, u)
+        rep["kinematics"] = ss.kinematics_rows(sl, full, arc, speed, steps, u, study_inputs)
+        rep.setdefault("motion", {}).update(input_speed=_dang(u, speed), steps=steps)
 
 
 def change_point_inputs(a, b, c, d) -> list[float]:
@@ -267,6 +321,11 @@ def position_rows(pos, u, length_scale: float) -> list[dict]:
         if pos.kind == "angle":
             rows.append({"input": _ang(u, pos.input[k]), "target": _ang(u, pos.target[k]),
                          "achieved": _ang(u, pos.achieved[k]), "error": _dang(u, err[k])})
+        elif pos.kind == "slider":  # slider-crank: slider positions, length unit
+            achieved = float(pos.achieved[k])
+            rows.append({"input": _ang(u, pos.input[k]), "target": float(pos.target[k]),
+                         "achieved": snap(achieved, length_scale) if math.isfinite(achieved) else None,
+                         "error": float(err[k]) if math.isfinite(err[k]) else None})
         else:
             rows.append({"input": _ang(u, pos.input[k]),
                          "target": [float(pos.target[k][0]), float(pos.target[k][1])],

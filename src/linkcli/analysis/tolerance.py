@@ -308,6 +308,9 @@ def check_input(problem, fb: FourBar) -> None:
 def analyse(problem, solution) -> dict:
     """The `tolerance` report section: output-ready (plain floats, angles in the file's
     unit, lengths in its length unit)."""
+    if hasattr(solution.linkage, "abe"):  # a slider-crank (analysis.slider_tolerance)
+        from linkcli.analysis.slider_tolerance import report_section
+        return report_section(problem, solution)
     check_input(problem, solution.linkage)
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         return _analyse(problem, solution)

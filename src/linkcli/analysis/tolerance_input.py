@@ -19,7 +19,7 @@ def check_lengths(meta, lengths: dict[str, float], complete: bool) -> None:
     if tol is None or not lengths:
         return
     lines = tol.lines
-    same = len({tol.lengths.get(k, 0.0) for k in LINKS}) == 1
+    same = len(set(tol.lengths.values())) == 1
     for link in LINKS:
         if link not in lengths:
             continue
@@ -41,6 +41,8 @@ def known_lengths(problem) -> tuple[dict[str, float], bool]:
     linkage = getattr(problem, "linkage", None)
     if linkage is not None and hasattr(linkage, "abcd"):
         return {k: getattr(linkage, k) for k in LINKS}, True
+    if linkage is not None and hasattr(linkage, "abe"):  # a slider-crank: the offset may be 0
+        return {"input": linkage.input, "coupler": linkage.coupler}, True
     if hasattr(problem, "fixed") and isinstance(problem.fixed, dict):  # function generation
         return {k: float(v) for k, v in problem.fixed.items() if k in LINKS}, False
     bounds = getattr(problem, "lengths", None)

@@ -151,6 +151,9 @@ def read_sections(root: Table, default: tuple[str, ...], allowed: tuple[str, ...
     return tuple(s for s in ALL_SECTIONS if s in value)
 
 
+SLIDER_LINKS = ("input", "coupler", "offset")  # a slider-crank's toleranced lengths
+
+
 def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     """[tolerance]: `lengths` (one +- tolerance for every link, or a table per link; a
     path generator's table may add `coupler_point`, +- on each coordinate of P), `distribution`,
@@ -160,9 +163,12 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     if t is None:
         return None
     path_type = root.raw("type") == "path-generation"
-    per_link = LINKS + (("coupler_point",) if path_type else ())
+    link_table = root.data.get("linkage")
+    slider = isinstance(link_table, dict) and link_table.get("mechanism") == "slider-crank"
+    links = SLIDER_LINKS if slider else LINKS
+    per_link = links + (("coupler_point",) if path_type else ())
     raw = t.raw("lengths", None)
-    lengths = {k: 0.0 for k in LINKS}
+    lengths = {k: 0.0 for k in links}
     if isinstance(raw, dict):
         sub = t.table("lengths")
         if not raw:
@@ -170,17 +176,25 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
                     raw_got="an empty table")
         for link in per_link:
             v = sub.number(link, 0.0, nonnegative=True, what="a tolerance >= 0")
-            if link in raw or link in LINKS:
+            if link in raw or link in links:
                 lengths[link] = v if v is not None else 0.0
     elif raw is not None:
         v = t.number("lengths", nonnegative=True, what="a tolerance >= 0 or a table of them per link")
-        lengths = {k: (v or 0.0) for k in LINKS}
+        lengths = {k: (v or 0.0) for k in links}
     distribution = t.string("distribution", "uniform", choices=("uniform", "normal"))
     clearance = t.number("clearance", 0.0, nonnegative=True, what="a radial clearance >= 0")
+    clearance_slider = 0.0
+    if slider:
+        clearance_slider = t.number("clearance_slider", 0.0, nonnegative=True,
+                                    what="a radial play of the slider in its guide >= 0 (length unit)")
+    elif "clearance_slider" in t:
+        t.allow("clearance_slider")
+        t.error("clearance_slider", 'no clearance_slider for a four-bar (the play of a slider in its guide: '
+                'only with [linkage] mechanism = "slider-crank")', t.data["clearance_slider"])
     samples = t.number("samples", 20000, integer=True, lo=1, hi=MAX_SAMPLES)
     allowed = t.number("allowed_error", None, positive=True)
     if allowed is not None:
-        allowed = units.to_rad(allowed) if not path_type else allowed
+        allowed = units.to_rad(allowed) if not (path_type or slider) else allowed  # slider: length
     level = t.number("max_failure_probability", None, what="a probability strictly between 0 and 1")
     if level is not None and not 0.0 < level < 1.0:
         t.error("max_failure_probability", "a probability strictly between 0 and 1", level)
@@ -197,8 +211,10 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
                 f"({MIN_FAILURES} expected failures)", samples)
     line_of = root.reader.line_of
     lines = {".".join(k): line_of(("tolerance",) + k)
-             for k in [("lengths",), ("clearance",)] + [("lengths", link) for link in per_link]}
+             for k in [("lengths",), ("clearance",), ("clearance_slider",)]
+             + [("lengths", link) for link in per_link]}
     base = dict(lengths=lengths, distribution=distribution or "uniform", clearance=clearance or 0.0,
+                clearance_slider=clearance_slider or 0.0,
                 samples=samples or 20000, allowed_error=allowed, lines=lines)
     if level is not None:
         return InverseTolerance(max_failure_probability=level, lengths_given=raw is not None, **base)

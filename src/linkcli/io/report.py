@@ -91,10 +91,11 @@ def _generic(name: str, section, digits: int, units: dict[str, str] | None = Non
 
 
 def _tolerance_units(section: dict, lu: str, au: str) -> dict[str, str]:
-    err = lu if "coupler point" in str(section.get("measure", "")) else au
+    measure = str(section.get("measure", ""))
+    err = lu if ("coupler point" in measure or "slider" in measure) else au  # a length error
     keys = ("nominal_error", "error_mean", "error_p95", "error_max", "allowed_error")
     out = {k: err for k in keys}
-    out.update({"lengths": lu, "clearance": lu, "largest_tolerance": lu, "sensitivity": f"{err}/{lu}"})
+    out.update({"lengths": lu, "clearance": lu, "clearance_slider": lu, "largest_tolerance": lu, "sensitivity": f"{err}/{lu}"})
     return out
 
 
@@ -131,14 +132,22 @@ def render(report: dict, digits: int = 6) -> Group:
                                                   else ("ground", "input", "coupler", "output"))]
         rows.append(("branch", lk["branch"]))
         if "coupler_point" in lk:
-            rows += [(f"coupler point ({lu})", lk["coupler_point"]),
-                     (f"ground pivot ({lu})", lk["ground_pivot"]),
-                     (f"ground angle ({au})", lk["ground_angle"])]
+            rows.append((f"coupler point ({lu})", lk["coupler_point"]))
+            if "ground_pivot" in lk:  # a slider-crank has its crank pivot at the origin
+                rows += [(f"ground pivot ({lu})", lk["ground_pivot"]),
+                         (f"ground angle ({au})", lk["ground_angle"])]
             if "coupler_angle" in lk:
                 rows.append((f"coupler angle ({au})", lk["coupler_angle"]))
         parts.append(_kv("Link lengths", rows, digits))
     if "grashof" in r:
         g = r["grashof"]
+    if "grashof" in r and "crank_plus_offset" in g:  # a slider-crank: turns fully iff a + |e| <= b
+        a_e, b = g["crank_plus_offset"], g["coupler"]
+        rel = "<" if a_e < b else ("=" if a_e == b else ">")
+        parts.append(_kv("Class", [("class", g["class"]),
+                                   ("input + |offset| vs coupler", f"{fmt(a_e, digits)} {rel} {fmt(b, digits)}")],
+                         digits))
+    elif "grashof" in r:
         sl, pq = g["s_plus_l"], g["p_plus_q"]
         rel = "vs" if sl is None or pq is None else "<" if sl < pq else ("=" if sl == pq else ">")
         parts.append(_kv("Grashof", [("class", g["class"]), ("shortest", g["shortest"]),
@@ -169,6 +178,8 @@ def render(report: dict, digits: int = 6) -> Group:
                  "transmission": f"mu ({au})", "coupler_velocity": f"w coupler ({au}/s)",
                  "output_velocity": f"w output ({au}/s)", "coupler_acceleration": f"a coupler ({au}/s2)",
                  "output_acceleration": f"a output ({au}/s2)",
+                 "slider": f"slider ({lu})", "slider_velocity": f"v slider ({lu}/s)",
+                 "slider_acceleration": f"a slider ({lu}/s2)",
                  "coupler_point_x": f"P x ({lu})", "coupler_point_y": f"P y ({lu})",
                  "coupler_point_vx": f"P vx ({lu}/s)", "coupler_point_vy": f"P vy ({lu}/s)",
                  "coupler_point_ax": f"P ax ({lu}/s2)", "coupler_point_ay": f"P ay ({lu}/s2)"}

@@ -14,7 +14,7 @@ from linkcli.model import LinkageProblem, Meta
 from linkcli.io.loads import read_loads
 from linkcli.io.meta import MAX_LENGTH, read_units
 from linkcli.types.linkage import TYPE as LINKAGE
-from linkcli.types.linkage.schema import read_fourbar
+from linkcli.types.linkage.schema import read_linkage
 from linkcli.io.reader import Reader
 from linkcli.io.result_motion import motion_study
 
@@ -57,11 +57,12 @@ def parse(reader: Reader) -> LinkageProblem | None:
     title = root.raw("title", None)
     units = read_units(root)
     link = root.table("linkage", required=True)
-    fourbar = read_fourbar(link, units) if link else None
+    fourbar = read_linkage(link, units) if link else None
     if link is not None:
         link.allow("ground_pivot", "ground_angle", "coupler_point", "coupler_angle")
         angle = link.number("coupler_angle", None, lo=-MAX_LENGTH, hi=MAX_LENGTH)
-        if fourbar is not None and angle is not None and fourbar.coupler_point is not None:
+        if (fourbar is not None and angle is not None and fourbar.coupler_point is not None
+                and hasattr(fourbar, "coupler_angle")):
             fourbar = replace(fourbar, coupler_angle=units.to_rad(angle))  # a motion-generation result
     loads = read_loads(root, "linkage")  # [loads] / [masses]: echoed by synth, or added by hand
     if reader.errors or fourbar is None:

@@ -36,29 +36,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from linkcli.mechanisms.four_bar import wrap  # the one wrap: angles in (-pi, pi]
+from linkcli.model import SliderCrank  # the dataclass lives with FourBar (no numpy: `check` reads it)
+
 TWO_PI = 2.0 * math.pi
 BRANCHES = ("open", "crossed")
 ASSEMBLY_SLACK = 1e-12  # relative: b^2 - h^2 down to -slack b^2 still assembles (w = 0)
 LIMIT_RTOL = 1e-9  # |w| <= this * b: the rod is normal to the guide (velocities infinite)
 CHANGE_POINT_RTOL = 1e-9  # |a + |e| - b| <= this * b: the class boundary (change point)
 SLIDER_CLASSES = ("slider-crank", "rocking-slider", "change-point", "no-assembly")
-
-
-@dataclass(frozen=True)
-class SliderCrank:
-    """An offset slider-crank: lengths in the length unit; coupler_point (px, py) in the
-    coupler frame (origin A, x along A -> B), as the four-bar's (the conventions of docs/format.md)."""
-
-    input: float
-    coupler: float
-    offset: float
-    branch: str = "open"
-    coupler_point: tuple[float, float] | None = None
-
-    @property
-    def abe(self) -> tuple[float, float, float]:
-        """(crank, rod, offset)."""
-        return self.input, self.coupler, self.offset
 
 
 def root_sign(branch):
@@ -68,12 +54,6 @@ def root_sign(branch):
             raise ValueError(f"branch must be one of {BRANCHES}, got {branch!r}")
         return 1.0 if branch == "open" else -1.0
     return np.asarray(branch, dtype=float)
-
-
-def wrap(angle):
-    """Angles in (-pi, pi] (an angle within 1e-12 of -pi becomes +pi)."""
-    out = np.mod(np.asarray(angle, dtype=float) + math.pi, TWO_PI) - math.pi
-    return np.where(out <= -math.pi + 1e-12, out + TWO_PI, out)
 
 
 # ---------------------------------------------------------------- position

@@ -41,6 +41,9 @@ def finite(x):
 
 
 def draw(fig, report: dict, problem=None) -> None:
+    from linkcli.plots import slider_crank
+    if slider_crank.is_slider_crank(report):  # the second mechanism draws itself
+        return slider_crank.draw(fig, report, problem)
     u, ax_link, (ax_w, ax_a, ax_mu) = panels(fig, report, 3, [1.0, 1.25])
     au, lu = u.angle, u.length
     if "linkage" not in report:

@@ -1,4 +1,4 @@
-"""`type = "linkage"`: nothing to solve; the given four-bar is the solution."""
+"""`type = "linkage"`: nothing to solve; the given four-bar or slider-crank is the solution."""
 
 from __future__ import annotations
 
@@ -8,6 +8,10 @@ from linkcli.solution import Solution, Status
 
 def solve(problem) -> Solution:
     fb = problem.linkage
+    if hasattr(fb, "abe"):  # a slider-crank: the schema refused one that never assembles
+        return Solution(status=Status.OK, linkage=fb, message="given linkage",
+                        solver={"method": "analysis", "seed": problem.meta.solver.seed,
+                                "evaluations": 0, "converged": True})
     if input_arcs(*fb.abcd) == []:
         return Solution(status=Status.INFEASIBLE, linkage=fb,
                         message="the linkage cannot assemble at any input angle "

@@ -9,13 +9,18 @@ from linkcli.io.meta import bounded_length, in_motion_order
 from linkcli.errors import SchemaError
 from linkcli.io.reader import Table
 from linkcli.types.precision_position.system import position_problem
-from linkcli.types.linkage.schema import read_motion
+from linkcli.types.linkage.schema import read_mechanism, read_motion, refuse_foreign
 
 MAX_POSITIONS = 1000
 
 
 def parse(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
     link = root.table("linkage", required=True)
+    mechanism = read_mechanism(link) if link else "four-bar"
+    if link is not None and mechanism is not None and refuse_foreign(link, mechanism):
+        mechanism = None
+    if mechanism == "slider-crank":
+        return _parse_slider(root, meta)
     ground = bounded_length(link, "ground") if link else None
     pos = root.table("positions", required=True)
     phi = psi = None
@@ -26,19 +31,11 @@ def parse(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
             pos.error("output", f"one output angle per input angle ({len(phi)})", psi)
             return None
     speed, steps = read_motion(root)  # [motion]: the kinematics section's speed and steps
-    if ground is None or phi is None or psi is None or speed is None or steps is None:
+    if mechanism is None or ground is None or phi is None or psi is None or speed is None or steps is None:
         return None
     u = meta.units
-    full = u.from_rad(2 * math.pi)
-    for key, values in (("input", phi),):  # equal outputs are legitimate (a rocker returns)
-        for i in range(len(values)):
-            for j in range(i + 1, len(values)):
-                gap = abs(values[i] - values[j]) % full
-                if min(gap, full - gap) < 1e-9 * full:
-                    pos.error(key, "distinct angles, one per position",
-                              raw_got=f"positions {i + 1} and {j + 1} at the same angle "
-                                      f"({values[i]:g} and {values[j]:g} {u.angle})")
-                    return None
+    if coincident(pos, phi, u):
+        return None
     line = root.reader.line_of(("positions", "input"))
     phi_rad = in_motion_order([u.to_rad(v) for v in phi])
     psi_rad = [u.to_rad(v) for v in psi]
@@ -51,3 +48,43 @@ def parse(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
         input_angles=tuple(phi_rad), output_angles=tuple(psi_rad),
         lines=(line,), input_speed=u.to_rad(speed), steps=steps,
     )
+
+
+def coincident(pos: Table, phi: list[float], u) -> bool:
+    """Two input angles equal once wrapped (within 1e-9 of a turn): one located error."""
+    full = u.from_rad(2 * math.pi)
+    for i in range(len(phi)):
+        for j in range(i + 1, len(phi)):
+            gap = abs(phi[i] - phi[j]) % full
+            if min(gap, full - gap) < 1e-9 * full:
+                pos.error("input", "distinct angles, one per position",
+                          raw_got=f"positions {i + 1} and {j + 1} at the same angle "
+                                  f"({phi[i]:g} and {phi[j]:g} {u.angle})")
+                return True
+    return False
+
+
+def _parse_slider(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
+    """A slider-crank through (crank angle, slider position) pairs: [linkage] holds only
+    `mechanism` (the lengths are the answer); positions.output are slider positions s_i
+    (length unit, x of the slider pin). Impossible data (coincident angles, a singular
+    system, no real rod) is refused when solving, naming the positions."""
+    pos = root.table("positions", required=True)
+    phi = s = None
+    if pos is not None:
+        phi = pos.number_list("input", min_len=3, max_len=MAX_POSITIONS, what="input angles")
+        s = pos.number_list("output", min_len=3, max_len=MAX_POSITIONS,
+                            what="slider positions (length unit)")
+        if phi is not None and s is not None and len(phi) != len(s):
+            pos.error("output", f"one slider position per input angle ({len(phi)})", s)
+            return None
+    speed, steps = read_motion(root)
+    if phi is None or s is None or speed is None or steps is None:
+        return None
+    u = meta.units
+    if coincident(pos, phi, u):
+        return None
+    line = root.reader.line_of(("positions", "input"))
+    return PrecisionPositionProblem(meta=meta, ground=None, input_angles=tuple(in_motion_order([u.to_rad(v) for v in phi])),
+                                    output_angles=tuple(float(v) for v in s), lines=(line,),
+                                    input_speed=u.to_rad(speed), steps=steps, mechanism="slider-crank")

@@ -191,6 +191,9 @@ def _least_squares(problem, phi, psi, d):
 
 
 def solve(problem) -> Solution:
+    if problem.mechanism == "slider-crank":
+        from linkcli.types.precision_position.slider import solve as solve_slider
+        return solve_slider(problem)
     _check_positions(problem)
     phi = np.array(problem.input_angles)
     psi = np.array(problem.output_angles)

@@ -40,6 +40,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from linkcli.analysis.tolerance import wilson  # the house's one Wilson interval
 from linkcli.mechanisms.slider_crank import (TWO_PI, SliderCrank, arc_contains, arc_sweep, choose_arc,
                                              input_arcs, slider_from_trig, slider_partials)
 
@@ -49,7 +50,6 @@ CHUNK_ELEMENTS = 2**17
 GRID = 36
 TRAVEL_SLACK = 1e-12
 BISECTION_RTOL = 1e-4
-Z95 = 1.959963984540054
 NO_ALLOWED_ERROR = ("no allowed_error given: a sample fails only when it cannot be made (crank or rod "
                     "<= 0), assembled at a target or moved from the first target to the last")
 
@@ -239,15 +239,6 @@ def largest_tolerance(linkage: SliderCrank, tg: SliderTargets, samples: int, cle
     return lo, p_lo
 
 
-def wilson(k: int, n: int, z: float = Z95) -> tuple[float, float]:
-    """Wilson score interval of a binomial proportion k / n (Wilson 1927)."""
-    p = k / n
-    den = 1.0 + z * z / n
-    mid = (p + z * z / (2 * n)) / den
-    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / den
-    return (0.0 if k == 0 else max(0.0, mid - half)), (1.0 if k == n else min(1.0, mid + half))
-
-
 def analyse(linkage: SliderCrank, lengths: dict, *, clearance: float = 0.0,
             clearance_slider: float = 0.0, samples: int = 20000, seed: int = 0,
             distribution: str = "uniform", allowed_error: float | None = None,
@@ -301,4 +292,34 @@ def analyse(linkage: SliderCrank, lengths: dict, *, clearance: float = 0.0,
             out["max_failure_probability"] = float(level)
             out["largest_tolerance"] = float(t)
             out["failure_probability_at_largest"] = float(p_t)
+    return out
+
+
+def report_section(problem, solution) -> dict:
+    """The `tolerance` report section of a solved slider-crank problem (analysis.tolerance
+    dispatches here): targets are the solution's positions (precision positions) or the
+    nominal slider over the range of motion; the [tolerance] table as read by io.meta
+    (lengths keyed input, coupler, offset; clearance; clearance_slider; allowed_error in the
+    length unit). Errors below the noise floor of the slider-crank's size are 0."""
+    from linkcli.analysis.tolerance_input import check_lengths
+    from linkcli.noise import snap
+
+    sl = solution.linkage
+    check_lengths(problem.meta, {"input": sl.input, "coupler": sl.coupler}, complete=True)
+    tol = problem.meta.tolerance
+    level = getattr(tol, "max_failure_probability", None)
+    pos = solution.positions
+    if pos is not None and len(pos.input):
+        tg = targets_at(sl, np.asarray(pos.input, dtype=float), np.asarray(pos.target, dtype=float),
+                        solution.working_span)
+    else:
+        tg = targets_over_range(sl, solution.working_span[0] if solution.working_span else None)
+    lengths = dict(tol.lengths) if (level is None or getattr(tol, "lengths_given", True)) else {}
+    out = analyse(sl, lengths, clearance=tol.clearance, clearance_slider=tol.clearance_slider,
+                  samples=tol.samples, seed=int(problem.meta.solver.seed), distribution=tol.distribution,
+                  allowed_error=tol.allowed_error, max_failure_probability=level, targets=tg)
+    scale = max(sl.input, sl.coupler, abs(sl.offset))
+    for key in ("nominal_error", "error_mean", "error_p95", "error_max"):
+        if out.get(key) is not None:
+            out[key] = snap(out[key], scale)
     return out
