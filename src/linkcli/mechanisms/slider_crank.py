@@ -332,17 +332,6 @@ def time_ratio(crank, rod, offset, branch="open"):
 SLOW_STROKE = {1.0: "return", -1.0: "outward", 0.0: "neither"}
 
 
-def transmission_extremes(crank, rod, offset, lo, hi):
-    """(mu_min, phi_at_min, mu_max, phi_at_max) over the crank arc lo -> hi (ccw).
-    mu falls as |h| = |e - a sin(phi)| grows: extremes at the arc ends or phi = +-90 deg."""
-    cands = [lo, hi] + [x for x in (math.pi / 2, -math.pi / 2) if bool(arc_contains((lo, hi), x))]
-    phi = np.array(cands)
-    p = pose(crank, rod, offset, phi, "open")  # mu does not depend on the branch
-    mu = np.where(p.valid, p.mu, np.nan)
-    i, j = int(np.nanargmin(mu)), int(np.nanargmax(mu))
-    return float(mu[i]), float(wrap(phi[i])), float(mu[j]), float(wrap(phi[j]))
-
-
 def motion(crank, rod, offset, branch="open", near=None) -> dict:
     """Range of motion of one slider-crank on a branch: the crank arc (full turn or the arc
     holding `near`), slider_range (s_min, s_max), stroke, dead centres on the arc, and for a
