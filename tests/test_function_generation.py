@@ -467,7 +467,7 @@ def test_a_law_undefined_at_some_points_only_is_left_to_the_search():
     from linkcli.types.function_generation.model import Model
     text = open(CRANK_ROCKER).read().replace('"psi0 + 2/(3*pi)*(phi - phi0)**2"', '"psi0 + sqrt(phi - 0.5)"')
     model = Model(load("partial.toml", text))
-    u = np.random.default_rng(0).random((20, model.n))
+    u = np.random.default_rng(0).random((20, model.n_variables))
     check_law(model, u)  # phi0 near 0.46 rad: the first points are undefined for some candidates
     with pytest.raises(InputError):  # undefined for every start angle: refused when read
         check_law(Model(load("none.toml", text.replace("sqrt(phi - 0.5)", "sqrt(phi - 100)"))), u)

@@ -84,7 +84,7 @@ def solve(problem) -> Solution:
 
 def _solve(problem) -> Solution:
     meta = problem.meta
-    st = Statics(problem.mass * problem.gravity, problem.center_of_mass, problem.end - problem.start)
+    statics = Statics(problem.mass * problem.gravity, problem.center_of_mass, problem.end - problem.start)
     notes: list[str] = []
     if problem.fixed:
         design, solver, rows = np.array([lo for lo, _ in problem.bounds]), {"method": "evaluate"}, None
@@ -93,13 +93,13 @@ def _solve(problem) -> Solution:
             notes.append(f'every pivot coordinate is fixed: the design is evaluated, method '
                          f'"{meta.solver.method}" is not used')
     else:
-        design, solver, rows = _search(problem, st, notes)
+        design, solver, rows = _search(problem, statics, notes)
     solver["minimize"] = problem.minimize
     if design is None:
         return Solution(status=Status.NOT_CONVERGED, solver=solver, notes=notes,
                         message=f"the budget of {solver['budget']} evaluations is too small to "
                                 "judge a design")
-    f = facts(problem, st, design)
+    f = facts(problem, statics, design)
     status, message = verdict(problem, f)
     lu = meta.units.length
     if (problem.dead_length is None and not f["crosses"] and not problem.fixed
@@ -126,7 +126,7 @@ def _solve(problem) -> Solution:
     solver.pop("completed", None)
     sections = {}
     if "cylinder" in meta.sections:
-        sections["cylinder"] = cylinder_section(problem, st, f)
+        sections["cylinder"] = cylinder_section(problem, statics, f)
     if rows is not None:
         sections["pareto"] = rows
     objective = f["peak"] if problem.minimize == "peak-force" else f["min_length"]
@@ -134,14 +134,14 @@ def _solve(problem) -> Solution:
                     solver=solver, sections=sections, notes=notes)
 
 
-def _search(problem, st: Statics, notes: list[str]):
+def _search(problem, statics: Statics, notes: list[str]):
     """(design or None, solver dict, trade-off rows or None) of the optimizing methods."""
     meta = problem.meta
     method = meta.solver.method
     total = meta.solver.budget or (DEFAULT_BUDGET + (PARETO_BUDGET if problem.pareto else 0))
     share = total - (int(PARETO_SHARE * total) if problem.pareto else 0)
     budget = Budget(total)
-    judge = Judge(problem, st, Space(problem), budget)
+    judge = Judge(problem, statics, Space(problem), budget)
     rng = np.random.default_rng(meta.solver.seed)
     goal = Goal("peak") if problem.minimize == "peak-force" else Goal("length", force_cap=problem.max_force)
     polishes = method != "differential-evolution"  # a global method alone is not polished
@@ -153,7 +153,7 @@ def _search(problem, st: Statics, notes: list[str]):
     rows = None
     if problem.pareto and out.best.design is not None:
         found, complete = pareto(problem, judge, out, goal, method, budget.left, rng)
-        rows = pareto_rows(problem, st, found)
+        rows = pareto_rows(problem, statics, found)
         if not complete:
             notes.append(f"the trade-off table has {len(rows)} of the {problem.pareto} rows asked "
                          "for (budget spent, or no shorter cylinder stays within the force limit)")
