@@ -30,6 +30,7 @@ def parse(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
         return None
     u = meta.units
     full = u.from_rad(2 * math.pi)
+    # the one coincident-positions check (the solver trusts it): inputs within 1e-9 of a turn
     for key, values in (("input", phi),):  # equal outputs are legitimate (a rocker returns)
         for i in range(len(values)):
             for j in range(i + 1, len(values)):

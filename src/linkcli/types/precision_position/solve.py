@@ -31,26 +31,12 @@ from linkcli.types.precision_position.verdict import verdict
 from linkcli.noise import TIE
 from linkcli.textnum import num
 
-COINCIDENT = 1e-9  # rad: two input (or output) angles closer than this are one position
 BRANCHES = ("open", "crossed")
 HELD = 1e-6  # rad: an exact fit's closure on a branch within this of psi holds the position
 
 
 def _position_names(idx) -> str:
     return ", ".join(str(i + 1) for i in idx)
-
-
-def _check_positions(problem) -> None:
-    phi = np.array(problem.input_angles)
-    psi = np.array(problem.output_angles)
-    path = problem.meta.path
-    for name, ang in (("positions.input", phi),):
-        diff = np.abs(wrap(ang[:, None] - ang[None, :]))
-        i, j = np.nonzero(np.triu(diff < COINCIDENT, 1))
-        if len(i):
-            raise SolveInputError("distinct angles (each position a different angle)",
-                             f"positions {i[0] + 1} and {j[0] + 1} at the same angle",
-                             path=path, key=name, line=problem.lines[0] if problem.lines else None)
 
 
 def _bad_positions(problem, expected: str, got: str) -> SolveInputError:
@@ -191,7 +177,6 @@ def _least_squares(problem, phi, psi, d):
 
 
 def solve(problem) -> Solution:
-    _check_positions(problem)
     phi = np.array(problem.input_angles)
     psi = np.array(problem.output_angles)
     d = problem.ground
