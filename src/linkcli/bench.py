@@ -50,7 +50,7 @@ def run_problem(path: str, seeds: int, text: str | None = None) -> list[dict]:
             obj = sol.objective
             rows.append({
                 "problem": path, "method": method, "budget": budget, "seed": seed,
-                "seconds": seconds, "evaluations": sol.solver.get("evaluations"),
+                "seconds": seconds, "evaluations": sol.solver.evaluations if sol.solver is not None else None,
                 "objective": obj, "best_known": best,
                 "gap": gap(obj, best) if (obj is not None and best is not None) else None,
                 "status": sol.status.value,

@@ -44,7 +44,7 @@ from linkcli.mechanisms import four_bar as kin
 from linkcli.errors import SolveInputError
 from linkcli.types.function_generation.printed_digits import digits_note
 from linkcli.model import FourBar, FunctionGenerationProblem
-from linkcli.solution import Positions, Solution, Status
+from linkcli.solution import Positions, Solution, SolverRecord, Status
 from linkcli.search import kkt, linalg
 from linkcli.search import polish as local_polish
 from linkcli.search import sampling
@@ -569,8 +569,8 @@ def build_solution(problem, model: Model, search: Search, converged: bool) -> So
                           achieved=kin.wrap(det["psi"][0]), error=kin.wrap(err))
     check_law_finite(problem, model, batch.violation[0], det, u)
     violations = describe_violations(problem, model, batch.violation[0], det, u)
-    solver = {"method": solver_name(problem.meta.solver.method, model.n_variables), "seed": problem.meta.solver.seed,
-              "evaluations": search.evaluations.used, "converged": bool(converged)}
+    solver = SolverRecord(solver_name(problem.meta.solver.method, model.n_variables), problem.meta.solver.seed,
+                          search.evaluations.used, bool(converged))
     if violations:
         status, message = Status.INFEASIBLE, "; ".join(violations)
     elif not converged:

@@ -32,7 +32,7 @@ import numpy as np
 from linkcli.mechanisms import four_bar as kin
 from linkcli.model import FourBar
 from linkcli.search.budget import Budget, BudgetSpent
-from linkcli.solution import Positions, Solution, Status
+from linkcli.solution import Positions, Solution, SolverRecord, Status
 from linkcli.types.path_generation import starts
 from linkcli.types.path_generation.model import N_LINK, SHORTEST, Design, build, rho2_extremes
 from linkcli.types.path_generation.search import Space, batch_lm, differential_evolution, distinct, polish, settle
@@ -356,8 +356,7 @@ def solution(problem, design: Design, best: Candidate, bad, method, budget) -> S
                "order_defect": "order" in names}
     notes = _notes(problem, design, x) + _reach_note(problem, design, x, err)
     converged = bool(best.converged) or objective <= exact_objective(design)  # exact: nothing to add
-    solver = {"method": method, "seed": problem.meta.solver.seed, "evaluations": budget.used,
-              "converged": converged}
+    solver = SolverRecord(method, problem.meta.solver.seed, budget.used, converged)
     n = design.n_targets
     if bad:
         status = Status.INFEASIBLE
