@@ -16,7 +16,8 @@ from linkcli.io.load import load
 from linkcli.registry import NAMES as TYPES
 from linkcli.templates import template_names, template_text
 
-EXISTING = ("precision-position", "function-generation", "path-generation", "flipper-cylinder", "linkage")
+EXISTING = ("precision-position", "function-generation", "path-generation", "flipper-cylinder", "linkage",
+            "quick-return")
 COMMENTED_KEY = re.compile(r"^# ([A-Za-z_][A-Za-z0-9_]*) = ")
 COMMENTED_HEADER = re.compile(r"^# (\[[A-Za-z_][A-Za-z0-9_]*\])")
 HEADER = re.compile(r"^\[[A-Za-z_][A-Za-z0-9_]*\]")

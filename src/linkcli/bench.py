@@ -6,14 +6,20 @@ evaluations, objective, best_known (the file's `[reference] objective`), gap
 ((objective - best_known) / |best_known|), status. A problem type's schema module may list
 `bench_settings` as (method, budget) pairs (linkcli.registry.ProblemType); otherwise every
 method in its `methods` is run with the file's own budget.
+
+Each run (problem x setting x seed) is one picklable `Run` and one call of `run_one`, in
+this process or, with `--cluster`, on Dask workers (linkcli.cluster): the rows are the
+same but for `seconds`, and come back in the same order.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
 import time
 from dataclasses import replace
+from typing import Iterator, NamedTuple
 
 from linkcli.errors import LinkcliError
 from linkcli.io.terminal_text import one_line
@@ -30,51 +36,142 @@ def settings_for(problem) -> list[tuple[str, int | None]]:
     return [(m, problem.meta.solver.budget) for m in spec.methods]
 
 
-def run_problem(path: str, seeds: int, text: str | None = None) -> list[dict]:
-    """Every setting and seed of one problem file (`text`: its content, when it is not
-    read from `path`, as for the packaged bench set)."""
+class Run(NamedTuple):
+    """One bench run: a problem file (its name and content, read once by the client: the
+    file's bytes, or the text of a packaged bench problem), a solver setting and a seed.
+    Pickles, so it can run on a --cluster worker."""
+
+    path: str
+    source: bytes | str
+    method: str
+    budget: int | None
+    seed: int
+    debug: bool = False
+
+
+class RunOutcome(NamedTuple):
+    """A run's row, or the error lines and exit code that took its place."""
+
+    path: str
+    row: dict | None
+    errors: tuple[str, ...] = ()
+    exit_code: int = 0
+
+
+def runs_of(path: str, seeds: int, debug: bool = False, text: str | None = None) -> list[Run]:
+    """Every setting x seed of one problem file (`text`: its content, when it is not read
+    from `path`, as for the packaged bench set; loaded here to learn its settings);
+    InputError if the file is bad."""
+    from linkcli.io.load import load
+    from linkcli.io.safe_read import read_problem_bytes
+    source = read_problem_bytes(path) if text is None else text
+    problem = load(path, source)
+    return [Run(path, source, method, budget, seed, debug)
+            for method, budget in settings_for(problem) for seed in range(seeds)]
+
+
+def run_one(run: Run) -> RunOutcome:
+    """Solve one run and time the solve alone: a row (expected failures become error
+    lines, a bug one line too, unless `run.debug`). Top-level: Dask pickles it by name."""
+    try:
+        return RunOutcome(run.path, solve_run(run))
+    except LinkcliError as exc:
+        if run.debug:
+            raise
+        return RunOutcome(run.path, None, tuple(exc.lines()), exc.exit_code)
+    except Exception as exc:  # a bug: one line, not a traceback (--debug shows it)
+        if run.debug:
+            raise
+        return run_failed(run, f"{type(exc).__name__}: {exc} (run with --debug for the traceback)")
+
+
+def run_failed(run: Run, description: str) -> RunOutcome:
+    """The outcome of a run whose task failed outside `run_one` (its workers died)."""
+    return RunOutcome(run.path, None, (f"{run.path}: internal error: {description}",), 1)
+
+
+def solve_run(run: Run) -> dict:
+    """The bench row of one run (its columns: docs/format.md, Commands)."""
     from linkcli.analysis.sections import gap
     from linkcli.io.load import load
     from linkcli.pipeline import solve
-    problem = load(path, text)
+    problem = load(run.path, run.source)
     import scipy.optimize  # noqa: F401  imported before any timing, so that no row pays for it
     best = problem.meta.reference.objective if problem.meta.reference else None
-    rows = []
-    for method, budget in settings_for(problem):
-        for seed in range(seeds):
-            opts = replace(problem.meta.solver, method=method, seed=seed, budget=budget)
-            p = replace(problem, meta=replace(problem.meta, solver=opts))
-            t0 = time.perf_counter()
-            sol = solve(p)
-            seconds = time.perf_counter() - t0
-            obj = sol.objective
-            rows.append({
-                "problem": path, "method": method, "budget": budget, "seed": seed,
-                "seconds": seconds, "evaluations": sol.solver.evaluations if sol.solver is not None else None,
-                "objective": obj, "best_known": best,
-                "gap": gap(obj, best) if (obj is not None and best is not None) else None,
-                "status": sol.status.value,
-            })
-    return rows
+    opts = replace(problem.meta.solver, method=run.method, seed=run.seed, budget=run.budget)
+    problem = replace(problem, meta=replace(problem.meta, solver=opts))
+    t0 = time.perf_counter()
+    sol = solve(problem)
+    seconds = time.perf_counter() - t0
+    obj = sol.objective
+    return {
+        "problem": run.path, "method": run.method, "budget": run.budget, "seed": run.seed,
+        "seconds": seconds, "evaluations": sol.solver.evaluations if sol.solver is not None else None,
+        "objective": obj, "best_known": best,
+        "gap": gap(obj, best) if (obj is not None and best is not None) else None,
+        "status": sol.status.value,
+    }
 
 
-def command(files: list[str], fmt: str, seeds: int, precision: int, debug: bool) -> int:
-    """Without files, the packaged bench set (linkcli.bench_problems, named bench/<name>.toml)."""
+def run_problem(path: str, seeds: int, text: str | None = None) -> list[dict]:
+    """Every setting and seed of one problem file (`text`: as for runs_of), in this
+    process; the first error raises."""
+    return [solve_run(run) for run in runs_of(path, seeds, debug=True, text=text)]
+
+
+def outcomes(runs: list[Run], cluster: str | None) -> Iterator[RunOutcome]:
+    """The runs' outcomes in order: in this process, or on the Dask cluster at `cluster`
+    (linkcli.cluster; the same run_one on the workers)."""
+    if cluster is None:
+        yield from map(run_one, runs)
+        return
+    from linkcli.cluster import map_ordered
+    remote = [run._replace(debug=False) for run in runs]  # tracebacks cannot come back
+    with contextlib.closing(map_ordered(run_one, remote, cluster, on_error=run_failed)) as done:
+        yield from done
+
+
+def command(files: list[str], fmt: str, seeds: int, precision: int, debug: bool,
+            cluster: str | None = None) -> int:
+    """Every problem x setting x seed, serially or on a --cluster; a file with an error
+    prints its lines (once each) and gives no rows; the rows as a table, JSON, CSV or TOML.
+    Without files, the packaged bench set (linkcli.bench_problems, named bench/<name>.toml)."""
     if files:
         problems = [(path, None) for path in files]
     else:
         from linkcli.bench_problems import bench_files
         problems = list(bench_files())
-    rows, worst = [], 0
+    files = [path for path, _ in problems]
+    runs: list[Run] = []
+    errors: dict[str, list[str]] = {path: [] for path in files}
+    worst = 0
     for path, text in problems:
         try:
-            rows.extend(run_problem(path, seeds, text))
+            runs.extend(runs_of(path, seeds, debug, text))
         except LinkcliError as exc:
             if debug:
                 raise
-            for line in exc.lines() if hasattr(exc, "lines") else [str(exc)]:
-                sys.stderr.write(one_line(line) + "\n")
-            worst = max(worst, getattr(exc, "exit_code", 1))
+            errors[path].extend(exc.lines())
+            worst = max(worst, exc.exit_code)
+    rows_of: dict[str, list[dict]] = {path: [] for path in files}
+    try:
+        with contextlib.closing(outcomes(runs, cluster)) as done:
+            for outcome in done:
+                if outcome.row is not None:
+                    rows_of[outcome.path].append(outcome.row)
+                errors[outcome.path].extend(line for line in outcome.errors
+                                            if line not in errors[outcome.path])
+                worst = max(worst, outcome.exit_code)
+    except LinkcliError as exc:  # the cluster itself failed (unreachable, lost)
+        if debug:
+            raise
+        for line in exc.lines():
+            sys.stderr.write(one_line(line) + "\n")
+        return max(worst, exc.exit_code)
+    for path in dict.fromkeys(files):  # a file named twice: its runs ran twice, in rows_of
+        for line in errors[path]:
+            sys.stderr.write(one_line(line) + "\n")
+    rows = [row for path in dict.fromkeys(files) if not errors[path] for row in rows_of[path]]
     if fmt == "json":
         from linkcli.io.export import to_json
         sys.stdout.write(to_json(rows, precision))

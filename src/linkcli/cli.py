@@ -9,6 +9,7 @@ light. `--debug` lets a traceback through.
 
 from __future__ import annotations
 
+import contextlib
 import sys
 from enum import Enum
 from pathlib import Path
@@ -73,13 +74,32 @@ def _progress(total: int):
                     console=Console(file=sys.stderr), transient=True)
 
 
+@contextlib.contextmanager
+def _interruptible():
+    """Ctrl-C in a command: "interrupted" on stderr and exit 130 (typer would exit 130
+    silently). The executors clean up on the way out (--cluster cancels its tasks)."""
+    try:
+        yield
+    except KeyboardInterrupt:
+        _err("interrupted")
+        raise typer.Exit(130) from None
+
+
 def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path], precision: int,
-                   jobs: int, plot: Optional[Path], table: Optional[str] = None) -> int:
+                   jobs: int, plot: Optional[Path], table: Optional[str] = None,
+                   cluster: Optional[str] = None) -> int:
     """synth and analyze: run the pipeline over the files (`request`: mode, seed, debug,
-    timing), print or write the reports, draw them; the worst exit code."""
+    timing) with the executor the options ask for (serial, --jobs, --cluster), print or
+    write the reports, draw them; the worst exit code. An error of the executor itself
+    (a --cluster that cannot be reached, or lost mid-run) ends the command with its line."""
+    from linkcli.errors import LinkcliError
     from linkcli.pipeline import executor
     names = [str(f) for f in files]
     debug = request.debug
+    try:
+        execute = executor(jobs, names, debug, cluster)
+    except LinkcliError as exc:
+        return _fail(exc, debug)
     if fmt is Format.csv and out is None and len(names) > 1:
         _err(f"--format csv: expected --out DIR with several files (one CSV file per table), "
              f"found {len(names)} files")
@@ -98,36 +118,39 @@ def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path],
         prog.start()
         task = prog.add_task(f"solving {names[0]}", total=len(names))
     try:
-        for name, outcome in zip(names, executor(jobs, names, debug)(names, request)):
-            code, errors = outcome.exit_code, outcome.errors
-            report = outcome.result.report if outcome.result is not None else None
-            if outcome.result is not None:
-                results.append(outcome.result)
-            if prog is not None:
-                prog.stop()  # the transient bar clears; output prints cleanly below
-            for line in errors:
-                _err(line)
-            worst = max(worst, code)
-            counts[code] = counts.get(code, 0) + 1
-            if report is None and fmt is Format.json:
-                # keep one object per file, in argument order, for scripts
-                reports.append({"file": name, "status": "bad-input" if code == 2 else "error",
-                                "message": "; ".join(errors)})
-            elif report is not None:
-                reports.append(report)
-                if fmt is Format.csv and out is None:
-                    worst = max(worst, _print_csv(report, table, precision))
-                if fmt is Format.table and out is None:
-                    from linkcli.io.report import print_reports
-                    print_reports([report], precision)
-                    if len(reports) < len(names):
-                        sys.stdout.write("\n")
-                    sys.stdout.flush()
-            if prog is not None:
-                done = int(prog.tasks[0].completed) + 1
-                nxt = names[done] if done < len(names) else ""
-                prog.update(task, advance=1, description=f"solving {nxt}" if nxt else "done")
-                prog.start()
+        with contextlib.closing(execute(names, request)) as outcomes:  # Ctrl-C: closed at once
+            for name, outcome in zip(names, outcomes):
+                code, errors = outcome.exit_code, outcome.errors
+                report = outcome.result.report if outcome.result is not None else None
+                if outcome.result is not None:
+                    results.append(outcome.result)
+                if prog is not None:
+                    prog.stop()  # the transient bar clears; output prints cleanly below
+                for line in errors:
+                    _err(line)
+                worst = max(worst, code)
+                counts[code] = counts.get(code, 0) + 1
+                if report is None and fmt is Format.json:
+                    # keep one object per file, in argument order, for scripts
+                    reports.append({"file": name, "status": "bad-input" if code == 2 else "error",
+                                    "message": "; ".join(errors)})
+                elif report is not None:
+                    reports.append(report)
+                    if fmt is Format.csv and out is None:
+                        worst = max(worst, _print_csv(report, table, precision))
+                    if fmt is Format.table and out is None:
+                        from linkcli.io.report import print_reports
+                        print_reports([report], precision)
+                        if len(reports) < len(names):
+                            sys.stdout.write("\n")
+                        sys.stdout.flush()
+                if prog is not None:
+                    done = int(prog.tasks[0].completed) + 1
+                    nxt = names[done] if done < len(names) else ""
+                    prog.update(task, advance=1, description=f"solving {nxt}" if nxt else "done")
+                    prog.start()
+    except LinkcliError as exc:  # the executor failed (--cluster): no file is to blame
+        return max(worst, _fail(exc, debug))
     finally:
         if prog is not None:
             prog.stop()
@@ -146,6 +169,16 @@ def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path],
         _err(f"{len(names)} files: {counts[0]} solved, {counts[1]} infeasible or not converged, "
              f"{counts[2]} bad input")
     return worst
+
+
+def _fail(exc, debug: bool) -> int:
+    """Print an error that ends the command (one line each) and return its exit code;
+    --debug lets it through with its traceback."""
+    if debug:
+        raise exc
+    for line in exc.lines():
+        _err(line)
+    return exc.exit_code
 
 
 def _plot_problem(plot: Path, names: list[str]) -> bool:
@@ -256,17 +289,22 @@ PLOT = typer.Option(None, "--plot", metavar="FILE",
                     help="Draw the result to FILE.png|FILE.svg (a folder with several files).")
 DEBUG = typer.Option(False, "--debug", help="Show Python tracebacks.")
 TIMING = typer.Option(False, "--timing", help="Add the solver's wall-clock seconds to the report.")
+CLUSTER = typer.Option(None, "--cluster", metavar="ADDRESS",
+                       help="Run on the Dask scheduler at tcp://HOST:PORT, or local:N for N local "
+                            "worker processes (pip install \"linkcli[cluster]\"; not with --jobs).")
 
 
 @app.command(cls=PlainUsage)
 def synth(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
           seed: Optional[int] = SEED, precision: int = PRECISION, jobs: int = JOBS,
           plot: Optional[Path] = PLOT, debug: bool = DEBUG, timing: bool = TIMING,
-          table: Optional[str] = TABLE) -> None:
+          table: Optional[str] = TABLE, cluster: Optional[str] = CLUSTER) -> None:
     """Solve each problem file and print its report."""
     from linkcli.pipeline import Request
     request = Request(mode="synth", seed=seed, debug=debug, timing=timing, plot=plot is not None)
-    raise typer.Exit(_solve_command(files, request, format, out, precision, jobs, plot, table))
+    with _interruptible():
+        code = _solve_command(files, request, format, out, precision, jobs, plot, table, cluster)
+    raise typer.Exit(code)
 
 
 @app.command(cls=PlainUsage)
@@ -276,7 +314,9 @@ def analyze(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Pa
     """Analyse given linkages: `type = "linkage"` files or results of `synth --format toml`."""
     from linkcli.pipeline import Request
     request = Request(mode="analyze", debug=debug, plot=plot is not None)
-    raise typer.Exit(_solve_command(files, request, format, out, precision, jobs, plot, table))
+    with _interruptible():
+        code = _solve_command(files, request, format, out, precision, jobs, plot, table)
+    raise typer.Exit(code)
 
 
 @app.command(cls=PlainUsage)
@@ -301,10 +341,13 @@ def bench(files: List[Path] = typer.Argument(None, metavar="[FILE...]",
           seeds: int = typer.Option(3, "--seeds", metavar="N", help="Seeds per setting.", min=1),
           precision: int = typer.Option(4, "--precision", metavar="N",
                                         help="Significant digits in the output (1 .. 17).", min=1, max=17),
-          debug: bool = DEBUG) -> None:
+          debug: bool = DEBUG, cluster: Optional[str] = CLUSTER) -> None:
     """Time each solver setting against its error on a set of problems."""
     from linkcli import bench as benchmod
-    raise typer.Exit(benchmod.command([str(f) for f in files or []], format.value, seeds, precision, debug))
+    with _interruptible():
+        code = benchmod.command([str(f) for f in files or []], format.value, seeds, precision,
+                                debug, cluster)
+    raise typer.Exit(code)
 
 
 @app.command(cls=PlainUsage)

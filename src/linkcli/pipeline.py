@@ -4,20 +4,23 @@
 
 `run(path, request)` returns an `Outcome`: the exit code, the `Result(problem, solution,
 report)` when the file was solved, and the error lines when it was not. Everything in
-it pickles, so an executor may run `run` in another process (or, later, on a cluster):
-an executor is a function `(files, request) -> Outcome per file, in argument order`.
-numpy, scipy and the type modules are imported only inside `run`. The records are
+it pickles (errors too), so an executor may run `run` in another process or on a Dask
+cluster: an executor is a function `(files, request) -> Outcome per file, in argument
+order`; three exist, `serial`, `processes(jobs)` (`--jobs`) and `on_cluster(address)`
+(`--cluster`). numpy, scipy and the type modules are imported only inside `run`, dask
+only inside `on_cluster`'s executor. The records are
 NamedTuples (immutable, picklable, and about 7 times cheaper to define at start-up than
 frozen dataclasses).
 """
 
 from __future__ import annotations
 
+import contextlib
 import time
 from dataclasses import replace
 from typing import Any, Iterator, NamedTuple
 
-from linkcli.errors import LinkcliError
+from linkcli.errors import InputError, LinkcliError
 
 MODES = ("synth", "analyze", "check")
 
@@ -59,11 +62,14 @@ class Outcome(NamedTuple):
     errors: tuple[str, ...] = ()
 
 
-def load(path: str, mode: str):
+def load(path: str, mode: str, source: bytes | InputError | None = None):
     """The frozen problem of one file: any problem type for synth and check, a linkage
-    or a result file for analyze."""
+    or a result file for analyze. `source`: the file's bytes read elsewhere (a cluster
+    client), or the InputError reading them raised there; None reads `path` here."""
     from linkcli.io.load import load as load_problem, load_for_analysis
-    return load_for_analysis(path) if mode == "analyze" else load_problem(path)
+    if isinstance(source, InputError):
+        raise source
+    return load_for_analysis(path, source) if mode == "analyze" else load_problem(path, source)
 
 
 def with_seed(problem, seed: int | None):
@@ -86,11 +92,11 @@ def analyse(problem, solution) -> dict:
     return build(problem, solution)
 
 
-def run(path: str, request: Request) -> Outcome:
-    """Load, solve and analyse one file; expected failures become error lines (a bug
-    becomes one line too, unless `request.debug`)."""
+def run(path: str, request: Request, source: bytes | InputError | None = None) -> Outcome:
+    """Load, solve and analyse one file (from `source` when given: see `load`); expected
+    failures become error lines (a bug becomes one line too, unless `request.debug`)."""
     try:
-        problem = with_seed(load(path, request.mode), request.seed)
+        problem = with_seed(load(path, request.mode, source), request.seed)
         if request.mode == "check":
             return Outcome(path, 0)
         started = time.perf_counter()
@@ -146,10 +152,53 @@ def processes(jobs: int):
     return execute
 
 
-def executor(jobs: int, files: list[str], debug: bool):
-    """`--jobs N`: processes for a batch (not with --debug: tracebacks stay in this
-    process), otherwise serial. More processes than files or CPUs cannot help: `jobs` is
-    silently limited to both."""
+def read_source(path: str) -> bytes | InputError:
+    """The bytes of one problem file, or the InputError reading it raises (it travels in
+    the item and is raised where the file is loaded, as a serial run raises it)."""
+    from linkcli.io.safe_read import read_problem_bytes
+    try:
+        return read_problem_bytes(path)
+    except InputError as exc:
+        return exc
+
+
+def run_item(item: tuple[str, Request, bytes | InputError]) -> Outcome:
+    """`run(path, request, source)` of one cluster item (top-level: Dask pickles it by name)."""
+    return run(*item)
+
+
+def item_failed(item: tuple, description: str) -> Outcome:
+    """The Outcome of an item whose task failed outside `run` (every worker that ran it
+    died): exit code 1 and one line naming the file."""
+    path = item[0]
+    return Outcome(path, 1, errors=(f"{path}: internal error: {description}",))
+
+
+def on_cluster(address: str):
+    """An executor that runs files on the Dask cluster at `address` (tcp://HOST:PORT or
+    local:N; linkcli.cluster). The client reads each file and sends its bytes, so
+    workers need no shared file system and relative names mean what they mean here;
+    tracebacks cannot come back (`debug` is off on the workers: a bug is one line)."""
+    def execute(files: list[str], request: Request) -> Iterator[Outcome]:
+        from linkcli.cluster import map_ordered
+        remote = request._replace(debug=False)
+        items = [(path, remote, read_source(path)) for path in files]
+        with contextlib.closing(map_ordered(run_item, items, address,
+                                            on_error=item_failed)) as outcomes:
+            yield from outcomes
+    return execute
+
+
+def executor(jobs: int, files: list[str], debug: bool, cluster: str | None = None):
+    """`--cluster ADDRESS`: the Dask cluster (InputError with `--jobs N > 1`: the
+    cluster's workers are the processes); `--jobs N`: processes for a batch (not with
+    --debug: tracebacks stay in this process), otherwise serial. More processes than
+    files or CPUs cannot help: `jobs` is silently limited to both."""
     import os
+    if cluster is not None:
+        if jobs > 1:
+            raise InputError("either --cluster or --jobs N (a cluster's workers are its "
+                             "processes)", f"both (--jobs {jobs})", path="--cluster")
+        return on_cluster(cluster)
     jobs = min(jobs, len(files), os.cpu_count() or 1)
     return processes(jobs) if jobs > 1 and not debug else serial

@@ -19,6 +19,7 @@ PACKAGES = {  # the `type` key of a problem file -> its package under linkcli.ty
     "flipper-cylinder": "flipper_cylinder",
     "linkage": "linkage",
     "motion-generation": "motion_generation",
+    "quick-return": "quick_return",
 }
 NAMES = tuple(PACKAGES)
 

@@ -19,7 +19,7 @@ from linkcli.registry import NAMES, problem_type
 from linkcli.io.misplaced_keys import refuse_misplaced_type, refuse_result_file
 
 
-def load(path: str, text: str | None = None):
+def load(path: str, text: str | bytes | None = None):
     """Read and validate one problem file; raise InputErrors with every problem found."""
     reader = Reader(path, text)
     refuse_result_file(reader)
@@ -46,7 +46,7 @@ def load(path: str, text: str | None = None):
     return problem
 
 
-def load_for_analysis(path: str, text: str | None = None):
+def load_for_analysis(path: str, text: str | bytes | None = None):
     """`linkcli analyze`: a `type = "linkage"` file or a result file of `synth --format toml`."""
     from linkcli.io import result_file
     from linkcli.errors import SchemaError

@@ -223,15 +223,19 @@ class NumberRule(NamedTuple):
                     or (self.lo is not None and v < self.lo) or (self.hi is not None and v > self.hi))
 
 class Reader:
-    """One problem file: its data, its key lines, and the errors found so far."""
+    """One problem file: its data, its key lines, and the errors found so far. `text` is
+    the file's content when the caller has it (str, or the file's bytes as read elsewhere,
+    e.g. by a `--cluster` client for a worker without the file); None reads `path`."""
 
-    def __init__(self, path: str, text: str | None = None) -> None:
+    def __init__(self, path: str, text: str | bytes | None = None) -> None:
         self.path = path
         self.errors: list[InputError] = []
         self._seen: dict[tuple[str, ...], set[str]] = {}
         self._tables: dict[tuple[str, ...], dict] = {}
         if text is None:
-            raw = read_problem_bytes(path)
+            text = read_problem_bytes(path)
+        if isinstance(text, bytes):
+            raw = text
             try:
                 text = raw.decode("utf-8")
             except UnicodeDecodeError as exc:

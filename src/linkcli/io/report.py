@@ -125,7 +125,10 @@ def render(report: dict, digits: int = 6) -> Group:
     parts.append(Text(r["message"]))
     if "linkage" in r:
         lk = r["linkage"]
-        rows = [(f"{k} ({lu})", lk[k]) for k in ("ground", "input", "coupler", "output")]
+        slider = lk.get("mechanism") == "slider-crank"  # input, coupler, offset: no ground or output
+        rows = [("mechanism", "slider-crank")] if slider else []
+        rows += [(f"{k} ({lu})", lk[k]) for k in (("input", "coupler", "offset") if slider
+                                                  else ("ground", "input", "coupler", "output"))]
         rows.append(("branch", lk["branch"]))
         if "coupler_point" in lk:
             rows += [(f"coupler point ({lu})", lk["coupler_point"]),

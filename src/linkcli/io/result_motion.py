@@ -10,8 +10,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from linkcli.types.linkage.schema import MAX_STEPS
-from linkcli.io.meta import MAX_LENGTH
+from linkcli.types.linkage.schema import read_motion
 
 REPORTED = ("input_full_turn", "input_range", "output_full_turn", "output_range",
             "output_swing", "time_ratio")  # linkcli's own output in [motion]: not read back
@@ -24,12 +23,7 @@ def motion_study(root, problem):
     if mot is None:
         return problem
     mot.allow(*REPORTED)
-    speed = mot.number("input_speed", 1.0, lo=-MAX_LENGTH, hi=MAX_LENGTH,
-                       what="a non-zero number (angle unit per second)")
-    if speed == 0.0:
-        mot.error("input_speed", "a non-zero number (angle unit per second)", 0.0)
-        speed = None
-    steps = mot.number("steps", 360, integer=True, lo=2, hi=MAX_STEPS)
+    speed, steps = read_motion(root)
     if speed is None or steps is None:
         return None
     return replace(problem, input_speed=problem.meta.units.to_rad(speed), steps=steps)

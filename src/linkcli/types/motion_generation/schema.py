@@ -18,11 +18,10 @@ from __future__ import annotations
 
 import math
 
-from linkcli.io.meta import in_motion_order
 from linkcli.io.reader import MISSING, Table, describe
 from linkcli.model import LINKS, Meta, MotionGenerationProblem
-from linkcli.types.path_generation.schema import (BRANCHES, GRASHOF, MAX_MAGNITUDE, _angle_range, _length,
-                                                  _point_range, _window)
+from linkcli.types.path_generation.schema import (BRANCHES, GRASHOF, MAX_MAGNITUDE, angle_range, length_bound,
+                                                  point_range, read_input_angles, transmission_window)
 
 MIN_POSES = 2
 MAX_POSES = 200  # free timing adds one input angle per pose to the unknowns
@@ -76,38 +75,6 @@ def _poses(t: Table, units):
     return [(x, y, units.to_rad(a)) for x, y, a in out]
 
 
-def _input_angles(t: Table, timing: str, n: int, units):
-    """Prescribed timing: one input angle per pose, distinct modulo a full turn (rad)."""
-    given = "input_angles" in t
-    if timing == "free":
-        if given:
-            t.error("input_angles", 'no input_angles with timing = "free" (the solver chooses them; '
-                    'use timing = "prescribed")', raw_got=describe(t.raw("input_angles")))
-        return ()
-    if not given:
-        t.error("input_angles", 'an array of input angles, one per pose (timing = "prescribed")')
-        return None
-    angles = t.number_list("input_angles", max_len=MAX_POSES, what="input angles")
-    if angles is None:
-        return None
-    if len(angles) != n:
-        t.error("input_angles", f"one input angle per pose ({n})", raw_got=f"an array of {len(angles)}")
-        return None
-    if max(abs(v) for v in angles) > MAX_MAGNITUDE:
-        t.error("input_angles", f"input angles of at most {MAX_MAGNITUDE:g} in magnitude",
-                raw_got=f"{max(angles, key=abs):g}")
-        return None
-    full = units.from_rad(2 * math.pi)
-    for i in range(n):
-        for j in range(i + 1, n):
-            gap = abs(angles[i] - angles[j]) % full
-            if min(gap, full - gap) < 1e-9 * full:
-                t.error("input_angles", "distinct input angles (modulo a full turn), one per pose",
-                        raw_got=f"poses {i + 1} and {j + 1} at the same angle")
-                return None
-    return tuple(in_motion_order([units.to_rad(v) for v in angles]))
-
-
 def _pivot_pair(t: Table, key: str, n: int | None, timing: str | None):
     """[[x, y], [x, y]]: two distinct points of finite numbers; allowed for 2 or 3 poses
     (free timing), ground pivots also with prescribed timing (they are then fixed)."""
@@ -149,7 +116,7 @@ def parse(root: Table, meta: Meta) -> MotionGenerationProblem | None:
     n = len(poses) if poses is not None else None
     timing = tgt.string("timing", "prescribed" if "input_angles" in tgt else "free",
                         choices=("prescribed", "free"))
-    angles = (_input_angles(tgt, timing, n, u) if poses is not None and timing is not None else None)
+    angles = (read_input_angles(tgt, timing, n, u, item="pose", max_len=MAX_POSES) if poses is not None and timing is not None else None)
     weight = None
     if "angle_weight" in tgt:
         weight = tgt.number("angle_weight", positive=True, hi=MAX_MAGNITUDE, what="a positive length")
@@ -173,10 +140,10 @@ def parse(root: Table, meta: Meta) -> MotionGenerationProblem | None:
     bnd = root.table("bounds")
     if bnd is not None:
         bnd.allow(*BOUND_KEYS)
-    lengths = {k: _length(bnd, k, None) if bnd is not None and k in bnd else None for k in LINKS}
+    lengths = {k: length_bound(bnd, k, None) if bnd is not None and k in bnd else None for k in LINKS}
     lengths_ok = all(lengths[k] is not None for k in LINKS if bnd is not None and k in bnd)
-    gp = _point_range(bnd, "ground_pivot", ())
-    ga = _angle_range(bnd, "ground_angle", (), u)
+    gp = point_range(bnd, "ground_pivot", ())
+    ga = angle_range(bnd, "ground_angle", (), u)
     offset = None
     offset_ok = True
     if bnd is not None and "input_offset" in bnd:
@@ -185,7 +152,7 @@ def parse(root: Table, meta: Meta) -> MotionGenerationProblem | None:
                       raw_got=describe(bnd.raw("input_offset")))
             offset_ok = False
         else:
-            offset = _angle_range(bnd, "input_offset", None, u)
+            offset = angle_range(bnd, "input_offset", None, u)
             offset_ok = offset is not None
 
     con = root.table("constraints")
@@ -194,7 +161,7 @@ def parse(root: Table, meta: Meta) -> MotionGenerationProblem | None:
         con.allow("grashof", "transmission", "branch")
         grashof = con.string("grashof", "any", choices=GRASHOF)
         branch = con.string("branch", "either", choices=BRANCHES)
-        window, window_ok = _window(con, u)
+        window, window_ok = transmission_window(con, u)
 
     if (poses is None or timing is None or angles is None or (weight is None and "angle_weight" in tgt)
             or not pivots_ok or not lengths_ok or gp is None or ga is None or not offset_ok

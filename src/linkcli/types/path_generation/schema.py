@@ -64,8 +64,9 @@ def _points(t: Table):
     return out
 
 
-def _input_angles(t: Table, timing: str, n: int, units):
-    """Prescribed timing: one angle per point, distinct modulo a full turn (rad)."""
+def read_input_angles(t: Table, timing: str, n: int, units, item: str = "point", max_len: int = MAX_POINTS):
+    """Prescribed timing: one input angle per `item` (a path's point, a body's pose), distinct
+    modulo a full turn, taken in the order of motion (rad)."""
     given = "input_angles" in t
     if timing == "free":
         if given:
@@ -73,9 +74,9 @@ def _input_angles(t: Table, timing: str, n: int, units):
                     'use timing = "prescribed")', raw_got=describe(t.raw("input_angles")))
         return ()
     if not given:
-        t.error("input_angles", 'an array of input angles, one per point (timing = "prescribed")')
+        t.error("input_angles", f'an array of input angles, one per {item} (timing = "prescribed")')
         return None
-    angles = t.number_list("input_angles", max_len=MAX_POINTS, what="input angles")
+    angles = t.number_list("input_angles", max_len=max_len, what="input angles")
     if angles is None:
         return None
     if max(abs(v) for v in angles) > MAX_MAGNITUDE:
@@ -83,21 +84,21 @@ def _input_angles(t: Table, timing: str, n: int, units):
                 raw_got=f"{max(angles, key=abs):g}")
         return None
     if len(angles) != n:
-        t.error("input_angles", f"one input angle per point ({n})", raw_got=f"an array of {len(angles)}")
+        t.error("input_angles", f"one input angle per {item} ({n})", raw_got=f"an array of {len(angles)}")
         return None
     full = units.from_rad(2 * math.pi)
     for i in range(n):
         for j in range(i + 1, n):
             gap = abs(angles[i] - angles[j]) % full
             if min(gap, full - gap) < 1e-9 * full:
-                t.error("input_angles", "distinct input angles (modulo a full turn), one per point",
-                        raw_got=f"points {i + 1} and {j + 1} at the same angle "
+                t.error("input_angles", f"distinct input angles (modulo a full turn), one per {item}",
+                        raw_got=f"{item}s {i + 1} and {j + 1} at the same angle "
                                 f"({angles[i]:g} and {angles[j]:g} {units.angle})")
                 return None
     return tuple(in_motion_order([units.to_rad(v) for v in angles]))
 
 
-def _length(t: Table | None, key: str, default):
+def length_bound(t: Table | None, key: str, default):
     """A length bound: a number within [MIN_LENGTH, MAX_MAGNITUDE] (fixed), or [lo, hi] with
     lo = 0 or lo >= MIN_LENGTH, and MIN_LENGTH <= hi <= MAX_MAGNITUDE (the range kinematics
     keeps full precision over, as for linkage files)."""
@@ -129,14 +130,14 @@ def _limited(t: Table, key: str, r, what: str = "a bound"):
     return r
 
 
-def _angle_range(t: Table | None, key: str, default, units):
+def angle_range(t: Table | None, key: str, default, units):
     if t is None or key not in t:
         return default
     r = _limited(t, key, t.range(key), "an angle")
     return None if r is None else (units.to_rad(r[0]), units.to_rad(r[1]))
 
 
-def _point_range(t: Table | None, key: str, default):
+def point_range(t: Table | None, key: str, default):
     if t is None or key not in t:
         return default
     r = t.point_range(key)
@@ -147,7 +148,7 @@ def _point_range(t: Table | None, key: str, default):
     return None if xr is None or yr is None else (xr, yr)
 
 
-def _window(t: Table, units):
+def transmission_window(t: Table, units):
     """transmission = [lo, hi]: 0 <= lo < hi <= 180 deg (pi rad); radians out."""
     if "transmission" not in t:
         return None, True
@@ -177,7 +178,7 @@ def parse(root: Table, meta: Meta) -> PathGenerationProblem | None:
     elif timing == "prescribed" and "direction" in tgt:
         tgt.error("direction", 'no direction with timing = "prescribed" (the input angles set it)',
                   raw_got=describe(tgt.raw("direction")))
-    angles = (_input_angles(tgt, timing, len(points), u)
+    angles = (read_input_angles(tgt, timing, len(points), u)
               if points is not None and timing is not None else None)
 
     bnd = root.table("bounds")
@@ -195,17 +196,17 @@ def parse(root: Table, meta: Meta) -> PathGenerationProblem | None:
         span = DEFAULT_SPAN * extent
     else:
         extent, cx, cy, span = 1.0, 0.0, 0.0, 1.0
-    lengths = {k: _length(bnd, k, (0.0, span)) for k in LINKS}
-    cp = _point_range(bnd, "coupler_point", ((-span, span), (-span, span)))
-    gp = _point_range(bnd, "ground_pivot", ((cx - span, cx + span), (cy - span, cy + span)))
-    ga = _angle_range(bnd, "ground_angle", (0.0, 2 * math.pi), u)
+    lengths = {k: length_bound(bnd, k, (0.0, span)) for k in LINKS}
+    cp = point_range(bnd, "coupler_point", ((-span, span), (-span, span)))
+    gp = point_range(bnd, "ground_pivot", ((cx - span, cx + span), (cy - span, cy + span)))
+    ga = angle_range(bnd, "ground_angle", (0.0, 2 * math.pi), u)
     offset = None
     if bnd is not None and "input_offset" in bnd:
         if timing == "free":
             bnd.error("input_offset", 'no input_offset with timing = "free" (every input angle is free)',
                       raw_got=describe(bnd.raw("input_offset")))
         else:
-            offset = _angle_range(bnd, "input_offset", None, u)
+            offset = angle_range(bnd, "input_offset", None, u)
             ok = ok and offset is not None
 
     con = root.table("constraints")
@@ -214,7 +215,7 @@ def parse(root: Table, meta: Meta) -> PathGenerationProblem | None:
         con.allow("grashof", "transmission", "branch")
         grashof = con.string("grashof", "any", choices=GRASHOF)
         branch = con.string("branch", "either", choices=BRANCHES)
-        window, window_ok = _window(con, u)
+        window, window_ok = transmission_window(con, u)
 
     if (not ok or timing is None or direction is None or angles is None or None in lengths.values()
             or cp is None or gp is None or ga is None or grashof is None or branch is None

@@ -1,0 +1,234 @@
+"""The `--cluster` executor: run one function over many items on Dask distributed.
+
+    map_ordered(function, items, address) -> results in argument order, streamed
+
+The same shape as a serial map: `function` is a picklable top-level function of one item
+(a file name plus options) that returns a picklable result and reports bad input in that
+result instead of raising. Dask only transports items and results, so a cluster run
+computes the same bytes as a serial one. Dask's scheduler does the scheduling and the
+recovery (Rocklin, "Dask: Parallel computation with blocked algorithms and task
+scheduling", SciPy 2015; distributed.dask.org); this module adds only ordering, fault
+reporting and clean shutdown:
+
+- a worker that dies mid-task: the scheduler reruns its tasks elsewhere; each task has its
+  own key (this run's token + the item's index) and is gathered once, so no result is
+  lost or duplicated; a task that kills every worker it runs on (more than
+  `distributed.scheduler.allowed-failures` times) becomes an error result for its item;
+- an exception escaping `function` (a bug): caught on the worker into an error result
+  (`on_error`), the other items go on;
+- an unreachable scheduler or a malformed address: `InputError` (exit 2), one line;
+- Ctrl-C or an abandoned iteration: outstanding futures cancelled, client and local
+  cluster closed, the `KeyboardInterrupt` re-raised.
+
+dask is imported inside the functions only: importing this module imports none of it.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import gc
+import logging
+import uuid
+from typing import Any, Callable, Iterable, Iterator
+
+from linkcli.errors import InputError, LinkcliError
+
+DEFAULT_CONNECT_TIMEOUT = 5.0  # seconds to reach a scheduler before giving up (exit 2)
+LOCAL_PREFIX = "local:"
+INSTALL_HINT = 'pip install "linkcli[cluster]"'
+OPTION = "--cluster"  # where errors point: the option, not a file
+BLAS_THREADS = ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS")
+# A preload script (Dask runs text with a space in it) for local workers: a terminal's
+# Ctrl-C reaches the whole process group, but it is the client's to handle (it cancels
+# the tasks and closes the cluster); a worker would die of it with a traceback.
+IGNORE_CTRL_C = "import signal; signal.signal(signal.SIGINT, signal.SIG_IGN)"
+
+
+def internal_error(item: Any, description: str) -> tuple[int, None, list[str]]:
+    """The result of an item whose run failed outside `function`'s own error handling:
+    (exit code 1, no report, one error line naming the item's file)."""
+    name = item[0] if isinstance(item, (tuple, list)) and item else item
+    return 1, None, [f"{name}: internal error: {description}"]
+
+
+def run_guarded(function: Callable[[Any], Any], on_error: Callable[[Any, str], Any],
+                item: Any) -> Any:
+    """`function(item)` on a worker; an exception it raises becomes `on_error(item, text)`,
+    so one failing item never stops the others (top-level: Dask pickles it by name)."""
+    try:
+        return function(item)
+    except Exception as exc:  # a bug in function: reported in its item's slot
+        return on_error(item, one_line(exc))
+
+
+def one_line(exc: BaseException) -> str:
+    """`Type: message`, first line of the message only (error output is one line per item)."""
+    text = str(exc).strip().splitlines()
+    return f"{type(exc).__name__}: {text[0]}" if text else type(exc).__name__
+
+
+def map_ordered(function: Callable[[Any], Any], items: Iterable[Any], address: str, *,
+                progress: Callable[[int, int], None] | None = None,
+                connect_timeout: float = DEFAULT_CONNECT_TIMEOUT,
+                on_error: Callable[[Any, str], Any] = internal_error) -> Iterator[Any]:
+    """Yield `function(item)` for each item, in argument order, computed on the Dask
+    cluster at `address` (`tcp://host:port`, `host:port`, or `local:N` for a LocalCluster
+    of N single-threaded worker processes that lives as long as the iteration).
+
+    Result k is yielded as soon as results 0..k are in; `progress(done, total)` is called
+    as each result arrives, in completion order. Connects on the first `next()`.
+    Raises InputError if dask is not installed or the scheduler cannot be reached within
+    `connect_timeout` seconds, LinkcliError if the scheduler is lost mid-run; re-raises
+    KeyboardInterrupt after cancelling everything. A caller that may stop early (or be
+    interrupted between results) should iterate inside `contextlib.closing(...)` so that
+    the cleanup runs at once, not when the generator is garbage-collected.
+    """
+    items = list(items)
+    total = len(items)
+    _require_distributed()  # before the log filter: importing it installs dask's handlers
+    with _quiet_dask_logs():
+        cluster, client = _connect(address, connect_timeout)
+        futures: list[Any] = []
+        try:
+            from distributed import as_completed
+
+            run = uuid.uuid4().hex  # two runs sharing a scheduler never share a key
+            futures = client.map(run_guarded, [function] * total, [on_error] * total, items,
+                                 key=[f"linkcli-{run}-{index}" for index in range(total)],
+                                 pure=False, retries=0)
+            index_of = {future.key: index for index, future in enumerate(futures)}
+            arrived: dict[int, Any] = {}
+            next_index = 0
+            done = 0
+            for future, outcome in as_completed(futures, loop=client.loop, with_results=True,
+                                                raise_errors=False):
+                index = index_of[future.key]
+                arrived[index] = _result_of(future, outcome, items[index], address, on_error)
+                done += 1
+                if progress is not None:
+                    progress(done, total)
+                while next_index in arrived:
+                    result = arrived.pop(next_index)
+                    futures[next_index] = None  # the scheduler may forget it now
+                    next_index += 1
+                    yield result
+        finally:
+            outstanding = [future for future in futures if future is not None]
+            _close(client, cluster, outstanding)
+
+
+def _result_of(future: Any, outcome: Any, item: Any, address: str,
+               on_error: Callable[[Any, str], Any]) -> Any:
+    """A finished future's result; a failed task's error result; a cancelled one (the
+    scheduler went away: nothing else cancels our keys) is fatal for the run."""
+    if future.status == "finished":
+        return outcome
+    if future.status == "error":
+        from distributed import KilledWorker
+
+        _, exc, _ = outcome
+        if isinstance(exc, KilledWorker):
+            return on_error(item, "every worker that ran it died (a crash or out of memory)")
+        return on_error(item, one_line(exc))
+    raise LinkcliError(f"{OPTION}: the Dask scheduler at {address} was lost mid-run "
+                       f"(its tasks were {future.status})")
+
+
+def _connect(address: str, timeout: float) -> tuple[Any, Any]:
+    """(LocalCluster or None, Client) for `address`; InputError for a malformed address
+    or no scheduler answering within `timeout` seconds."""
+    from distributed import Client
+
+    address = address.strip()
+    if not address:
+        raise InputError("a scheduler address (tcp://HOST:PORT) or local:N", "nothing",
+                         path=OPTION)
+    if address.startswith(LOCAL_PREFIX):
+        cluster = start_local_cluster(_local_workers(address))
+        try:
+            return cluster, Client(cluster, set_as_default=False, timeout=timeout)
+        except BaseException:
+            cluster.close()
+            raise
+    try:
+        return None, Client(address, set_as_default=False, timeout=timeout)
+    except (OSError, ValueError, TypeError) as exc:  # refused, timed out, bad address
+        reason = one_line(exc)
+    # The half-built Client sits in a reference cycle; collected at interpreter exit, after
+    # its event loop has stopped, its __del__ would wait 10 s and print a traceback.
+    gc.collect()
+    raise InputError(f"a Dask scheduler answering at {address} within {timeout:g} s", reason,
+                     path=OPTION)
+
+
+def start_local_cluster(workers: int) -> Any:
+    """A LocalCluster of `workers` single-threaded worker processes, as `local:N` starts.
+
+    Dask's nanny sets OMP/MKL/OPENBLAS_NUM_THREADS=1 in its workers; a few solvers' last
+    digits follow the BLAS thread count, so these workers keep this process's environment
+    instead (None unsets a variable of that config): the bytes of a serial run and of
+    --jobs, whose processes inherit it too. The workers ignore Ctrl-C (IGNORE_CTRL_C)."""
+    import dask
+    from distributed import LocalCluster
+
+    inherit = {f"distributed.nanny.pre-spawn-environ.{name}": None for name in BLAS_THREADS}
+    with dask.config.set(inherit):
+        return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                            # no dashboard port to collide over (8787)
+                            dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR,
+                            preload=[IGNORE_CTRL_C])
+
+
+def _require_distributed() -> None:
+    """Import Dask distributed, or say which extra installs it (InputError, exit 2)."""
+    try:
+        import distributed  # noqa: F401
+    except ImportError as exc:
+        raise InputError(f"the Dask distributed package ({INSTALL_HINT})",
+                         f"it is not installed ({exc.name or 'distributed'})",
+                         path=OPTION) from None
+
+
+def _local_workers(address: str) -> int:
+    """N of `local:N`: a whole number of worker processes, at least 1."""
+    text = address[len(LOCAL_PREFIX):]
+    if not (text.isdigit() and int(text) >= 1):
+        raise InputError("local:N with N a whole number of worker processes >= 1",
+                         repr(address), path=OPTION)
+    return int(text)
+
+
+def _close(client: Any, cluster: Any, outstanding: list[Any]) -> None:
+    """Cancel what is still queued or running, then close the client and our cluster.
+    A task already executing on a remote worker runs to its end (Dask cannot stop a
+    thread) but its result is dropped; a local cluster's worker processes are ended."""
+    try:
+        if outstanding:
+            client.cancel(outstanding)
+    finally:
+        try:
+            client.close()
+        finally:
+            if cluster is not None:
+                cluster.close()
+
+
+@contextlib.contextmanager
+def _quiet_dask_logs(level: int = logging.CRITICAL) -> Iterator[None]:
+    """Keep dask's log (worker restarts, a task marked failed, a lost connection) off the
+    CLI's stderr for the run: every fault it reports reaches the user as a result or an
+    error of ours. dask logs through its own handlers on these loggers and changes their
+    levels itself (a LocalCluster's silence_logs), so a filter holds records below
+    `level` back; it is removed afterwards."""
+    def loud_enough(record: logging.LogRecord) -> bool:
+        return record.levelno >= level
+
+    handlers = [handler for name in ("distributed", "tornado", "bokeh")
+                for handler in logging.getLogger(name).handlers]
+    for handler in handlers:
+        handler.addFilter(loud_enough)
+    try:
+        yield
+    finally:
+        for handler in handlers:
+            handler.removeFilter(loud_enough)
