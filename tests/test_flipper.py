@@ -100,7 +100,7 @@ def test_papers_design_forces_at_0_and_90_deg():
     assert rows[90.0]["force"] == pytest.approx(ref_force(PAPER_A, PAPER_C, 90.0), rel=1e-12)
     assert rows[0.0]["force"] == pytest.approx(ref_force(PAPER_A, PAPER_C, 0.0), rel=1e-12)
     assert rows[0.0]["force"] == pytest.approx(40968.857, rel=1e-6)  # pushes harder than it pulls
-    assert sol.solver["method"] == "evaluate" and sol.solver["evaluations"] == 1
+    assert sol.solver.method == "evaluate" and sol.solver.evaluations == 1
 
 
 def test_papers_design_true_peak_over_the_sweep():
@@ -237,7 +237,7 @@ def test_optimized_peak_is_true_and_beats_a_brute_force_grid(seed_result):
         p, _, _ = grid_peaks(x1.ravel()[i:i + 40000], y1.ravel()[i:i + 40000], x2.ravel()[i:i + 40000])
         best = min(best, float(p.min()))
     assert cyl["peak_force"] <= best
-    assert sol.status.value == "ok" and sol.solver["converged"]
+    assert sol.status.value == "ok" and sol.solver.converged
 
 
 def test_optimized_peak_is_a_local_minimum(seed_result):
@@ -277,7 +277,7 @@ def test_each_method_reaches_the_minimax(method):
     src = SEED + f'[solver]\nmethod = "{method}"\n'
     _, sol, rep = report_of(src)
     assert rep["cylinder"]["peak_force"] == pytest.approx(34761.665, rel=1e-5)
-    assert sol.solver["method"] == method and sol.solver["evaluations"] <= 4000
+    assert sol.solver.method == method and sol.solver.evaluations <= 4000
 
 
 def test_cylinder_length_respects_max_force_and_dead_length():
@@ -415,7 +415,7 @@ def test_angles_in_radians():
 @pytest.mark.parametrize("budget", [1, 7, 50, 300])
 def test_budget_is_respected(budget):
     _, sol, _ = report_of(SEED + f"[solver]\nbudget = {budget}\n")
-    assert 1 <= sol.solver["evaluations"] <= budget
+    assert 1 <= sol.solver.evaluations <= budget
     assert sol.status.value in ("ok", "not-converged")
 
 
@@ -537,7 +537,7 @@ def test_interior_peak_that_moves_with_the_design_converges():
     com = (50000.0, -20000.0)
     src = SEED.replace("[830.0, 500.0]", "[50000.0, -20000.0]")
     _, sol, rep = report_of(src)
-    assert sol.status.value == "ok" and sol.solver["converged"]
+    assert sol.status.value == "ok" and sol.solver.converged
     cyl = rep["cylinder"]
     peak, _ = np_peak(tuple(cyl["rod_pivot"]), tuple(cyl["base_pivot"]), 0.0, 90.0, com=com)
     assert cyl["peak_force"] == pytest.approx(peak, rel=1e-9)
@@ -654,7 +654,7 @@ def test_small_budgets_every_method_and_seed(method):
         for seed in (0, 3):
             src = FREE4 + f'[objective]\npareto = 3\n[solver]\nmethod = "{method}"\nbudget = {budget}\nseed = {seed}\n'
             _, sol, rep = report_of(src)
-            assert 1 <= sol.solver["evaluations"] <= budget
+            assert 1 <= sol.solver.evaluations <= budget
             assert sol.status.value in ("ok", "not-converged", "infeasible")
             assert "cylinder" in rep and rep["cylinder"]["rod_pivot"] is not None
     with tempfile.TemporaryDirectory() as d:

@@ -161,9 +161,26 @@ def solved_report(path: str, command: str = "synth") -> dict:
 
 
 def handed(report: dict, problem=None):
-    """A Result holding a hand-made report (no solution: plots draw from the report)."""
+    """A Result holding a hand-made report, as the pipeline hands it to the plot: a problem
+    with the report's units (`problem`'s own fields kept) and a Solution holding the
+    linkage the report describes (the same hand-made numbers, angles in radians)."""
+    from types import SimpleNamespace
+
+    from linkcli.model import FourBar
     from linkcli.pipeline import Result
-    return Result(problem, None, report)
+    from linkcli.solution import Solution, Status
+    from linkcli.units import Units
+    units = Units(**report["units"])
+    if getattr(problem, "meta", None) is None:
+        fields = {k: getattr(problem, k) for k in dir(problem) if not k.startswith("_")} if problem else {}
+        problem = SimpleNamespace(**fields, meta=SimpleNamespace(units=units))
+    lk = report.get("linkage")
+    linkage = None if lk is None else FourBar(
+        ground=lk["ground"], input=lk["input"], coupler=lk["coupler"], output=lk["output"], branch=lk["branch"],
+        coupler_point=tuple(lk["coupler_point"]) if "coupler_point" in lk else None,
+        ground_pivot=tuple(lk.get("ground_pivot", (0.0, 0.0))),
+        ground_angle=math.radians(lk.get("ground_angle", 0.0)))
+    return Result(problem, Solution(Status(report["status"]), linkage=linkage), report)
 
 
 CASES = {
@@ -284,7 +301,7 @@ def test_coupler_curve_is_placed_globally(mpl):
         assert dist < 1e-2
     # the drawing's joints follow the same placement
     from linkcli.plots.common import Geometry
-    geo = Geometry.of(report)
+    geo = Geometry.of(handed(report))
     k = PATH
     for deg in (0.0, 77.0, 301.0):
         px, py = (float(v) for v in geo.joints(math.radians(deg))["P"])

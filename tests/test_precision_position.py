@@ -222,10 +222,10 @@ def test_least_squares_evaluations_are_counted_and_deterministic():
     text = problem_text([30, 60, 90, 120], [40, 55, 75, 100])
     first, again = solve_text(text), solve_text(text)
     assert first.solver == again.solver and first.objective == again.objective
-    assert first.solver["evaluations"] > first.solver["starts"] >= 2
+    assert first.solver.evaluations > first.solver.starts >= 2
     small = solve_text(text + "[solver]\nbudget = 40\n")
-    assert small.solver["evaluations"] <= 40 and small.status.value == "not-converged"  # exit 1: docs/format.md
-    assert small.solver["converged"] is False
+    assert small.solver.evaluations <= 40 and small.status.value == "not-converged"  # exit 1: docs/format.md
+    assert small.solver.converged is False
     check_reported_fit(small, [30, 60, 90, 120], [40, 55, 75, 100], 50.0, local_minimum=False)
 
 
@@ -235,7 +235,7 @@ def test_many_positions_stay_cheap_and_fit_a_known_linkage():
     psi = [psi_of(a, b, c, d, p) for p in phi]
     sol = solve_text(problem_text(np.degrees(phi).tolist(), np.degrees(psi).tolist(), ground=d))
     assert (sol.linkage.input, sol.linkage.coupler, sol.linkage.output) == pytest.approx((a, b, c), rel=1e-7)
-    assert sol.solver["starts"] <= 2 * 36
+    assert sol.solver.starts <= 2 * 36
 
 
 def test_three_positions_on_two_branches_do_not_claim_an_exact_fit():

@@ -106,7 +106,7 @@ def solve_run(run: Run) -> dict:
     obj = sol.objective
     return {
         "problem": run.path, "method": run.method, "budget": run.budget, "seed": run.seed,
-        "seconds": seconds, "evaluations": sol.solver.get("evaluations"),
+        "seconds": seconds, "evaluations": sol.solver.evaluations if sol.solver is not None else None,
         "objective": obj, "best_known": best,
         "gap": gap(obj, best) if (obj is not None and best is not None) else None,
         "status": sol.status.value,

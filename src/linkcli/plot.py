@@ -92,19 +92,19 @@ def figure(result):
     import matplotlib
     from matplotlib.figure import Figure
 
-    from linkcli.plots.common import FIGSIZE, STYLE
+    from linkcli.plots.common import FIGSIZE, STYLE, drawn
     from linkcli.registry import problem_type
-    report = result.drawing if result.drawing is not None else result.report
+    report = drawn(result)
     with matplotlib.rc_context(STYLE):
         if "forces" in report and report["forces"].get("rows"):
             from linkcli.plots import forces
             fig = Figure(figsize=(FIGSIZE[0], FIGSIZE[1] + forces.HEIGHT), layout="constrained")
             top, bottom = fig.subfigures(2, 1, height_ratios=[FIGSIZE[1], forces.HEIGHT])
-            problem_type(report["type"]).module("plot").draw(top, report, result.problem)
-            forces.draw(bottom, report)  # any type's result with a forces section
+            problem_type(report["type"]).module("plot").draw(top, result)
+            forces.draw(bottom, result)  # any type's result with a forces section
             return fig
         fig = Figure(figsize=FIGSIZE, layout="constrained")
-        problem_type(report["type"]).module("plot").draw(fig, report, result.problem)
+        problem_type(report["type"]).module("plot").draw(fig, result)
     return fig
 
 

@@ -40,6 +40,31 @@ class Positions:
     error: np.ndarray
 
 
+@dataclass(frozen=True)
+class SolverRecord:
+    """How a solver reached its answer: the method, the seed, the objective evaluations
+    spent, whether it converged; `starts` (precision positions: the starts polished) and
+    `minimize` (the flipper's goal) only where a type has them."""
+
+    method: str
+    seed: int | None = None
+    evaluations: int = 0
+    converged: bool = False
+    starts: int | None = None
+    minimize: str | None = None
+
+    def report(self) -> dict:
+        """The report's `solver` section: method, seed, evaluations, converged, then the
+        optional fields a type set, in that order."""
+        out = {"method": self.method, "seed": self.seed, "evaluations": self.evaluations,
+               "converged": self.converged}
+        for key in ("starts", "minimize"):
+            value = getattr(self, key)
+            if value is not None:
+                out[key] = value
+        return out
+
+
 @dataclass
 class Solution:
     status: Status
@@ -47,7 +72,10 @@ class Solution:
     message: str = ""
     positions: Positions | None = None
     objective: float | None = None  # rad^2 for angle errors, length^2 for paths
-    solver: dict = field(default_factory=dict)  # method, seed, evaluations, converged
-    sections: dict = field(default_factory=dict)  # extra report sections, output-ready
+    solver: SolverRecord | None = None
+    # extra report sections, output-ready: each type's own (timing, cylinder, candidates,
+    # ...) differ in every row and column, and the report prints them as they are, so a
+    # typed form per section would only be converted back to this dict
+    sections: dict = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)  # warnings shown with the report
     working_span: tuple[float, float] | None = None  # (start, signed sweep) of the input, rad

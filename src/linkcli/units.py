@@ -24,6 +24,14 @@ class Units:
             return value * (180.0 / math.pi)
         return value
 
+    def angles_to_rad(self, value):
+        """Angles (a number or a numpy array) in the file's unit, in radians, as
+        value / (180/pi): the inverse of from_rad, for the values a plot reads back from
+        a report (to_rad, math.radians, may differ from it in the last bit)."""
+        if self.angle == "deg":
+            return value / (180.0 / math.pi)
+        return value
+
     @property
     def mm_per_length(self) -> float:
         return LENGTH_TO_MM[self.length]

@@ -97,8 +97,8 @@ def _build(problem, solution: Solution) -> dict:
     if "tolerance" in want and meta.tolerance is not None and has_linkage:
         from linkcli.analysis import tolerance
         rep["tolerance"] = tolerance.analyse(problem, solution)
-    if "solver" in want and solution.solver:
-        rep["solver"] = dict(solution.solver)
+    if "solver" in want and solution.solver is not None:
+        rep["solver"] = solution.solver.report()
         if meta.reference is not None and solution.objective is not None:
             rep["solver"]["best_known"] = meta.reference.objective
             rep["solver"]["gap"] = rep.get("error", {}).get("gap", gap(solution.objective, meta.reference.objective))

@@ -14,6 +14,7 @@ import difflib
 import math
 import re
 import tomllib
+from typing import NamedTuple
 
 from linkcli.errors import InputError, InputErrors, SchemaError, TomlSyntaxError
 from linkcli.io.safe_read import read_problem_bytes
@@ -183,6 +184,44 @@ def _line_map(text: str) -> dict[tuple[str, ...], int]:
     return with_parent_lines(lines, twice)
 
 
+
+def _kind(positive: bool, nonnegative: bool, integer: bool) -> str:
+    """What a number must be, in words."""
+    if positive:
+        return "a positive integer" if integer else "a positive number"
+    if nonnegative:
+        return "a non-negative integer" if integer else "a number >= 0"
+    return "an integer" if integer else "a number"
+
+
+class NumberRule(NamedTuple):
+    """What a number in the file must be: finite (never a bool), and optionally positive,
+    non-negative, an integer, within [lo, hi]; `what` words it instead of the default."""
+
+    positive: bool = False
+    nonnegative: bool = False
+    integer: bool = False
+    lo: float | None = None
+    hi: float | None = None
+    what: str | None = None
+
+    @property
+    def expected(self) -> str:
+        """The `expected` of the error: its words, and the range when there is one."""
+        kind = self.what or _kind(self.positive, self.nonnegative, self.integer)
+        if self.lo is not None or self.hi is not None:
+            kind += f" in [{'-inf' if self.lo is None else _fmt(self.lo)}, {'inf' if self.hi is None else _fmt(self.hi)}]"
+        return kind
+
+    def accepts(self, value) -> bool:
+        if (isinstance(value, bool) or not isinstance(value, (int, float))
+                or (self.integer and not isinstance(value, int))
+                or (isinstance(value, float) and not math.isfinite(value))):
+            return False
+        v = int(value) if self.integer else float(value)
+        return not ((self.positive and v <= 0) or (self.nonnegative and v < 0)
+                    or (self.lo is not None and v < self.lo) or (self.hi is not None and v > self.hi))
+
 class Reader:
     """One problem file: its data, its key lines, and the errors found so far. `text` is
     the file's content when the caller has it (str, or the file's bytes as read elsewhere,
@@ -337,36 +376,17 @@ class Table:
         """A finite number (bool rejected); None when missing or bad (error recorded)."""
         value = self.raw(key)
         if value is MISSING:
-            return self._absent(key, default, f"{what or self._kind(positive, nonnegative, integer)}")
-        return self.check_number(key, value, positive=positive, nonnegative=nonnegative,
-                                 integer=integer, lo=lo, hi=hi, what=what)
+            return self._absent(key, default, f"{what or _kind(positive, nonnegative, integer)}")
+        return self.check_number(key, value, NumberRule(positive, nonnegative, integer, lo, hi, what))
 
-    def check_number(self, key, value, *, positive=False, nonnegative=False, integer=False,
-                     lo=None, hi=None, what=None, path_suffix=()):
-        kind = what or self._kind(positive, nonnegative, integer)
-        fullkey = key if not path_suffix else f"{key}[{path_suffix[0]}]"
-        bad = (isinstance(value, bool) or not isinstance(value, (int, float))
-               or (integer and not isinstance(value, int))
-               or (isinstance(value, float) and not math.isfinite(value)))
-        if not bad:
-            v = float(value) if not integer else int(value)
-            if (positive and v <= 0) or (nonnegative and v < 0) or (lo is not None and v < lo) or (hi is not None and v > hi):
-                bad = True
-        if bad:
-            if lo is not None or hi is not None:
-                kind += f" in [{'-inf' if lo is None else _fmt(lo)}, {'inf' if hi is None else _fmt(hi)}]"
-            self.reader.error(self.path + (fullkey,), kind, value)
-            return None
-        return int(value) if integer else float(value)
-
-    @staticmethod
-    def _kind(positive, nonnegative, integer) -> str:
-        base = "an integer" if integer else "a number"
-        if positive:
-            return ("a positive integer" if integer else "a positive number")
-        if nonnegative:
-            return ("a non-negative integer" if integer else "a number >= 0")
-        return base
+    def check_number(self, key, value, rule: "NumberRule", index: int | None = None):
+        """`value` as the rule's number (int or float); None after recording the error
+        (at `key[index]` for an array's item)."""
+        fullkey = key if index is None else f"{key}[{index}]"
+        if rule.accepts(value):
+            return int(value) if rule.integer else float(value)
+        self.reader.error(self.path + (fullkey,), rule.expected, value)
+        return None
 
     def string(self, key: str, default=MISSING, choices: tuple[str, ...] | None = None,
                max_len: int = 2000):
@@ -410,9 +430,9 @@ class Table:
             self.error(key, want, value)
             return None
         out = []
+        rule = NumberRule(positive=positive, what=f"a {'positive ' if positive else ''}number")
         for i, item in enumerate(value):
-            v = self.check_number(key, item, positive=positive, what=f"a {'positive ' if positive else ''}number",
-                                  path_suffix=(str(i),))
+            v = self.check_number(key, item, rule, index=i)
             if v is None:
                 return None
             out.append(v)
@@ -435,8 +455,7 @@ class Table:
                 self.error(key, "a range [lo, hi] with lo <= hi", raw_got=f"[{_fmt(lo)}, {_fmt(hi)}]")
                 return None
             return (lo, hi)
-        v = self.check_number(key, value, positive=positive, nonnegative=nonnegative,
-                              what="a number or a range [lo, hi]")
+        v = self.check_number(key, value, NumberRule(positive, nonnegative, what="a number or a range [lo, hi]"))
         return None if v is None else (v, v)
 
     def point_range(self, key: str, default=MISSING):

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from linkcli.mechanisms import four_bar as kin
-from linkcli.plots.common import (CURVE_COLOR, TARGET_COLOR, Geometry, angle_ticks, draw_linkage,
+from linkcli.plots.common import (CURVE_COLOR, TARGET_COLOR, Geometry, angle_ticks, draw_linkage, drawn,
                                   frame_drawing, input_grid, joint_paths, link_legend, no_linkage, num,
                                   on_grid, panels)
 
@@ -36,14 +36,15 @@ def align(values: np.ndarray, reference: np.ndarray) -> np.ndarray:
     return values + kin.TWO_PI * np.round((reference - values) / kin.TWO_PI)
 
 
-def draw(fig, report: dict, problem=None) -> None:
-    u, ax_link, (ax_psi, ax_err) = panels(fig, report, 2, [1.0, 1.25], [1.6, 1.0])
+def draw(fig, result) -> None:
+    report = drawn(result)
+    u, ax_link, (ax_psi, ax_err) = panels(fig, result, 2, [1.0, 1.25], [1.6, 1.0])
     au, lu = u.angle, u.length
 
-    geo = Geometry.of(report)
+    geo = Geometry.of(result)
     rows = report.get("positions") or []
-    phi_t = u.rad([r["input"] for r in rows])
-    psi_t = u.rad([r["target"] for r in rows])
+    phi_t = u.angles_to_rad(np.array([r["input"] for r in rows], dtype=float))
+    psi_t = u.angles_to_rad(np.array([r["target"] for r in rows], dtype=float))
     err = np.array([r["error"] for r in rows], dtype=float)
     curve = output_curve(geo, phi_t)
     if curve is None:
@@ -61,7 +62,7 @@ def draw(fig, report: dict, problem=None) -> None:
     shown = float(phi_t[0]) if len(phi_t) else float(grid[0])
     draw_linkage(ax_link, geo, shown)
     link_legend(ax_link, geo, lu, loc="upper left")
-    at = f"input {num(float(u.out(shown)))} {au}"
+    at = f"input {num(float(u.from_rad(shown)))} {au}"
     where = f"target 1 ({at})" if len(phi_t) else at
     extra = "; others ghosted" if len(phi_t) > 1 else ""
     frame_drawing(ax_link, lu, f"Linkage to scale at {where}{extra}")
@@ -72,20 +73,20 @@ def draw(fig, report: dict, problem=None) -> None:
     shift = float(kin.wrap(at_t[0] if len(at_t) else psi[0])) - float(at_t[0] if len(at_t) else psi[0])
     psi, at_t = psi + shift, at_t + shift
     y_t = align(psi_t, at_t)
-    ax_psi.plot(u.out(grid), np.where(valid, u.out(psi), np.nan), color=CURVE_COLOR, lw=2.0,
+    ax_psi.plot(u.from_rad(grid), np.where(valid, u.from_rad(psi), np.nan), color=CURVE_COLOR, lw=2.0,
                 label="achieved output angle")
     if len(x_t):
-        lo, hi = float(u.out(x_t.min())), float(u.out(x_t.max()))
+        lo, hi = float(u.from_rad(x_t.min())), float(u.from_rad(x_t.max()))
         if hi > lo:
             ax_psi.axvspan(lo, hi, color="#f0c040", alpha=0.18, lw=0, label="working range (targets)")
         many = len(x_t) > MARK_ALL
         if many:  # a law sampled at many points: a dashed line with small marks
-            ax_psi.plot(u.out(x_t), u.out(y_t), color=TARGET_COLOR, lw=1.2, ls="--", zorder=3,
+            ax_psi.plot(u.from_rad(x_t), u.from_rad(y_t), color=TARGET_COLOR, lw=1.2, ls="--", zorder=3,
                         marker="x", ms=4, label=f"target law ({len(x_t)} points)")
         else:
-            ax_psi.scatter(u.out(x_t), u.out(y_t), marker="x", s=70, color=TARGET_COLOR, zorder=4,
+            ax_psi.scatter(u.from_rad(x_t), u.from_rad(y_t), marker="x", s=70, color=TARGET_COLOR, zorder=4,
                            linewidths=2.0, label=f"targets ({len(x_t)})")
-            ax_psi.scatter(u.out(x_t), u.out(at_t), marker="o", s=26, facecolor="white",
+            ax_psi.scatter(u.from_rad(x_t), u.from_rad(at_t), marker="o", s=26, facecolor="white",
                            edgecolor=CURVE_COLOR, zorder=5, label="achieved at the targets")
     ax_psi.set_ylabel(f"output angle \u03c8 ({au})")
     ax_psi.set_title("Output angle over the whole motion" + (" (input turns fully)" if mot.input_full_turn
@@ -96,16 +97,16 @@ def draw(fig, report: dict, problem=None) -> None:
     # Right, bottom: the error at the targets.
     if len(x_t):
         ax_err.axhline(0.0, color="#444444", lw=0.8)
-        ax_err.plot(u.out(x_t), err, color="#d62728", marker="o", ms=3 if len(x_t) > MARK_ALL else 5, lw=1.4)
+        ax_err.plot(u.from_rad(x_t), err, color="#d62728", marker="o", ms=3 if len(x_t) > MARK_ALL else 5, lw=1.4)
         worst = float(np.max(np.abs(err)))
         rms = float(np.sqrt(np.mean(err * err)))
         ax_err.set_title(f"Output-angle error: max |error| {num(worst, 3)} {au}, rms {num(rms, 3)} {au}")
         # never zoom below ERROR_FLOOR_DEG: round-off of an exact fit stays on the zero line
-        span = max(1.2 * worst, float(u.out(np.radians(ERROR_FLOOR_DEG))))
+        span = max(1.2 * worst, float(u.from_rad(np.radians(ERROR_FLOOR_DEG))))
         ax_err.set_ylim(-span, span)
     ax_err.set_xlabel(f"input angle \u03c6 ({au})")
     ax_err.set_ylabel(f"error, achieved \u2212 target ({au})")
     if not len(x_t):
         ax_err.set_title("Output-angle error")
-    ax_psi.set_xlim(float(u.out(grid[0])), float(u.out(grid[-1])))
+    ax_psi.set_xlim(float(u.from_rad(grid[0])), float(u.from_rad(grid[-1])))
     angle_ticks(ax_err, u)

@@ -14,7 +14,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from linkcli.noise import snap
 from linkcli.mechanisms import four_bar as kin
+from linkcli.model import FourBar
+from linkcli.units import Units
 
 # rcParams for every figure (applied with rc_context, never globally): text stays text
 # in SVG, ids are salted with a constant, so two runs write identical bytes.
@@ -74,31 +77,6 @@ def robust_ylim(ax, *series, spread: float = 4.0) -> bool:
 
 
 @dataclass(frozen=True)
-class Units:
-    """The report's units: lengths as they are, angles converted from/to radians."""
-
-    length: str
-    angle: str
-
-    @classmethod
-    def of(cls, report: dict) -> "Units":
-        u = report.get("units") or {}
-        return cls(u.get("length", "mm"), u.get("angle", "deg"))
-
-    @property
-    def per_rad(self) -> float:
-        return 180.0 / math.pi if self.angle == "deg" else 1.0
-
-    def rad(self, value):
-        """Angles in the report's unit -> radians (arrays welcome)."""
-        return np.asarray(value, dtype=float) / self.per_rad
-
-    def out(self, value):
-        """Radians -> the report's angle unit."""
-        return np.asarray(value, dtype=float) * self.per_rad
-
-
-@dataclass(frozen=True)
 class Geometry:
     """A four-bar from a report's `linkage` section: lengths, branch, global placement."""
 
@@ -112,16 +90,36 @@ class Geometry:
     ground_angle: float  # rad
 
     @classmethod
-    def of(cls, report: dict) -> "Geometry":
+    def of(cls, source) -> "Geometry":
+        """The linkage a Result solved (`result.solution.linkage`). A report dict is still
+        read (its `linkage` section, in the file's units) for a plot module written before
+        the plots drew from the Result."""
+        if isinstance(source, dict):
+            return cls._of_report(source)
+        return cls.of_linkage(source.solution.linkage)
+
+    @classmethod
+    def of_linkage(cls, fb: FourBar) -> "Geometry":
+        """A FourBar (lengths in the length unit, angles in radians) to draw."""
+        cp = fb.coupler_point
+        size = max(fb.abcd)
+        return cls(a=float(fb.input), b=float(fb.coupler), c=float(fb.output), d=float(fb.ground),
+                   branch=fb.branch,
+                   coupler_point=(snap(float(cp[0]), size), snap(float(cp[1]), size)) if cp is not None else None,
+                   ground_pivot=(snap(float(fb.ground_pivot[0]), size), snap(float(fb.ground_pivot[1]), size)),
+                   ground_angle=snap(float(kin.wrap(fb.ground_angle)), 1.0))  # the report's angle
+
+    @classmethod
+    def _of_report(cls, report: dict) -> "Geometry":
         lk = report["linkage"]
-        u = Units.of(report)
+        u = Units(**report.get("units", {}))
         cp = lk.get("coupler_point")
         gp = lk.get("ground_pivot") or (0.0, 0.0)
         return cls(a=float(lk["input"]), b=float(lk["coupler"]), c=float(lk["output"]),
                    d=float(lk["ground"]), branch=lk.get("branch", "open"),
                    coupler_point=(float(cp[0]), float(cp[1])) if cp is not None else None,
                    ground_pivot=(float(gp[0]), float(gp[1])),
-                   ground_angle=float(u.rad(lk.get("ground_angle", 0.0))))
+                   ground_angle=float(u.angles_to_rad(float(lk.get("ground_angle", 0.0)))))
 
     @property
     def size(self) -> float:
@@ -257,6 +255,12 @@ def frame_drawing(ax, length_unit: str, title: str) -> None:
     ax.set_title(title)
 
 
+def drawn(result) -> dict:
+    """The report a plot draws from: the Result's `drawing` (the report with the sections
+    a plot needs) or its report."""
+    return result.drawing if result.drawing is not None else result.report
+
+
 def header(fig, report: dict) -> None:
     """Figure title: the problem's title (or file), its type and status."""
     title = report.get("title") or report.get("file") or "linkage"
@@ -270,14 +274,15 @@ def header(fig, report: dict) -> None:
     fig.suptitle(text, fontsize=13)
 
 
-def panels(fig, report: dict, right: int, width_ratios, height_ratios=None):
+def panels(fig, result, right: int, width_ratios, height_ratios=None):
     """The figure header, one tall axes on the left (the drawing to scale) and `right`
-    stacked axes on the right sharing their x axis -> (Units, left axes, right axes)."""
-    header(fig, report)
+    stacked axes on the right sharing their x axis -> (the problem's Units, left axes,
+    right axes)."""
+    header(fig, drawn(result))
     gs = fig.add_gridspec(right, 2, width_ratios=width_ratios, height_ratios=height_ratios)
     left = fig.add_subplot(gs[:, 0])
     first = fig.add_subplot(gs[0, 1])
-    return Units.of(report), left, [first] + [fig.add_subplot(gs[i, 1], sharex=first) for i in range(1, right)]
+    return result.problem.meta.units, left, [first] + [fig.add_subplot(gs[i, 1], sharex=first) for i in range(1, right)]
 
 
 def no_linkage(ax, text: str) -> None:

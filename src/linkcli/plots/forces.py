@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkcli.plots.common import Units, angle_ticks, num
+from linkcli.plots.common import angle_ticks, drawn, num
 
 HEIGHT = 3.4  # inches added to the figure for the forces panels
 PIN_COLORS = {"A0": "#1f77b4", "A": "#d62728", "B": "#2ca02c", "B0": "#9467bd", "guide": "#8c564b"}
@@ -16,11 +16,11 @@ def _column(rows, get) -> np.ndarray:
     return np.array([np.nan if get(r) is None else get(r) for r in rows], dtype=float)
 
 
-def draw(fig, report: dict) -> None:
+def draw(fig, result) -> None:
     """Two axes side by side: input torque (N m) and pin force magnitudes (N) against the input."""
-    forces = report["forces"]
+    forces = drawn(result)["forces"]
     rows = forces["rows"]
-    u = Units.of(report)
+    u = result.problem.meta.units
     x = _column(rows, lambda r: r["input"])
     ax_t, ax_f = fig.subplots(1, 2, sharex=True)
     torque = _column(rows, lambda r: r["input_torque"])

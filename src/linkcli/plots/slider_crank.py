@@ -15,7 +15,8 @@ import numpy as np
 
 from linkcli.analysis.sections import TRANSMISSION_BAND
 from linkcli.mechanisms import slider_crank as sc
-from linkcli.plots.common import (BAND_COLOR, CURVE_COLOR, LINK_COLORS, TARGET_COLOR, Units, angle_ticks,
+from linkcli.units import Units
+from linkcli.plots.common import (BAND_COLOR, CURVE_COLOR, LINK_COLORS, TARGET_COLOR, angle_ticks, drawn,
                                   frame_drawing, no_linkage, num, panels, robust_ylim)
 
 SAMPLES = 720
@@ -86,15 +87,16 @@ def draw_mechanism(ax, a, b, e, branch, phi_show, grid, u: Units, coupler_point=
     ax.legend(handles=handles, loc="best", framealpha=0.85)
 
 
-def draw(fig, report: dict, problem=None) -> None:
-    u, ax_link, (ax_s, ax_v, ax_a, ax_mu) = panels(fig, report, 4, [1.0, 1.25])
+def draw(fig, result) -> None:
+    report = drawn(result)
+    u, ax_link, (ax_s, ax_v, ax_a, ax_mu) = panels(fig, result, 4, [1.0, 1.25])
     au, lu = u.angle, u.length
     lk = report["linkage"]
     a, b, e = float(lk["input"]), float(lk["coupler"]), float(lk["offset"])
     branch = lk.get("branch", "open")
     cp = tuple(lk["coupler_point"]) if "coupler_point" in lk else None
     positions = report.get("positions") or []
-    targets = np.array([float(u.rad(r["input"])) for r in positions]) if positions else np.zeros(0)
+    targets = np.array([float(u.angles_to_rad(r["input"])) for r in positions]) if positions else np.zeros(0)
     grid = study_grid(a, b, e, near=float(targets[0]) if len(targets) else None)
     if grid is None:
         no_linkage(ax_link, "the slider-crank cannot assemble at any crank angle")
@@ -103,24 +105,24 @@ def draw(fig, report: dict, problem=None) -> None:
         return
     p = sc.pose(a, b, e, grid, branch)
     speed = report.get("motion", {}).get("input_speed")
-    w2 = float(u.rad(speed)) if speed else float(u.rad(1.0))
+    w2 = float(u.angles_to_rad(speed)) if speed else float(u.angles_to_rad(1.0))
     vs, _ = sc.velocities(a, b, p, w2)
     acc, _ = sc.accelerations(a, b, p, w2)
-    x = u.out(grid)
-    mu = u.out(p.mu)
+    x = u.from_rad(grid)
+    mu = u.from_rad(p.mu)
     worst = int(np.nanargmin(np.where(p.valid, p.mu, np.nan)))
     show = float(targets[0]) if len(targets) else float(grid[worst])
     draw_mechanism(ax_link, a, b, e, branch, show, grid, u, cp, ghosts=tuple(targets[1:]))
     what = ("first target position" if len(targets)
             else f"worst transmission angle, \u03bc = {num(float(mu[worst]))} {au}")
-    frame_drawing(ax_link, lu, f"Slider-crank to scale at crank angle {num(float(u.out(sc.wrap(show))))} {au}\n({what})")
+    frame_drawing(ax_link, lu, f"Slider-crank to scale at crank angle {num(float(u.from_rad(sc.wrap(show))))} {au}\n({what})")
 
     ax_s.plot(x, np.where(p.valid, p.slider, np.nan), color="#ff7f0e", lw=1.8, label="slider position s")
     if positions:
         ax_s.scatter([r["input"] for r in positions], [r["target"] for r in positions], marker="x", s=60,
                      color=TARGET_COLOR, zorder=4, label="target positions")
     ax_s.set_ylabel(f"s ({lu})")
-    ax_s.set_title(f"Motion at a constant crank speed of {num(float(u.out(w2)))} {au}/s")
+    ax_s.set_title(f"Motion at a constant crank speed of {num(float(u.from_rad(w2)))} {au}/s")
     ax_s.legend(loc="best", framealpha=0.85)
     fin = lambda v: np.where(np.isfinite(v), v, np.nan)  # noqa: E731
     ax_v.plot(x, fin(vs), color=LINK_COLORS["coupler"], lw=1.8, label="slider velocity")
@@ -134,11 +136,11 @@ def draw(fig, report: dict, problem=None) -> None:
             ax.text(0.01, 0.03, "clipped: values grow without bound near the limit positions",
                     transform=ax.transAxes, fontsize=9, color="#555555")
     lo = TRANSMISSION_BAND[0] if au == "deg" else math.radians(TRANSMISSION_BAND[0])
-    ax_mu.axhspan(lo, float(u.out(math.pi / 2)), color=BAND_COLOR, alpha=0.12, lw=0,
+    ax_mu.axhspan(lo, float(u.from_rad(math.pi / 2)), color=BAND_COLOR, alpha=0.12, lw=0,
                   label=f"recommended \u2265 {num(lo)} {au}")
     ax_mu.plot(x, mu, color="#1f77b4", lw=1.8, label="transmission angle \u03bc")
     ax_mu.scatter([x[worst]], [mu[worst]], color="black", zorder=4, s=28)
-    ax_mu.set_ylim(0.0, 1.15 * float(u.out(math.pi / 2)))
+    ax_mu.set_ylim(0.0, 1.15 * float(u.from_rad(math.pi / 2)))
     ax_mu.set_ylabel(f"\u03bc ({au})")
     ax_mu.set_xlabel(f"crank angle \u03c6 ({au})")
     ax_mu.legend(loc="lower right", framealpha=0.85)

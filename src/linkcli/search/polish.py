@@ -2,7 +2,7 @@
 
     minimize f(u) = |r(u)|^2   subject to   c(u) >= 0,   0 <= u <= 1
 
-The problem is an object with `n` (variables), `weight` (of the L1 merit
+The problem is an object with `n_variables`, `weight` (of the L1 merit
 f + weight * sum(max(0, -c))), `value(u) -> (f, c, r, ...)` and
 `slope(u, central=True) -> (grad f, dc/du, dr/du)` (central=False: a cheaper one-sided
 estimate, enough for the Gauss-Newton model); it may raise any exception to stop (a spent
@@ -88,7 +88,7 @@ def gauss_newton(problem, u0: np.ndarray) -> np.ndarray:
     falls by at least ACCEPT of the model's prediction (after a second-order correction
     if needed: the same problem with c replaced by c(u + s) - A s), and Marquardt's mu
     shrinks or grows with the agreement."""
-    n = problem.n
+    n = problem.n_variables
     eye = np.eye(n)
     box = np.vstack([eye, -eye])
     weight = problem.weight
@@ -162,7 +162,7 @@ def slsqp_rounds(problem, u0: np.ndarray) -> bool:
     feasible, where it began is at a point that rounding keeps SLSQP from certifying:
     another round cannot move it, and it counts as converged."""
     from scipy.optimize import minimize
-    n = problem.n
+    n = problem.n_variables
     eye = np.eye(n)
     u = np.clip(np.asarray(u0, dtype=float), 0.0, 1.0)
     f_round = problem.value(u)[0]

@@ -12,7 +12,8 @@ import math
 
 import numpy as np
 
-from linkcli.plots.common import LINK_COLORS, Units, frame_drawing, no_linkage, num, panels
+from linkcli.plots.common import LINK_COLORS, drawn, frame_drawing, no_linkage, num, panels
+from linkcli.units import Units
 
 NEEDS = ("cylinder",)
 PLATFORM = "#1f77b4"
@@ -47,7 +48,7 @@ def _sweep(problem, table, u: Units) -> tuple[float, float]:
             sign = -1.0 if getattr(problem, "clockwise", False) else 1.0  # solved mirrored in x
             return sign * float(lo), sign * float(hi)
     ang = table["angle"]
-    return (float(u.rad(ang[0])), float(u.rad(ang[-1]))) if len(ang) else (0.0, 0.0)
+    return (float(u.angles_to_rad(ang[0])), float(u.angles_to_rad(ang[-1]))) if len(ang) else (0.0, 0.0)
 
 
 def centre_of_mass(problem):
@@ -101,8 +102,9 @@ def draw_platform(ax, cyl: dict, problem, start: float, end: float, lu: str) -> 
     ax.legend(loc="best", framealpha=0.85)
 
 
-def draw(fig, report: dict, problem=None) -> None:
-    u, ax_geo, (ax_f, ax_arm, ax_len) = panels(fig, report, 3, [1.0, 1.2])
+def draw(fig, result) -> None:
+    report, problem = drawn(result), result.problem
+    u, ax_geo, (ax_f, ax_arm, ax_len) = panels(fig, result, 3, [1.0, 1.2])
     au, lu = u.angle, u.length
     cyl = report.get("cylinder")
     if not cyl or "rod_pivot" not in cyl or "base_pivot" not in cyl:
@@ -113,8 +115,8 @@ def draw(fig, report: dict, problem=None) -> None:
     table = force_table(cyl)
     start, end = _sweep(problem, table, u)
     draw_platform(ax_geo, cyl, problem, start, end, lu)
-    frame_drawing(ax_geo, lu, f"Platform and cylinder to scale, start {num(float(u.out(start)))} {au} "
-                              f"and end {num(float(u.out(end)))} {au}")
+    frame_drawing(ax_geo, lu, f"Platform and cylinder to scale, start {num(float(u.from_rad(start)))} {au} "
+                              f"and end {num(float(u.from_rad(end)))} {au}")
 
     ang, force = table["angle"], table["force"]
     peak = cyl.get("peak_force")

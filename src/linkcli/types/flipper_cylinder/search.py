@@ -48,6 +48,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from linkcli.search.budget import Budget, BudgetSpent
+from linkcli.search.evolution import evolve
 from linkcli.search.sampling import distinct, latin_hypercube
 from linkcli.types.flipper_cylinder.statics import Statics
 
@@ -208,7 +209,7 @@ class Judge:
 
     def __init__(self, problem, statics: Statics, space: Space, budget: Budget) -> None:
         self.problem = problem
-        self.st = statics
+        self.statics = statics
         self.space = space
         self.budget = budget
         self.dead = problem.dead_length
@@ -216,18 +217,18 @@ class Judge:
     def assess(self, p, goal: Goal):
         """(objective, violation, family) for designs p (S, 4) on the grid; spends S."""
         self.budget.spend(len(p))
-        st = self.st
-        sing = st.singular(p)  # where the cylinder line meets the hinge: shared by the three
-        force = st.forces(p, sing=sing)[0]
+        statics = self.statics
+        sing = statics.singular(p)  # where the cylinder line meets the hinge: shared by the three
+        force = statics.forces(p, sing=sing)[0]
         crosses, tau0 = sing["blocked"], sing["tau0"]
         peak = _grid_peak(force)
         crosses = crosses | ~np.isfinite(peak)  # no finite force somewhere: as bad as a crossing
-        ls, le = st.end_lengths(p)
-        closed, opened, _ = st.lengths(p, sing=sing)
+        ls, le = statics.end_lengths(p)
+        closed, opened, _ = statics.lengths(p, sing=sing)
         # a crossing nearer the middle of the sweep violates more: the search moves it out
-        weight = 1.0 + np.minimum(tau0, st.sweep - tau0).clip(0) / st.sweep
+        weight = 1.0 + np.minimum(tau0, statics.sweep - tau0).clip(0) / statics.sweep
         obj, viol = self.score(goal, crosses, peak, closed, opened, cross_weight=weight)
-        k0 = st.terms(p, np.array([0.0]))[0][:, 0]
+        k0 = statics.terms(p, np.array([0.0]))[0][:, 0]
         by_end = goal.kind == "length" or goal.length_cap is not None  # closed at start or at end
         family = (k0 > 0).astype(int) + (2 * (ls > le) if by_end else 0)
         return obj, viol, family
@@ -273,15 +274,14 @@ def _excess(peak, cap: float):
 def _evolve(judge: Judge, goal: Goal, share: int, rng) -> Outcome:
     """Differential evolution on the penalized grid objective (seeded, Latin-hypercube
     start), one vectorized call per generation; every design it judges joins the archive."""
-    from scipy.optimize import differential_evolution
     space = judge.space
     dim = space.size
     pop = int(max(5, min(10 * dim, share // 6)))
     generations = max(0, share // pop - 1)
     archive = Archive()
 
-    def energy(y):
-        p = space.full(np.asarray(y).T)
+    def energy(rows):  # rows (S, dim) of the unit box
+        p = space.full(rows)
         obj, viol, fam = judge.assess(p, goal)
         archive.add(p, obj, viol, fam)
         return judge.penalized(obj, viol)
@@ -290,16 +290,15 @@ def _evolve(judge: Judge, goal: Goal, share: int, rng) -> Outcome:
         return _sample(judge, goal, share, rng)
     init = latin_hypercube(rng, pop, dim)
     converged = False
-    try:
-        if generations == 0:
-            energy(init.T)
-        else:
-            res = differential_evolution(energy, [(0.0, 1.0)] * dim, maxiter=generations, init=init,
-                                         rng=rng, polish=False, vectorized=True, updating="deferred",
-                                         tol=1e-6, mutation=(0.5, 1.0), recombination=0.9)
-            converged = bool(res.success)
-    except BudgetSpent:
-        pass
+    if generations == 0:
+        try:
+            energy(init)
+        except BudgetSpent:
+            pass
+    else:
+        out = evolve(energy, [(0.0, 1.0)] * dim, generations, init=init, rng=rng, tol=1e-6,
+                     mutation=(0.5, 1.0), recombination=0.9)
+        converged = out is not None and out.converged
     return Outcome(archive.best(), converged, archive)
 
 
@@ -325,11 +324,11 @@ class Epigraph:
     def __init__(self, judge: Judge, goal: Goal, tau: np.ndarray, start, margin: float = MARGIN) -> None:
         self.judge, self.goal, self.tau = judge, goal, tau
         self.margin = margin  # relative: how far inside max_force and dead_length to aim
-        st, space = judge.st, judge.space
-        self.w = st.moment(tau)
+        statics, space = judge.statics, judge.space
+        self.w = statics.moment(tau)
         self.end_index = 1  # tau[0] = 0 and tau[1] = sweep: local_angles puts the ends first
         p0 = np.asarray(start, dtype=float)
-        k0, _, l0, _ = st.gradients(p0, tau)
+        k0, _, l0, _ = statics.gradients(p0, tau)
         kref = k0[0] if abs(k0[0]) >= abs(k0[self.end_index]) else k0[self.end_index]  # K(0) may be 0
         self.sign = 1.0 if kref >= 0 else -1.0
         self.closed_at_end = bool(l0[self.end_index] < l0[0])
@@ -337,7 +336,7 @@ class Epigraph:
         with np.errstate(divide="ignore", invalid="ignore"):
             peak0 = float(_grid_peak(self.w * l0 / k0))
         if goal.kind == "peak":
-            self.fs = peak0 if math.isfinite(peak0) and peak0 > 0 else max(st.weight * space.scale, 1e-300)
+            self.fs = peak0 if math.isfinite(peak0) and peak0 > 0 else max(statics.weight * space.scale, 1e-300)
         else:
             self.fs = goal.force_cap * (1.0 - margin) if goal.force_cap else None
         self.ns = (self.fs or 1.0) * space.scale ** 2
@@ -361,7 +360,7 @@ class Epigraph:
         judge.budget.spend(1)
         n = space.size
         p = space.full(v[:n])[0]
-        k, dk, length, dl = judge.st.gradients(p, self.tau)
+        k, dk, length, dl = judge.statics.gradients(p, self.tau)
         dk = dk[:, space.free] * space.width
         dl = dl[:, space.free] * space.width
         peak_kind = goal.kind == "peak"
@@ -412,7 +411,7 @@ class Epigraph:
         end the model keeps closed, lo_ the other: the floor holds for the shorter)."""
         crosses = not (np.sign(k[0]) * np.sign(k[self.end_index]) > 0)
         if crosses:  # unless the load has no moment where the line crosses the hinge
-            crosses = bool(self.judge.st.crossing(p[None, :])[0][0])
+            crosses = bool(self.judge.statics.crossing(p[None, :])[0][0])
         with np.errstate(divide="ignore", invalid="ignore"):
             peak = float(_grid_peak(self.w * length / k))
         crosses = crosses or not math.isfinite(peak)
@@ -432,11 +431,11 @@ class Epigraph:
         return self._compute(v)[3]
 
 
-def local_angles(st: Statics) -> np.ndarray:
+def local_angles(statics: Statics) -> np.ndarray:
     """The angles a local search starts with: both ends first, then every LOCAL_STRIDE-th
     grid angle (about 2 deg); the exchange rounds add the true maxima between them."""
-    inner = st.grid[LOCAL_STRIDE:-1:LOCAL_STRIDE]
-    return np.concatenate([[0.0, st.sweep], inner[inner < st.sweep]])
+    inner = statics.grid[LOCAL_STRIDE:-1:LOCAL_STRIDE]
+    return np.concatenate([[0.0, statics.sweep], inner[inner < statics.sweep]])
 
 
 def _local(judge: Judge, goal: Goal, start, share: int) -> Outcome:
@@ -446,11 +445,11 @@ def _local(judge: Judge, goal: Goal, start, share: int) -> Outcome:
     optimum) is retried once from the design reached; the same objective again (within
     1e-8) counts as converged."""
     from scipy.optimize import minimize
-    st = judge.st
+    statics = judge.statics
     budget = judge.budget
     outer_cap = budget.cap
     budget.cap = min(outer_cap, budget.used + share)
-    tau = local_angles(st)
+    tau = local_angles(statics)
     design = np.asarray(start, dtype=float)
     best = Best()
     converged, completed = False, False
@@ -471,7 +470,7 @@ def _local(judge: Judge, goal: Goal, start, share: int) -> Outcome:
                 break
             design = ep.best.design
             budget.spend(1)
-            pk = st.peaks(design[None, :])
+            pk = statics.peaks(design[None, :])
             refined = float(pk["peak"][0])
             obj, viol = _refined_score(judge, goal, design, refined)
             best.offer(design, obj, viol)
@@ -490,8 +489,8 @@ def _local(judge: Judge, goal: Goal, start, share: int) -> Outcome:
                 break
             extra = np.array([pk[k + "_at"][0] for k in ("push", "pull") if pk[k][0] > 0])
             if len(extra):  # each maximum with two close neighbours: it may move a little
-                h = EXCHANGE_SPREAD * (st.grid[1] - st.grid[0])
-                extra = np.clip(np.concatenate([extra, extra - h, extra + h]), 0.0, st.sweep)
+                h = EXCHANGE_SPREAD * (statics.grid[1] - statics.grid[0])
+                extra = np.clip(np.concatenate([extra, extra - h, extra + h]), 0.0, statics.sweep)
             tau = np.concatenate([tau, extra])
             rounds += 1
     except BudgetSpent:
@@ -504,10 +503,10 @@ def _local(judge: Judge, goal: Goal, start, share: int) -> Outcome:
 def _refined_score(judge: Judge, goal: Goal, design, peak: float) -> tuple[float, float]:
     """(objective, violation) of one design with its refined peak (no budget spent)."""
     p = design[None, :]
-    st = judge.st
-    sing = st.singular(p)
+    statics = judge.statics
+    sing = statics.singular(p)
     crosses = bool(sing["blocked"][0]) or not math.isfinite(peak)  # nan: no finite force, the worst
-    closed, opened = (float(x[0]) for x in st.lengths(p, sing=sing)[:2])
+    closed, opened = (float(x[0]) for x in statics.lengths(p, sing=sing)[:2])
     obj, viol = judge.score(goal, crosses, peak, closed, opened)
     return float(obj), float(viol)
 
@@ -526,11 +525,11 @@ def settle(judge: Judge, goal: Goal, outcome: Outcome) -> Outcome:
     if best.design is None or best.violation > FEASIBLE or judge.space.size == 0:
         return outcome
     from linkcli.search import kkt
-    st = judge.st
-    pk = st.peaks(best.design[None, :])
-    tau = np.concatenate([local_angles(st), [float(pk["push_at"][0]), float(pk["pull_at"][0])]])
-    tau = np.unique(np.clip(tau, 0.0, st.sweep))
-    tau = np.concatenate([[0.0, st.sweep], tau[(tau > 0.0) & (tau < st.sweep)]])  # the ends first
+    statics = judge.statics
+    pk = statics.peaks(best.design[None, :])
+    tau = np.concatenate([local_angles(statics), [float(pk["push_at"][0]), float(pk["pull_at"][0])]])
+    tau = np.unique(np.clip(tau, 0.0, statics.sweep))
+    tau = np.concatenate([[0.0, statics.sweep], tau[(tau > 0.0) & (tau < statics.sweep)]])  # the ends first
     ep = Epigraph(judge, goal, tau, best.design, margin=0.0)  # on the limits themselves
     n = judge.space.size
     # the unit box of the polish: the free coordinates, and (peak goal) z / (2 F_s)
@@ -573,7 +572,7 @@ def _rescore(judge: Judge, goal: Goal, design) -> Best:
     """A design with its refined peak (one evaluation)."""
     judge.budget.spend(1)
     best = Best()
-    peak = float(judge.st.peaks(design[None, :])["peak"][0])
+    peak = float(judge.statics.peaks(design[None, :])["peak"][0])
     best.offer(design, *_refined_score(judge, goal, design, peak))
     return best
 
@@ -597,7 +596,7 @@ def optimize(judge: Judge, goal: Goal, method: str, share: int, rng) -> Outcome:
         if stop > base:
             budget.spend(1)
             centre = judge.space.full(np.full(judge.space.size, 0.5))[0]
-            peak = float(judge.st.peaks(centre[None, :])["peak"][0])
+            peak = float(judge.statics.peaks(centre[None, :])["peak"][0])
             result.best.offer(centre, *_refined_score(judge, goal, centre, peak))
         budget.cap = outer
         return result
@@ -760,4 +759,4 @@ def pareto(problem, judge: Judge, main: Outcome, goal: Goal, method: str, share:
 
 
 def closed_length(judge: Judge, design) -> float:
-    return float(judge.st.lengths(np.asarray(design, dtype=float)[None, :])[0][0])
+    return float(judge.statics.lengths(np.asarray(design, dtype=float)[None, :])[0][0])

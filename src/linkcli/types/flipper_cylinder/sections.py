@@ -14,19 +14,19 @@ from linkcli.noise import snap
 from linkcli.types.flipper_cylinder.statics import Statics
 
 
-def facts(problem, st: Statics, design) -> dict:
+def facts(problem, statics: Statics, design) -> dict:
     """Everything reported about one design (radians, the file's length unit, N). The
     lengths are the true extremes over the sweep (L turns back where the cylinder line
     crosses the hinge); a design that cannot hold the platform somewhere (`crosses`) has
     an infinite peak at that angle."""
     p = np.asarray(design, dtype=float)[None, :]
-    sing = st.singular(p)
-    closed, opened, closed_at = (float(x[0]) for x in st.lengths(p, sing=sing))
-    ls, le = (float(x[0]) for x in st.end_lengths(p))
+    sing = statics.singular(p)
+    closed, opened, closed_at = (float(x[0]) for x in statics.lengths(p, sing=sing))
+    ls, le = (float(x[0]) for x in statics.end_lengths(p))
     t0 = float(sing["tau0"][0])
-    turns = bool(sing["crosses"][0]) and 0.0 < t0 < st.sweep  # L has an interior extreme
+    turns = bool(sing["crosses"][0]) and 0.0 < t0 < statics.sweep  # L has an interior extreme
     if turns:  # d(L^2)/dt = 2 K: the rod extends while K > 0
-        k_start = float(st.terms(p, np.array([0.0]))[0][0, 0])
+        k_start = float(statics.terms(p, np.array([0.0]))[0][0, 0])
         motion = "extends, then retracts" if k_start > 0 else "retracts, then extends"
     else:
         motion = "extends" if le > ls else "retracts"
@@ -34,7 +34,7 @@ def facts(problem, st: Statics, design) -> dict:
            "max_length": opened, "stroke": opened - closed, "rod_motion": motion,
            "closed_at": closed_at, "cross_at": t0, "zero_length": bool(sing["meet"][0]),
            "load_moment": float(sing["moment"][0])}
-    pk = st.peaks(p)
+    pk = statics.peaks(p)
     for k in ("push", "push_at", "pull", "pull_at", "peak", "peak_at"):
         out[k] = float(pk[k][0])
     out["is_push"] = bool(pk["is_push"][0])
@@ -70,23 +70,23 @@ def _file_angle(problem, key: str) -> float:
     return float(f"{value:.15g}")  # the ulp of the round trip through radians
 
 
-def force_rows(problem, st: Statics, design, angles) -> list[dict]:
+def force_rows(problem, statics: Statics, design, angles) -> list[dict]:
     """Rows angle (file unit, as given), force (N; None where no finite force holds the
     platform: the cylinder line through the hinge), arm and length (length unit)."""
     u = problem.meta.units
     angles = np.asarray(angles, dtype=float)
     tau = np.array([u.to_rad(float(x)) for x in angles]) - problem.start
-    tau[0], tau[-1] = max(tau[0], 0.0), min(tau[-1], st.sweep)
-    force, arm, length = (x[0] for x in st.forces(np.asarray(design, dtype=float)[None, :], tau))
+    tau[0], tau[-1] = max(tau[0], 0.0), min(tau[-1], statics.sweep)
+    force, arm, length = (x[0] for x in statics.forces(np.asarray(design, dtype=float)[None, :], tau))
     shown = -angles if problem.clockwise else angles  # sweep order: start first, as written
     return [{"angle": float(shown[i]) + 0.0, "force": float(force[i]) if math.isfinite(force[i]) else None,
              "arm": float(arm[i]), "length": float(length[i])} for i in range(len(tau))]
 
 
-def full_angles(problem, st: Statics) -> np.ndarray:
+def full_angles(problem, statics: Statics) -> np.ndarray:
     """The sweep grid in the file's unit, ends as given."""
     a, b = _file_angle(problem, "start"), _file_angle(problem, "end")
-    out = a + (b - a) * (st.grid / st.sweep)
+    out = a + (b - a) * (statics.grid / statics.sweep)
     out[0], out[-1] = a, b
     return out
 
@@ -96,7 +96,7 @@ def shown_point(problem, x, y) -> list[float]:
     return [float(problem.shown_x(float(x))) + 0.0, float(y)]
 
 
-def cylinder_section(problem, st: Statics, f: dict) -> dict:
+def cylinder_section(problem, statics: Statics, f: dict) -> dict:
     """The `cylinder` report section, output-ready (docs/format.md, Output)."""
     u = problem.meta.units
     p = f["design"]
@@ -128,21 +128,21 @@ def cylinder_section(problem, st: Statics, f: dict) -> dict:
     if problem.max_force is not None:
         sec["max_force"] = problem.max_force
         sec["force_margin"] = snap(problem.max_force - f["peak"], problem.max_force)
-    sec["forces"] = force_rows(problem, st, p, table_angles(problem))
-    sec["forces_full"] = force_rows(problem, st, p, full_angles(problem, st))
+    sec["forces"] = force_rows(problem, statics, p, table_angles(problem))
+    sec["forces_full"] = force_rows(problem, statics, p, full_angles(problem, statics))
     return sec
 
 
-def pareto_rows(problem, st: Statics, designs) -> list[dict]:
+def pareto_rows(problem, statics: Statics, designs) -> list[dict]:
     u = problem.meta.units
     rows = []
-    for d in designs:
-        f = facts(problem, st, d)
+    for design in designs:
+        f = facts(problem, statics, design)
         rows.append({"closed_length": f["min_length"], "peak_force": f["peak"],
                      "peak_angle": float(u.from_rad(problem.shown_angle(problem.start + f["peak_at"]))) + 0.0,
                      "peak_kind": "push" if f["is_push"] else "pull", "stroke": f["stroke"],
-                     "max_length": f["max_length"], "rod_pivot": shown_point(problem, d[0], d[1]),
-                     "base_pivot": shown_point(problem, d[2], d[3])})
+                     "max_length": f["max_length"], "rod_pivot": shown_point(problem, design[0], design[1]),
+                     "base_pivot": shown_point(problem, design[2], design[3])})
     return rows
 
 

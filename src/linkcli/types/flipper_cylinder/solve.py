@@ -13,13 +13,14 @@ status and its message (the violated limit and by how much).
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
 from linkcli.types.flipper_cylinder.statics import Statics
 from linkcli.search.budget import Budget
 from linkcli.types.flipper_cylinder.sections import cylinder_section, facts, pareto_rows
-from linkcli.solution import Solution, Status
+from linkcli.solution import Solution, SolverRecord, Status
 from linkcli.types.flipper_cylinder.search import (DEFAULT_BUDGET, PARETO_BUDGET, PARETO_SHARE, TOLERANCE,
                                             SETTLE_EVALUATIONS, SETTLE_SHARE, Goal, Judge, Space,
                                             optimize, pareto, settle)
@@ -84,22 +85,22 @@ def solve(problem) -> Solution:
 
 def _solve(problem) -> Solution:
     meta = problem.meta
-    st = Statics(problem.mass * problem.gravity, problem.center_of_mass, problem.end - problem.start)
+    statics = Statics(problem.mass * problem.gravity, problem.center_of_mass, problem.end - problem.start)
     notes: list[str] = []
     if problem.fixed:
-        design, solver, rows = np.array([lo for lo, _ in problem.bounds]), {"method": "evaluate"}, None
-        solver.update(seed=meta.solver.seed, evaluations=1, converged=True)
+        design, rows = np.array([lo for lo, _ in problem.bounds]), None
+        solver, budget, completed = SolverRecord("evaluate", meta.solver.seed, 1, True), 1, True
         if meta.solver.method != "auto":
             notes.append(f'every pivot coordinate is fixed: the design is evaluated, method '
                          f'"{meta.solver.method}" is not used')
     else:
-        design, solver, rows = _search(problem, st, notes)
-    solver["minimize"] = problem.minimize
+        design, solver, rows, budget, completed = _search(problem, statics, notes)
+    solver = replace(solver, minimize=problem.minimize)
     if design is None:
         return Solution(status=Status.NOT_CONVERGED, solver=solver, notes=notes,
-                        message=f"the budget of {solver['budget']} evaluations is too small to "
+                        message=f"the budget of {budget} evaluations is too small to "
                                 "judge a design")
-    f = facts(problem, st, design)
+    f = facts(problem, statics, design)
     status, message = verdict(problem, f)
     lu = meta.units.length
     if (problem.dead_length is None and not f["crosses"] and not problem.fixed
@@ -112,21 +113,19 @@ def _solve(problem) -> Solution:
         notes.append(f"the closed length {num(f['min_length'])} {lu} is shorter than the stroke "
                      f"{num(f['stroke'])} {lu}: only a telescopic cylinder fits; [cylinder] dead_length "
                      "asks for a single-stage one (closed length >= stroke + dead_length)")
-    searched = solver["converged"] or solver.get("completed")  # not stopped by the budget
+    searched = solver.converged or completed  # not stopped by the budget
     if not problem.fixed and status is Status.INFEASIBLE and searched:
         message = f"no design found within the limits; the nearest: {message}"
-    elif not solver["converged"]:  # an infeasible design may only show that the search stopped early
+    elif not solver.converged:  # an infeasible design may only show that the search stopped early
         status = Status.NOT_CONVERGED
         # no evaluation count here: it differs between machines (solver.evaluations has it)
-        message = (f"the search did not converge within its budget ({solver['budget']} evaluations); "
+        message = (f"the search did not converge within its budget ({budget} evaluations); "
                    f"best design found: {message}")
     elif problem.fixed and status is Status.OK:
         message = f"design evaluated over the sweep: {message}"
-    solver.pop("budget", None)
-    solver.pop("completed", None)
     sections = {}
     if "cylinder" in meta.sections:
-        sections["cylinder"] = cylinder_section(problem, st, f)
+        sections["cylinder"] = cylinder_section(problem, statics, f)
     if rows is not None:
         sections["pareto"] = rows
     objective = f["peak"] if problem.minimize == "peak-force" else f["min_length"]
@@ -134,14 +133,15 @@ def _solve(problem) -> Solution:
                     solver=solver, sections=sections, notes=notes)
 
 
-def _search(problem, st: Statics, notes: list[str]):
-    """(design or None, solver dict, trade-off rows or None) of the optimizing methods."""
+def _search(problem, statics: Statics, notes: list[str]):
+    """(design or None, solver record, trade-off rows or None, the budget, whether the
+    search completed) of the optimizing methods."""
     meta = problem.meta
     method = meta.solver.method
     total = meta.solver.budget or (DEFAULT_BUDGET + (PARETO_BUDGET if problem.pareto else 0))
     share = total - (int(PARETO_SHARE * total) if problem.pareto else 0)
     budget = Budget(total)
-    judge = Judge(problem, st, Space(problem), budget)
+    judge = Judge(problem, statics, Space(problem), budget)
     rng = np.random.default_rng(meta.solver.seed)
     goal = Goal("peak") if problem.minimize == "peak-force" else Goal("length", force_cap=problem.max_force)
     polishes = method != "differential-evolution"  # a global method alone is not polished
@@ -153,10 +153,9 @@ def _search(problem, st: Statics, notes: list[str]):
     rows = None
     if problem.pareto and out.best.design is not None:
         found, complete = pareto(problem, judge, out, goal, method, budget.left, rng)
-        rows = pareto_rows(problem, st, found)
+        rows = pareto_rows(problem, statics, found)
         if not complete:
             notes.append(f"the trade-off table has {len(rows)} of the {problem.pareto} rows asked "
                          "for (budget spent, or no shorter cylinder stays within the force limit)")
-    solver = {"method": method, "seed": meta.solver.seed, "evaluations": budget.used,
-              "converged": bool(out.converged), "budget": total, "completed": bool(out.completed)}
-    return out.best.design, solver, rows
+    solver = SolverRecord(method, meta.solver.seed, budget.used, bool(out.converged))
+    return out.best.design, solver, rows, total, bool(out.completed)

@@ -87,7 +87,7 @@ class Model:
         self.names = CONSTRAINTS
 
     @property
-    def n(self) -> int:
+    def n_variables(self) -> int:
         return len(self.variables)
 
     def values(self, u: np.ndarray) -> np.ndarray:

@@ -32,7 +32,7 @@ def rounded(values: np.ndarray, digits: np.ndarray) -> np.ndarray:
 def digits_note(problem, model, v: np.ndarray, sign: float, feasible: float, describe) -> str | None:
     """The note for a design whose 6-digit rounding violates a constraint, or None.
     `v`: the design values (1, n); `describe(viol, det)`: phrases of the violations."""
-    if model.n == 0:
+    if model.n_variables == 0:
         return None
     u = problem.meta.units
     is_angle = np.array([name not in problem.bounds for name in model.variables])

@@ -44,11 +44,12 @@ from linkcli.mechanisms import four_bar as kin
 from linkcli.errors import SolveInputError
 from linkcli.types.function_generation.printed_digits import digits_note
 from linkcli.model import FourBar, FunctionGenerationProblem
-from linkcli.solution import Positions, Solution, Status
+from linkcli.solution import Positions, Solution, SolverRecord, Status
 from linkcli.search import kkt, linalg
 from linkcli.search import polish as local_polish
 from linkcli.search import sampling
 from linkcli.search.budget import Budget, BudgetSpent
+from linkcli.search.evolution import evolve
 from linkcli.search.sampling import latin_hypercube
 from linkcli.types.function_generation.model import BRANCH_SIGN, GRASHOF_MARGIN, STARTS, Batch, Model
 from linkcli.types.function_generation.sections import structural_error, target_section
@@ -159,7 +160,7 @@ class Local:
     def __init__(self, search: Search, branch: str, evaluations: int) -> None:
         self.search = search
         self.model = search.model
-        self.n = self.model.n
+        self.n_variables = self.model.n_variables
         self.weight = self.model.weight
         self.branch = branch
         self.sign = BRANCH_SIGN[branch]
@@ -189,7 +190,7 @@ class Local:
         central differences about a point at least STEP inside the box: 2n evaluations;
         or (central=False, for the Gauss-Newton model) by forward differences from u,
         stepping inwards at the upper bound: n evaluations besides the value at u."""
-        n = self.model.n
+        n = self.model.n_variables
         if not central:
             u = np.clip(u, 0.0, 1.0)
             key = (u.tobytes(), "forward")
@@ -263,12 +264,11 @@ def population_size(n: int, evaluations: int) -> int:
 
 def differential_evolution(search: Search, branch: str, evaluations: int, seed, tol: float,
                            extra: np.ndarray | None = None):
-    """Seeded, vectorized scipy differential evolution on the penalized objective of one
-    branch: every generation is one call, the population (S, n) against the points.
+    """Seeded differential evolution (linkcli.search.evolution) on the penalized objective
+    of one branch: every generation is one call, the population (S, n) against the points.
     `extra` rows (unit box) replace the first members of the Latin hypercube start.
     Returns (converged, best member or None)."""
-    from scipy.optimize import differential_evolution as de
-    n = search.model.n
+    n = search.model.n_variables
     size = population_size(n, evaluations)
     if evaluations < size or size < 5:
         return False, None
@@ -278,16 +278,9 @@ def differential_evolution(search: Search, branch: str, evaluations: int, seed, 
     if extra is not None and len(extra):
         k = min(len(extra), size // 2)
         init[:k] = extra[:k]
-
-    def func(x):  # scipy sends (n, S), wants (S,)
-        return search.run(np.asarray(x).T, branch).penalized
-
-    try:
-        res = de(func, [(0.0, 1.0)] * n, maxiter=max(evaluations // size - 1, 0), init=init, tol=tol,
-                 atol=0.0, polish=False, updating="deferred", vectorized=True, rng=rng)
-    except BudgetSpent:
-        return False, None
-    return bool(res.success), np.asarray(res.x, dtype=float)
+    out = evolve(lambda u: search.run(u, branch).penalized, [(0.0, 1.0)] * n,
+                 max(evaluations // size - 1, 0), init=init, rng=rng, tol=tol)
+    return (False, None) if out is None else (out.converged, out.x)
 
 
 def dual_annealing(search: Search, branch: str, evaluations: int, seed: int) -> bool:
@@ -295,7 +288,7 @@ def dual_annealing(search: Search, branch: str, evaluations: int, seed: int) -> 
     gradients) on the penalized objective of one branch; it asks for one candidate at a
     time, the gradients for 2n at once."""
     from scipy.optimize import dual_annealing as da
-    n = search.model.n
+    n = search.model.n_variables
     rng = np.random.default_rng(seed)
     check_law(search.model, latin_hypercube(np.random.default_rng(seed), 8, n))
     stop = search.evaluations.used + evaluations
@@ -347,7 +340,7 @@ def freudenstein_seeds(search: Search, branch: str, count: int):
     (counted): (rows best first and distinct (unit box, (k, n)), their penalized
     objectives); empty when there are none or the budget cannot pay for them."""
     model = search.model
-    none = np.zeros((0, model.n)), np.zeros(0)
+    none = np.zeros((0, model.n_variables)), np.zeros(0)
     pairs = start_pairs(model, count)
     if pairs is None:
         return none
@@ -382,7 +375,7 @@ def improved(before: tuple, after: tuple) -> bool:
 def multistart(search: Search, branch: str, evaluations: int, seed: int) -> bool:
     """SLSQP (polish) from the best distinct points of a Latin hypercube sample and of
     the Freudenstein designs; converged if the search that found the best converged."""
-    n = search.model.n
+    n = search.model.n_variables
     rng = np.random.default_rng(seed)
     stop = search.evaluations.used + evaluations
     size = max(1, min(MULTISTART_SAMPLE * n, evaluations // 4))
@@ -414,7 +407,7 @@ def auto(search: Search, branch: str, evaluations: int, seed: int) -> bool:
     function generator are narrow in the start angles: a population can miss one that
     a design fitted there lands in). True if the polish that found the branch's best
     converged."""
-    n = search.model.n
+    n = search.model.n_variables
     stop = search.evaluations.used + evaluations
     seeds, _ = freudenstein_seeds(search, branch, min(SEED_PAIRS, evaluations // 8))
     converged = False
@@ -454,7 +447,7 @@ def probe(search: Search, branch: str, start: np.ndarray, stop: int, evaluations
     stopped, with half of what is left, if it improved on the branch's best.
     (improved, converged)."""
     before = branch_best(search, branch)
-    done = polish(search, start, branch, min(evaluations, SEED_POLISH_STEPS * (search.model.n + 2)))
+    done = polish(search, start, branch, min(evaluations, SEED_POLISH_STEPS * (search.model.n_variables + 2)))
     if not improved(before, branch_best(search, branch)):
         return False, done
     if not done:
@@ -471,7 +464,7 @@ def polish_seeds(search: Search, branch: str, seeds: np.ndarray, polished: np.nd
     todo = [s_ for s_ in seeds if np.max(np.abs(s_ - polished)) > DISTINCT][:SEED_POLISHES]
     for k, s_ in enumerate(todo):
         left = min(stop, search.evaluations.total) - search.evaluations.used
-        if left <= 4 * (search.model.n + 2):
+        if left <= 4 * (search.model.n_variables + 2):
             break
         gain, done = probe(search, branch, s_, stop, left // (len(todo) - k + 1))
         if gain:
@@ -494,7 +487,7 @@ def solve(problem: FunctionGenerationProblem) -> Solution:
     passes to the next branch); the best feasible result of any branch wins."""
     model = Model(problem)
     opts = problem.meta.solver
-    n = model.n
+    n = model.n_variables
     budget = opts.budget if opts.budget is not None else DEFAULT_BUDGET_PER_VARIABLE * max(n, 1)
     branches = ("open", "crossed") if problem.branch == "either" else (problem.branch,)
     search = Search(model, budget, branches)
@@ -525,7 +518,7 @@ def settle(search: Search, converged: bool) -> bool:
     SETTLE_GAIN (the printed digits are then the optimum's on every machine). It spends what
     the searches left of the budget, at least their reserve (`solve`). True if the search
     converged or the polish did."""
-    if not search.feasible or search.model.n == 0:
+    if not search.feasible or search.model.n_variables == 0:
         return converged
     best = search.answer()
     model = search.model
@@ -576,8 +569,8 @@ def build_solution(problem, model: Model, search: Search, converged: bool) -> So
                           achieved=kin.wrap(det["psi"][0]), error=kin.wrap(err))
     check_law_finite(problem, model, batch.violation[0], det, u)
     violations = describe_violations(problem, model, batch.violation[0], det, u)
-    solver = {"method": solver_name(problem.meta.solver.method, model.n), "seed": problem.meta.solver.seed,
-              "evaluations": search.evaluations.used, "converged": bool(converged)}
+    solver = SolverRecord(solver_name(problem.meta.solver.method, model.n_variables), problem.meta.solver.seed,
+                          search.evaluations.used, bool(converged))
     if violations:
         status, message = Status.INFEASIBLE, "; ".join(violations)
     elif not converged:

@@ -11,9 +11,10 @@ import numpy as np
 
 from linkcli.mechanisms import four_bar as kin
 from linkcli.analysis.sections import TRANSMISSION_BAND
-from linkcli.plots.common import (BAND_COLOR, CURVE_COLOR, LINK_COLORS, Geometry, Units, angle_ticks,
-                                  draw_linkage, frame_drawing, link_legend, joint_paths, no_linkage, num, panels,
+from linkcli.plots.common import (BAND_COLOR, CURVE_COLOR, LINK_COLORS, Geometry, angle_ticks, draw_linkage,
+                                  drawn, frame_drawing, joint_paths, link_legend, no_linkage, num, panels,
                                   robust_ylim)
+from linkcli.units import Units
 
 NEEDS = ("linkage",)
 SAMPLES = 720
@@ -32,7 +33,7 @@ def study_grid(mot: kin.Motion, n: int = SAMPLES) -> np.ndarray:
 def input_speed(problem, units: Units) -> float:
     """rad/s: the problem's [motion] input_speed, else 1 angle unit per second (as analyse)."""
     speed = getattr(problem, "input_speed", None)
-    return float(speed) if speed else float(units.rad(1.0))
+    return float(speed) if speed else float(units.angles_to_rad(1.0))
 
 
 def finite(x):
@@ -40,18 +41,19 @@ def finite(x):
     return np.where(np.isfinite(x), x, np.nan)
 
 
-def draw(fig, report: dict, problem=None) -> None:
+def draw(fig, result) -> None:
     from linkcli.plots import slider_crank
+    report, problem = drawn(result), result.problem
     if slider_crank.is_slider_crank(report):  # the second mechanism draws itself
-        return slider_crank.draw(fig, report, problem)
-    u, ax_link, (ax_w, ax_a, ax_mu) = panels(fig, report, 3, [1.0, 1.25])
+        return slider_crank.draw(fig, result)
+    u, ax_link, (ax_w, ax_a, ax_mu) = panels(fig, result, 3, [1.0, 1.25])
     au, lu = u.angle, u.length
     if "linkage" not in report:
         no_linkage(ax_link, "no linkage in the report")
         for ax in (ax_w, ax_a, ax_mu):
             ax.set_axis_off()
         return
-    geo = Geometry.of(report)
+    geo = Geometry.of(result)
     mot = geo.motion()
     if not mot.assembles:
         no_linkage(ax_link, "the linkage cannot assemble at any input angle")
@@ -63,8 +65,8 @@ def draw(fig, report: dict, problem=None) -> None:
     w2 = input_speed(problem, u)
     w3, w4 = kin.velocities(geo.a, geo.b, geo.c, p, w2)
     a3, a4 = kin.accelerations(geo.a, geo.b, geo.c, p, w2)
-    x = u.out(phi)
-    mu = u.out(p.mu)
+    x = u.from_rad(phi)
+    mu = u.from_rad(p.mu)
 
     # Left: the linkage at its worst transmission angle (farthest from 90 deg).
     worst = int(np.argmax(np.abs(p.mu - np.pi / 2)))
@@ -77,23 +79,23 @@ def draw(fig, report: dict, problem=None) -> None:
     frame_drawing(ax_link, lu, f"Linkage to scale at input {num(float(x[worst]))} {au}\n"
                                f"(worst transmission angle, \u03bc = {num(float(mu[worst]))} {au})")
 
-    speed = f"{num(float(u.out(w2)))} {au}/s"
-    ax_w.plot(x, finite(u.out(w3)), color=LINK_COLORS["coupler"], lw=1.8, label="coupler \u03c9\u2083")
-    ax_w.plot(x, finite(u.out(w4)), color=LINK_COLORS["output"], lw=1.8, label="output \u03c9\u2084")
+    speed = f"{num(float(u.from_rad(w2)))} {au}/s"
+    ax_w.plot(x, finite(u.from_rad(w3)), color=LINK_COLORS["coupler"], lw=1.8, label="coupler \u03c9\u2083")
+    ax_w.plot(x, finite(u.from_rad(w4)), color=LINK_COLORS["output"], lw=1.8, label="output \u03c9\u2084")
     ax_w.set_ylabel(f"angular velocity ({au}/s)")
     ax_w.set_title(f"Motion study at a constant input speed of {speed}")
     ax_w.legend(loc="upper right", framealpha=0.85, ncols=2)
 
-    ax_a.plot(x, finite(u.out(a3)), color=LINK_COLORS["coupler"], lw=1.8, label="coupler \u03b1\u2083")
-    ax_a.plot(x, finite(u.out(a4)), color=LINK_COLORS["output"], lw=1.8, label="output \u03b1\u2084")
+    ax_a.plot(x, finite(u.from_rad(a3)), color=LINK_COLORS["coupler"], lw=1.8, label="coupler \u03b1\u2083")
+    ax_a.plot(x, finite(u.from_rad(a4)), color=LINK_COLORS["output"], lw=1.8, label="output \u03b1\u2084")
     for ax, series in ((ax_w, (w3, w4)), (ax_a, (a3, a4))):
-        if robust_ylim(ax, *(u.out(v) for v in series)):
+        if robust_ylim(ax, *(u.from_rad(v) for v in series)):
             ax.text(0.01, 0.03, "clipped: values grow without bound near the toggles", transform=ax.transAxes,
                     fontsize=9, color="#555555")
     ax_a.set_ylabel(f"angular accel. ({au}/s\u00b2)")
     ax_a.legend(loc="upper right", framealpha=0.85, ncols=2)
 
-    lo, hi = (float(u.out(np.radians(v))) for v in TRANSMISSION_BAND)
+    lo, hi = (float(u.from_rad(np.radians(v))) for v in TRANSMISSION_BAND)
     ax_mu.axhspan(lo, hi, color=BAND_COLOR, alpha=0.12, lw=0,
                   label=f"recommended {num(lo)}..{num(hi)} {au}")
     ax_mu.plot(x, mu, color="#1f77b4", lw=1.8, label="transmission angle \u03bc")

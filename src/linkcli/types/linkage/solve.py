@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from linkcli.mechanisms.four_bar import input_arcs
-from linkcli.solution import Solution, Status
+from linkcli.solution import Solution, SolverRecord, Status
 
 
 def solve(problem) -> Solution:
@@ -17,5 +17,4 @@ def solve(problem) -> Solution:
                         message="the linkage cannot assemble at any input angle "
                                 "(rho = |A B0| never lies within [|b - c|, b + c])")
     return Solution(status=Status.OK, linkage=fb, message="given linkage",
-                    solver={"method": "analysis", "seed": problem.meta.solver.seed,
-                            "evaluations": 0, "converged": True})
+                    solver=SolverRecord("analysis", problem.meta.solver.seed, 0, True))

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkcli.plots.common import (CURVE_COLOR, TARGET_COLOR, Geometry, draw_linkage, frame_drawing, input_grid,
-                                  joint_paths, link_legend, num, panels)
+from linkcli.plots.common import (CURVE_COLOR, TARGET_COLOR, Geometry, draw_linkage, drawn, frame_drawing,
+                                  input_grid, joint_paths, link_legend, num, panels)
 
 NEEDS = ("linkage", "positions")
 BODY = 0.12  # the body marker's arm, as a share of the longest link (or of the poses' spread)
@@ -24,21 +24,22 @@ def _body(ax, poses, arm, **style):
         ax.plot([x + 0.5 * arm * -s, x, x + arm * c], [y + 0.5 * arm * c, y, y + arm * s], **style)
 
 
-def draw(fig, report: dict, problem=None) -> None:
-    u, ax, (ax_pos, ax_ang) = panels(fig, report, 2, [1.45, 1.0])
+def draw(fig, result) -> None:
+    report, problem = drawn(result), result.problem
+    u, ax, (ax_pos, ax_ang) = panels(fig, result, 2, [1.45, 1.0])
     lu, au = u.length, u.angle
     rows = report.get("positions") or []
     target = np.array([r["target"] for r in rows], float).reshape(-1, 3)
     achieved = np.array([r["achieved"] for r in rows], float).reshape(-1, 3)
-    target[:, 2], achieved[:, 2] = u.rad(target[:, 2]), u.rad(achieved[:, 2])
+    target[:, 2], achieved[:, 2] = u.angles_to_rad(target[:, 2]), u.angles_to_rad(achieved[:, 2])
     origins = target[:, :2]
     scale = float(np.sqrt(np.mean(np.sum((origins - origins.mean(0)) ** 2, 1)))) if len(rows) else 1.0
     size = max(float(max(report["linkage"][k] for k in ("ground", "input", "coupler", "output")))
                if "linkage" in report else 0.0, 2 * scale)
     arm = BODY * (size if size > 0 else 1.0)
-    phi = u.rad([r["input"] for r in rows])
+    phi = u.angles_to_rad(np.array([r["input"] for r in rows], dtype=float))
     if "linkage" in report:
-        geo = Geometry.of(report)
+        geo = Geometry.of(result)
         mot = geo.motion(near=float(phi[0]) if len(phi) else None)
         if mot.assembles:
             grid = input_grid(mot)

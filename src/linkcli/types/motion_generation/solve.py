@@ -34,7 +34,7 @@ from linkcli.model import FourBar
 from linkcli.noise import first_min
 from linkcli.search.budget import Budget
 from linkcli.search.sampling import latin_hypercube
-from linkcli.solution import Solution, Status
+from linkcli.solution import Solution, SolverRecord, Status
 from linkcli.textnum import num
 
 from . import assemble, burmester, dyads, least_squares, sections
@@ -178,8 +178,7 @@ def _three_poses(problem, poses, scale, rng):
 
 def _choose_exact(problem, poses, scale, method, family, g1, m1, g2, m2, notes) -> Solution:
     u = problem.meta.units
-    solver = {"method": method, "seed": problem.meta.solver.seed, "evaluations": int(len(g1)),
-              "converged": True}
+    solver = SolverRecord(method, problem.meta.solver.seed, int(len(g1)), True)
     if len(g1) == 0:
         return Solution(status=Status.INFEASIBLE, message="no candidate linkage: " + "; ".join(notes),
                         solver=solver)
@@ -264,8 +263,7 @@ def _least_squares(problem, poses, scale) -> Solution:
     signs = np.full((1, len(poses)), -1.0 if out["branch"] == "open" else 1.0)
     res = screen(problem, poses, params, np.array(phis), signs, scale, exact=False)
     feasible = res["count"][0] == 0
-    solver = {"method": "least-squares", "seed": opts.seed, "evaluations": int(out["evaluations"]),
-              "converged": bool(out.get("converged", False))}
+    solver = SolverRecord("least-squares", opts.seed, int(out["evaluations"]), bool(out.get("converged", False)))
     extra = {"candidates": sections.polished_rows(out["candidates"], problem.meta.units)}
     return _solution(problem, poses, scale, params[0], phis[0], signs[0], res, 0, feasible, solver, extra,
                      [], objective=float(out["objective"]), weight=float(out["angle_weight"]))
@@ -292,11 +290,11 @@ def _solution(problem, poses, scale, p, phi, signs, res, k, feasible, solver, ex
     secs.update(extra)
     names = [name for name in DEFECTS if bool(res["defects"][name][k])]
     if feasible:
-        status = Status.OK if solver["converged"] else Status.NOT_CONVERGED
+        status = Status.OK if solver.converged else Status.NOT_CONVERGED
         message = (f"{len(poses)} poses: reached in order on the {branch} branch, no branch or order "
                    f"defect; worst transmission deviation from 90 deg over the working span "
                    f"{num(float(u.from_rad(float(res['quality'][k]))))} {u.angle}")
-        if not solver["converged"]:
+        if not solver.converged:
             message += "; the local polish stopped before meeting its tolerances"
     else:
         status = Status.INFEASIBLE

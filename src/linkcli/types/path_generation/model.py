@@ -64,7 +64,7 @@ class Design:
     periodic: dict = field(default_factory=dict)
 
     @property
-    def n(self) -> int:
+    def n_targets(self) -> int:
         return len(self.targets)
 
     @property
@@ -84,7 +84,7 @@ class Design:
         grashof = 3 if self.grashof in SHORTEST else (1 if self.grashof == "triple-rocker" else 0)
         window = 2 if self.window is not None else 0
         turn = 1 if self.timing == "free" else 0
-        return grashof + window + self.n + 2 + turn
+        return grashof + window + self.n_targets + 2 + turn
 
     def wrapped(self, x: np.ndarray) -> np.ndarray:
         """x (N, nx) with every periodic angle brought into [lo, lo + 2 pi) of its user range

@@ -9,25 +9,26 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkcli.plots.common import (CURVE_COLOR, TARGET_COLOR, Geometry, draw_linkage, frame_drawing,
+from linkcli.plots.common import (CURVE_COLOR, TARGET_COLOR, Geometry, draw_linkage, drawn, frame_drawing,
                                   input_grid, joint_paths, link_legend, num, panels)
 
 NEEDS = ("linkage", "positions")
 LABEL_ALL = 12  # up to this many targets each one is numbered; beyond, every k-th
 
 
-def draw(fig, report: dict, problem=None) -> None:
-    u, ax, (ax_err, ax_in) = panels(fig, report, 2, [1.45, 1.0])
+def draw(fig, result) -> None:
+    report = drawn(result)
+    u, ax, (ax_err, ax_in) = panels(fig, result, 2, [1.45, 1.0])
     au, lu = u.angle, u.length
     rows = report.get("positions") or []
     target = np.array([r["target"] for r in rows], dtype=float).reshape(-1, 2)
     achieved = np.array([r["achieved"] for r in rows], dtype=float).reshape(-1, 2)
     err = np.array([r["error"] for r in rows], dtype=float)
-    phi_t = u.rad([r["input"] for r in rows])
+    phi_t = u.angles_to_rad(np.array([r["input"] for r in rows], dtype=float))
     idx = np.arange(1, len(rows) + 1)
 
     if "linkage" in report and report["linkage"].get("coupler_point") is not None:
-        geo = Geometry.of(report)
+        geo = Geometry.of(result)
         mot = geo.motion(near=float(phi_t[0]) if len(phi_t) else None)
     else:
         geo, mot = None, {}
@@ -69,7 +70,7 @@ def draw(fig, report: dict, problem=None) -> None:
         ax_err.axhline(rms, color="#444444", lw=1.0, ls="--", label=f"rms {num(rms, 3)} {lu}")
         ax_err.set_ylim(0.0, max(float(err.max()), 1e-12) * 1.25)
         ax_err.legend(loc="upper right", framealpha=0.85)
-        ax_in.plot(idx, u.out(np.unwrap(phi_t)), color="#1f77b4", marker="o", ms=5, lw=1.2)
+        ax_in.plot(idx, u.from_rad(np.unwrap(phi_t)), color="#1f77b4", marker="o", ms=5, lw=1.2)
     ax_err.set_ylabel(f"distance to target ({lu})")
     ax_err.set_title(f"Error at each target point (max {num(float(err.max()), 3) if len(err) else '-'} {lu})")
     ax_err.tick_params(labelbottom=False)

@@ -7,14 +7,12 @@ included) are counted by `linkcli.search.budget.Budget` against the `[solver] bu
   variable projection, which leaves the lengths, the angles and the timing to search);
   residuals and central-difference Jacobians of many candidates as one batch.
 * `distinct`: the best candidates, pairwise apart (restarts from distinct basins).
-* `batch_lm`: Levenberg-Marquardt on many candidates at once (stacked normal equations,
-  Marquardt scaling), variables held inside their bounds (a variable at a bound with the
-  gradient pushing out is frozen for the step).
+* `batch_lm`: Levenberg-Marquardt on many candidates at once
+  (linkcli.search.levenberg_marquardt), each row with its own branch sign and direction.
 * `polish`: `batch_lm` on one candidate (it was scipy's least_squares, whose SVD follows
   the BLAS kernel: one machine ended on another member of a continuum of exact fits).
 * `settle`: the final Newton-KKT polish on the constraints that bind (linkcli.search.kkt).
-* `differential_evolution`: scipy's, vectorized over its population, on the penalized
-  sum of squares.
+* `differential_evolution`: linkcli.search.evolution's, on the penalized sum of squares.
 
 Every linear system is solved by `linkcli.search.linalg` (no BLAS): the whole search takes
 the same steps under every BLAS kernel.
@@ -26,8 +24,9 @@ import math
 
 import numpy as np
 
-from linkcli.search import linalg, sampling
+from linkcli.search import levenberg_marquardt, linalg, sampling
 from linkcli.search.budget import Budget
+from linkcli.search.evolution import evolve
 from linkcli.types.path_generation.model import Design
 from linkcli.types.path_generation.starts import fit_linear
 
@@ -44,9 +43,9 @@ class Space:
     """The free variables of a Design: z (N, k) <-> full x (N, nx), with the per-candidate
     branch sign and turning direction, and a counted residual function."""
 
-    def __init__(self, design: Design, counter: Budget, project: bool = False) -> None:
+    def __init__(self, design: Design, budget: Budget, project: bool = False) -> None:
         self.design = design
-        self.counter = counter
+        self.budget = budget
         self.project = project  # variable projection: coupler point and pivot by fit_linear
         free = design.free.copy()
         if project:
@@ -72,7 +71,7 @@ class Space:
         return x[:, self.idx]
 
     def residuals(self, z, sign, s, weight) -> np.ndarray:
-        self.counter.add(len(z))
+        self.budget.add(len(z))
         if not self.project:
             return self.design.residuals(self.full(z), sign, s, weight)
         x, pose = fit_linear(self.design, self.full(z), sign, s, with_pose=True)
@@ -126,63 +125,31 @@ def distinct(z: np.ndarray, cost: np.ndarray, width: np.ndarray, k: int, tol: fl
     return np.array(sampling.distinct(z / w, order, tol, k), dtype=int)
 
 
-# ---------------------------------------------------------------- batched Levenberg-Marquardt
+# ---------------------------------------------------------------- Levenberg-Marquardt
+
+class Fixed:
+    """The Space's residuals with each row's branch sign and turning direction and the
+    penalty weight held fixed: the batch of least-squares problems in a box that
+    linkcli.search.levenberg_marquardt solves."""
+
+    def __init__(self, space: Space, sign, s, weight: float) -> None:
+        self.space, self.sign, self.s, self.weight = space, sign, s, weight
+        self.lo, self.hi, self.budget = space.lo, space.hi, space.budget
+
+    def residuals(self, z, rows) -> np.ndarray:
+        return self.space.residuals(z, self.sign[rows], self.s[rows], self.weight)
+
+    def jacobian(self, z, rows, r0) -> np.ndarray:
+        return self.space.jacobian(z, self.sign[rows], self.s[rows], self.weight, r0)
+
 
 def batch_lm(space: Space, z, sign, s, weight: float, iterations: int, reserve: int = 0):
-    """Levenberg-Marquardt on every row of z at once, leaving `reserve` evaluations of the
-    budget unspent; returns (z, cost, converged): a row has converged when a step gains
-    less than 1e-12 of its cost, when no step gains anything (damping above 1e10), or at
-    an exact fit."""
-    z = z.copy()
-    k = space.k
-    if k == 0 or space.counter.left - reserve < len(z):
-        return z, np.full(len(z), np.inf), np.zeros(len(z), dtype=bool)
-    r = space.residuals(z, sign, s, weight)
-    f = np.einsum("ij,ij->i", r, r)
-    lam = np.full(len(z), 1e-3)
-    jac = None
-    stale = np.ones(len(z), dtype=bool)  # Jacobian to (re)compute
-    active = np.ones(len(z), dtype=bool)
-    for _ in range(iterations):
-        rows = np.flatnonzero(active)
-        if len(rows) == 0 or space.counter.left - reserve < len(rows) * (2 * k + 1):
-            break
-        need = rows[stale[rows]]
-        if jac is None:
-            jac = np.zeros((len(z), r.shape[1], k))
-        if len(need):
-            jac[need] = space.jacobian(z[need], sign[need], s[need], weight, r[need])
-            stale[need] = False
-        j = jac[rows]
-        g = np.einsum("nmk,nm->nk", j, r[rows])
-        h = np.einsum("nmk,nml->nkl", j, j)
-        zr = z[rows]
-        frozen = (((zr <= space.lo + 1e-12 * (np.abs(space.lo) + 1)) & (g > 0))
-                  | ((zr >= space.hi - 1e-12 * (np.abs(space.hi) + 1)) & (g < 0)))
-        keep = ~frozen
-        h = h * keep[:, :, None] * keep[:, None, :]
-        g = g * keep
-        diag = np.einsum("nkk->nk", h)
-        damp = lam[rows, None] * (diag + 1e-12 * diag.max(axis=1, keepdims=True)) + frozen + 1e-300
-        a = h + np.einsum("nk,kl->nkl", damp, np.eye(k))
-        step = -linalg.solve(a, g)
-        step = np.nan_to_num(step) * keep
-        znew = np.clip(zr + step, space.lo, space.hi)
-        rnew = space.residuals(znew, sign[rows], s[rows], weight)
-        fnew = np.einsum("ij,ij->i", rnew, rnew)
-        ok = fnew < f[rows]
-        acc = rows[ok]
-        small = ok & (f[rows] - fnew <= 1e-12 * f[rows])
-        z[acc], r[acc], stale[acc] = znew[ok], rnew[ok], True
-        f_old = f[rows]
-        f[acc] = fnew[ok]
-        lam[rows] = np.where(ok, np.maximum(lam[rows] / 3.0, 1e-12), lam[rows] * 4.0)
-        done = small | (lam[rows] > 1e10) | (f[rows] < 1e-30) | (~ok & (f_old < 1e-30))
-        active[rows[done]] = False
-    return z, f, ~active
+    """linkcli.search.levenberg_marquardt.batch_lm on the rows z (N, k) with their signs
+    and directions (N,): returns (z, cost, converged)."""
+    return levenberg_marquardt.batch_lm(Fixed(space, sign, s, weight), z, iterations, reserve)
 
 
-# ---------------------------------------------------------------- scipy polish
+# ---------------------------------------------------------------- polish
 
 def polish(space: Space, z0, sign: float, s: float, weight: float, max_nfev: int):
     """Levenberg-Marquardt (`batch_lm`, one row) on every free variable from z0 (k,),
@@ -192,7 +159,7 @@ def polish(space: Space, z0, sign: float, s: float, weight: float, max_nfev: int
     z0 = np.clip(np.asarray(z0, dtype=float), space.lo, space.hi)
     if not np.all(np.isfinite(z0)) or not np.all(space.lo <= space.hi):
         return z0, math.inf, False
-    reserve = max(0, space.counter.left - max_nfev)
+    reserve = max(0, space.budget.left - max_nfev)
     z, f, done = batch_lm(space, z0[None, :], np.array([sign]), np.array([s]), weight,
                           POLISH_ITERATIONS, reserve=reserve)
     return z[0], float(f[0]), bool(done[0])
@@ -207,16 +174,16 @@ def settle(space: Space, z0, sign: float, s: float):
     (g <= 0 feasible). Returns the kkt.Settled record with z in place of the unit
     coordinates."""
     from linkcli.search import kkt
-    d = space.design
+    design = space.design
     width = space.hi - space.lo
-    m = 2 * d.n
+    m = 2 * design.n_targets
 
     def values(u):  # (N, k) unit points -> (N, 2n + constraints): residuals, constraints
-        space.counter.spend(len(u))  # BudgetSpent beyond the cap
+        space.budget.spend(len(u))  # BudgetSpent beyond the cap
         x = space.full(space.lo + np.clip(u, 0.0, 1.0) * width)
-        pts, pose, phi = d.points(x, np.full(len(u), sign), np.full(len(u), s))
-        r = (pts - d.targets[None]).reshape(len(u), -1) / d.scale
-        return np.concatenate([r, -d.constraints(x, pose, phi) / d.scale], axis=1)
+        pts, pose, phi = design.points(x, np.full(len(u), sign), np.full(len(u), s))
+        r = (pts - design.targets[None]).reshape(len(u), -1) / design.scale
+        return np.concatenate([r, -design.constraints(x, pose, phi) / design.scale], axis=1)
 
     def evaluate(u):
         v, jac = kkt.slopes(values, u, step=SETTLE_STEP)
@@ -233,35 +200,33 @@ def settle(space: Space, z0, sign: float, s: float):
 # ---------------------------------------------------------------- differential evolution
 
 def differential_evolution(space: Space, rng_seed: int, weight: float, budget: int):
-    """scipy's differential evolution (vectorized, no polish) on the penalized sum of
+    """Differential evolution (linkcli.search.evolution) on the penalized sum of
     squares; a branch "either" or direction "either" becomes one more variable in [-1, 1]
     whose sign picks it. Returns (z, sign, s, cost, converged): converged when the
     population's spread of costs fell below DE_TOL of their mean (scipy's criterion)."""
-    from scipy.optimize import differential_evolution as de
-
-    d = space.design
+    design = space.design
     k = space.k
-    pick_branch = d.branch == "either"
-    pick_dir = d.timing == "free" and d.direction == "either"
+    pick_branch = design.branch == "either"
+    pick_dir = design.timing == "free" and design.direction == "either"
     extra = int(pick_branch) + int(pick_dir)
     bounds = list(zip(space.lo, space.hi)) + [(-1.0, 1.0)] * extra
-    fixed_sign = -1.0 if d.branch == "open" else 1.0
-    fixed_s = -1.0 if d.direction == "cw" else 1.0
+    fixed_sign = -1.0 if design.branch == "open" else 1.0
+    fixed_s = -1.0 if design.direction == "cw" else 1.0
 
-    def decode(v):  # v (k + extra, S)
-        z = v[:k].T
+    def decode(rows):  # rows (S, k + extra)
+        z = rows[:, :k]
         col = k
         sign = np.full(len(z), fixed_sign)
         s = np.full(len(z), fixed_s)
         if pick_branch:
-            sign = np.where(v[col] < 0, -1.0, 1.0)
+            sign = np.where(rows[:, col] < 0, -1.0, 1.0)
             col += 1
         if pick_dir:
-            s = np.where(v[col] < 0, -1.0, 1.0)
+            s = np.where(rows[:, col] < 0, -1.0, 1.0)
         return z, sign, s
 
-    def func(v):
-        z, sign, s = decode(np.atleast_2d(v.T).T if v.ndim == 1 else v)
+    def cost(rows):
+        z, sign, s = decode(rows)
         return space.cost(z, sign, s, weight)
 
     dims = k + extra
@@ -270,13 +235,12 @@ def differential_evolution(space: Space, rng_seed: int, weight: float, budget: i
     if npop < 5 or npop > budget:  # too small a budget for a population: random draws
         v = np.array([lo for lo, _ in bounds]) + np.array([hi - lo for lo, hi in bounds]) * \
             np.random.default_rng(rng_seed).random((max(1, budget), dims))
-        cost = func(v.T)
-        i = int(np.argmin(cost))
-        z, sign, s = decode(v[i][:, None])
-        return z[0], float(sign[0]), float(s[0]), float(cost[i]), False
+        costs = cost(v)
+        i = int(np.argmin(costs))
+        z, sign, s = decode(v[i][None, :])
+        return z[0], float(sign[0]), float(s[0]), float(costs[i]), False
     maxiter = max(0, budget // npop - 1)
-    res = de(func, bounds, strategy="best1bin", maxiter=maxiter, popsize=popsize, tol=DE_TOL,
-             mutation=(0.5, 1.0), recombination=0.7, seed=rng_seed, polish=False,
-             vectorized=True, updating="deferred", init="latinhypercube")
-    z, sign, s = decode(res.x[:, None])
-    return z[0], float(sign[0]), float(s[0]), float(res.fun), bool(res.success)
+    out = evolve(cost, bounds, maxiter, init="latinhypercube", seed=rng_seed, popsize=popsize, tol=DE_TOL,
+                 mutation=(0.5, 1.0), recombination=0.7)
+    z, sign, s = decode(out.x[None, :])
+    return z[0], float(sign[0]), float(s[0]), out.cost, out.converged

@@ -32,8 +32,8 @@ import numpy as np
 from linkcli.mechanisms import four_bar as kin
 from linkcli.model import FourBar
 from linkcli.search.budget import Budget, BudgetSpent
-from linkcli.solution import Positions, Solution, Status
-from linkcli.types.path_generation import starts as st
+from linkcli.solution import Positions, Solution, SolverRecord, Status
+from linkcli.types.path_generation import starts
 from linkcli.types.path_generation.model import N_LINK, SHORTEST, Design, build, rho2_extremes
 from linkcli.types.path_generation.search import Space, batch_lm, differential_evolution, distinct, polish, settle
 from linkcli.noise import snap
@@ -76,30 +76,30 @@ class Candidate:
 
 
 def solve(problem) -> Solution:
-    d = build(problem)
+    design = build(problem)
     opts = problem.meta.solver
     method = "multistart" if opts.method == "auto" else opts.method
-    counter = Budget(opts.budget or default_budget(method, d.n))
-    polishes = method != "differential-evolution" and bool(d.free.any())  # a global method alone is not
-    reserve = min(SETTLE_EVALUATIONS, counter.total // SETTLE_SHARE) if polishes else 0
-    counter.cap -= reserve  # the searches' part; the reserve is the final polish's
+    budget = Budget(opts.budget or default_budget(method, design.n_targets))
+    polishes = method != "differential-evolution" and bool(design.free.any())  # a global method alone is not
+    reserve = min(SETTLE_EVALUATIONS, budget.total // SETTLE_SHARE) if polishes else 0
+    budget.cap -= reserve  # the searches' part; the reserve is the final polish's
     rng = np.random.default_rng(opts.seed)
     with np.errstate(all="ignore"):
-        if not d.free.any():  # nothing to choose: the given linkage on the allowed branches
-            signs = {"open": (-1.0,), "crossed": (1.0,)}.get(d.branch, (-1.0, 1.0))
-            cands = [Candidate(d.lo.copy(), sg, 1.0, True) for sg in signs]
-            counter.add(len(cands))
+        if not design.free.any():  # nothing to choose: the given linkage on the allowed branches
+            signs = {"open": (-1.0,), "crossed": (1.0,)}.get(design.branch, (-1.0, 1.0))
+            cands = [Candidate(design.lo.copy(), sg, 1.0, True) for sg in signs]
+            budget.add(len(cands))
         elif method == "multistart":
-            cands = multistart(d, counter, rng)
+            cands = multistart(design, budget, rng)
         elif method == "least-squares":
-            cands = plain_multistart(d, counter, rng)
+            cands = plain_multistart(design, budget, rng)
         else:
-            cands = evolve(d, counter, opts.seed, polish_after=method == "de-polish")
-        best, violations = choose(d, cands)
-        counter.cap = counter.total
+            cands = evolve(design, budget, opts.seed, polish_after=method == "de-polish")
+        best, violations = choose(design, cands)
+        budget.cap = budget.total
         if not violations and polishes:
-            best = settled(d, counter, best)
-        return solution(problem, d, best, violations, method, counter)
+            best = settled(design, budget, best)
+        return solution(problem, design, best, violations, method, budget)
 
 
 def default_budget(method: str, points: int) -> int:
@@ -108,14 +108,14 @@ def default_budget(method: str, points: int) -> int:
     return max(1, min(DEFAULT_BUDGET[method], POINT_EVALUATIONS // max(points, 1)))
 
 
-def exact_objective(d: Design) -> float:
+def exact_objective(design: Design) -> float:
     """An objective this small is an exact fit: rms error EXACT_RMS of the targets' extent."""
-    return d.n * (EXACT_RMS * d.scale) ** 2
+    return design.n_targets * (EXACT_RMS * design.scale) ** 2
 
 
 # ---------------------------------------------------------------- methods
 
-def multistart(d: Design, counter: Budget, rng) -> list[Candidate]:
+def multistart(design: Design, budget: Budget, rng) -> list[Candidate]:
     """Rounds of `one_round` until an exact fit, a round whose own best lands within
     CONFIRM of the best so far (the same optimum found again), MAX_STALE rounds in a row
     that do not improve the best by more than IMPROVE, or the budget's end. Objectives are
@@ -123,14 +123,14 @@ def multistart(d: Design, counter: Budget, rng) -> list[Candidate]:
     found: list[Candidate] = []
     best = None
     stale = 0
-    exact = exact_objective(d)
+    exact = exact_objective(design)
     while True:
-        limit = counter.left if counter.left < 2 * ROUND_BUDGET else ROUND_BUDGET
-        with counter.limit(limit):
-            new = one_round(d, counter, rng)
-        mine = min((_rank(d, c) for c in new), default=None)
-        found = sorted(found + new, key=lambda c: _rank(d, c))[:POLISHED]
-        top = _rank(d, found[0])
+        limit = budget.left if budget.left < 2 * ROUND_BUDGET else ROUND_BUDGET
+        with budget.limit(limit):
+            new = one_round(design, budget, rng)
+        mine = min((_rank(design, c) for c in new), default=None)
+        found = sorted(found + new, key=lambda c: _rank(design, c))[:POLISHED]
+        top = _rank(design, found[0])
         done = not top[0] and top[2] <= exact
         if best is not None and mine is not None:
             k = 1 if best[0] else 2  # compare violations while infeasible, else objectives
@@ -140,34 +140,34 @@ def multistart(d: Design, counter: Budget, rng) -> list[Candidate]:
             stale = 0 if better else stale + 1
             done |= again or stale >= MAX_STALE
         best = top if best is None or top < best else best
-        if done or counter.left < ROUND_BUDGET // 4:
+        if done or budget.left < ROUND_BUDGET // 4:
             return found
 
 
-def one_round(d: Design, counter: Budget, rng) -> list[Candidate]:
+def one_round(design: Design, budget: Budget, rng) -> list[Candidate]:
     """Draws completed in closed form, batched Levenberg-Marquardt with the linear part
     projected out (the field halving after each round of iterations), then the best
     distinct few refined on every variable and polished."""
-    per = st.hypotheses_per_draw(d)
-    n_draws = min(MAX_DRAWS[d.timing], int(SCAN_SHARE * counter.left) // per)
-    proj = Space(d, counter, project=True)
+    per = starts.hypotheses_per_draw(design)
+    n_draws = min(MAX_DRAWS[design.timing], int(SCAN_SHARE * budget.left) // per)
+    proj = Space(design, budget, project=True)
     if n_draws >= 8:
-        x, sign, s = st.starts(d, rng, n_draws)
-        counter.add(n_draws * per)
+        x, sign, s = starts.starts(design, rng, n_draws)
+        budget.add(n_draws * per)
     else:  # a tiny budget: plain draws only, half of it to rank them
-        n_draws = max(1, min(64, counter.left // 2))
-        x, sign, s = st.plain_starts(d, rng, n_draws)
+        n_draws = max(1, min(64, budget.left // 2))
+        x, sign, s = starts.plain_starts(design, rng, n_draws)
     z = proj.free(x)
-    f = proj.cost(z, sign, s, LM_WEIGHT) if counter.left >= n_draws else np.zeros(n_draws)
-    m = 2 * d.n + d.n_penalties
+    f = proj.cost(z, sign, s, LM_WEIGHT) if budget.left >= n_draws else np.zeros(n_draws)
+    m = 2 * design.n_targets + design.n_penalties
     field = max(1, min(LM_FIELD, MEMORY // max(1, m * max(proj.k, 1))))
     keep = distinct(z, f, proj.hi - proj.lo, field)
     if len(keep) == 0:
         keep = np.arange(min(field, len(z)))
     z, sign, s, f = z[keep], sign[keep], s[keep], f[keep]
-    reserve = int(0.15 * counter.left)
+    reserve = int(0.15 * budget.left)
     for iters in LM_ROUNDS:
-        if proj.k == 0 or counter.left <= reserve or f.min() < EXACT:
+        if proj.k == 0 or budget.left <= reserve or f.min() < EXACT:
             break
         z, f, _ = batch_lm(proj, z, sign, s, LM_WEIGHT, iters, reserve=reserve)
         keep = distinct(z, f, proj.hi - proj.lo, max(POLISHED, len(z) // 2))
@@ -178,74 +178,74 @@ def one_round(d: Design, counter: Budget, rng) -> list[Candidate]:
         keep = np.arange(min(POLISHED, len(z)))
     x = proj.full(z[keep], sign[keep], s[keep])
     sign, s = sign[keep], s[keep]
-    space = Space(d, counter)
+    space = Space(design, budget)
     z, f, done = batch_lm(space, space.free(x), sign, s, LM_WEIGHT, REFINE_ITERATIONS,
                           reserve=reserve // 2)
     best = np.argsort(f, kind="stable")[:POLISHED_SCIPY]
-    return polish_all(d, counter, space.full(z[best]), sign[best], s[best], done[best])
+    return polish_all(design, budget, space.full(z[best]), sign[best], s[best], done[best])
 
 
-def plain_multistart(d: Design, counter: Budget, rng) -> list[Candidate]:
+def plain_multistart(design: Design, budget: Budget, rng) -> list[Candidate]:
     """The Levenberg-Marquardt polish from uniform random draws until the budget is spent."""
-    space = Space(d, counter)
+    space = Space(design, budget)
     out: list[Candidate] = []
-    while counter.left > 0:
-        batch = min(16, counter.left)
-        x, sign, s = st.plain_starts(d, rng, batch)
-        counter.add(batch)
+    while budget.left > 0:
+        batch = min(16, budget.left)
+        x, sign, s = starts.plain_starts(design, rng, batch)
+        budget.add(batch)
         for i in range(batch):
-            if counter.left <= 0:
+            if budget.left <= 0:
                 break
-            cap = min(counter.left, max(200, counter.cap // 20))
+            cap = min(budget.left, max(200, budget.cap // 20))
             if cap < 2 * space.k + 2:
                 break
             z, _, conv = polish(space, space.free(x[i:i + 1])[0], sign[i], s[i], POLISH_WEIGHTS[0], cap)
             out.append(Candidate(space.full(z[None])[0], sign[i], s[i], conv))
-        out = sorted(out, key=lambda c: _rank(d, c))[:POLISHED]
+        out = sorted(out, key=lambda c: _rank(design, c))[:POLISHED]
     return out or [Candidate(x[0], sign[0], s[0], False)]
 
 
-def evolve(d: Design, counter: Budget, seed: int, polish_after: bool) -> list[Candidate]:
-    space = Space(d, counter)
-    share = counter.cap // 2 if polish_after else counter.cap
+def evolve(design: Design, budget: Budget, seed: int, polish_after: bool) -> list[Candidate]:
+    space = Space(design, budget)
+    share = budget.cap // 2 if polish_after else budget.cap
     z, sign, s, _, converged = differential_evolution(space, seed, POLISH_WEIGHTS[0], share)
     x = space.full(z[None])
     if not polish_after:
         return [Candidate(x[0], sign, s, converged)]
-    return polish_all(d, counter, x, np.array([sign]), np.array([s]))
+    return polish_all(design, budget, x, np.array([sign]), np.array([s]))
 
 
-def polish_all(d: Design, counter: Budget, x, sign, s, converged=None) -> list[Candidate]:
+def polish_all(design: Design, budget: Budget, x, sign, s, converged=None) -> list[Candidate]:
     """The Levenberg-Marquardt polish on every free variable from each row of x, in turn; a second,
     stiffer penalty pass where the first leaves a constraint violated. A row converges
     when the polish meets its tolerances or the batched stage before it had converged."""
-    space = Space(d, counter)
+    space = Space(design, budget)
     out = []
     for i in range(len(x)):
         z0 = space.free(x[i:i + 1])[0]
         conv = bool(converged[i]) if converged is not None else False
         for weight in POLISH_WEIGHTS:
-            cap = counter.left // max(1, len(x) - i)
+            cap = budget.left // max(1, len(x) - i)
             if space.k == 0 or cap < 2 * space.k + 2:
                 break
             z0, _, ok = polish(space, z0, sign[i], s[i], weight, cap)
             conv = conv or ok
-            if not violations(d, space.full(z0[None])[0], sign[i], s[i]):
+            if not violations(design, space.full(z0[None])[0], sign[i], s[i]):
                 break
         out.append(Candidate(space.full(z0[None])[0], sign[i], s[i], conv or space.k == 0))
     return out
 
 
-def settled(d: Design, counter: Budget, best: Candidate) -> Candidate:
+def settled(design: Design, budget: Budget, best: Candidate) -> Candidate:
     """The best candidate after the final polish (`search.settle`: Newton on the KKT
     system of the constraints that bind, to machine precision), when that polish
     converges to a point that meets every constraint with an objective as low within a
     relative SETTLE_GAIN (else the candidate as found). An exact fit (a point of a
     continuum of them, when the unknowns outnumber the equations) is kept as found.
     It spends what the search left of the budget, at least the reserve `solve` kept."""
-    space = Space(d, counter)
-    f0 = _rank(d, best)[2]
-    if space.k == 0 or f0 <= exact_objective(d):
+    space = Space(design, budget)
+    f0 = _rank(design, best)[2]
+    if space.k == 0 or f0 <= exact_objective(design):
         return best
     try:
         out = settle(space, space.free(best.x[None])[0], best.sign, best.s)
@@ -253,8 +253,8 @@ def settled(d: Design, counter: Budget, best: Candidate) -> Candidate:
         return best
     if not out.converged:
         return best
-    cand = Candidate(d.wrapped(space.full(out.u[None]))[0], best.sign, best.s, True)
-    rank = _rank(d, cand)
+    cand = Candidate(design.wrapped(space.full(out.u[None]))[0], best.sign, best.s, True)
+    rank = _rank(design, cand)
     if rank[0] or rank[2] > f0 * (1.0 + SETTLE_GAIN):
         return best
     return cand
@@ -262,50 +262,50 @@ def settled(d: Design, counter: Budget, best: Candidate) -> Candidate:
 
 # ---------------------------------------------------------------- checks
 
-def _rank(d: Design, c: Candidate):
+def _rank(design: Design, c: Candidate):
     """(infeasible, total violation, objective): lengths count relative to the linkage's size
     (d + a + b + c) and angles in radians, so that shrinking a linkage does not pass for
     coming closer to feasible."""
-    v = violations(d, c.x, c.sign, c.s)
-    obj = float(d.objective(c.x[None], np.array([c.sign]), np.array([c.s]))[0])
+    v = violations(design, c.x, c.sign, c.s)
+    obj = float(design.objective(c.x[None], np.array([c.sign]), np.array([c.s]))[0])
     size = float(np.sum(c.x[:4]))
     total = sum(a if name in ANGLE_VIOLATIONS else a / size for name, a, _ in v)
     return (len(v) > 0, total, obj if math.isfinite(obj) else math.inf)
 
 
-def choose(d: Design, cands: list[Candidate]):
-    best = min(cands, key=lambda c: _rank(d, c))
-    return best, violations(d, best.x, best.sign, best.s)
+def choose(design: Design, cands: list[Candidate]):
+    best = min(cands, key=lambda c: _rank(design, c))
+    return best, violations(design, best.x, best.sign, best.s)
 
 
-def violations(d: Design, x, sign, s) -> list[tuple[str, float, str]]:
+def violations(design: Design, x, sign, s) -> list[tuple[str, float, str]]:
     """Every constraint the candidate breaks, checked with the exact kinematics:
     (constraint, amount, message). Amounts in the length unit, or radians for angles."""
     dd, a, b, c = (float(v) for v in x[:4])
     out = []
-    phi = d.input_angles(x[None], np.array([s]))[0]
-    if d.grashof != "any":
+    phi = design.input_angles(x[None], np.array([s]))[0]
+    if design.grashof != "any":
         cls = kin.GRASHOF_CLASSES[int(kin.grashof_code(a, b, c, dd))]
-        if cls != d.grashof:
+        if cls != design.grashof:
             links = np.array([dd, a, b, c])
-            if d.grashof in SHORTEST:
-                k = SHORTEST[d.grashof]
+            if design.grashof in SHORTEST:
+                k = SHORTEST[design.grashof]
                 rest = [j for j in range(4) if j != k]
                 amt = max(links[k] + links[j] - sum(links[o] for o in rest if o != j) for j in rest)
             else:
                 srt = np.sort(links)
                 amt = srt[1] + srt[2] - srt[0] - srt[3]
-            out.append(("grashof", max(float(amt), 0.0), f"the linkage is {cls}, not {d.grashof}"))
+            out.append(("grashof", max(float(amt), 0.0), f"the linkage is {cls}, not {design.grashof}"))
     lo_span, width = float(phi.min()), float(phi.max() - phi.min())
-    if d.window is not None:
-        lo, hi = (0.0, kin.TWO_PI) if d.full_turn else (lo_span, lo_span + width)
+    if design.window is not None:
+        lo, hi = (0.0, kin.TWO_PI) if design.full_turn else (lo_span, lo_span + width)
         mn, _, mx, _ = kin.transmission_extremes(a, b, c, dd, lo, hi)
-        over = "the full turn" if d.full_turn else "the targets' span"
-        if mn < d.window[0] - 1e-12:
-            out.append(("transmission", d.window[0] - mn, f"the smallest transmission angle over {over} "
+        over = "the full turn" if design.full_turn else "the targets' span"
+        if mn < design.window[0] - 1e-12:
+            out.append(("transmission", design.window[0] - mn, f"the smallest transmission angle over {over} "
                         f"is below the window"))
-        if mx > d.window[1] + 1e-12:
-            out.append(("transmission", mx - d.window[1], f"the largest transmission angle over {over} "
+        if mx > design.window[1] + 1e-12:
+            out.append(("transmission", mx - design.window[1], f"the largest transmission angle over {over} "
                         f"is above the window"))
     p = kin.pose(a, b, c, dd, phi, "open" if sign < 0 else "crossed")
     if not np.all(p.valid):
@@ -313,14 +313,14 @@ def violations(d: Design, x, sign, s) -> list[tuple[str, float, str]]:
         short = float(np.max(np.maximum(abs(b - c) - p.rho, p.rho - (b + c))[bad]))
         out.append(("assembly", short, "the linkage cannot assemble at target"
                     + ("s " if len(bad) > 1 else " ") + ", ".join(str(i + 1) for i in bad)))
-    if not d.full_turn or kin.input_arcs(a, b, c, dd) is not None:
+    if not design.full_turn or kin.input_arcs(a, b, c, dd) is not None:
         r2_min, r2_max = rho2_extremes(np.array([a]), np.array([dd]), np.array([lo_span]),
                                        np.array([width]))
         over = max(abs(b - c) - math.sqrt(r2_min[0]), math.sqrt(r2_max[0]) - (b + c))
         if over > 1e-12 * (b + c):
             out.append(("branch", over, "the input passes a dead point between the first and "
                         "the last target (the linkage would change branch)"))
-    if d.timing == "free":
+    if design.timing == "free":
         steps = x[N_LINK + 1:]
         if np.any(steps < 0) or steps.sum() > kin.TWO_PI * (1 + 1e-12):
             out.append(("order", float(max(steps.sum() - kin.TWO_PI, -steps.min())),
@@ -330,53 +330,52 @@ def violations(d: Design, x, sign, s) -> list[tuple[str, float, str]]:
 
 # ---------------------------------------------------------------- the Solution
 
-def solution(problem, d: Design, best: Candidate, bad, method, counter) -> Solution:
+def solution(problem, design: Design, best: Candidate, bad, method, budget) -> Solution:
     u = problem.meta.units
-    x, sign, s = d.wrapped(best.x[None])[0], best.sign, best.s
+    x, sign, s = design.wrapped(best.x[None])[0], best.sign, best.s
     dd, a, b, c, px, py, gx, gy, gamma = (float(v) for v in x[:N_LINK])
     branch = "open" if sign < 0 else "crossed"
     fb = FourBar(ground=dd, input=a, coupler=b, output=c, branch=branch, coupler_point=(px, py),
                  ground_pivot=(gx, gy), ground_angle=gamma)
-    pts, pose, phi = d.points(x[None], np.array([sign]), np.array([s]))
+    pts, pose, phi = design.points(x[None], np.array([sign]), np.array([s]))
     pts, phi = pts[0], phi[0]
-    err = np.hypot(pts[:, 0] - d.targets[:, 0], pts[:, 1] - d.targets[:, 1])
+    err = np.hypot(pts[:, 0] - design.targets[:, 0], pts[:, 1] - design.targets[:, 1])
     objective = float(np.sum(err * err))
     first, last = float(phi[0]), float(phi[-1])
     monotone = bool(np.all(np.diff(phi) >= 0) or np.all(np.diff(phi) <= 0))
     span = (first, last - first) if monotone else (float(phi.min()), float(phi.max() - phi.min()))
     direction = ("ccw" if span[1] >= 0 else "cw") if monotone else "reverses"
-    timing = {"timing": d.timing, "direction": direction,
+    timing = {"timing": design.timing, "direction": direction,
               "first_input": float(u.from_rad(snap(float(kin.wrap(first)), 1.0))),
               "input_sweep": float(u.from_rad(abs(span[1])))}
-    if d.timing == "prescribed" and d.free[N_LINK]:
+    if design.timing == "prescribed" and design.free[N_LINK]:
         timing["input_offset"] = float(u.from_rad(float(x[N_LINK])))
     names = {v[0] for v in bad}
     defects = {"assembles": "assembly" not in names, "branch": branch,
                "branch_defect": "branch" in names,
                "order_defect": "order" in names}
-    notes = _notes(problem, d, x) + _reach_note(problem, d, x, err)
-    converged = bool(best.converged) or objective <= exact_objective(d)  # exact: nothing to add
-    solver = {"method": method, "seed": problem.meta.solver.seed, "evaluations": counter.used,
-              "converged": converged}
-    n = d.n
+    notes = _notes(problem, design, x) + _reach_note(problem, design, x, err)
+    converged = bool(best.converged) or objective <= exact_objective(design)  # exact: nothing to add
+    solver = SolverRecord(method, problem.meta.solver.seed, budget.used, converged)
+    n = design.n_targets
     if bad:
         status = Status.INFEASIBLE
         message = "; ".join(f"{name}: {msg} (by {_amount(name, amt, u, problem)})" for name, amt, msg in bad)
     else:
         status = Status.OK if converged else Status.NOT_CONVERGED
-        order = ("at the prescribed input angles" if d.timing == "prescribed"
+        order = ("at the prescribed input angles" if design.timing == "prescribed"
                  else f"in order within one turn ({timing['direction']}, input sweep "
                       f"{num(timing['input_sweep'])} {u.angle})")
-        message = (f"{n} targets, {d.timing} timing: assembles at every target on the {branch} "
+        message = (f"{n} targets, {design.timing} timing: assembles at every target on the {branch} "
                    f"branch, without a branch change, and reaches them {order}")
-        if not converged and counter.left < max(1, counter.cap // 10):
+        if not converged and budget.left < max(1, budget.cap // 10):
             message += "; the search stopped at its budget before the polish converged"
         elif not converged:
             message += ("; the local polish reached its iteration limit before meeting its "
                         "tolerances (a long, flat valley: another seed or method may end lower)")
     return Solution(
         status=status, linkage=fb, message=message,
-        positions=Positions(kind="point", input=phi, target=d.targets.copy(), achieved=pts, error=err),
+        positions=Positions(kind="point", input=phi, target=design.targets.copy(), achieved=pts, error=err),
         objective=objective, solver=solver, sections={"timing": timing, "defects": defects},
         notes=notes, working_span=span,
     )
@@ -388,28 +387,28 @@ def _amount(name: str, amount: float, u, problem) -> str:
     return f"{num(amount)} {u.length}"
 
 
-def _reach_note(problem, d: Design, x, err) -> list[str]:
+def _reach_note(problem, design: Design, x, err) -> list[str]:
     """A fit that misses a target by more than a tenth of the targets' extent: name the
     bounds the linkage presses against (a wider one may let it reach further)."""
     worst = float(np.max(err)) if len(err) else 0.0
-    if not worst > 0.1 * d.scale:
+    if not worst > 0.1 * design.scale:
         return []
     names = ("ground", "input", "coupler", "output", "coupler_point.x", "coupler_point.y",
              "ground_pivot.x", "ground_pivot.y")
     tight = [names[j] for j in range(len(names))
-             if d.free[j] and min(x[j] - d.lo[j], d.hi[j] - x[j]) <= 1e-6 * (d.hi[j] - d.lo[j])]
+             if design.free[j] and min(x[j] - design.lo[j], design.hi[j] - x[j]) <= 1e-6 * (design.hi[j] - design.lo[j])]
     u = problem.meta.units.length
-    msg = (f"the best fit misses a target by {num(worst)} {u} ({num(100 * worst / d.scale)} % of the "
+    msg = (f"the best fit misses a target by {num(worst)} {u} ({num(100 * worst / design.scale)} % of the "
            "targets' extent)")
     return [msg + (f"; at its bound: {', '.join(tight)}" if tight else "")]
 
 
-def _notes(problem, d: Design, x) -> list[str]:
+def _notes(problem, design: Design, x) -> list[str]:
     """A length that ended on a lower bound of 0 raised to MIN_LENGTH."""
     out = []
     for j, name in enumerate(("ground", "input", "coupler", "output")):
         lo = problem.lengths[name][0]
-        if lo == 0.0 and d.free[j] and x[j] <= d.lo[j] * (1 + 1e-9):
-            out.append(f"{name} sits at the smallest length allowed ({num(d.lo[j])} "
+        if lo == 0.0 and design.free[j] and x[j] <= design.lo[j] * (1 + 1e-9):
+            out.append(f"{name} sits at the smallest length allowed ({num(design.lo[j])} "
                        f"{problem.meta.units.length}): its lower bound 0 is kept strictly positive")
     return out

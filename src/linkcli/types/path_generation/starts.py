@@ -38,61 +38,61 @@ OFFSETS = 24  # prescribed timing with a free offset: hypotheses over its range
 CHUNK = 2_000_000  # complex elements per vectorized block of hypotheses
 
 
-def hypotheses_per_draw(d: Design) -> int:
+def hypotheses_per_draw(design: Design) -> int:
     """Objective evaluations one draw costs (its hypotheses plus its completion)."""
-    if d.timing == "free":
+    if design.timing == "free":
         starts = len(range(0, CURVE_SAMPLES, START_STRIDE))
-        return starts * len(FRACTIONS) * len(directions(d)) + 1
-    return (OFFSETS if d.free[N_LINK] else 1) + 1
+        return starts * len(FRACTIONS) * len(directions(design)) + 1
+    return (OFFSETS if design.free[N_LINK] else 1) + 1
 
 
-def directions(d: Design) -> tuple[int, ...]:
-    return {"ccw": (1,), "cw": (-1,)}.get(d.direction, (1, -1))
+def directions(design: Design) -> tuple[int, ...]:
+    return {"ccw": (1,), "cw": (-1,)}.get(design.direction, (1, -1))
 
 
 # ---------------------------------------------------------------- draws
 
-def branch_signs(d: Design, rng, n: int) -> np.ndarray:
+def branch_signs(design: Design, rng, n: int) -> np.ndarray:
     """-1 open, +1 crossed; "either" draws both."""
-    if d.branch == "open":
+    if design.branch == "open":
         return -np.ones(n)
-    if d.branch == "crossed":
+    if design.branch == "crossed":
         return np.ones(n)
     return np.where(rng.random(n) < 0.5, -1.0, 1.0)
 
 
-def sample_lengths(d: Design, rng, n: int, virtual=None):
+def sample_lengths(design: Design, rng, n: int, virtual=None):
     """(n, 4) lengths d, a, b, c uniform in their bounds, in the Grashof class asked for
     and, for an input that must turn fully, inside the transmission window over the turn
     (mu at rho = |d - a| and d + a), when the draws allow it: rejection from up to 32 n
     draws, the rest kept as drawn. With `virtual` (see `virtual_scale`), the fixed lengths
     are drawn as part of the shape too: each pool row gets a scale sigma and its fixed
     lengths the values fixed / sigma; returns (lengths, sigma) then."""
-    lo, hi = d.lo[:4], d.hi[:4]
-    m = n if d.grashof == "any" else 32 * n
+    lo, hi = design.lo[:4], design.hi[:4]
+    m = n if design.grashof == "any" else 32 * n
     pool = lo + (hi - lo) * rng.random((m, 4))
     sigma = None
     if virtual is not None:
         sigma = virtual(m)
-        fixed = [j for j in range(4) if not d.free[j]]
-        pool[:, fixed] = d.lo[fixed] / sigma[:, None]
-    if d.grashof == "any":
+        fixed = [j for j in range(4) if not design.free[j]]
+        pool[:, fixed] = design.lo[fixed] / sigma[:, None]
+    if design.grashof == "any":
         return pool if virtual is None else (pool, sigma)
     srt = np.sort(pool, axis=1)
     grashof = srt[:, 0] + srt[:, 3] < (srt[:, 1] + srt[:, 2]) * (1 - 1e-6)
-    if d.grashof in SHORTEST:
-        ok = grashof & (np.argmin(pool, axis=1) == SHORTEST[d.grashof])
+    if design.grashof in SHORTEST:
+        ok = grashof & (np.argmin(pool, axis=1) == SHORTEST[design.grashof])
     else:
         ok = ~grashof
-    if d.window is not None and d.full_turn:
+    if design.window is not None and design.full_turn:
         dd, a, b, c = pool.T
         cos_mu = lambda r: (b * b + c * c - r * r) / (2 * b * c)
-        ok &= (cos_mu(np.abs(dd - a)) <= np.cos(d.window[0])) & (cos_mu(dd + a) >= np.cos(d.window[1]))
+        ok &= (cos_mu(np.abs(dd - a)) <= np.cos(design.window[0])) & (cos_mu(dd + a) >= np.cos(design.window[1]))
     order = np.concatenate([np.flatnonzero(ok), np.flatnonzero(~ok)])[:n]
     return pool[order] if virtual is None else (pool[order], sigma[order])
 
 
-def virtual_scale(d: Design, rng):
+def virtual_scale(design: Design, rng):
     """When fixed lengths or coupler coordinates pin the scale (the closed-form completion
     can then only turn and move a draw), a sampler of the scale sigma that lets them take
     part in the shape: the reference (the longest fixed length, else the largest fixed
@@ -100,32 +100,32 @@ def virtual_scale(d: Design, rng):
     and sigma = its fixed value / its drawn one; the completion scales the draw by sigma,
     which brings every fixed variable back to its value. None when nothing pins the scale,
     or nothing else could scale with it."""
-    free_len = [j for j in range(4) if d.free[j]]
-    fixed_len = [j for j in range(4) if not d.free[j]]
-    fixed_cp = [j for j in (4, 5) if not d.free[j] and d.lo[j] != 0.0]
+    free_len = [j for j in range(4) if design.free[j]]
+    fixed_len = [j for j in range(4) if not design.free[j]]
+    fixed_cp = [j for j in (4, 5) if not design.free[j] and design.lo[j] != 0.0]
     if not free_len or not (fixed_len or fixed_cp):
         return None
-    top = max(d.hi[j] for j in free_len)
-    vlo, vhi = max(min(d.lo[j] for j in free_len), 0.05 * top), top
-    ref = max(fixed_len, key=lambda j: d.lo[j]) if fixed_len else max(fixed_cp, key=lambda j: abs(d.lo[j]))
-    value = abs(d.lo[ref])
+    top = max(design.hi[j] for j in free_len)
+    vlo, vhi = max(min(design.lo[j] for j in free_len), 0.05 * top), top
+    ref = max(fixed_len, key=lambda j: design.lo[j]) if fixed_len else max(fixed_cp, key=lambda j: abs(design.lo[j]))
+    value = abs(design.lo[ref])
     return lambda m: value / (vlo + (vhi - vlo) * rng.random(m))
 
 
-def draw(d: Design, rng, n: int):
+def draw(design: Design, rng, n: int):
     """n raw draws (x, sign, s): every variable uniform in its bounds, lengths in class."""
-    x = d.wrapped(d.lo + (d.hi - d.lo) * rng.random((n, d.nx)))
-    x[:, :4] = sample_lengths(d, rng, n)
-    sign = branch_signs(d, rng, n)
-    s = np.full(n, float(directions(d)[0]))
+    x = design.wrapped(design.lo + (design.hi - design.lo) * rng.random((n, design.nx)))
+    x[:, :4] = sample_lengths(design, rng, n)
+    sign = branch_signs(design, rng, n)
+    s = np.full(n, float(directions(design)[0]))
     return x, sign, s
 
 
-def scale_interval(d: Design, x: np.ndarray):
+def scale_interval(design: Design, x: np.ndarray):
     """(lo, hi) of the factor that keeps every scaled length and coupler coordinate of each
     draw inside its bounds (draws lie inside, so 1 is always in the interval)."""
     v = x[:, :6]
-    lo, hi = d.lo[:6], d.hi[:6]
+    lo, hi = design.lo[:6], design.hi[:6]
     with np.errstate(divide="ignore", invalid="ignore"):
         low = np.where(v > 0, lo / v, np.where(v < 0, hi / v, -np.inf))
         high = np.where(v > 0, hi / v, np.where(v < 0, lo / v, np.inf))
@@ -134,7 +134,7 @@ def scale_interval(d: Design, x: np.ndarray):
 
 # ---------------------------------------------------------------- closed-form fits
 
-def similarity(d: Design, q: np.ndarray, s_lo, s_hi, g0, gamma0):
+def similarity(design: Design, q: np.ndarray, s_lo, s_hi, g0, gamma0):
     """Fit T_k ~ g + u q_k over the last axis of q (complex). s_lo, s_hi, g0 broadcast
     against q[..., 0]. Returns (u, g, cost).
 
@@ -143,7 +143,7 @@ def similarity(d: Design, q: np.ndarray, s_lo, s_hi, g0, gamma0):
     clipped to [s_lo, s_hi] (the best modulus for a fixed direction: the cost is quadratic
     in it); a fixed ground angle gamma0 sets the direction, u = clip(Re(u e^{-i gamma0}))
     e^{i gamma0}; a bounded one is clipped into its range."""
-    t = d.targets[:, 0] + 1j * d.targets[:, 1]
+    t = design.targets[:, 0] + 1j * design.targets[:, 1]
     if g0 is None:
         qm = q.mean(axis=-1, keepdims=True)
         tc, qc = t - t.mean(), q - qm
@@ -157,7 +157,7 @@ def similarity(d: Design, q: np.ndarray, s_lo, s_hi, g0, gamma0):
     else:
         mod = np.clip(np.abs(u), s_lo, s_hi)
         ang = np.angle(u)
-        glo, ghi = d.lo[8], d.hi[8]
+        glo, ghi = design.lo[8], design.hi[8]
         if ghi - glo < kin.TWO_PI:
             ang = glo + np.clip(np.mod(ang - glo, kin.TWO_PI), 0.0, ghi - glo)
         u = mod * np.exp(1j * ang)
@@ -166,28 +166,28 @@ def similarity(d: Design, q: np.ndarray, s_lo, s_hi, g0, gamma0):
     return u, g, np.sum((res * res.conj()).real, axis=-1)
 
 
-def fixed_pivot(d: Design):
+def fixed_pivot(design: Design):
     """The ground pivot as a complex number when both coordinates are fixed, else None."""
-    return complex(d.lo[6], d.lo[7]) if not d.free[6] and not d.free[7] else None
+    return complex(design.lo[6], design.lo[7]) if not design.free[6] and not design.free[7] else None
 
 
-def fixed_angle(d: Design):
-    return None if d.free[8] else float(d.lo[8])
+def fixed_angle(design: Design):
+    return None if design.free[8] else float(design.lo[8])
 
 
-def apply_similarity(d: Design, x, u, g) -> np.ndarray:
+def apply_similarity(design: Design, x, u, g) -> np.ndarray:
     """Scale the lengths and coupler point by |u|, set gamma = arg u and the pivot g."""
     x = x.copy()
     mod = np.abs(u)
     x[:, :6] *= mod[:, None]
-    x[:, 8] = np.angle(u) if d.free[8] else d.lo[8]
-    if d.free[8] and d.hi[8] - d.lo[8] >= kin.TWO_PI:
-        x[:, 8] = d.lo[8] + np.mod(x[:, 8] - d.lo[8], kin.TWO_PI)
+    x[:, 8] = np.angle(u) if design.free[8] else design.lo[8]
+    if design.free[8] and design.hi[8] - design.lo[8] >= kin.TWO_PI:
+        x[:, 8] = design.lo[8] + np.mod(x[:, 8] - design.lo[8], kin.TWO_PI)
     x[:, 6], x[:, 7] = g.real, g.imag
-    return d.wrapped(np.clip(x, d.lo, d.hi))
+    return design.wrapped(np.clip(x, design.lo, design.hi))
 
 
-def fit_linear(d: Design, x: np.ndarray, sign: np.ndarray, s: np.ndarray, with_pose: bool = False):
+def fit_linear(design: Design, x: np.ndarray, sign: np.ndarray, s: np.ndarray, with_pose: bool = False):
     """Coupler point and ground pivot by linear least squares, the rest held:
 
         P_k = G + R(gamma) A_k + R(gamma + theta_k) p,   A_k = a e^{i phi_k}
@@ -197,26 +197,26 @@ def fit_linear(d: Design, x: np.ndarray, sign: np.ndarray, s: np.ndarray, with_p
     columns and the two coupler columns are orthogonal, each of squared norm n). Fixed
     coordinates move to the right-hand side; the free ones are solved within their bounds
     (`bounded_lstsq`). With `with_pose`, the closure computed on the way is returned too."""
-    free = [j for j in (4, 5, 6, 7) if d.free[j]]
+    free = [j for j in (4, 5, 6, 7) if design.free[j]]
     dd, a, b, c = (x[:, k:k + 1] for k in range(4))
-    phi = d.input_angles(x, s)
+    phi = design.input_angles(x, s)
     p = kin.pose(a, b, c, dd, phi, sign[:, None])
     if not free:
         return (x, p) if with_pose else x
     g = x[:, 8:9]
     ca, sa = np.cos(g + p.theta), np.sin(g + p.theta)
-    rx = d.targets[None, :, 0] - a * np.cos(phi + g)
-    ry = d.targets[None, :, 1] - a * np.sin(phi + g)
+    rx = design.targets[None, :, 0] - a * np.cos(phi + g)
+    ry = design.targets[None, :, 1] - a * np.sin(phi + g)
     fixed = {4: (ca, sa), 5: (-sa, ca)}
     for j in (4, 5):
-        if not d.free[j]:
+        if not design.free[j]:
             rx = rx - fixed[j][0] * x[:, j:j + 1]
             ry = ry - fixed[j][1] * x[:, j:j + 1]
-    if not d.free[6]:
+    if not design.free[6]:
         rx = rx - x[:, 6:7]
-    if not d.free[7]:
+    if not design.free[7]:
         ry = ry - x[:, 7:8]
-    n = float(d.n)
+    n = float(design.n_targets)
     sc, ss = ca.sum(axis=1), sa.sum(axis=1)
     # normal matrix over (px, py, gx, gy) and right-hand side
     h = np.zeros((len(x), 4, 4))
@@ -228,7 +228,7 @@ def fit_linear(d: Design, x: np.ndarray, sign: np.ndarray, s: np.ndarray, with_p
     rhs = np.stack([(ca * rx + sa * ry).sum(axis=1), (ca * ry - sa * rx).sum(axis=1),
                     rx.sum(axis=1), ry.sum(axis=1)], axis=1)
     k = [j - 4 for j in free]
-    sol = bounded_lstsq(h[:, k][:, :, k], rhs[:, k], d.lo[free], d.hi[free])
+    sol = bounded_lstsq(h[:, k][:, :, k], rhs[:, k], design.lo[free], design.hi[free])
     x = x.copy()
     x[:, free] = sol
     return (x, p) if with_pose else x
@@ -271,7 +271,7 @@ def local_curve(x: np.ndarray, sign: np.ndarray, phi: np.ndarray):
     return lx + 1j * ly, p.valid
 
 
-def scan_free(d: Design, x, sign, s_lo, s_hi):
+def scan_free(design: Design, x, sign, s_lo, s_hi):
     """Best timing hypothesis per draw: (x with timing, scale, angle and pivot set, s, cost).
     See the module docstring; vectorized over draws, starts and targets."""
     n, m = len(x), CURVE_SAMPLES
@@ -281,23 +281,23 @@ def scan_free(d: Design, x, sign, s_lo, s_hi):
     seg = np.where(valid & np.roll(valid, -1, axis=1), seg, 0.0)
     arc = np.concatenate([np.zeros((n, 1)), np.cumsum(seg, axis=1)], axis=1)  # (n, m + 1)
     total = arc[:, -1]
-    t = d.targets[:, 0] + 1j * d.targets[:, 1]
+    t = design.targets[:, 0] + 1j * design.targets[:, 1]
     chord = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(t)))])
     frac = chord / chord[-1]
     starts = np.arange(0, m, START_STRIDE)
-    g0, gamma0 = fixed_pivot(d), fixed_angle(d)
+    g0, gamma0 = fixed_pivot(design), fixed_angle(design)
     best = np.full(n, np.inf)
-    best_idx = np.zeros((n, d.n), dtype=int)
+    best_idx = np.zeros((n, design.n_targets), dtype=int)
     best_s = np.ones(n)
     best_u = np.ones(n, dtype=complex)
     best_g = np.zeros(n, dtype=complex)
-    rows_per = max(1, CHUNK // (len(starts) * d.n))
+    rows_per = max(1, CHUNK // (len(starts) * design.n_targets))
     for r0 in range(0, n, rows_per):
         r = slice(r0, min(n, r0 + rows_per))
         nr = r.stop - r.start
         offset = (np.arange(nr) * 4.0 * (float(total[r].max()) + 1.0))[:, None]
         flat = (arc[r] + offset).ravel()
-        for sdir in directions(d):
+        for sdir in directions(design):
             for lam in FRACTIONS:
                 sig = arc[r][:, starts][:, :, None] + sdir * lam * frac * total[r][:, None, None]
                 sig = np.mod(sig, np.maximum(total[r], 1e-300)[:, None, None])
@@ -309,7 +309,7 @@ def scan_free(d: Design, x, sign, s_lo, s_hi):
                 idx = np.mod(idx + (sig - s0 > 0.5 * ln), m)
                 qq = np.take_along_axis(q[r], idx.reshape(nr, -1), axis=1).reshape(sig.shape)
                 ok = np.take_along_axis(valid[r], idx.reshape(nr, -1), axis=1).reshape(sig.shape).all(axis=2)
-                u, g, cost = similarity(d, qq, s_lo[r, None], s_hi[r, None], g0, gamma0)
+                u, g, cost = similarity(design, qq, s_lo[r, None], s_hi[r, None], g0, gamma0)
                 cost = np.where(ok & (total[r] > 0)[:, None], cost, np.inf)
                 j = np.argmin(cost, axis=1)
                 cj = cost[np.arange(nr), j]
@@ -323,51 +323,51 @@ def scan_free(d: Design, x, sign, s_lo, s_hi):
     x = x.copy()
     x[:, N_LINK] = grid[best_idx[:, 0]]
     x[:, N_LINK + 1:] = np.mod(best_s[:, None] * np.diff(best_idx, axis=1), m) * (kin.TWO_PI / m)
-    return apply_similarity(d, x, best_u, best_g), best_s, best
+    return apply_similarity(design, x, best_u, best_g), best_s, best
 
 
-def scan_prescribed(d: Design, x, sign, s, s_lo, s_hi):
+def scan_prescribed(design: Design, x, sign, s, s_lo, s_hi):
     """Prescribed timing: the similarity fit at the given input angles; with a free offset,
     OFFSETS values across its range are tried and the best kept."""
-    g0, gamma0 = fixed_pivot(d), fixed_angle(d)
-    if d.free[N_LINK]:
-        lo, hi = d.lo[N_LINK], d.hi[N_LINK]
+    g0, gamma0 = fixed_pivot(design), fixed_angle(design)
+    if design.free[N_LINK]:
+        lo, hi = design.lo[N_LINK], design.hi[N_LINK]
         width = min(hi - lo, kin.TWO_PI)
         offs = lo + width * np.arange(OFFSETS) / (OFFSETS - (0 if width >= kin.TWO_PI else 1))
     else:
-        offs = np.array([d.lo[N_LINK]])
+        offs = np.array([design.lo[N_LINK]])
     n = len(x)
-    phi = d.base_phi[None, None, :] + offs[None, :, None]  # (1, H, n)
+    phi = design.base_phi[None, None, :] + offs[None, :, None]  # (1, H, n)
     q, valid = local_curve(x, sign, phi.reshape(1, -1).repeat(n, axis=0))
-    q = q.reshape(n, len(offs), d.n)
-    valid = valid.reshape(n, len(offs), d.n).all(axis=2)
-    u, g, cost = similarity(d, q, s_lo[:, None], s_hi[:, None], g0, gamma0)
+    q = q.reshape(n, len(offs), design.n_targets)
+    valid = valid.reshape(n, len(offs), design.n_targets).all(axis=2)
+    u, g, cost = similarity(design, q, s_lo[:, None], s_hi[:, None], g0, gamma0)
     cost = np.where(valid, cost, np.inf)
     j = np.argmin(cost, axis=1)
     rows = np.arange(n)
     x = x.copy()
     x[:, N_LINK] = offs[j]
-    return apply_similarity(d, x, u[rows, j], g[rows, j]), s, cost[rows, j]
+    return apply_similarity(design, x, u[rows, j], g[rows, j]), s, cost[rows, j]
 
 
-def starts(d: Design, rng, n: int):
+def starts(design: Design, rng, n: int):
     """n completed draws (x, sign, s): drawn, timed and placed, then fit_linear. Fixed
     lengths and coupler coordinates take part in the drawn shape (`virtual_scale`)."""
-    x, sign, s = draw(d, rng, n)
-    virtual = virtual_scale(d, rng)
+    x, sign, s = draw(design, rng, n)
+    virtual = virtual_scale(design, rng)
     if virtual is not None:
-        x[:, :4], sigma = sample_lengths(d, rng, n, virtual)
-        fixed_cp = [j for j in (4, 5) if not d.free[j]]
-        x[:, fixed_cp] = d.lo[fixed_cp] / sigma[:, None]
-    s_lo, s_hi = scale_interval(d, x)
-    if d.timing == "free":
-        x, s, _ = scan_free(d, x, sign, s_lo, s_hi)
+        x[:, :4], sigma = sample_lengths(design, rng, n, virtual)
+        fixed_cp = [j for j in (4, 5) if not design.free[j]]
+        x[:, fixed_cp] = design.lo[fixed_cp] / sigma[:, None]
+    s_lo, s_hi = scale_interval(design, x)
+    if design.timing == "free":
+        x, s, _ = scan_free(design, x, sign, s_lo, s_hi)
     else:
-        x, s, _ = scan_prescribed(d, x, sign, s, s_lo, s_hi)
-    return fit_linear(d, x, sign, s), sign, s
+        x, s, _ = scan_prescribed(design, x, sign, s, s_lo, s_hi)
+    return fit_linear(design, x, sign, s), sign, s
 
 
-def assign_timing(d: Design, x: np.ndarray, sign: np.ndarray):
+def assign_timing(design: Design, x: np.ndarray, sign: np.ndarray):
     """Free timing without the scan (for plain multistart): each target takes its nearest
     curve sample in the draw's own placement; counted from the first target's sample in
     the turning direction, the sample indices are made non-decreasing (targets in order)."""
@@ -375,18 +375,18 @@ def assign_timing(d: Design, x: np.ndarray, sign: np.ndarray):
     grid = np.arange(m) * (kin.TWO_PI / m)
     q, valid = local_curve(x, sign, np.broadcast_to(grid, (n, m)))
     glob = (x[:, 6:7] + 1j * x[:, 7:8]) + np.exp(1j * x[:, 8:9]) * q
-    t = d.targets[:, 0] + 1j * d.targets[:, 1]
+    t = design.targets[:, 0] + 1j * design.targets[:, 1]
     d2 = np.abs(glob[:, None, :] - t[None, :, None]) ** 2
     d2 = np.where(valid[:, None, :], d2, np.inf)
     nearest = np.argmin(d2, axis=2)
     j1 = nearest[:, :1]
     rows = np.arange(n)[:, None]
     best_cost = np.full(n, np.inf)
-    best_steps = np.zeros((n, d.n), dtype=int)
-    best_s = np.full(n, float(directions(d)[0]))
-    for sdir in directions(d):
+    best_steps = np.zeros((n, design.n_targets), dtype=int)
+    best_s = np.full(n, float(directions(design)[0]))
+    for sdir in directions(design):
         steps = np.maximum.accumulate(np.mod(sdir * (nearest - j1), m), axis=1)
-        cost = d2[rows, np.arange(d.n)[None, :], np.mod(j1 + sdir * steps, m)].sum(axis=1)
+        cost = d2[rows, np.arange(design.n_targets)[None, :], np.mod(j1 + sdir * steps, m)].sum(axis=1)
         better = cost < best_cost
         best_cost = np.where(better, cost, best_cost)
         best_steps[better] = steps[better]
@@ -397,9 +397,9 @@ def assign_timing(d: Design, x: np.ndarray, sign: np.ndarray):
     return x, best_s
 
 
-def plain_starts(d: Design, rng, n: int):
+def plain_starts(design: Design, rng, n: int):
     """n draws with only the timing completed (free: `assign_timing`): the naive baseline."""
-    x, sign, s = draw(d, rng, n)
-    if d.timing == "free":
-        x, s = assign_timing(d, x, sign)
+    x, sign, s = draw(design, rng, n)
+    if design.timing == "free":
+        x, s = assign_timing(design, x, sign)
     return x, sign, s

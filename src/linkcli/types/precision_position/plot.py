@@ -6,11 +6,12 @@ from linkcli.plots import angle_function
 from linkcli.plots.angle_function import NEEDS
 
 
-def draw(fig, report: dict, problem=None) -> None:
+def draw(fig, result) -> None:
     from linkcli.plots import slider_crank
-    if slider_crank.is_slider_crank(report):
-        return slider_crank.draw(fig, report, problem)
-    return angle_function.draw(fig, report, problem)
+    from linkcli.plots.common import drawn
+    if slider_crank.is_slider_crank(drawn(result)):
+        return slider_crank.draw(fig, result)
+    return angle_function.draw(fig, result)
 
 
 __all__ = ["NEEDS", "draw"]

@@ -23,7 +23,7 @@ import numpy as np
 from linkcli.errors import SolveInputError
 from linkcli.mechanisms.four_bar import ground_distance, pose, wrap
 from linkcli.model import FourBar
-from linkcli.solution import Positions, Solution, Status
+from linkcli.solution import Positions, Solution, SolverRecord, Status
 from linkcli.types.precision_position.starts import (closure_gap, freudenstein_system, lengths_of, make_starts,
                                               physical_angles, refine, travels)
 from linkcli.types.precision_position.system import ILL_CONDITIONED  # one threshold with check
@@ -31,26 +31,12 @@ from linkcli.types.precision_position.verdict import verdict
 from linkcli.noise import TIE
 from linkcli.textnum import num
 
-COINCIDENT = 1e-9  # rad: two input (or output) angles closer than this are one position
 BRANCHES = ("open", "crossed")
 HELD = 1e-6  # rad: an exact fit's closure on a branch within this of psi holds the position
 
 
 def _position_names(idx) -> str:
     return ", ".join(str(i + 1) for i in idx)
-
-
-def _check_positions(problem) -> None:
-    phi = np.array(problem.input_angles)
-    psi = np.array(problem.output_angles)
-    path = problem.meta.path
-    for name, ang in (("positions.input", phi),):
-        diff = np.abs(wrap(ang[:, None] - ang[None, :]))
-        i, j = np.nonzero(np.triu(diff < COINCIDENT, 1))
-        if len(i):
-            raise SolveInputError("distinct angles (each position a different angle)",
-                             f"positions {i[0] + 1} and {j[0] + 1} at the same angle",
-                             path=path, key=name, line=problem.lines[0] if problem.lines else None)
 
 
 def _bad_positions(problem, expected: str, got: str) -> SolveInputError:
@@ -147,8 +133,7 @@ def _exact(problem, phi, psi, d):
                    f"branch, which misses position(s) "
                    f"{', '.join(str(i) for i in range(1, n + 1) if i not in held[branch])}")
     linkage = FourBar(ground=d, input=a, coupler=b, output=c, branch=branch)
-    return linkage, phi_phys, psi_phys, notes, message, {"method": "freudenstein", "evaluations": 1,
-                                                         "converged": True}
+    return linkage, phi_phys, psi_phys, notes, message, SolverRecord("freudenstein", problem.meta.solver.seed, 1, True)
 
 
 def _least_squares(problem, phi, psi, d):
@@ -184,8 +169,8 @@ def _least_squares(problem, phi, psi, d):
     notes = _orientation_notes(st.sa[chosen] < 0, st.sc[chosen] < 0)
     phi_phys, psi_phys = phi_p[chosen], psi_p[chosen]
     message = f"least squares over {n} positions, refined on the true output-angle error"
-    solver = {"method": "freudenstein+lm", "evaluations": int(fit.evaluations),
-              "converged": bool(fit.converged[chosen]), "starts": int(len(st.x))}
+    solver = SolverRecord("freudenstein+lm", problem.meta.solver.seed, int(fit.evaluations),
+                          bool(fit.converged[chosen]), starts=int(len(st.x)))
     return FourBar(ground=d, input=a, coupler=b, output=c, branch=branch), phi_phys, psi_phys, \
         notes, message, solver
 
@@ -194,7 +179,6 @@ def solve(problem) -> Solution:
     if problem.mechanism == "slider-crank":
         from linkcli.types.precision_position.slider import solve as solve_slider
         return solve_slider(problem)
-    _check_positions(problem)
     phi = np.array(problem.input_angles)
     psi = np.array(problem.output_angles)
     d = problem.ground
@@ -215,7 +199,7 @@ def solve(problem) -> Solution:
         notes.append(TRAVEL_NOTE)
     if any(note.startswith("branch defect") for note in notes):
         message += "; branch defect (see notes)"
-    converged = bool(solver.get("converged", True))
+    converged = solver.converged
     if not converged:
         budget = problem.meta.solver.budget
         message += (f"; the refinement stopped at its budget ({budget} evaluations) before converging"
@@ -229,8 +213,7 @@ def solve(problem) -> Solution:
         message=message,
         positions=Positions(kind="angle", input=phi_phys, target=psi_phys, achieved=p.psi, error=err),
         objective=float(err @ err),
-        solver={"method": solver["method"], "seed": problem.meta.solver.seed,
-                **{k: v for k, v in solver.items() if k != "method"}},
+        solver=solver,
         notes=notes,
         working_span=(float(phi_phys[0]), sweep),
     )

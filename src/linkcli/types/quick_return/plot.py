@@ -11,8 +11,9 @@ import numpy as np
 
 from linkcli.mechanisms import four_bar as kin
 from linkcli.mechanisms import slider_crank as sc
-from linkcli.plots.common import (BAND_COLOR, LINK_COLORS, Geometry, Units, angle_ticks, draw_linkage,
+from linkcli.plots.common import (BAND_COLOR, LINK_COLORS, Geometry, angle_ticks, draw_linkage, drawn,
                                   frame_drawing, header, joint_paths, link_legend, no_linkage, num)
+from linkcli.units import Units
 
 from . import family
 
@@ -20,11 +21,12 @@ NEEDS = ("linkage", "family", "design")
 CURVE_ROWS = 400
 
 
-def draw(fig, report: dict, problem=None) -> None:
+def draw(fig, result) -> None:
+    report, problem = drawn(result), result.problem
     header(fig, report)
     gs = fig.add_gridspec(2, 2, width_ratios=[1.0, 1.15])
     ax_link, ax_fam, ax_mu = fig.add_subplot(gs[:, 0]), fig.add_subplot(gs[0, 1]), fig.add_subplot(gs[1, 1])
-    u = Units.of(report)
+    u = problem.meta.units
     if "linkage" not in report:
         for ax in (ax_link, ax_fam, ax_mu):
             no_linkage(ax, "no linkage in the report")
@@ -34,16 +36,16 @@ def draw(fig, report: dict, problem=None) -> None:
     if slider:
         mu = draw_slider(ax_link, report, u, phi)
     else:
-        mu = draw_crank_rocker(ax_link, report, u, phi)
+        mu = draw_crank_rocker(ax_link, result, u, phi)
     draw_family(ax_fam, report, problem, u)
     window = getattr(problem, "transmission", None)
     if window is not None:
-        lo, hi = (float(u.out(w)) for w in window)
+        lo, hi = (float(u.from_rad(w)) for w in window)
         ax_mu.axhspan(lo, hi, color=BAND_COLOR, alpha=0.12, lw=0, label=f"window {num(lo)}..{num(hi)} {u.angle}")
-    x = u.out(phi)
-    ax_mu.plot(x, u.out(mu), color="#1f77b4", lw=1.8, label="transmission angle \u03bc")
+    x = u.from_rad(phi)
+    ax_mu.plot(x, u.from_rad(mu), color="#1f77b4", lw=1.8, label="transmission angle \u03bc")
     ax_mu.set_xlim(float(x[0]), float(x[-1]))
-    ax_mu.set_ylim(0.0, float(u.out(math.pi / 2 if slider else math.pi)))
+    ax_mu.set_ylim(0.0, float(u.from_rad(math.pi / 2 if slider else math.pi)))
     ax_mu.set_xlabel(f"input angle \u03c6 ({u.angle})")
     ax_mu.set_ylabel(f"\u03bc ({u.angle})")
     ax_mu.set_title("Transmission angle of the chosen member over the full turn")
@@ -51,19 +53,20 @@ def draw(fig, report: dict, problem=None) -> None:
     angle_ticks(ax_mu, u)
 
 
-def draw_crank_rocker(ax, report: dict, u: Units, phi) -> np.ndarray:
+def draw_crank_rocker(ax, result, u: Units, phi) -> np.ndarray:
     """The four-bar at the extended dead centre (solid) and the folded one (faint); returns
     mu over phi."""
-    geo = Geometry.of(report)
+    report = drawn(result)
+    geo = Geometry.of(result)
     mot = geo.motion()
     joint_paths(ax, geo, phi)
     ext, fold = mot.toggle_inputs
     draw_linkage(ax, geo, fold, ghost=True)
     draw_linkage(ax, geo, ext)
     link_legend(ax, geo, u.length)
-    swing = report.get("design", {}).get("swing", u.out(mot.output_swing))
-    frame_drawing(ax, u.length, f"Dead centres: extended (solid) at input {num(float(u.out(kin.wrap(ext))))} "
-                                f"{u.angle}, folded (faint) at {num(float(u.out(kin.wrap(fold))))} {u.angle}\n"
+    swing = report.get("design", {}).get("swing", u.from_rad(mot.output_swing))
+    frame_drawing(ax, u.length, f"Dead centres: extended (solid) at input {num(float(u.from_rad(kin.wrap(ext))))} "
+                                f"{u.angle}, folded (faint) at {num(float(u.from_rad(kin.wrap(fold))))} {u.angle}\n"
                                 f"rocker swing {num(float(swing))} {u.angle} between them")
     return geo.pose(phi).mu
 
@@ -114,7 +117,7 @@ def draw_family(ax, report: dict, problem, u: Units) -> None:
     curve = _dense(problem)
     if curve is not None:
         x, y = curve
-        ax.plot(x, u.out(y), color="#9467bd", lw=1.8, label="worst transmission angle of each member")
+        ax.plot(x, u.from_rad(y), color="#9467bd", lw=1.8, label="worst transmission angle of each member")
     if rows:
         ax.scatter([r["parameter"] for r in rows if not r["chosen"]],
                    [r["worst_transmission"] for r in rows if not r["chosen"]],
@@ -125,7 +128,7 @@ def draw_family(ax, report: dict, problem, u: Units) -> None:
                    label=f"chosen: parameter {num(px)}, {num(py)} {u.angle}")
     window = getattr(problem, "transmission", None)
     if window is not None:
-        lo = float(u.out(window[0]))  # the worst angle is min(mu, 180 - mu): only lo bounds it alone
+        lo = float(u.from_rad(window[0]))  # the worst angle is min(mu, 180 - mu): only lo bounds it alone
         ax.axhline(lo, color=BAND_COLOR, lw=1.0, ls="--", label=f"window lower limit {num(lo)} {u.angle}")
     ax.set_ylim(bottom=0.0)
     ax.set_xlabel("free parameter (see docs/quick_return.md)")

@@ -18,7 +18,7 @@ from __future__ import annotations
 from linkcli.errors import SchemaError, SolveInputError
 from linkcli.model import FourBar
 from linkcli.search.budget import Budget
-from linkcli.solution import Solution, Status
+from linkcli.solution import Solution, SolverRecord, Status
 from linkcli.textnum import num
 
 from . import family, sections
@@ -90,8 +90,7 @@ def _solve(problem, counter: Budget) -> Solution:
                            f"{u.angle}")
         notes += limit_notes(problem, design)
     return Solution(status=status, linkage=None if slider else four_bar(design), message=message,
-                    solver={"method": "closed-form", "seed": problem.meta.solver.seed,
-                            "evaluations": counter.used, "converged": True},
+                    solver=SolverRecord("closed-form", problem.meta.solver.seed, counter.used, True),
                     sections=report_sections(problem, design), notes=notes)
 
 
