@@ -10,8 +10,7 @@ def solve(problem) -> Solution:
     fb = problem.linkage
     if hasattr(fb, "abe"):  # a slider-crank: the schema refused one that never assembles
         return Solution(status=Status.OK, linkage=fb, message="given linkage",
-                        solver={"method": "analysis", "seed": problem.meta.solver.seed,
-                                "evaluations": 0, "converged": True})
+                        solver=SolverRecord("analysis", problem.meta.solver.seed, 0, True))
     if input_arcs(*fb.abcd) == []:
         return Solution(status=Status.INFEASIBLE, linkage=fb,
                         message="the linkage cannot assemble at any input angle "

@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from linkcli.types.precision_position.slider_synthesis import synthesize
-from linkcli.solution import Positions, Solution, Status
+from linkcli.solution import Positions, Solution, SolverRecord, Status
 from linkcli.textnum import num
 
 MISS_RTOL = 1e-6  # relative to max(crank, rod, |offset|): an exact fit meets its targets to ~1e-12
@@ -69,8 +69,8 @@ def solve(problem) -> Solution:
         positions=Positions(kind="slider", input=np.asarray(fit.input_angles), target=s,
                             achieved=np.asarray(fit.achieved), error=err),
         objective=objective if math.isfinite(objective) else None,
-        solver={"method": fit.method, "seed": problem.meta.solver.seed, "evaluations": int(fit.iterations),
-                "converged": bool(fit.converged), "starts": int(fit.starts)},
+        solver=SolverRecord(fit.method, problem.meta.solver.seed, int(fit.iterations), bool(fit.converged),
+                            starts=int(fit.starts)),
         notes=notes,
         working_span=(float(fit.input_angles[0]), float(phi[-1] - phi[0])),
     )
