@@ -40,7 +40,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from linkcli.analysis.tolerance import wilson  # the house's one Wilson interval
+from linkcli.analysis.tolerance import largest_passing, wilson  # the house's own
 from linkcli.mechanisms.slider_crank import (TWO_PI, SliderCrank, arc_contains, arc_sweep, choose_arc,
                                              input_arcs, slider_from_trig, slider_partials)
 
@@ -216,27 +216,7 @@ def largest_tolerance(linkage: SliderCrank, tg: SliderTargets, samples: int, cle
                               distribution)
         return failures(err, ok, allowed) / samples
 
-    cap = min(linkage.input, linkage.coupler)
-    p0 = prob(0.0)
-    if p0 > level:
-        return 0.0, p0
-    lo, p_lo = 0.0, p0
-    hi = min(max(start, 1e-3 * cap), cap)
-    p_hi = prob(hi)
-    while p_hi <= level and hi < cap:
-        lo, p_lo = hi, p_hi
-        hi = min(2.0 * hi, cap)
-        p_hi = prob(hi)
-    if p_hi <= level:
-        return hi, p_hi
-    while hi - lo > BISECTION_RTOL * hi:
-        mid = 0.5 * (lo + hi)
-        p_mid = prob(mid)
-        if p_mid <= level:
-            lo, p_lo = mid, p_mid
-        else:
-            hi = mid
-    return lo, p_lo
+    return largest_passing(prob, min(linkage.input, linkage.coupler), level, start)
 
 
 def analyse(linkage: SliderCrank, lengths: dict, *, clearance: float = 0.0,

@@ -263,7 +263,14 @@ def largest_tolerance(fb: FourBar, tg: Targets, tol: Tolerance, seed: int,
         err, ok = monte_carlo(fb, tg, unit * t, tol.clearance, n, seed, tol.distribution)
         return failures(err, ok, tol.allowed_error) / n
 
-    cap = min(fb.abcd)
+    return largest_passing(prob, min(fb.abcd), level, start)
+
+
+def largest_passing(prob, cap: float, level: float, start: float) -> tuple[float, float]:
+    """Largest t in [0, cap] with prob(t) <= level: (t, prob(t)); prob is a deterministic,
+    non-decreasing step function of t (common random numbers). Bracketed by doubling from
+    `start` (at least 1e-3 cap), then bisected to a relative BISECTION_RTOL; 0 when even
+    exact parts fail more often than `level`."""
     p0 = prob(0.0)
     if p0 > level:
         return 0.0, p0
