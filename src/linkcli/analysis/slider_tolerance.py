@@ -49,7 +49,6 @@ PINS = 3  # A0, A, B
 CHUNK_ELEMENTS = 2**17
 GRID = 36
 TRAVEL_SLACK = 1e-12
-BISECTION_RTOL = 1e-4
 NO_ALLOWED_ERROR = ("no allowed_error given: a sample fails only when it cannot be made (crank or rod "
                     "<= 0), assembled at a target or moved from the first target to the last")
 
@@ -208,7 +207,7 @@ def largest_tolerance(linkage: SliderCrank, tg: SliderTargets, samples: int, cle
                       start: float) -> tuple[float, float]:
     """Largest t (crank, rod and offset each +- t) with failure probability <= level: (t, p).
     p(t) is a step function of t under common random numbers: bracket by doubling from
-    `start`, bisect to a relative BISECTION_RTOL; the cap is the shorter of crank and rod."""
+    `start`, bisected (analysis.tolerance.largest_passing); the cap is the shorter of crank and rod."""
     unit = np.ones(len(LENGTH_KEYS))
 
     def prob(t):
