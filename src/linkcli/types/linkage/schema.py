@@ -19,6 +19,19 @@ FOUR_BAR_ONLY = ("ground", "output", "ground_pivot", "ground_angle")
 SLIDER_ONLY = ("offset",)
 
 
+def refuse_ratio(t, lengths: dict) -> bool:
+    """A located error (and True) when the longest link is over MAX_RATIO times the shortest:
+    beyond, double precision cannot resolve the linkage's angles."""
+    extremes = over_ratio(lengths)
+    if not extremes:
+        return False
+    longest, shortest = extremes
+    t.error(longest, f"a linkage whose longest link is at most {MAX_RATIO:g} times its shortest "
+            "(beyond, double precision cannot resolve its angles)",
+            raw_got=f"{longest} = {lengths[longest]:g} and {shortest} = {lengths[shortest]:g}")
+    return True
+
+
 def read_mechanism(t: Table) -> str | None:
     """`mechanism`: one of MECHANISMS, default four-bar; None when bad (error recorded)."""
     return t.string("mechanism", "four-bar", choices=MECHANISMS)
@@ -49,12 +62,7 @@ def read_slider_crank(t: Table, units):
     cp = bounded_point(t, "coupler_point", None)
     if None in lengths.values() or offset is None or branch is None:
         return None
-    extremes = over_ratio(lengths)
-    if extremes:
-        longest, shortest = extremes
-        t.error(longest, f"a linkage whose longest link is at most {MAX_RATIO:g} times its shortest "
-                "(beyond, double precision cannot resolve its angles)",
-                raw_got=f"{longest} = {lengths[longest]:g} and {shortest} = {lengths[shortest]:g}")
+    if refuse_ratio(t, lengths):
         return None
     a, b = lengths["input"], lengths["coupler"]
     reach = a + b
@@ -90,12 +98,7 @@ def read_fourbar(t: Table, units) -> FourBar | None:
     ga = t.number("ground_angle", 0.0, lo=-MAX_LENGTH, hi=MAX_LENGTH)
     if None in lengths.values() or branch is None or gp is None or ga is None:
         return None
-    extremes = over_ratio(lengths)
-    if extremes:
-        longest, shortest = extremes
-        t.error(longest, f"a linkage whose longest link is at most {MAX_RATIO:g} times its shortest "
-                "(beyond, double precision cannot resolve its angles)",
-                raw_got=f"{longest} = {lengths[longest]:g} and {shortest} = {lengths[shortest]:g}")
+    if refuse_ratio(t, lengths):
         return None
     a, b, c, d = (lengths[k] for k in ("input", "coupler", "output", "ground"))
     reach = min(d + a, b + c)  # |A B0| and the coupler with the output must overlap
