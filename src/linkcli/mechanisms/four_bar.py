@@ -97,7 +97,8 @@ def pose(a, b, c, d, phi, branch="open") -> Pose:
     rho = np.hypot(rx, ry)
     theta_rho = np.arctan2(ry, rx)
     safe_rho = np.where(rho > 0.0, rho, 1.0)
-    cos_alpha = (rho * rho + c * c - b * b) / (2.0 * safe_rho * c)
+    with np.errstate(over="ignore"):  # a rho of 1e-300 gives inf: no assembly, said by `valid`
+        cos_alpha = (rho * rho + c * c - b * b) / (2.0 * safe_rho * c)
     valid = (np.abs(cos_alpha) <= 1.0 + ASSEMBLY_SLACK) & (rho > 0.0)
     alpha = np.arccos(np.clip(cos_alpha, -1.0, 1.0))
     psi = theta_rho + branch_sign(branch) * alpha
