@@ -218,3 +218,28 @@ def test_ctrl_c_is_interrupted_and_exit_130_with_the_local_workers_ended(tmp_pat
     assert len(workers) >= 2
     gone, alive = psutil.wait_procs(workers, timeout=10)
     assert alive == []
+
+
+def test_a_ctrl_c_whose_exception_was_swallowed_still_stops_the_batch_with_130(monkeypatch):
+    """Python only prints a KeyboardInterrupt raised inside a garbage-collector callback
+    (Dask installs one): the Ctrl-C must not be lost there. The first file's run
+    receives SIGINT and swallows the exception; the batch stops before the second."""
+    import linkcli.pipeline as pipeline
+
+    solved = []
+
+    def swallowing_serial(files, request):
+        for outcome in pipeline.serial(files, request):
+            solved.append(outcome)
+            try:
+                signal.raise_signal(signal.SIGINT)
+            except KeyboardInterrupt:
+                pass  # what an "Exception ignored in: <gc callback>" amounts to
+            yield outcome
+
+    monkeypatch.setattr(pipeline, "executor", lambda *args, **kwargs: swallowing_serial)
+    code, out, err = run_cli("synth", "problems/firedoor.toml", "problems/firedoor.toml")
+    assert code == 130
+    assert err.splitlines()[-1] == "interrupted"
+    assert len(solved) == 1 and "Fire-door" not in out  # stopped before printing
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored

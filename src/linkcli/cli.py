@@ -74,15 +74,43 @@ def _progress(total: int):
                     console=Console(file=sys.stderr), transient=True)
 
 
+_ctrl_c_seen = [False]  # set by _interruptible's handler; read by _stop_if_interrupted
+
+
+def _on_ctrl_c(signum, frame) -> None:
+    """SIGINT handler: remember the Ctrl-C, then raise KeyboardInterrupt as Python's own
+    handler does. The raise can be lost (Python only prints an exception raised inside a
+    garbage-collector callback, such as the one Dask installs); the flag is not."""
+    _ctrl_c_seen[0] = True
+    raise KeyboardInterrupt
+
+
+def _stop_if_interrupted() -> None:
+    """Raise KeyboardInterrupt if a Ctrl-C came whose exception was swallowed on the way."""
+    if _ctrl_c_seen[0]:
+        raise KeyboardInterrupt
+
+
 @contextlib.contextmanager
 def _interruptible():
     """Ctrl-C in a command: "interrupted" on stderr and exit 130 (typer would exit 130
-    silently). The executors clean up on the way out (--cluster cancels its tasks)."""
+    silently), also when the KeyboardInterrupt was swallowed where it landed (checked
+    after each file and at the end). The executors clean up on the way out (--cluster
+    cancels its tasks)."""
+    import signal
+    import threading
+    _ctrl_c_seen[0] = False
+    own = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGINT, _on_ctrl_c) if own else None
     try:
         yield
+        _stop_if_interrupted()
     except KeyboardInterrupt:
         _err("interrupted")
         raise typer.Exit(130) from None
+    finally:
+        if own and previous is not None:  # None: a handler not set from Python
+            signal.signal(signal.SIGINT, previous)
 
 
 def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path], precision: int,
@@ -120,6 +148,7 @@ def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path],
     try:
         with contextlib.closing(execute(names, request)) as outcomes:  # Ctrl-C: closed at once
             for name, outcome in zip(names, outcomes):
+                _stop_if_interrupted()
                 code, errors = outcome.exit_code, outcome.errors
                 report = outcome.result.report if outcome.result is not None else None
                 if outcome.result is not None:
