@@ -202,7 +202,10 @@ def test_ctrl_c_is_interrupted_and_exit_130_with_the_local_workers_ended(tmp_pat
     env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
     process = subprocess.Popen([sys.executable, "-m", "linkcli", "synth", *files,
                                 "--cluster", "local:2"], cwd=ROOT, env=env, text=True,
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                               # Ctrl-C as in a terminal, also when the tests run in the
+                               # background (which starts children with SIGINT ignored)
+                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         first = process.stdout.readline()  # the first report is out: the batch is running
         assert first, process.stderr.read()
@@ -238,8 +241,13 @@ def test_a_ctrl_c_whose_exception_was_swallowed_still_stops_the_batch_with_130(m
             yield outcome
 
     monkeypatch.setattr(pipeline, "executor", lambda *args, **kwargs: swallowing_serial)
-    code, out, err = run_cli("synth", "problems/firedoor.toml", "problems/firedoor.toml")
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)  # as in a terminal
+    try:
+        code, out, err = run_cli("synth", "problems/firedoor.toml", "problems/firedoor.toml")
+        after = signal.getsignal(signal.SIGINT)
+    finally:
+        signal.signal(signal.SIGINT, before)  # a test run in the background ignores SIGINT
     assert code == 130
     assert err.splitlines()[-1] == "interrupted"
     assert len(solved) == 1 and "Fire-door" not in out  # stopped before printing
-    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
+    assert after is signal.default_int_handler  # restored

@@ -100,7 +100,10 @@ def _interruptible():
     import signal
     import threading
     _ctrl_c_seen[0] = False
-    own = threading.current_thread() is threading.main_thread()
+    # only where Ctrl-C raises KeyboardInterrupt already: a process started with SIGINT
+    # ignored (`linkcli ... &` in a script, nohup) keeps ignoring it
+    own = (threading.current_thread() is threading.main_thread()
+           and signal.getsignal(signal.SIGINT) is signal.default_int_handler)
     previous = signal.signal(signal.SIGINT, _on_ctrl_c) if own else None
     try:
         yield
@@ -109,7 +112,7 @@ def _interruptible():
         _err("interrupted")
         raise typer.Exit(130) from None
     finally:
-        if own and previous is not None:  # None: a handler not set from Python
+        if own:
             signal.signal(signal.SIGINT, previous)
 
 
