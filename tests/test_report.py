@@ -58,3 +58,17 @@ def test_terminal_tables_fold_rather_than_cut(tmp_path):
         text = buf.getvalue()
         assert "…" not in text
         assert max(len(line) for line in text.splitlines()) <= width
+
+
+def test_motion_and_positions_rows_carry_their_units():
+    """Lengths (slider travel, path points) and angles (output range, function targets)
+    are named with their unit in the table view, as the link lengths are."""
+    from conftest import run_cli
+    _, out, _ = run_cli("synth", "problems/slider_positions.toml")
+    assert "slider range (mm)" in out and "stroke (mm)" in out
+    assert "target (mm)" in out and "error (mm)" in out
+    _, out, _ = run_cli("synth", "problems/firedoor.toml")
+    assert "output range (deg)" in out and "output swing (deg)" in out
+    assert "target (deg)" in out and "input (deg)" in out
+    _, out, _ = run_cli("synth", "problems/motion3.toml")
+    assert "target (in, in, deg)" in out

@@ -167,10 +167,11 @@ def render(report: dict, digits: int = 6) -> Group:
                       fmt(tr["working_input_at_max"], digits))
         parts.append(t)
     if "motion" in r:
-        parts.append(_kv("Motion", [(k.replace("_", " ") + (f" ({au}/s)" if k == "input_speed" else ""), v)
+        units = _motion_units(lu, au)
+        parts.append(_kv("Motion", [(k.replace("_", " ") + (f" ({units[k]})" if k in units else ""), v)
                                     for k, v in r["motion"].items()], digits))
     if "positions" in r:
-        parts.append(_rows("Positions", r["positions"], digits))
+        parts.append(_rows("Positions", r["positions"], digits, _position_heads(r, lu, au)))
     if "error" in r:
         parts.append(_kv("Error", [(k.replace("_", " "), v) for k, v in r["error"].items()], digits))
     if "kinematics" in r:
@@ -204,6 +205,28 @@ def render(report: dict, digits: int = 6) -> Group:
     for note in r.get("notes", []):
         parts.append(Text(f"warning: {note}", style="yellow"))
     return Group(*parts)
+
+
+def _motion_units(lu: str, au: str) -> dict[str, str]:
+    """The unit of each Motion row that has one (time ratio, steps and yes/no have none)."""
+    return {"input_range": au, "output_range": au, "output_swing": au, "slider_range": lu,
+            "stroke": lu, "input_speed": f"{au}/s"}
+
+
+def _position_heads(r: dict, lu: str, au: str) -> dict[str, str]:
+    """Positions column headings with units: the input is an angle; target, achieved and
+    error are points or slider positions (length) for path generation and a slider-crank,
+    output angles for a four-bar's function, poses (x, y, angle) for motion generation,
+    with a position error (length) and an angle error."""
+    slider = r.get("linkage", {}).get("mechanism") == "slider-crank"
+    unit = lu if r["type"] == "path-generation" or slider else au
+    heads = {"input": f"input ({au})", "position_error": f"position error ({lu})",
+             "angle_error": f"angle error ({au})"}
+    if r["type"] == "motion-generation":
+        heads.update({k: f"{k} ({lu}, {lu}, {au})" for k in ("target", "achieved")})
+    else:
+        heads.update({k: f"{k} ({unit})" for k in ("target", "achieved", "error")})
+    return heads
 
 
 def _forces(forces: dict, digits: int, au: str) -> list:
