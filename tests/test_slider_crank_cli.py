@@ -5,6 +5,7 @@ time ratio by a dense crank sweep (simulation); an independent Monte Carlo."""
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
 
@@ -238,3 +239,54 @@ def test_solving_slider_crank_files_does_not_import_scipy():
             "try:\n    app(%r, prog_name='linkcli')\nexcept SystemExit as e:\n    assert e.code == 0, e.code\n"
             "assert 'scipy' not in sys.modules" % (args,))
     subprocess.run([sys.executable, "-c", code], check=True, capture_output=True)
+
+
+SLIDER_POSITIONS = ('type = "precision-position"\n[linkage]\nmechanism = "slider-crank"\n'
+                    "[positions]\ninput = {phi}\noutput = {s}\n")
+
+
+@pytest.mark.parametrize("phi, s, found", [
+    ([30, 150, 90], [10, -10, 5], "positions 1, 2, 3 give a singular system"),
+    ([0, 40, 100, 200], [7, 7, 7, 7], "positions 1, 2, 3, 4 give a zero crank"),
+    ([0, 90, 180], [0, 0, 0], "positions 1, 2, 3 all at s = 0"),
+])
+def test_check_refuses_impossible_slider_positions_as_synth_does(tmp_path, phi, s, found):
+    path = tmp_path / "p.toml"
+    path.write_text(SLIDER_POSITIONS.format(phi=phi, s=s))
+    outputs = {command: run_cli(command, str(path)) for command in ("check", "synth")}
+    assert outputs["check"] == outputs["synth"]
+    code, out, err = outputs["check"]
+    assert (code, out) == (2, "") and found in err and err.startswith(f"{path}:5: positions: expected")
+
+
+def test_check_and_synth_agree_on_random_slider_positions(tmp_path):
+    """Random position sets (three to six, some near-degenerate): `check` refuses exactly
+    the files `synth` refuses (exit 2), with the same line."""
+    rng = np.random.default_rng(11)
+    for trial in range(40):
+        n = int(rng.integers(3, 7))
+        phi = np.round(rng.uniform(-180, 180, n), 1).tolist()
+        s = np.round(rng.uniform(-5, 5, n) if trial % 4 else np.full(n, rng.uniform(1, 5)), 2).tolist()
+        path = tmp_path / f"r{trial}.toml"
+        path.write_text(SLIDER_POSITIONS.format(phi=phi, s=s))
+        code, _, err = run_cli("check", str(path))
+        synth_code, _, synth_err = run_cli("synth", str(path), "--format", "json")
+        assert (code == 2) == (synth_code == 2), (phi, s, err, synth_err)
+        if code == 2:
+            assert err == synth_err
+
+
+def test_pure_python_least_squares_against_numpy():
+    from linkcli.types.precision_position.slider_system import least_squares, subset_combinations
+    rng = np.random.default_rng(2)
+    for n in (3, 4, 9):
+        for _ in range(20):
+            m, b = rng.normal(size=(n, 3)), rng.normal(size=n)
+            assert least_squares(m.tolist(), b.tolist()) == pytest.approx(
+                np.linalg.lstsq(m, b, rcond=None)[0], rel=1e-10, abs=1e-12)
+    for n in (3, 6, 7, 12):  # every triple up to 20 of them, else 20 spread from first to last
+        combos = subset_combinations(n)
+        every = list(itertools.combinations(range(n), 3))
+        assert combos == every if len(every) <= 20 else (
+            len(combos) == 20 and combos[0] == every[0] and combos[-1] == every[-1]
+            and all(a < b for a, b in zip(combos, combos[1:])))

@@ -9,6 +9,7 @@ from linkcli.io.meta import bounded_length, in_motion_order
 from linkcli.errors import SchemaError
 from linkcli.io.reader import Table
 from linkcli.types.precision_position.system import position_problem
+from linkcli.types.precision_position.slider_system import slider_position_problem
 from linkcli.types.linkage.schema import read_mechanism, read_motion, refuse_foreign
 
 MAX_POSITIONS = 1000
@@ -68,7 +69,8 @@ def _parse_slider(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
     """A slider-crank through (crank angle, slider position) pairs: [linkage] holds only
     `mechanism` (the lengths are the answer); positions.output are slider positions s_i
     (length unit, x of the slider pin). Impossible data (coincident angles, a singular
-    system, no real rod) is refused when solving, naming the positions."""
+    system, no finite or nonzero crank, no real rod) is refused here, naming the positions,
+    in pure Python (slider_system), so that `check` refuses it too."""
     pos = root.table("positions", required=True)
     phi = s = None
     if pos is not None:
@@ -85,6 +87,11 @@ def _parse_slider(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
     if coincident(pos, phi, u):
         return None
     line = root.reader.line_of(("positions", "input"))
-    return PrecisionPositionProblem(meta=meta, ground=None, input_angles=tuple(in_motion_order([u.to_rad(v) for v in phi])),
+    phi_rad = in_motion_order([u.to_rad(v) for v in phi])
+    refused = slider_position_problem(phi_rad, [float(v) for v in s])  # as the solver would
+    if refused is not None:
+        root.reader.errors.append(SchemaError(*refused, path=meta.path, line=line, key="positions"))
+        return None
+    return PrecisionPositionProblem(meta=meta, ground=None, input_angles=tuple(phi_rad),
                                     output_angles=tuple(float(v) for v in s), lines=(line,),
                                     input_speed=u.to_rad(speed), steps=steps, mechanism="slider-crank")

@@ -21,12 +21,12 @@ assembles everywhere, then travels from the first to the last position without a
 position (branch change), then the smallest sum (ties: the earlier start). numpy only.
 
 Impossible data raise SchemaError naming the positions (1-based): coincident input angles,
-a singular system, a zero or infinite crank, no real rod (b^2 <= 0).
+a singular system, a zero or infinite crank, no real rod (b^2 <= 0); the last four are
+decided by slider_system.slider_position_problem, which `linkcli check` runs as well.
 """
 
 from __future__ import annotations
 
-import itertools
 import math
 from dataclasses import dataclass
 
@@ -34,11 +34,9 @@ import numpy as np
 
 from linkcli.errors import SchemaError
 from linkcli.mechanisms.slider_crank import SliderCrank, slider_from_trig, travels, wrap
+from linkcli.types.precision_position.slider_system import ZERO_CRANK, slider_position_problem, subset_combinations
 
 COINCIDENT = 1e-9  # rad: two crank angles closer than this are one position
-ILL_CONDITIONED = 1e12  # condition number of the (scaled) linear system
-ZERO_CRANK = 1e-12  # |a| below this times the largest |s|: no crank
-SUBSET_STARTS = 20
 MAX_ITER = 300
 LAMBDA0 = 1e-3
 LAMBDA_MAX = 1e16  # damping this large: no step lowers the sum any more (round-off)
@@ -199,31 +197,17 @@ def synthesize(phi, s, *, path=None, line=None) -> SliderFit:
     squares refined on the true slider error for more (module docstring)."""
     phi, s = np.asarray(phi, dtype=float), np.asarray(s, dtype=float)
     check_positions(phi, s, path=path, line=line)
+    refused = slider_position_problem(phi.tolist(), s.tolist())  # what `check` refuses too
+    if refused is not None:
+        raise _error(*refused, "positions", path, line)
     n = len(phi)
-    every = _names(range(n))
     scale = float(np.max(np.abs(s)))
-    if scale == 0.0:
-        raise _error("positions that determine a slider-crank", f"positions {every} all at s = 0",
-                     "positions", path, line)
     sn = s / scale  # the fit runs on lengths divided by the largest |s|: scale-free
     m, rhs = linear_system(phi, sn)
-    if not np.all(np.isfinite(m)) or np.linalg.cond(m) > ILL_CONDITIONED:
-        raise _error("positions that determine a slider-crank (the linear system is singular)",
-                     f"positions {every} give a singular system", "positions", path, line)
     x = np.linalg.lstsq(m, rhs, rcond=None)[0]
     a, b2, e = (float(v[0]) for v in lengths_of(x))
-    if not (math.isfinite(a) and math.isfinite(e)) or abs(a) > 1e12:
-        raise _error("positions that determine a finite crank", f"positions {every} give an infinite crank",
-                     "positions", path, line)
-    if abs(a) <= ZERO_CRANK:
-        raise _error("positions that determine a crank of nonzero length",
-                     f"positions {every} give a zero crank", "positions", path, line)
-    if n == 3:
-        if b2 <= 0:
-            raise _error("positions that a real rod can join",
-                         f"positions {every} need coupler^2 = {b2 * scale * scale:.6g} <= 0",
-                         "positions", path, line)
-        fit = _exact(phi, sn, a, math.sqrt(b2), e)
+    if n == 3:  # b2 > 0: slider_position_problem refused the rest (round-off aside)
+        fit = _exact(phi, sn, a, math.sqrt(max(b2, 0.0)), e)
     else:
         fit = _least_squares(phi, sn, a, b2, e, path, line)
     return _report(phi, s, scale, *fit)
@@ -246,10 +230,7 @@ def _exact(phi, sn, a, b, e):
 
 
 def _subset_starts(phi, sn):
-    combos = list(itertools.combinations(range(len(phi)), 3))
-    if len(combos) > SUBSET_STARTS:
-        combos = [combos[i] for i in np.linspace(0, len(combos) - 1, SUBSET_STARTS).astype(int)]
-    idx = np.array(combos)
+    idx = np.array(subset_combinations(len(phi)))
     m, rhs = linear_system(phi[idx], sn[idx])  # (C, 3, 3), (C, 3)
     ok = np.abs(np.linalg.det(m)) > 1e-12
     x = np.zeros((len(idx), 3))
