@@ -290,3 +290,27 @@ def test_pure_python_least_squares_against_numpy():
         assert combos == every if len(every) <= 20 else (
             len(combos) == 20 and combos[0] == every[0] and combos[-1] == every[-1]
             and all(a < b for a, b in zip(combos, combos[1:])))
+
+
+@pytest.mark.parametrize("mechanism", ["slider-crank", "four-bar"])
+def test_a_written_zero_length_tolerance_is_exact_parts_for_both_mechanisms(tmp_path, mechanism):
+    """Inverse tolerance (max_failure_probability): without `lengths` the study runs at the
+    largest tolerance found; `lengths = 0` written is exact parts, studied as written."""
+    linkage = ('mechanism = "slider-crank"\ninput = 47.2812\ncoupler = 104.9139\noffset = 30\n'
+               if mechanism == "slider-crank" else
+               "ground = 50\ninput = 27.6293\ncoupler = 57.2363\noutput = 41.1104\n")
+    allowed = "0.2" if mechanism == "slider-crank" else "0.5"
+    studies = {}
+    for name, written in (("absent", ""), ("zero", "lengths = 0\n")):
+        path = tmp_path / f"{name}.toml"
+        path.write_text(f'type = "linkage"\n[linkage]\n{linkage}[tolerance]\n{written}'
+                        f"clearance = 0.02\nallowed_error = {allowed}\n"
+                        "max_failure_probability = 0.01\nsamples = 2000\n")
+        code, out, err = run_cli("analyze", str(path), "--format", "json")
+        assert code == 0, err
+        studies[name] = json.loads(out)["tolerance"]
+    largest = studies["absent"]["largest_tolerance"]
+    assert largest > 0 and studies["zero"]["largest_tolerance"] == largest
+    assert set(studies["absent"]["lengths"].values()) == {largest}
+    assert set(studies["zero"]["lengths"].values()) == {0.0}
+    assert studies["zero"]["failure_probability"] <= studies["absent"]["failure_probability"]

@@ -222,10 +222,12 @@ def analyse(linkage: SliderCrank, lengths: dict, *, clearance: float = 0.0,
             clearance_slider: float = 0.0, samples: int = 20000, seed: int = 0,
             distribution: str = "uniform", allowed_error: float | None = None,
             max_failure_probability: float | None = None,
-            targets: SliderTargets | None = None) -> dict:
+            targets: SliderTargets | None = None, lengths_given: bool | None = None) -> dict:
     """The `tolerance` section for a slider-crank (plain floats, length unit): lengths is
     {input, coupler, offset} -> +- t (missing keys 0); targets default to the nominal slider
-    over the range of motion."""
+    over the range of motion. With `max_failure_probability`, the study runs at the largest
+    tolerance found unless `lengths_given` (None: some length is nonzero); a written 0 is
+    exact parts, a study of its own, as for the four-bar (analysis.tolerance)."""
     tg = targets if targets is not None else targets_over_range(linkage)
     lengths = {k: float(lengths.get(k, 0.0)) for k in LENGTH_KEYS}
     out: dict = {"measure": tg.measure, "samples": int(samples), "distribution": distribution,
@@ -241,7 +243,7 @@ def analyse(linkage: SliderCrank, lengths: dict, *, clearance: float = 0.0,
             given = max(lengths.values())
             t, p_t = largest_tolerance(linkage, tg, samples, clearance, clearance_slider, seed,
                                        distribution, allowed_error, level, given)
-            if given == 0.0:
+            if not (given > 0.0 if lengths_given is None else lengths_given):
                 lengths = {k: t for k in LENGTH_KEYS}
                 out["lengths"] = dict(lengths)
         scale = np.array([lengths[k] for k in LENGTH_KEYS])
@@ -296,7 +298,8 @@ def report_section(problem, solution) -> dict:
     lengths = dict(tol.lengths) if (level is None or getattr(tol, "lengths_given", True)) else {}
     out = analyse(sl, lengths, clearance=tol.clearance, clearance_slider=tol.clearance_slider,
                   samples=tol.samples, seed=int(problem.meta.solver.seed), distribution=tol.distribution,
-                  allowed_error=tol.allowed_error, max_failure_probability=level, targets=tg)
+                  allowed_error=tol.allowed_error, max_failure_probability=level, targets=tg,
+                  lengths_given=getattr(tol, "lengths_given", True))
     scale = max(sl.input, sl.coupler, abs(sl.offset))
     for key in ("nominal_error", "error_mean", "error_p95", "error_max"):
         if out.get(key) is not None:
