@@ -290,3 +290,23 @@ def test_result_file_round_trips_and_the_plot_is_drawn(tmp_path):
     assert code == 0, err
     _, synthesized, _ = run_cli("synth", "problems/quick_return.toml", "--format", "json")
     assert json.loads(out)["linkage"] == json.loads(synthesized)["linkage"]
+
+
+def test_a_quick_return_slider_crank_has_the_shared_slider_sections(tmp_path):
+    """The chosen slider-crank is reported as a linkage: class, motion and, when asked,
+    kinematics rows whose slider positions follow the closed form
+    s = a cos(phi) + sqrt(b^2 - (e - a sin(phi))^2) (open branch)."""
+    text = ('mechanism = "slider-crank"\ntime_ratio = 1.4\nstroke = 80\n'
+            "[linkage]\noffset = 20\n"
+            '[report]\nsections = ["lengths", "grashof", "motion", "kinematics"]\n')
+    code, rep, err = synth(tmp_path, text, "--precision", "15")
+    assert code == 0, err
+    lk = rep["linkage"]
+    a, b, e = lk["input"], lk["coupler"], lk["offset"]
+    assert rep["grashof"]["class"] == "slider-crank" and a + abs(e) < b
+    assert rep["motion"]["stroke"] == pytest.approx(80, rel=1e-9)
+    rows = rep["kinematics"]
+    assert len(rows) == 360  # no [motion] in a quick-return file: 360 steps
+    phi = np.radians([r["input"] for r in rows])
+    s = a * np.cos(phi) + np.sqrt(b * b - (e - a * np.sin(phi)) ** 2)
+    assert [r["slider"] for r in rows] == pytest.approx(s.tolist(), rel=1e-9, abs=1e-9 * b)

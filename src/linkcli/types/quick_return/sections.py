@@ -5,22 +5,16 @@
   cosine rule), not echoed from the file.
 - `family`: rows across the free parameter (lengths, worst transmission angle, inside the
   window or not) with the chosen member inserted in parameter order and marked.
-- a slider-crank's `linkage`, `transmission` and `motion` (the shared sections,
-  linkcli.analysis.sections, know the four-bar only): lengths and offset; the transmission
-  angle over the full turn in closed form (transmission.py): mu = atan2(sqrt(b^2 - h^2), |h|),
-  h = e - a sin(phi), least where |h| = a + |e| (sin(phi) = -sign(e)), greatest where |h| is
-  least (sin(phi) = e / a when |e| <= a, else sin(phi) = sign(e)); the motion from
-  linkcli.mechanisms.slider_crank.motion (dead centres in closed form).
+The linkage, class, transmission, motion and kinematics sections are the shared ones
+(linkcli.analysis.sections, slider_sections) of the linkage the solver returns.
 """
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 
 from linkcli.io.tables import KeyValues, Rows
-from linkcli.mechanisms import slider_crank as sc
 from linkcli.mechanisms.four_bar import wrap
 from linkcli.noise import snap
 
@@ -84,39 +78,6 @@ def window_miss(mechanism: str, lengths: dict, window) -> float:
     else:
         m = transmission.slider_margins(L["input"], L["coupler"], L["offset"], window)
     return snap(max(0.0, -float(np.min(m))), 1.0)
-
-
-# ---------------------------------------------------------------- slider-crank, shared keys
-
-def slider_linkage(design) -> dict:
-    L = design.lengths
-    return {"mechanism": "slider-crank", "input": L["input"], "coupler": L["coupler"],
-            "offset": L["offset"], "branch": "open"}
-
-
-def slider_transmission(problem, design) -> dict:
-    """min, max and where over the full turn (closed form, module docstring); ties go to the
-    first input angle counter-clockwise from 0."""
-    u = problem.meta.units
-    a, b, e = (design.lengths[k] for k in ("input", "coupler", "offset"))
-    mu_min, mu_max = (float(x) for x in transmission.slider_extremes(a, b, e))
-    at_min = -0.5 * math.pi if e > 0 else 0.5 * math.pi  # e = 0: both +-90 deg, +90 first
-    if abs(e) <= a:
-        s = math.asin(e / a)
-        at_max = s if e >= 0 else math.pi - s  # first of asin(e/a), pi - asin(e/a) from 0
-    else:
-        at_max = math.copysign(0.5 * math.pi, e)
-    return {"min": float(u.from_rad(mu_min)), "max": float(u.from_rad(mu_max)),
-            "input_at_min": _angle(u, at_min), "input_at_max": _angle(u, at_max)}
-
-
-def slider_motion(problem, design) -> dict:
-    """input_full_turn, slider_range, stroke, time_ratio, slow_stroke (mechanisms.slider_crank)."""
-    a, b, e = (design.lengths[k] for k in ("input", "coupler", "offset"))
-    m = sc.motion(a, b, e, "open")
-    lo, hi = m["slider_range"]
-    return {"input_full_turn": m["input_full_turn"], "slider_range": [lo, hi],
-            "stroke": m["stroke"], "time_ratio": m["time_ratio"], "slow_stroke": m["slow_stroke"]}
 
 
 # ---------------------------------------------------------------- table layout

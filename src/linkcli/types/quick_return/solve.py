@@ -16,7 +16,7 @@ family shows (no member within [bounds] or the link ratio) are exit 2 with the f
 from __future__ import annotations
 
 from linkcli.errors import SchemaError, SolveInputError
-from linkcli.model import FourBar
+from linkcli.model import FourBar, SliderCrank
 from linkcli.search.budget import Budget
 from linkcli.solution import Solution, SolverRecord, Status
 from linkcli.textnum import num
@@ -89,7 +89,8 @@ def _solve(problem, counter: Budget) -> Solution:
                            f"the full turn: the closest, reported, misses it by {num(u.from_rad(miss))} "
                            f"{u.angle}")
         notes += limit_notes(problem, design)
-    return Solution(status=status, linkage=None if slider else four_bar(design), message=message,
+    return Solution(status=status, linkage=slider_crank(design) if slider else four_bar(design),
+                    message=message,
                     solver=SolverRecord("closed-form", problem.meta.solver.seed, counter.used, True),
                     sections=report_sections(problem, design), notes=notes)
 
@@ -108,6 +109,12 @@ def _best(problem, counter, window=None):
 def _closest(problem, counter):
     fn = family.closest_crank_rocker if problem.mechanism == "crank-rocker" else family.closest_slider_crank
     return fn(*_args(problem), problem.transmission, bounds=problem.bounds, counter=counter)
+
+
+def slider_crank(design) -> SliderCrank:
+    """The chosen slider-crank (open branch): the shared slider sections report it."""
+    L = design.lengths
+    return SliderCrank(input=L["input"], coupler=L["coupler"], offset=L["offset"])
 
 
 def four_bar(design) -> FourBar:
@@ -144,17 +151,11 @@ def limit_notes(problem, design) -> list[str]:
 
 
 def report_sections(problem, design) -> dict:
-    """The type's sections, only those asked for: a slider-crank's linkage, transmission and
-    motion (see sections.py), `design` always, `family` when asked for."""
+    """The type's own sections: `design` always, `family` when asked for (the linkage,
+    class, transmission, motion and kinematics sections are the shared ones of the linkage
+    returned, four-bar or slider-crank)."""
     want = set(problem.meta.sections)
     out: dict = {}
-    if problem.mechanism == "slider-crank":
-        if "lengths" in want:
-            out["linkage"] = sections.slider_linkage(design)
-        if "transmission" in want:
-            out["transmission"] = sections.slider_transmission(problem, design)
-        if "motion" in want:
-            out["motion"] = sections.slider_motion(problem, design)
     out["design"] = sections.design_section(problem, design)
     if "family" in want:
         table_of = (family.crank_rocker_family if problem.mechanism == "crank-rocker"
