@@ -129,10 +129,52 @@ def test_bench_rows_and_summary():
     from linkcli.bench import SUMMARY_COLUMNS, markdown, summary
     rows[0]["status"] = "not-converged"
     table = summary(rows)
-    assert [(t["method"], t["seeds ok"]) for t in table] == [("auto", "1/2"), ("freudenstein", "2/2")]
+    assert [(t["method"], t["within 1e-6"], t["not converged"]) for t in table] == [
+        ("auto", "2/2", 1), ("freudenstein", "2/2", 0)]
     text = markdown(table, 5, SUMMARY_COLUMNS)
     assert text.splitlines()[0] == "| " + " | ".join(SUMMARY_COLUMNS) + " |"
     assert len(text.splitlines()) == 4
+
+
+def bench_row(problem, method, seed, objective, best, status, seconds, evaluations=100):
+    from linkcli.analysis.sections import gap
+    return {"problem": problem, "method": method, "budget": None, "seed": seed, "seconds": seconds,
+            "evaluations": evaluations, "objective": objective, "best_known": best,
+            "gap": None if best is None else gap(objective, best), "status": status}
+
+
+def test_bench_summary_counts_the_seeds_that_reach_the_best_known():
+    """Reliability over seeds, recounted here by hand: a seed within 1e-6 (relative) of the
+    best known counts, one ending `ok` outside it is "ok but off", medians of an even
+    count are the mean of the middle two, a problem without a best known shows None."""
+    from linkcli.bench import summary
+    best = 2.0
+    rows = [bench_row("p/a.toml", "auto", 0, 2.0 * (1 + 5e-7), best, "ok", 0.4, 10),
+            bench_row("p/a.toml", "auto", 1, 2.0 * (1 + 2e-6), best, "ok", 0.1, 20),
+            bench_row("p/a.toml", "auto", 2, 2.5, best, "not-converged", 0.3, 40),
+            bench_row("p/a.toml", "auto", 3, 2.0, best, "ok", 0.2, 30),
+            bench_row("p/b.toml", "de", 0, 7.0, None, "infeasible", 1.0)]
+    a, b = summary(rows)
+    assert (a["problem"], a["seeds"], a["within 1e-6"], a["ok but off"]) == ("a", 4, "2/4", 1)
+    assert (a["not converged"], a["infeasible"]) == (1, 0)
+    assert a["median gap"] == pytest.approx((5e-7 + 2e-6) / 2)
+    assert a["worst gap"] == pytest.approx(0.25)
+    assert a["median seconds"] == pytest.approx(0.25) and a["median evaluations"] == 25
+    assert a["best objective"] == 2.0 and a["best_known"] == best
+    assert b["within 1e-6"] is None and b["infeasible"] == 1 and b["median gap"] is None
+
+
+def test_bench_summary_option_in_every_format():
+    code, out, _ = run_cli("bench", "problems/bench/firedoor.toml", "--seeds", "2", "--summary",
+                           "-f", "json")
+    assert code == 0
+    (row,) = [r for r in json.loads(out) if r["method"] == "auto"]
+    assert row["within 1e-6"] == "2/2" and row["seeds"] == 2 and row["best objective"] == 0
+    code, out, _ = run_cli("bench", "problems/bench/firedoor.toml", "--seeds", "1")
+    assert code == 0 and "run time against error" in out and "reliability over the seeds" in out
+    code, out, _ = run_cli("bench", "problems/bench/firedoor.toml", "--seeds", "1", "--summary",
+                           "-f", "csv")
+    assert code == 0 and out.splitlines()[0].startswith("problem,method,budget,seeds,within 1e-6")
 
 
 def test_out_folder_problems_and_repeated_stems(tmp_path):

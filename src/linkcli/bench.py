@@ -103,7 +103,7 @@ def solve_run(run: Run) -> dict:
     t0 = time.perf_counter()
     sol = solve(problem)
     seconds = time.perf_counter() - t0
-    obj = sol.objective
+    obj = printed_objective(problem, sol)
     return {
         "problem": run.path, "method": run.method, "budget": run.budget, "seed": run.seed,
         "seconds": seconds, "evaluations": sol.solver.evaluations if sol.solver is not None else None,
@@ -111,6 +111,19 @@ def solve_run(run: Run) -> dict:
         "gap": gap(obj, best) if (obj is not None and best is not None) else None,
         "status": sol.status.value,
     }
+
+
+def printed_objective(problem, sol) -> float | None:
+    """The objective as the report prints it: round-off of an exact fit is 0 (below
+    n (NOISE_FLOOR x scale)^2, analysis.sections.error_section) where the solution has
+    position errors; else the solver's objective."""
+    from linkcli.analysis.sections import error_section, linkage_scale
+    from linkcli.model import FourBar, SliderCrank
+    pos = sol.positions
+    if (sol.objective is None or pos is None or pos.kind not in ("angle", "point")
+            or not isinstance(sol.linkage, (FourBar, SliderCrank))):
+        return sol.objective
+    return error_section(sol, problem.meta.units, None, linkage_scale(sol.linkage))["objective"]
 
 
 def run_problem(path: str, seeds: int, text: str | None = None) -> list[dict]:
@@ -132,10 +145,12 @@ def outcomes(runs: list[Run], cluster: str | None) -> Iterator[RunOutcome]:
 
 
 def command(files: list[str], fmt: str, seeds: int, precision: int, debug: bool,
-            cluster: str | None = None) -> int:
+            cluster: str | None = None, summary_only: bool = False) -> int:
     """Every problem x setting x seed, serially or on a --cluster; a file with an error
-    prints its lines (once each) and gives no rows; the rows as a table, JSON, CSV or TOML.
-    Without files, the packaged bench set (linkcli.bench_problems, named bench/<name>.toml)."""
+    prints its lines (once each) and gives no rows. The table view prints every run, then
+    the reliability summary over the seeds (`summary`); JSON, CSV and TOML give the runs.
+    `summary_only` (--summary): the summary alone, in any format. Without files, the
+    packaged bench set (linkcli.bench_problems, named bench/<name>.toml)."""
     if files:
         problems = [(path, None) for path in files]
     else:
@@ -172,39 +187,63 @@ def command(files: list[str], fmt: str, seeds: int, precision: int, debug: bool,
         for line in errors[path]:
             sys.stderr.write(one_line(line) + "\n")
     rows = [row for path in dict.fromkeys(files) if not errors[path] for row in rows_of[path]]
+    columns = SUMMARY_COLUMNS if summary_only else COLUMNS
+    shown = summary(rows) if summary_only else rows
     if fmt == "json":
         from linkcli.io.export import to_json
-        sys.stdout.write(to_json(rows, precision))
+        sys.stdout.write(to_json(shown, precision))
     elif fmt == "csv":
         from linkcli.io.csv_tables import to_csv
-        sys.stdout.write(to_csv(rows, precision) if rows else ",".join(COLUMNS) + "\n")
+        sys.stdout.write(to_csv(shown, precision) if shown else ",".join(columns) + "\n")
     elif fmt == "toml":
         from linkcli.io.export import to_toml
-        sys.stdout.write(to_toml({"bench": rows}, precision))
+        sys.stdout.write(to_toml({"summary" if summary_only else "bench": shown}, precision))
     else:
-        from rich import box
-        from rich.table import Table
-
-        from linkcli.io.report import console, fmt as fmt_value
-        t = Table(title="linkcli bench: run time against error", title_justify="left",
-                  box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
-        for c in COLUMNS:
-            t.add_column(c, justify="left" if c in ("problem", "method", "status") else "right",
-                         no_wrap=True)
-        for r in rows:
-            shown = dict(r, problem=one_line(os.path.splitext(os.path.basename(r["problem"]))[0]))
-            t.add_row(*(fmt_value(shown[c], precision) if shown[c] is not None else "-" for c in COLUMNS))
-        console(width=None if sys.stdout.isatty() else 140).print(t)
+        from linkcli.io.report import console
+        out = console(width=None if sys.stdout.isatty() else 400)  # tables are as wide as their cells
+        if not summary_only:
+            out.print(_table("linkcli bench: run time against error", rows, COLUMNS, precision))
+        out.print(_table("reliability over the seeds (within 1e-6 of the best known)", summary(rows),
+                         SUMMARY_COLUMNS, precision))
     return worst
 
 
-SUMMARY_COLUMNS = ("problem", "method", "budget", "seeds ok", "median seconds",
-                   "median evaluations", "best objective", "best_known", "worst gap")
+def _table(title: str, rows: list[dict], columns: tuple[str, ...], precision: int):
+    """A rich table of bench rows (problem names without folder and suffix)."""
+    from rich import box
+    from rich.table import Table
+
+    from linkcli.io.report import fmt as fmt_value
+    from linkcli.io.report import _compact
+    t = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
+    for c in columns:
+        t.add_column(c, justify="left" if c in ("problem", "method", "status") else "right")
+    for r in rows:
+        shown = dict(r, problem=one_line(os.path.splitext(os.path.basename(r["problem"]))[0]))
+        t.add_row(*(fmt_value(shown[c], precision) if shown[c] is not None else "-" for c in columns))
+    _compact(t)  # cells never wrap, headings at their words
+    return t
+
+
+SUMMARY_COLUMNS = ("problem", "method", "budget", "seeds", "within 1e-6", "ok but off",
+                   "not converged", "infeasible", "median gap", "worst gap", "median seconds",
+                   "median evaluations", "best objective", "best_known")
+WITHIN = 1e-6  # relative gap to the best known that counts as reaching it
+
+
+def within(row: dict) -> bool | None:
+    """Whether a run reached the best known: gap <= WITHIN (relative; absolute for a best
+    known of 0, see analysis.sections.gap); None without a best known or an objective."""
+    return None if row["gap"] is None else row["gap"] <= WITHIN
 
 
 def summary(rows: list[dict]) -> list[dict]:
-    """One row per (problem, method, budget) over the seeds: how many ended `ok`, the
-    median time and evaluations, the best objective and the worst gap."""
+    """One row per (problem, method, budget) over its seeds, in the order of the runs:
+    how many seeds reached the best known within 1e-6 ("k/n", "-" without a best known),
+    how many ended `ok` outside it (an optimum claimed that is not the best known), how
+    many ended not-converged or infeasible, the median and worst gap, the median seconds
+    and evaluations, and the best objective. Medians of an even count are the mean of the
+    middle two (statistics.median)."""
     from statistics import median
     groups: dict[tuple, list[dict]] = {}
     for r in rows:
@@ -214,15 +253,21 @@ def summary(rows: list[dict]) -> list[dict]:
         objs = [r["objective"] for r in rs if r["objective"] is not None]
         gaps = [r["gap"] for r in rs if r["gap"] is not None]
         evals = [r["evaluations"] for r in rs if r["evaluations"] is not None]
+        reached = [within(r) for r in rs]
+        known = rs[0]["best_known"] is not None
         out.append({
             "problem": os.path.splitext(os.path.basename(problem))[0], "method": method,
-            "budget": budget,
-            "seeds ok": f"{sum(r['status'] == 'ok' for r in rs)}/{len(rs)}",
+            "budget": budget, "seeds": len(rs),
+            "within 1e-6": f"{sum(bool(w) for w in reached)}/{len(rs)}" if known else None,
+            "ok but off": sum(r["status"] == "ok" and w is False for r, w in zip(rs, reached)),
+            "not converged": sum(r["status"] == "not-converged" for r in rs),
+            "infeasible": sum(r["status"] == "infeasible" for r in rs),
+            "median gap": median(gaps) if gaps else None,
+            "worst gap": max(gaps) if gaps else None,
             "median seconds": median(r["seconds"] for r in rs),
-            "median evaluations": int(median(evals)) if evals else None,
+            "median evaluations": median(evals) if evals else None,
             "best objective": min(objs) if objs else None,
             "best_known": rs[0]["best_known"],
-            "worst gap": max(gaps) if gaps else None,
         })
     return out
 

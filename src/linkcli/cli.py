@@ -373,12 +373,17 @@ def bench(files: List[Path] = typer.Argument(None, metavar="[FILE...]",
           seeds: int = typer.Option(3, "--seeds", metavar="N", help="Seeds per setting.", min=1),
           precision: int = typer.Option(4, "--precision", metavar="N",
                                         help="Significant digits in the output (1 .. 17).", min=1, max=17),
+          summary: bool = typer.Option(False, "--summary",
+                                       help="Only the reliability over the seeds, one row per problem "
+                                            "and method (any format); the table view shows it after "
+                                            "every run."),
           debug: bool = DEBUG, cluster: Optional[str] = CLUSTER) -> None:
-    """Time each solver setting against its error on a set of problems."""
+    """Time each solver setting against its error on a set of problems, and how reliably
+    its seeds reach the best known."""
     from linkcli import bench as benchmod
     with _interruptible():
         code = benchmod.command([str(f) for f in files or []], format.value, seeds, precision,
-                                debug, cluster)
+                                debug, cluster, summary_only=summary)
     raise typer.Exit(code)
 
 
