@@ -51,8 +51,10 @@ POLISHED_SCIPY = 2  # of those, polished (`search.polish`, stiffer penalties)
 REFINE_ITERATIONS = 400  # batched Levenberg-Marquardt on every variable before the polish
 MAX_DRAWS = {"free": 600, "prescribed": 2000}
 SCAN_SHARE = 0.6  # share of a round's budget for the draws
-ROUND_BUDGET = 500_000  # evaluations per round of the multistart (the whole budget if small)
-CONFIRM = 1e-3  # a round whose own best is within this (relative) of the best so far confirms it
+ROUND_BUDGET = 500_000  # evaluations of a round of the multistart, at most
+FIRST_ROUND = 100_000  # the first round's; each next one twice the last, up to ROUND_BUDGET
+MIN_ROUND = 40_000  # a smaller budget is one round
+CONFIRM = 1e-7  # a round whose own best is within this (relative) of the best so far confirms it
 IMPROVE = 1e-6  # a round improves the best when it lowers it by more than this (relative)
 MAX_STALE = 3  # rounds in a row without improvement that end the search
 MEMORY = 4_000_000  # Jacobian elements held at once by the batched stage
@@ -84,13 +86,14 @@ def solve(problem) -> Solution:
     reserve = min(SETTLE_EVALUATIONS, budget.total // SETTLE_SHARE) if polishes else 0
     budget.cap -= reserve  # the searches' part; the reserve is the final polish's
     rng = np.random.default_rng(opts.seed)
+    confirmed = True  # the global methods' own criteria; the multistart's: two rounds agree
     with np.errstate(all="ignore"):
         if not design.free.any():  # nothing to choose: the given linkage on the allowed branches
             signs = {"open": (-1.0,), "crossed": (1.0,)}.get(design.branch, (-1.0, 1.0))
             cands = [Candidate(design.lo.copy(), sg, 1.0, True) for sg in signs]
             budget.add(len(cands))
         elif method == "multistart":
-            cands = multistart(design, budget, rng)
+            cands, confirmed = multistart(design, budget, rng)
         elif method == "least-squares":
             cands = plain_multistart(design, budget, rng)
         else:
@@ -99,7 +102,7 @@ def solve(problem) -> Solution:
         budget.cap = budget.total
         if not violations and polishes:
             best = settled(design, budget, best)
-        return solution(problem, design, best, violations, method, budget)
+        return solution(problem, design, best, violations, method, budget, confirmed)
 
 
 def default_budget(method: str, points: int) -> int:
@@ -115,17 +118,24 @@ def exact_objective(design: Design) -> float:
 
 # ---------------------------------------------------------------- methods
 
-def multistart(design: Design, budget: Budget, rng) -> list[Candidate]:
+def multistart(design: Design, budget: Budget, rng) -> tuple[list[Candidate], bool]:
     """Rounds of `one_round` until an exact fit, a round whose own best lands within
-    CONFIRM of the best so far (the same optimum found again), MAX_STALE rounds in a row
-    that do not improve the best by more than IMPROVE, or the budget's end. Objectives are
-    compared while a candidate is feasible, total violations while none is."""
+    CONFIRM of the best so far (the same optimum found again from other starts), MAX_STALE
+    rounds in a row that do not improve the best by more than IMPROVE, or the budget's end.
+    Objectives are compared while a candidate is feasible, total violations while none is.
+    Returns the best few candidates and whether the best was confirmed: exact, found again
+    by a later round, or reached by two of the distinct candidates kept (`_found_twice`). A
+    search that ended otherwise found a different optimum from every start, and does not
+    claim its best is the optimum (status not-converged)."""
     found: list[Candidate] = []
     best = None
     stale = 0
+    confirmed = False
     exact = exact_objective(design)
+    size = FIRST_ROUND
     while True:
-        limit = budget.left if budget.left < 2 * ROUND_BUDGET else ROUND_BUDGET
+        limit = round_limit(budget.left, size)
+        size = min(2 * size, ROUND_BUDGET)  # a round that did not settle it: the next is larger
         with budget.limit(limit):
             new = one_round(design, budget, rng)
         mine = min((_rank(design, c) for c in new), default=None)
@@ -138,10 +148,32 @@ def multistart(design: Design, budget: Budget, rng) -> list[Candidate]:
             again = mine[0] == best[0] and abs(mine[k] - best[k]) <= CONFIRM * best[k] + tiny
             better = top[0] < best[0] or (top[0] == best[0] and top[k] < best[k] * (1 - IMPROVE) - tiny)
             stale = 0 if better else stale + 1
-            done |= again or stale >= MAX_STALE
+            confirmed = again and not better  # a better round is a new optimum, to confirm
+            done |= confirmed or stale >= MAX_STALE
         best = top if best is None or top < best else best
+        confirmed |= _found_twice(design, found, exact)
+        done |= confirmed
         if done or budget.left < ROUND_BUDGET // 4:
-            return found
+            return found, confirmed
+
+
+def round_limit(left: int, size: int) -> int:
+    """A round's evaluations: `size`; what is left when that is less than two rounds,
+    split in two while each half still holds MIN_ROUND (a second round can confirm)."""
+    if left >= 2 * size:
+        return size
+    return left // 2 if left >= 2 * MIN_ROUND else left
+
+
+def _found_twice(design: Design, found: list[Candidate], exact: float) -> bool:
+    """The best candidate is an exact fit, or a second one, from other starts (the best
+    few kept are distinct when drawn), ends within CONFIRM of it: the optimum found again."""
+    ranks = [_rank(design, c) for c in found[:2]]
+    if not ranks or ranks[0][0]:
+        return False
+    if ranks[0][2] <= exact:
+        return True
+    return len(ranks) == 2 and not ranks[1][0] and ranks[1][2] - ranks[0][2] <= CONFIRM * ranks[0][2]
 
 
 def one_round(design: Design, budget: Budget, rng) -> list[Candidate]:
@@ -330,7 +362,8 @@ def violations(design: Design, x, sign, s) -> list[tuple[str, float, str]]:
 
 # ---------------------------------------------------------------- the Solution
 
-def solution(problem, design: Design, best: Candidate, bad, method, budget) -> Solution:
+def solution(problem, design: Design, best: Candidate, bad, method, budget,
+             confirmed: bool = True) -> Solution:
     u = problem.meta.units
     x, sign, s = design.wrapped(best.x[None])[0], best.sign, best.s
     dd, a, b, c, px, py, gx, gy, gamma = (float(v) for v in x[:N_LINK])
@@ -355,7 +388,8 @@ def solution(problem, design: Design, best: Candidate, bad, method, budget) -> S
                "branch_defect": "branch" in names,
                "order_defect": "order" in names}
     notes = _notes(problem, design, x) + _reach_note(problem, design, x, err)
-    converged = bool(best.converged) or objective <= exact_objective(design)  # exact: nothing to add
+    exact = objective <= exact_objective(design)  # an exact fit: nothing to add
+    converged = (bool(best.converged) and confirmed) or exact
     solver = SolverRecord(method, problem.meta.solver.seed, budget.used, converged)
     n = design.n_targets
     if bad:
@@ -368,7 +402,10 @@ def solution(problem, design: Design, best: Candidate, bad, method, budget) -> S
                       f"{num(timing['input_sweep'])} {u.angle})")
         message = (f"{n} targets, {design.timing} timing: assembles at every target on the {branch} "
                    f"branch, without a branch change, and reaches them {order}")
-        if not converged and budget.left < max(1, budget.cap // 10):
+        if not converged and not confirmed:
+            message += ("; the search's rounds ended at different optima and none was found "
+                        "again: another seed or a larger budget may end lower")
+        elif not converged and budget.left < max(1, budget.cap // 10):
             message += "; the search stopped at its budget before the polish converged"
         elif not converged:
             message += ("; the local polish reached its iteration limit before meeting its "
