@@ -66,7 +66,8 @@ MULTISTART_STARTS = 4  # slsqp: local searches per branch
 SEED_PAIRS = 256  # start-angle pairs fitted by Freudenstein's equation (free starts)
 MAX_ROUNDS = 6  # auto: differential evolution rounds at most, per branch
 ROUND_GENERATIONS = 5  # auto: a further round needs the budget for this many generations
-IMPROVE = 1e-6  # relative: a round that gains less has found the best again
+IMPROVE = 1e-6  # relative: a round that gains less has not improved the best
+CONFIRM = 1e-7  # relative: a second polish ending this close to the best has found it again
 SEED_POLISHES = 3  # auto: Freudenstein designs polished besides the first round's best
 SEED_POLISH_STEPS = 60  # auto: a seed's polish gets this many Gauss-Newton steps' evaluations
 DISTINCT = 0.15  # slsqp: starts differ by this much in some variable (unit box)
@@ -102,6 +103,8 @@ class Search:
         self.branches = branches
         self.feasible: dict[str, Best] = {}
         self.least: dict[str, Best] = {}
+        self.ends: dict[str, list[float]] = {}  # per branch: the best feasible f of each polish
+        self._session: float = math.nan  # best feasible f of the polish under way (nan: none)
 
     @property
     def left(self) -> int:
@@ -124,6 +127,8 @@ class Search:
         ok = worst <= FEASIBLE
         if ok.any():
             i = int(np.argmin(np.where(ok, batch.f, np.inf)))
+            if not math.isnan(self._session):
+                self._session = min(self._session, float(batch.f[i]))
             best = self.feasible.get(branch)
             if best is None or batch.f[i] < best.f:
                 self.feasible[branch] = Best(float(batch.f[i]), float(worst[i]), float(batch.penalized[i]),
@@ -133,6 +138,27 @@ class Search:
         if best is None or batch.penalized[i] < best.penalized:
             self.least[branch] = Best(float(batch.f[i]), float(worst[i]), float(batch.penalized[i]),
                                       u[i].copy(), branch, v[i].copy())
+
+    def begin_polish(self) -> None:
+        self._session = math.inf
+
+    def end_polish_uncounted(self) -> None:
+        self._session = math.nan  # a polish going on from the best confirms nothing
+
+    def end_polish(self, branch: str) -> None:
+        """Record where the polish just run ended (its best feasible f), if anywhere feasible."""
+        if math.isfinite(self._session):
+            self.ends.setdefault(branch, []).append(self._session)
+        self._session = math.nan
+
+    def confirmed(self, branch: str) -> bool:
+        """Two local searches from different starts ended at the branch's best (within
+        CONFIRM, relative, and round-off of an exact fit): the optimum found again."""
+        best = self.feasible.get(branch)
+        if best is None:
+            return False
+        tol = CONFIRM * abs(best.f) + 1e-20
+        return sum(f <= best.f + tol for f in self.ends.get(branch, [])) >= 2
 
     def answer(self) -> Best:
         """The best feasible candidate of any branch, else the least violating one."""
@@ -212,15 +238,20 @@ class Local:
 
 
 def polish(search: Search, u0: np.ndarray, branch: str, evaluations: int,
-           gauss_newton_first: bool = True) -> bool:
+           gauss_newton_first: bool = True, independent: bool = True) -> bool:
     """The local solver of search.polish on one branch from u0 (unit box of the global
-    search), within `evaluations`; True if it converged."""
+    search), within `evaluations`; True if it converged. Where it ends counts towards
+    confirming the best (Search.confirmed) unless it went on from the best itself
+    (`independent` false)."""
     local = Local(search, branch, evaluations)
     model = search.model
+    search.begin_polish() if independent else search.end_polish_uncounted()
     try:
         return local_polish.polish(local, model.linear_units(model.values(u0))[0], gauss_newton_first)
     except BudgetSpent:
         return False
+    finally:
+        search.end_polish(branch)
 
 
 # ---------------------------------------------------------------- global stage
@@ -396,17 +427,18 @@ def multistart(search: Search, branch: str, evaluations: int, seed: int) -> bool
         done = polish(search, s_, branch, left // (len(starts) - k), gauss_newton_first=False)
         if improved(before, branch_best(search, branch)):
             converged = done
-    return converged
+    return converged and search.confirmed(branch)
 
 
 def auto(search: Search, branch: str, evaluations: int, seed: int) -> bool:
     """Rounds of differential evolution, each followed by the polish from its best,
-    until a round no longer improves on the best found or the budget is spent. The first
+    until a round no longer improves on the best and two local searches from different
+    starts have ended at it (Search.confirmed), or the budget is spent. The first
     round's population holds the best Freudenstein designs (start_pairs), and after its
     polish the best SEED_POLISHES distinct designs are polished too (the basins of a
     function generator are narrow in the start angles: a population can miss one that
     a design fitted there lands in). True if the polish that found the branch's best
-    converged."""
+    converged and the best was found twice (else the status is not-converged)."""
     n = search.model.n_variables
     stop = search.evaluations.used + evaluations
     seeds, _ = freudenstein_seeds(search, branch, min(SEED_PAIRS, evaluations // 8))
@@ -436,9 +468,9 @@ def auto(search: Search, branch: str, evaluations: int, seed: int) -> bool:
         gain, done = probe(search, branch, best, stop, min(stop, search.evaluations.total) - search.evaluations.used)
         if gain or improved(before, branch_best(search, branch)):
             converged = done  # this round found the best so far
-        else:
-            break  # it found the best again (or worse): enough
-    return converged
+        elif search.confirmed(branch):
+            break  # two local searches ended at the best: enough
+    return converged and search.confirmed(branch)
 
 
 def probe(search: Search, branch: str, start: np.ndarray, stop: int, evaluations: int):
@@ -451,7 +483,9 @@ def probe(search: Search, branch: str, start: np.ndarray, stop: int, evaluations
     if not improved(before, branch_best(search, branch)):
         return False, done
     if not done:
-        done = polish(search, search.start_of(branch), branch, (min(stop, search.evaluations.total) - search.evaluations.used) // 2)
+        done = polish(search, search.start_of(branch), branch,
+                      (min(stop, search.evaluations.total) - search.evaluations.used) // 2,
+                      independent=False)
     return True, done
 
 
@@ -505,10 +539,13 @@ def solve(problem: FunctionGenerationProblem) -> Solution:
     search.evaluations.total = search.evaluations.cap = budget  # the reserve joins what is left
     if not search.least:  # no candidate fitted in the shares: one at the centre of the box
         search.run(np.full((1, n), 0.5), branches[-1])
-    done = converged.get(search.answer().branch, False)
+    best_branch = search.answer().branch
+    done = converged.get(best_branch, False)
+    # auto and slsqp: the best must have been reached by two local searches (found twice)
+    found_twice = search.confirmed(best_branch) if opts.method in SETTLED and n > 0 else True
     if polishes:
         done = settle(search, done)
-    return build_solution(problem, model, search, done)
+    return build_solution(problem, model, search, done and found_twice, found_twice)
 
 
 def settle(search: Search, converged: bool) -> bool:
@@ -554,7 +591,8 @@ def settle(search: Search, converged: bool) -> bool:
 
 # ---------------------------------------------------------------- the report
 
-def build_solution(problem, model: Model, search: Search, converged: bool) -> Solution:
+def build_solution(problem, model: Model, search: Search, converged: bool,
+                   found_twice: bool = True) -> Solution:
     best = search.answer()
     sign = BRANCH_SIGN[best.branch]
     v = best.v[None, :]
@@ -573,6 +611,11 @@ def build_solution(problem, model: Model, search: Search, converged: bool) -> So
                           search.evaluations.used, bool(converged))
     if violations:
         status, message = Status.INFEASIBLE, "; ".join(violations)
+    elif not found_twice:
+        status = Status.NOT_CONVERGED
+        message = ("the best linkage found meets every constraint, but no second local search "
+                   f"ended at it within the budget ({search.budget} evaluations): another seed "
+                   "or a larger budget may end lower")
     elif not converged:
         status = Status.NOT_CONVERGED
         # no evaluation count here: it differs between machines (solver.evaluations has it)
