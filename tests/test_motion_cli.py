@@ -168,3 +168,26 @@ def test_the_vectorized_screen_agrees_with_the_core_check_on_random_linkages():
     res = screen(Free, poses, np.array(rows), np.array(phis), np.array(signs), 1.0, exact=False)
     got = np.stack([res["defects"]["branch"], res["defects"]["order"], res["full_turn"]], 1)
     assert np.array_equal(got, np.array(expect))
+
+
+def test_a_binding_transmission_window_is_held_by_the_least_squares_search():
+    """motion_many with [50, 130] deg over the full turn: the unconstrained fit falls to
+    49.0 deg, so the window binds; the search holds it (it used to filter only, and ended
+    infeasible). Checked here with the law of cosines: mu at rho = |d - a| is 50 deg, the
+    other extreme inside; the objective is above the unconstrained 0.0024668 but close."""
+    import math
+    results = []
+    for seed in ("0", "1"):
+        code, out, err = run_cli("synth", "problems/bench/motion_many_window.toml", "--format", "json",
+                                 "--precision", "12", "--seed", seed)
+        assert code == 0, err
+        rep = json.loads(out)
+        assert rep["status"] == "ok"
+        lk = rep["linkage"]
+        d, a, b, c = lk["ground"], lk["input"], lk["coupler"], lk["output"]
+        mu = lambda rho: math.degrees(math.acos((b * b + c * c - rho * rho) / (2 * b * c)))  # noqa: E731
+        assert mu(abs(d - a)) == pytest.approx(50.0, abs=1e-6)
+        assert 50.0 - 1e-9 <= mu(d + a) <= 130.0
+        assert 0.0024668 < rep["error"]["objective"] < 0.0024668 * 1.05
+        results.append(rep["error"]["objective"])
+    assert results[0] == pytest.approx(results[1], rel=1e-9)

@@ -26,6 +26,7 @@ from linkcli.mechanisms import four_bar as kin
 from linkcli.search.sampling import latin_hypercube
 
 from . import assemble
+from . import constraints as design_constraints
 from .burmester import burmester_dyads
 from .dyads import moving_pivots_for_ground
 from .poses import as_poses, characteristic_length
@@ -34,6 +35,9 @@ PENALTY = 10.0  # weight of the assembly violation (a length) in the residual ve
 CHUNK = 512  # population rows scored at once
 SETTLE_STEP = 3e-5  # unit box: the final polish's difference step (kkt.slopes)
 SETTLE_GAIN = 1e-9  # relative: the polished design may be this much worse (round-off)
+CONSTRAINT_WEIGHTS = (1e1, 1e3, 1e5)  # penalty weights of a Grashof or window violation in the
+# residual vector, each stiffer pass only while the polish leaves one (then the settle holds
+# the binding ones exactly)
 
 
 def default_bounds(poses):
@@ -191,6 +195,14 @@ def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
         for k in chosen:
             pool.append((sign, np.concatenate([starts[k], extra[k]])))
     free = hi > lo
+    scale = characteristic_length(poses)
+    grashof_held = grashof if grashof not in (None, "any") else None
+    m_cons = design_constraints.count(grashof_held, transmission, n)
+
+    def constraint_values(x):  # (..., m) g <= 0 feasible, length unit
+        phi = x[..., 10:] if t_angles is None else t_angles + x[..., 10:11]
+        return design_constraints.values(x, phi, grashof_held, transmission, scale)
+
     results, setups = [], []
     for sign, x0 in pool:
         if prescribed:
@@ -201,31 +213,48 @@ def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
         mask = np.concatenate([free, thi > tlo])
         x0 = np.clip(x0, lo_full, hi_full)
 
-        def fun(z, x0=x0, sign=sign):
+        def design(z, x0=x0):
             z = np.asarray(z, float)
             x = np.broadcast_to(x0, z.shape[:-1] + x0.shape).copy()
             x[..., mask] = z
-            return residuals(x, poses, sign, weight, t_angles)
+            return x
+
+        def fun(z, sign=sign):
+            return residuals(design(z), poses, sign, weight, t_angles)
+
+        def cons(z):
+            return constraint_values(design(z))
 
         z0 = x0[mask]
         span = hi_full[mask] - lo_full[mask]
         z0 = np.clip(z0, lo_full[mask] + 1e-12 * span, hi_full[mask] - 1e-12 * span)
-        sol = least_squares(fun, z0, jac=lambda z, fun=fun: central_jacobian(fun, z),
-                            bounds=(lo_full[mask], hi_full[mask]), method="trf",
-                            xtol=1e-15, ftol=1e-15, gtol=1e-15,
-                            max_nfev=max(1, min(400 * (len(z0) + 1), counter.left // (2 * len(z0) + 1))))
-        counter.add(sol.nfev + 2 * len(z0) * (sol.njev or 0))  # a Jacobian costs 2 dim evaluations
+        passes = [None] + (list(CONSTRAINT_WEIGHTS) if m_cons else [])
+        for penalty in passes:  # unconstrained first; stiffer penalties while one is broken
+            if penalty is not None and np.all(cons(z0) <= 0.0):
+                break
+
+            def penalized(z, penalty=penalty):
+                r = fun(z)
+                return r if penalty is None else np.concatenate([r, penalty * np.maximum(0.0, cons(z))], -1)
+
+            sol = least_squares(penalized, z0, jac=lambda z, f=penalized: central_jacobian(f, z),
+                                bounds=(lo_full[mask], hi_full[mask]), method="trf",
+                                xtol=1e-15, ftol=1e-15, gtol=1e-15,
+                                max_nfev=max(1, min(400 * (len(z0) + 1), counter.left // (2 * len(z0) + 1))))
+            counter.add(sol.nfev + 2 * len(z0) * (sol.njev or 0))  # a Jacobian costs 2 dim evaluations
+            z0 = sol.x
         x = x0.copy()
-        x[mask] = sol.x
+        x[mask] = z0
         results.append(_evaluate(x, poses, sign, weight, t_angles, grashof, transmission))
         results[-1]["converged"] = bool(sol.status > 0)
-        setups.append((fun, x, mask, lo_full, hi_full, sign))
+        setups.append((fun, cons if m_cons else None, x, mask, lo_full, hi_full, sign, scale))
     order = sorted(range(len(results)), key=lambda i: (not results[i]["feasible"], results[i]["objective"]))
-    if order and results[order[0]]["feasible"]:
+    if order and (results[order[0]]["feasible"] or m_cons):
         settled = _settle(counter, *setups[order[0]])
         if settled is not None:
-            out = _evaluate(settled, poses, setups[order[0]][5], weight, t_angles, grashof, transmission)
-            if out["feasible"] and out["objective"] <= results[order[0]]["objective"] * (1.0 + SETTLE_GAIN):
+            out = _evaluate(settled, poses, setups[order[0]][6], weight, t_angles, grashof, transmission)
+            if out["feasible"] and (not results[order[0]]["feasible"] or
+                                    out["objective"] <= results[order[0]]["objective"] * (1.0 + SETTLE_GAIN)):
                 out["converged"] = True
                 results[order[0]] = out
     ranked = [results[i] for i in order]
@@ -237,12 +266,14 @@ def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
     return best
 
 
-def _settle(counter, fun, x, mask, lo, hi, sign):
+def _settle(counter, fun, cons, x, mask, lo, hi, sign, scale):
     """The best polished design after the final polish (linkcli.search.kkt): Gauss-Newton
-    on its residuals in the unit box of its free variables, the bounds that bind held, to
-    round-off, so that the printed digits are the optimum's and not those of least_squares'
-    path (its SVD follows the BLAS kernel). None when it does not converge or the budget
-    has no room (evaluations counted against `counter`)."""
+    on its residuals in the unit box of its free variables, the bounds and the constraints
+    (`cons`, g <= 0, or None) that bind held, to round-off, so that the printed digits are
+    the optimum's and not those of least_squares' path (its SVD follows the BLAS kernel).
+    A penalty polish ends just outside a binding constraint; here it binds exactly. None
+    when it does not converge or the budget has no room (evaluations counted against
+    `counter`)."""
     from linkcli.search import kkt, linalg
     from linkcli.search.budget import BudgetSpent
 
@@ -250,12 +281,17 @@ def _settle(counter, fun, x, mask, lo, hi, sign):
 
     def values(u):
         counter.spend(len(u))
-        return fun(lo[mask] + np.clip(u, 0.0, 1.0) * width)
+        z = lo[mask] + np.clip(u, 0.0, 1.0) * width
+        r = fun(z)
+        return r if cons is None else np.concatenate([r, -cons(z) / scale], -1)
+
+    m = len(fun(x[mask]))
 
     def evaluate(u):
-        r, jac = kkt.slopes(values, u, step=SETTLE_STEP)
-        return kkt.Point(float(linalg.dot(r, r)), 2.0 * linalg.matvec(jac.T, r), np.zeros(0),
-                         np.zeros((0, len(u))), h=2.0 * linalg.gram(jac))
+        v, jac = kkt.slopes(values, u, step=SETTLE_STEP)
+        r, jr = v[:m], jac[:m]
+        return kkt.Point(float(linalg.dot(r, r)), 2.0 * linalg.matvec(jr.T, r), v[m:], jac[m:],
+                         h=2.0 * linalg.gram(jr))
 
     try:
         out = kkt.settle(evaluate, (x[mask] - lo[mask]) / width)
