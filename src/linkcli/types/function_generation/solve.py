@@ -14,12 +14,14 @@ Freudenstein's equation, linear in its three ratios, gives a design per start pa
 least squares (Model.freudenstein). The best of them seed the searches.
 
 Strategies, by `[solver] method`:
-- `auto`: rounds of seeded scipy differential evolution with `vectorized=True` (one call
+- `auto`: the `slsqp` multistart below on 60 % of each branch's evaluations, then rounds
+  of seeded scipy differential evolution with `vectorized=True` (one call
   scores the whole population at every point) on the exact L1 penalty
   f + W * sum(violations), each followed by the local polish (linkcli.search.polish: Gauss-Newton
   SQP steps, then SLSQP with the constraints explicit) from its best; the first round's
   population holds the best Freudenstein designs, and the best SEED_POLISHES of those
-  are polished too; rounds stop when one no longer improves on the best found;
+  are polished too; rounds stop when one no longer improves on the best found and two
+  local searches from different starts have ended at it (else: not-converged);
 - `slsqp`: SLSQP alone (search.polish stage 2) from the best distinct points of a seeded
   Latin hypercube sample and of the Freudenstein designs;
 - `differential-evolution`, `dual-annealing`: the scipy global method alone, on the penalty.
@@ -63,11 +65,13 @@ DE_ALONE_TOL = 1e-6  # the same for differential evolution without a polish
 POLISH_SHARE = 0.5  # of a round's budget kept for the local polish (auto)
 MULTISTART_SAMPLE = 20  # slsqp: Latin hypercube points per variable
 MULTISTART_STARTS = 4  # slsqp: local searches per branch
+MULTISTART_SHARE = 0.6  # auto: share of a branch's evaluations for the slsqp multistart first
 SEED_PAIRS = 256  # start-angle pairs fitted by Freudenstein's equation (free starts)
 MAX_ROUNDS = 6  # auto: differential evolution rounds at most, per branch
 ROUND_GENERATIONS = 5  # auto: a further round needs the budget for this many generations
 IMPROVE = 1e-6  # relative: a round that gains less has not improved the best
-CONFIRM = 1e-7  # relative: a second polish ending this close to the best has found it again
+CONFIRM = 1e-6  # relative: a second polish ending this close to the best has found it again
+EXACT_RMS = 1e-9  # rad: an rms error this small is an exact fit (round-off)
 SEED_POLISHES = 3  # auto: Freudenstein designs polished besides the first round's best
 SEED_POLISH_STEPS = 60  # auto: a seed's polish gets this many Gauss-Newton steps' evaluations
 DISTINCT = 0.15  # slsqp: starts differ by this much in some variable (unit box)
@@ -157,6 +161,8 @@ class Search:
         best = self.feasible.get(branch)
         if best is None:
             return False
+        if best.f <= len(self.model.t) * EXACT_RMS ** 2:  # an exact fit: nothing lower to find
+            return True
         tol = CONFIRM * abs(best.f) + 1e-20
         return sum(f <= best.f + tol for f in self.ends.get(branch, [])) >= 2
 
@@ -431,6 +437,18 @@ def multistart(search: Search, branch: str, evaluations: int, seed: int) -> bool
 
 
 def auto(search: Search, branch: str, evaluations: int, seed: int) -> bool:
+    """`multistart` (SLSQP from the best distinct Latin hypercube points and Freudenstein
+    designs) on MULTISTART_SHARE of the branch's evaluations, then `evolution_rounds` on
+    the rest: the local searches from spread starts find narrow basins a population
+    misses (log_generator_grashof's crossed branch), the rounds the basins between them.
+    True if the search that found the branch's best converged and the best was found
+    twice."""
+    start = search.evaluations.used
+    multistart(search, branch, int(MULTISTART_SHARE * evaluations), seed)
+    return evolution_rounds(search, branch, evaluations - (search.evaluations.used - start), seed)
+
+
+def evolution_rounds(search: Search, branch: str, evaluations: int, seed: int) -> bool:
     """Rounds of differential evolution, each followed by the polish from its best,
     until a round no longer improves on the best and two local searches from different
     starts have ended at it (Search.confirmed), or the budget is spent. The first
