@@ -53,7 +53,7 @@ MAX_DRAWS = {"free": 600, "prescribed": 2000}
 SCAN_SHARE = 0.6  # share of a round's budget for the draws
 ROUND_BUDGET = 500_000  # evaluations of a round of the multistart, at most
 FIRST_ROUND = 100_000  # the first round's; each next one twice the last, up to ROUND_BUDGET
-MIN_ROUND = 40_000  # a smaller budget is one round
+MIN_ROUND = 60_000  # a budget below two of these is one round
 CONFIRM = 1e-7  # a round whose own best is within this (relative) of the best so far confirms it
 IMPROVE = 1e-6  # a round improves the best when it lowers it by more than this (relative)
 MAX_STALE = 3  # rounds in a row without improvement that end the search
@@ -153,7 +153,7 @@ def multistart(design: Design, budget: Budget, rng) -> tuple[list[Candidate], bo
         best = top if best is None or top < best else best
         confirmed |= _found_twice(design, found, exact)
         done |= confirmed
-        if done or budget.left < ROUND_BUDGET // 4:
+        if done or budget.left < MIN_ROUND // 2:  # too little left for a round that could settle it
             return found, confirmed
 
 
