@@ -24,8 +24,9 @@ exact kinematics (`violations`); a violation makes the status infeasible, named 
 
 from __future__ import annotations
 
+import itertools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -75,6 +76,7 @@ class Candidate:
     sign: float
     s: float
     converged: bool
+    round: int = 0  # the multistart round that found it
 
 
 def solve(problem) -> Solution:
@@ -124,7 +126,7 @@ def multistart(design: Design, budget: Budget, rng) -> tuple[list[Candidate], bo
     rounds in a row that do not improve the best by more than IMPROVE, or the budget's end.
     Objectives are compared while a candidate is feasible, total violations while none is.
     Returns the best few candidates and whether the best was confirmed: exact, found again
-    by a later round, or reached by two of the distinct candidates kept (`_found_twice`). A
+    by a later round (its own best, or the next best kept, `_found_twice`). A
     search that ended otherwise found a different optimum from every start, and does not
     claim its best is the optimum (status not-converged)."""
     found: list[Candidate] = []
@@ -133,11 +135,11 @@ def multistart(design: Design, budget: Budget, rng) -> tuple[list[Candidate], bo
     confirmed = False
     exact = exact_objective(design)
     size = FIRST_ROUND
-    while True:
+    for index in itertools.count():
         limit = round_limit(budget.left, size)
         size = min(2 * size, ROUND_BUDGET)  # a round that did not settle it: the next is larger
         with budget.limit(limit):
-            new = one_round(design, budget, rng)
+            new = [replace(c, round=index) for c in one_round(design, budget, rng)]
         mine = min((_rank(design, c) for c in new), default=None)
         found = sorted(found + new, key=lambda c: _rank(design, c))[:POLISHED]
         top = _rank(design, found[0])
@@ -166,14 +168,16 @@ def round_limit(left: int, size: int) -> int:
 
 
 def _found_twice(design: Design, found: list[Candidate], exact: float) -> bool:
-    """The best candidate is an exact fit, or a second one, from other starts (the best
-    few kept are distinct when drawn), ends within CONFIRM of it: the optimum found again."""
+    """The best candidate is an exact fit, or the next one, found by another round (other
+    draws: two starts of one round can be led into one basin by its shared stages), ends
+    within CONFIRM of it: the optimum found again."""
     ranks = [_rank(design, c) for c in found[:2]]
     if not ranks or ranks[0][0]:
         return False
     if ranks[0][2] <= exact:
         return True
-    return len(ranks) == 2 and not ranks[1][0] and ranks[1][2] - ranks[0][2] <= CONFIRM * ranks[0][2]
+    return (len(ranks) == 2 and not ranks[1][0] and found[0].round != found[1].round
+            and ranks[1][2] - ranks[0][2] <= CONFIRM * ranks[0][2])
 
 
 def one_round(design: Design, budget: Budget, rng) -> list[Candidate]:
