@@ -175,13 +175,17 @@ def same_lengths(x: float, y: float) -> bool:
 
 def grashof(a, b, c, d) -> dict:
     """Grashof class of one linkage with the figures that decide it."""
+    from linkcli.noise import same
     names = {"input": a, "coupler": b, "output": c, "ground": d}
-    order = sorted(names, key=lambda k: (names[k], ("input", "coupler", "output", "ground").index(k)))
     vals = sorted(names.values())
+    # lengths equal within the tie rule (noise.same, relative 1e-9) are one length: the
+    # first in the order input, coupler, output, ground is named, whatever the round-off
+    shortest = next(k for k in names if same(names[k], vals[0]))
+    longest = next(k for k in names if same(names[k], vals[3]))
     return {
         "class": GRASHOF_CLASSES[int(grashof_code(a, b, c, d))],
-        "shortest": order[0],
-        "longest": order[-1],
+        "shortest": shortest,
+        "longest": longest,
         "s_plus_l": vals[0] + vals[3],
         "p_plus_q": vals[1] + vals[2],
     }

@@ -80,7 +80,7 @@ FEASIBLE = 1e-8  # largest violation (rad, or fraction of L) accepted as feasibl
 SETTLE_EVALUATIONS = 1000  # the final KKT polish's reserve in the budget, at most,
 SETTLE_SHARE = 20  # and at most this fraction (1/20) of it
 SETTLED = ("auto", "slsqp")  # methods whose result is polished (a global method alone is not)
-SETTLE_GAIN = 1e-7  # relative: the polished design (on its constraints) may be this much
+SETTLE_GAIN = 1e-6  # relative: the polished design (on its constraints) may be this much
 # above a best one that used the FEASIBLE allowance
 AT_BOUND = 1e-6  # a free value this close to a bound (unit box) is "at" it (a note)
 
@@ -409,7 +409,8 @@ def improved(before: tuple, after: tuple) -> bool:
     return after[0] < before[0] or (after[0] == before[0] and after[1] < before[1] - IMPROVE * abs(before[1]) - 1e-20)
 
 
-def multistart(search: Search, branch: str, evaluations: int, seed: int) -> bool:
+def multistart(search: Search, branch: str, evaluations: int, seed: int,
+               gauss_newton_first: bool = False) -> bool:
     """SLSQP (polish) from the best distinct points of a Latin hypercube sample and of
     the Freudenstein designs; converged if the search that found the best converged."""
     n = search.model.n_variables
@@ -430,7 +431,7 @@ def multistart(search: Search, branch: str, evaluations: int, seed: int) -> bool
         if left <= 2 * n + 1:
             break
         before = branch_best(search, branch)
-        done = polish(search, s_, branch, left // (len(starts) - k), gauss_newton_first=False)
+        done = polish(search, s_, branch, left // (len(starts) - k), gauss_newton_first=gauss_newton_first)
         if improved(before, branch_best(search, branch)):
             converged = done
     return converged and search.confirmed(branch)
@@ -444,7 +445,9 @@ def auto(search: Search, branch: str, evaluations: int, seed: int) -> bool:
     True if the search that found the branch's best converged and the best was found
     twice."""
     start = search.evaluations.used
-    multistart(search, branch, int(MULTISTART_SHARE * evaluations), seed)
+    # Gauss-Newton first (BLAS-free): SLSQP alone from far starts takes paths, and basins,
+    # that follow the BLAS kernel's round-off
+    multistart(search, branch, int(MULTISTART_SHARE * evaluations), seed, gauss_newton_first=True)
     return evolution_rounds(search, branch, evaluations - (search.evaluations.used - start), seed)
 
 

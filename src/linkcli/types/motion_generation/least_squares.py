@@ -229,9 +229,11 @@ def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
         span = hi_full[mask] - lo_full[mask]
         z0 = np.clip(z0, lo_full[mask] + 1e-12 * span, hi_full[mask] - 1e-12 * span)
         passes = [None] + (list(CONSTRAINT_WEIGHTS) if m_cons else [])
+        penalized = False
         for penalty in passes:  # unconstrained first; stiffer penalties while one is broken
             if penalty is not None and np.all(cons(z0) <= 0.0):
                 break
+            penalized = penalty is not None
 
             def penalized(z, penalty=penalty):
                 r = fun(z)
@@ -247,16 +249,26 @@ def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
         x[mask] = z0
         results.append(_evaluate(x, poses, sign, weight, t_angles, grashof, transmission))
         results[-1]["converged"] = bool(sol.status > 0)
+        results[-1]["penalized"] = penalized
         setups.append((fun, cons if m_cons else None, x, mask, lo_full, hi_full, sign, scale))
     order = sorted(range(len(results)), key=lambda i: (not results[i]["feasible"], results[i]["objective"]))
-    if order and (results[order[0]]["feasible"] or m_cons):
-        settled = _settle(counter, *setups[order[0]])
+    # the best is settled; with constraints every candidate is (a penalty polish ends at a
+    # point whose last digits follow round-off, and the candidates are listed)
+    for i in (order if m_cons else order[:1]):
+        if not (results[i]["feasible"] or m_cons):
+            continue
+        settled = _settle(counter, *setups[i])
         if settled is not None:
-            out = _evaluate(settled, poses, setups[order[0]][6], weight, t_angles, grashof, transmission)
-            if out["feasible"] and (not results[order[0]]["feasible"] or
-                                    out["objective"] <= results[order[0]]["objective"] * (1.0 + SETTLE_GAIN)):
-                out["converged"] = True
-                results[order[0]] = out
+            out = _evaluate(settled, poses, setups[i][6], weight, t_angles, grashof, transmission)
+            if out["feasible"] and (not results[i]["feasible"] or
+                                    out["objective"] <= results[i]["objective"] * (1.0 + SETTLE_GAIN)):
+                out["converged"] = out["settled"] = True
+                results[i] = out
+    order = sorted(range(len(results)), key=lambda i: (not results[i]["feasible"], results[i]["objective"]))
+    if m_cons:  # listed: the best, and the others unless a penalty pass ended them and the
+        # final polish did not settle them (their last digits follow round-off along the penalty)
+        order = order[:1] + [i for i in order[1:]
+                             if results[i].get("settled") or not results[i].get("penalized")]
     ranked = [results[i] for i in order]
     best = dict(ranked[0])
     best["angle_weight"] = weight
