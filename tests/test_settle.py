@@ -132,3 +132,23 @@ def test_settle_is_deterministic_and_independent_of_the_start_within_its_basin()
     again = kkt.settle(point, expected + np.array([1e-6, -2e-6])).u
     assert again.tobytes() == ends[0].tobytes()
     assert math.isclose(float(np.sum(expected)), 0.75)
+
+
+def test_settle_with_two_active_constraints_that_coincide_on_the_free_variables():
+    # min (x - 0.9)^2 + (y - 0.6)^2 + (z - 1.3)^2 in the unit box subject to
+    # c1 = 0.5 - x - 0.2 z >= 0 and c2 = 0.7 - x - 0.4 z >= 0. z sits on its upper bound 1
+    # (the gradient pushes out), where both rows read 0.3 - x: the KKT matrix holding both
+    # is singular (arc6_timed's two Grashof inequalities once ground and output are at
+    # their bounds); one of them carries the multiplier. Closed form: (0.3, 0.6, 1).
+    def point(u):
+        x, y, z = u
+        return kkt.Point((x - 0.9) ** 2 + (y - 0.6) ** 2 + (z - 1.3) ** 2,
+                         np.array([2 * (x - 0.9), 2 * (y - 0.6), 2 * (z - 1.3)]),
+                         np.array([0.5 - x - 0.2 * z, 0.7 - x - 0.4 * z]),
+                         np.array([[-1.0, 0.0, -0.2], [-1.0, 0.0, -0.4]]), h=2.0 * np.eye(3))
+
+    out = kkt.settle(point, np.array([0.3, 0.5, 1.0]))
+    assert out.converged
+    assert_allclose(out.u, [0.3, 0.6, 1.0], atol=1e-12)
+    assert out.worst <= 1e-12
+    assert kkt.independent_rows(np.array([[-1.0, 0.0], [-1.0, 0.0], [0.0, 2.0]])) == [0, 2]

@@ -50,6 +50,8 @@ RIDGE = 1e-12  # relative ridge on H (a flat direction, a continuum of optima)
 SIGN_TOL = 1e-10  # a multiplier below -SIGN_TOL * (|g| + 1) has the wrong sign
 ROUND_OFF = 1e-13  # relative change of the merit that is round-off
 FEASIBLE = 1e-10  # an inactive constraint may fall this far below 0
+DEPENDENT = 1e-8  # an active gradient with less than this share of its norm outside the
+# span of the others' adds no condition (finite-difference slopes are exact to ~1e-10)
 
 
 @dataclass
@@ -185,22 +187,46 @@ def _kkt_residual(p: Point, rows, lam, free) -> float:
 
 def _kkt_step(h, g, a, c, free):
     """The Newton-KKT step over the free variables (zero on the others) and the new
-    multipliers, or (None, None) if the system is singular."""
-    k, m = len(free), len(c)
+    multipliers, or (None, None) if the system is singular. Active constraints whose
+    gradients over the free variables depend on the others' (two Grashof inequalities
+    that coincide once the lengths at their bounds are held) are left out of the system
+    with multiplier 0: the kept ones' linearization holds them too."""
+    k = len(free)
+    af = a[:, free]
+    rows = independent_rows(af)
+    m = len(rows)
     hf = h[np.ix_(free, free)]
     ridge = RIDGE * max(float(np.max(np.abs(np.diag(hf)), initial=0.0)), 1e-300)
     kkt = np.zeros((k + m, k + m))
     kkt[:k, :k] = hf + ridge * np.eye(k)
-    af = a[:, free]
-    kkt[:k, k:] = -af.T
-    kkt[k:, :k] = af
-    rhs = np.concatenate([-g[free], -c])
+    kkt[:k, k:] = -af[rows].T
+    kkt[k:, :k] = af[rows]
+    rhs = np.concatenate([-g[free], -c[rows]])
     sol = linalg.solve(kkt, rhs)
     if not np.all(np.isfinite(sol)):
         return None, None
     step = np.zeros(len(g))
     step[free] = sol[:k]
-    return step, sol[k:]
+    lam = np.zeros(len(c))
+    lam[rows] = sol[k:]
+    return step, lam
+
+
+def independent_rows(a: np.ndarray, tol: float = DEPENDENT) -> list[int]:
+    """Indices of the rows of a (m, n), in order, each of which keeps more than `tol` of
+    its norm after projection on the rows kept before it (Gram-Schmidt, done twice)."""
+    kept, basis = [], []
+    for i, row in enumerate(a):
+        norm = float(np.sqrt(linalg.dot(row, row)))
+        v = row.copy()
+        for _ in range(2):
+            for q in basis:
+                v = v - linalg.dot(v, q) * q
+        rest = float(np.sqrt(linalg.dot(v, v)))
+        if rest > tol * norm:
+            kept.append(i)
+            basis.append(v / rest)
+    return kept
 
 
 def _lagrangian_hessian(evaluate, u, rows, lam, h_step):
