@@ -152,3 +152,14 @@ def test_settle_with_two_active_constraints_that_coincide_on_the_free_variables(
     assert_allclose(out.u, [0.3, 0.6, 1.0], atol=1e-12)
     assert out.worst <= 1e-12
     assert kkt.independent_rows(np.array([[-1.0, 0.0], [-1.0, 0.0], [0.0, 2.0]])) == [0, 2]
+
+
+@pytest.mark.parametrize("n", [1, 3, 9, 12])
+def test_solve_spd_matches_lapack_and_marks_indefinite_systems(n):
+    rng = np.random.default_rng(10 + n)
+    j = rng.normal(size=(30, 2 * n, n))
+    a = np.einsum("bmi,bmj->bij", j, j) + 1e-3 * np.eye(n)  # damped normal equations
+    b = rng.normal(size=(30, n))
+    assert_allclose(linalg.solve_spd(a, b), np.linalg.solve(a, b[..., None])[..., 0], rtol=1e-9, atol=1e-9)
+    indefinite = np.array([np.diag([1.0] * (n - 1) + [-1.0]), np.zeros((n, n))])
+    assert np.all(np.isnan(linalg.solve_spd(indefinite, np.ones((2, n)))))

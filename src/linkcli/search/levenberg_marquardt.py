@@ -70,7 +70,7 @@ def batch_lm(problem: BoxedLeastSquares, z, iterations: int, reserve: int = 0):
         diag = np.einsum("nkk->nk", h)
         damp = lam[rows, None] * (diag + 1e-12 * diag.max(axis=1, keepdims=True)) + frozen + 1e-300
         a = h + np.einsum("nk,kl->nkl", damp, np.eye(k))
-        step = -linalg.solve(a, g)
+        step = -linalg.solve_spd(a, g)
         step = np.nan_to_num(step) * keep
         znew = np.clip(zr + step, lo, hi)
         rnew = problem.residuals(znew, rows)

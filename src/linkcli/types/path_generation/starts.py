@@ -252,7 +252,7 @@ def bounded_lstsq(h: np.ndarray, rhs: np.ndarray, lo: np.ndarray, hi: np.ndarray
         r = rhs - np.einsum("nij,nj->ni", h, value * held)
         a = np.where(free[:, :, None] & free[:, None, :], h, 0.0) + np.where(held[:, :, None] & eye, 1.0, 0.0)
         b = np.where(free, r, value)
-        y = np.nan_to_num(linalg.solve(a, b))
+        y = np.nan_to_num(linalg.solve_spd(a, b))
         low, high = free & (y < lo), free & (y > hi)
         if not (low.any() or high.any()):
             break
