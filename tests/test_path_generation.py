@@ -554,3 +554,37 @@ def test_prescribed_angles_across_the_seam_are_taken_in_motion_order(tmp_path):
     assert code == 0, err
     assert rep["error"]["objective"] < 1e-12
     assert rep["timing"]["direction"] == "ccw" and rep["timing"]["input_sweep"] == pytest.approx(80.0)
+
+
+def test_jacobian_next_to_a_dead_point_matches_a_fine_difference():
+    """arc6_timed's optimum puts the last target 3.8e-5 from the extended dead point
+    (rho = b + c), where the coupler point moves like the square root of that distance:
+    a difference step of 8e-6 straddles the bend. The search's Jacobian column for the
+    coupler must match a central difference 10,000 times finer (computed here)."""
+    import numpy as np
+
+    from linkcli.io.load import load
+    from linkcli.io.safe_read import read_problem_bytes
+    from linkcli.search.budget import Budget
+    from linkcli.types.path_generation.model import build
+    from linkcli.types.path_generation.search import Space
+
+    path = str(ROOT / "problems" / "bench" / "arc6_timed.toml")
+    design = build(load(path, read_problem_bytes(path)))
+    x = np.array([49.99998191, 1.34853992, 1.348564, 49.9999963, 11.38422653, 4.44334213,
+                  10.19462745, -3.694361, -0.06738384, 0.0])
+    sign, s = np.array([-1.0]), np.array([1.0])
+    _, pose, _ = design.points(x[None], sign, s)
+    slack = float(x[2] + x[3] - pose.rho[0, -1])
+    assert 1e-5 < slack < 1e-4  # next to the dead point, still assembled
+    space = Space(design, Budget(10**6))
+    z = space.free(x[None])
+    r0 = space.residuals(z, sign, s, 0.0)
+    jac = space.jacobian(z, sign, s, 0.0, r0)[0]
+    col = list(space.idx).index(2)  # the coupler length
+    h = 1e-9
+    up, down = z.copy(), z.copy()
+    up[0, col] += h
+    down[0, col] -= h
+    fine = (space.residuals(up, sign, s, 0.0) - space.residuals(down, sign, s, 0.0))[0] / (2 * h)
+    assert np.max(np.abs(jac[:, col] - fine)) <= 1e-3 * np.max(np.abs(fine))

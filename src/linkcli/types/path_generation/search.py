@@ -36,6 +36,10 @@ SETTLE_STEP = 3e-5  # unit box: the final polish's difference step (kkt.slopes).
 # lie in flat valleys that turn a slope's truncation error (~ step^4) into a shift of the
 # optimum: at 1e-4 closed18_timed's ground moves in the 6th digit, at 3e-5 in the 8th, while
 # the round-off left (~ eps / step) keeps seeds within 1e-9 of each other
+NONLINEAR = 0.01  # a Jacobian column whose second difference exceeds this share of the first
+SHRINK = 16  # is taken again with a step this much smaller,
+SHRINKS = 3  # at most this many times
+ROUND_OFF = 1e-13  # dimensionless residual differences this small are round-off
 LINEAR = [4, 5, 6, 7]  # px, py, gx, gy: linear in the coupler point once the rest is set
 
 
@@ -91,7 +95,8 @@ class Space:
 
     def jacobian(self, z, sign, s, weight, r0):
         """(N, m, k) Jacobians by central differences (one-sided, second order, where a
-        variable sits on a bound), the N * 2k shifted candidates as one batch."""
+        variable sits on a bound), the N * 2k shifted candidates as one batch; on every
+        variable (no projection) `_sharpened` where the step misleads."""
         n, k = z.shape
         h = self.step_sizes(z)
         width = np.where(np.isfinite(self.hi - self.lo), self.hi - self.lo, 1.0)
@@ -108,8 +113,51 @@ class Space:
         rr = rr.reshape(n, 2 * k, -1)
         r1, r2 = rr[:, :k], rr[:, k:]
         central = (r1 - r2) / (2 * h[:, :, None])
+        if not self.project:  # the refinement on every variable (the batched field stage
+            # keeps plain central differences: there the rules below cost more than they gain)
+            central = self._sharpened(z, sign, s, weight, r0, r1, r2, h, edge, central)
         onesided = (4 * r1 - r2 - 3 * r0[:, None, :]) / (2 * (sgn * h)[:, :, None])
         return np.transpose(np.where(edge[:, :, None], onesided, central), (0, 2, 1))
+
+    def _sharpened(self, z, sign, s, weight, r0, r1, r2, h, edge, central):
+        """The central-difference columns (N, k, m) made faithful where a step of the usual
+        size misleads: a column whose second difference exceeds NONLINEAR of its first
+        (the step spans a bend smaller than itself: a target next to a dead point, where
+        the coupler moves like the square root of the distance to it) is taken again
+        with a step SHRINK smaller, at most SHRINKS times; and a violated constraint's
+        penalty (nonzero here) that vanishes on one side of the step gets the slope on
+        this side of its kink, not half of it (the search would crawl along the active
+        constraint). A penalty max(0, g) that is 0 at one of the three points is left
+        out of the bend test: no smaller step resolves a kink."""
+        k = z.shape[1]
+        fit = 2 * self.design.n_targets  # the target errors: smooth wherever assembled
+        h = h.copy()
+        for _ in range(SHRINKS):
+            smooth = (r1 != 0.0) & (r2 != 0.0) & (r0 != 0.0)[:, None, :]
+            smooth[:, :, :fit] = True
+            noise = ROUND_OFF * (1.0 + _spread(r0))[:, None]
+            bend = _spread(np.where(smooth, r1 - 2.0 * r0[:, None, :] + r2, 0.0))
+            curved = ~edge & (bend > NONLINEAR * _spread(np.where(smooth, r1 - r2, 0.0)) + noise)
+            if not curved.any():
+                break
+            rows, cols = np.nonzero(curved)
+            h[rows, cols] /= SHRINK
+            zs = np.repeat(z[rows][:, None, :], 2, axis=1)
+            zs[np.arange(len(rows)), 0, cols] += h[rows, cols]
+            zs[np.arange(len(rows)), 1, cols] -= h[rows, cols]
+            rs = self.residuals(zs.reshape(-1, k), np.repeat(sign[rows], 2), np.repeat(s[rows], 2), weight)
+            rs = rs.reshape(len(rows), 2, -1)
+            r1, r2, central = r1.copy(), r2.copy(), central.copy()
+            r1[rows, cols], r2[rows, cols] = rs[:, 0], rs[:, 1]
+            central[rows, cols] = (rs[:, 0] - rs[:, 1]) / (2 * h[rows, cols][:, None])
+        t0, hh = r0[:, None, :], h[:, :, None]
+        central = np.where((t0 != 0.0) & (r2 == 0.0) & (r1 != 0.0), (r1 - t0) / hh, central)
+        return np.where((t0 != 0.0) & (r1 == 0.0) & (r2 != 0.0), (t0 - r2) / hh, central)
+
+
+def _spread(d: np.ndarray) -> np.ndarray:
+    """max |d| over the last axis (the residuals)."""
+    return np.max(np.abs(d), axis=-1)
 
 
 # ---------------------------------------------------------------- selection
