@@ -54,23 +54,7 @@ def solve(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     stack = np.broadcast_shapes(a.shape[:-2], b.shape[:-2])
     a = np.broadcast_to(a, stack + (n, n)).reshape((-1, n, n)).copy()
     x = np.broadcast_to(b, stack + b.shape[-2:]).reshape((-1, n, b.shape[-1])).copy()
-    rows = np.arange(len(a))
-    singular = np.zeros(len(a), dtype=bool)
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        for k in range(n):
-            p = k + np.argmax(np.abs(a[:, k:, k]), axis=1)
-            for m in (a, x):
-                top, low = m[rows, k].copy(), m[rows, p].copy()
-                m[rows, k], m[rows, p] = low, top
-            pivot = a[:, k, k]
-            singular |= ~(np.abs(pivot) > 0.0)
-            factor = a[:, k + 1:, k] / pivot[:, None]
-            a[:, k + 1:, k:] -= factor[:, :, None] * a[:, None, k, k:]
-            x[:, k + 1:] -= factor[:, :, None] * x[:, None, k]
-        for k in range(n - 1, -1, -1):
-            s = np.einsum("rj,rjc->rc", a[:, k, k + 1:], x[:, k + 1:], optimize=False)
-            x[:, k] = (x[:, k] - s) / a[:, k, k][:, None]
-    x[singular] = np.nan
+    _eliminate(a, x, pivoting=True)
     x = x.reshape(stack + x.shape[-2:])
     return x[..., 0] if vector else x
 
@@ -81,12 +65,26 @@ def solve_spd(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     NaN. Forward elimination without row swaps, then back substitution."""
     a = np.array(a, dtype=float)
     x = np.array(b, dtype=float)[..., None]
+    _eliminate(a, x, pivoting=False)
+    return x[..., 0]
+
+
+def _eliminate(a: np.ndarray, x: np.ndarray, pivoting: bool) -> None:
+    """Solve the stack a (N, n, n) x = x (N, n, c) in place: forward elimination (with
+    partial pivoting, or none: then a pivot must be positive), back substitution; rows
+    whose elimination met a bad pivot become NaN."""
     n = a.shape[-1]
+    rows = np.arange(len(a))
     bad = np.zeros(len(a), dtype=bool)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         for k in range(n):
+            if pivoting:
+                p = k + np.argmax(np.abs(a[:, k:, k]), axis=1)
+                for m in (a, x):
+                    top, low = m[rows, k].copy(), m[rows, p].copy()
+                    m[rows, k], m[rows, p] = low, top
             pivot = a[:, k, k]
-            bad |= ~(pivot > 0.0)
+            bad |= ~((np.abs(pivot) if pivoting else pivot) > 0.0)
             factor = a[:, k + 1:, k] / pivot[:, None]
             a[:, k + 1:, k:] -= factor[:, :, None] * a[:, None, k, k:]
             x[:, k + 1:] -= factor[:, :, None] * x[:, None, k]
@@ -94,4 +92,3 @@ def solve_spd(a: np.ndarray, b: np.ndarray) -> np.ndarray:
             s = np.einsum("rj,rjc->rc", a[:, k, k + 1:], x[:, k + 1:], optimize=False)
             x[:, k] = (x[:, k] - s) / a[:, k, k][:, None]
     x[bad] = np.nan
-    return x[..., 0]
