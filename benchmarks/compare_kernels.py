@@ -32,7 +32,7 @@ def strip(obj):
     return obj
 
 
-def run(kernel: str, files: list[str], command: list[str]) -> list:
+def run(kernel: str, files: list[str], command: list[str]) -> list | None:
     env = dict(os.environ)
     if kernel != "default":
         env["OPENBLAS_CORETYPE"] = kernel

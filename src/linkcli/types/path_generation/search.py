@@ -132,11 +132,12 @@ class Space:
         k = z.shape[1]
         fit = 2 * self.design.n_targets  # the target errors: smooth wherever assembled
         h = h.copy()
+        t0 = r0[:, None, :]
+        noise = ROUND_OFF * (1.0 + _spread(r0))[:, None]
         for _ in range(SHRINKS):
-            smooth = (r1 != 0.0) & (r2 != 0.0) & (r0 != 0.0)[:, None, :]
+            smooth = (r1 != 0.0) & (r2 != 0.0) & (t0 != 0.0)
             smooth[:, :, :fit] = True
-            noise = ROUND_OFF * (1.0 + _spread(r0))[:, None]
-            bend = _spread(np.where(smooth, r1 - 2.0 * r0[:, None, :] + r2, 0.0))
+            bend = _spread(np.where(smooth, r1 - 2.0 * t0 + r2, 0.0))
             curved = ~edge & (bend > NONLINEAR * _spread(np.where(smooth, r1 - r2, 0.0)) + noise)
             if not curved.any():
                 break
@@ -150,7 +151,7 @@ class Space:
             r1, r2, central = r1.copy(), r2.copy(), central.copy()
             r1[rows, cols], r2[rows, cols] = rs[:, 0], rs[:, 1]
             central[rows, cols] = (rs[:, 0] - rs[:, 1]) / (2 * h[rows, cols][:, None])
-        t0, hh = r0[:, None, :], h[:, :, None]
+        hh = h[:, :, None]
         central = np.where((t0 != 0.0) & (r2 == 0.0) & (r1 != 0.0), (r1 - t0) / hh, central)
         return np.where((t0 != 0.0) & (r1 == 0.0) & (r2 != 0.0), (t0 - r2) / hh, central)
 
