@@ -251,3 +251,38 @@ def test_a_ctrl_c_whose_exception_was_swallowed_still_stops_the_batch_with_130(m
     assert err.splitlines()[-1] == "interrupted"
     assert len(solved) == 1 and "Fire-door" not in out  # stopped before printing
     assert after is signal.default_int_handler  # restored
+
+
+def test_a_ctrl_c_inside_a_gc_callback_is_not_printed_as_an_ignored_exception(monkeypatch):
+    """The real mechanism: a Ctrl-C landing in a garbage-collector callback (Dask's) is
+    reported by Python through sys.unraisablehook ("Exception ignored in ... Traceback").
+    It must end the batch with "interrupted" and 130, and print no traceback."""
+    import gc
+
+    import linkcli.pipeline as pipeline
+
+    def ctrl_c_in_gc_callback(files, request):
+        def callback(phase, info):
+            if phase == "start":
+                signal.raise_signal(signal.SIGINT)
+
+        for outcome in pipeline.serial(files, request):
+            gc.callbacks.append(callback)
+            try:
+                gc.collect()
+            finally:
+                gc.callbacks.remove(callback)
+            yield outcome
+
+    monkeypatch.setattr(pipeline, "executor", lambda *args, **kwargs: ctrl_c_in_gc_callback)
+    monkeypatch.setattr(sys, "unraisablehook", sys.__unraisablehook__)  # Python's, not pytest's
+    hook = sys.unraisablehook
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)  # as in a terminal
+    try:
+        code, out, err = run_cli("synth", "problems/firedoor.toml", "problems/firedoor.toml")
+    finally:
+        signal.signal(signal.SIGINT, before)
+    assert code == 130
+    assert err.splitlines()[-1] == "interrupted"
+    assert "Traceback" not in err and "Exception ignored" not in err, err
+    assert sys.unraisablehook is hook  # restored

@@ -85,6 +85,18 @@ def _on_ctrl_c(signum, frame) -> None:
     raise KeyboardInterrupt
 
 
+def _quiet_lost_ctrl_c(previous):
+    """A sys.unraisablehook that takes a KeyboardInterrupt Python could not raise (it
+    landed in a garbage-collector callback) as the recorded Ctrl-C, instead of printing
+    "Exception ignored in ..." with a traceback; anything else goes to `previous`."""
+    def hook(unraisable) -> None:
+        if isinstance(unraisable.exc_value, KeyboardInterrupt):
+            _ctrl_c_seen[0] = True
+            return
+        previous(unraisable)
+    return hook
+
+
 def _stop_if_interrupted() -> None:
     """Raise KeyboardInterrupt if a Ctrl-C came whose exception was swallowed on the way."""
     if _ctrl_c_seen[0]:
@@ -95,7 +107,7 @@ def _stop_if_interrupted() -> None:
 def _interruptible():
     """Ctrl-C in a command: "interrupted" on stderr and exit 130 (typer would exit 130
     silently), also when the KeyboardInterrupt was swallowed where it landed (checked
-    after each file and at the end). The executors clean up on the way out (--cluster
+    after each file and at the end; not printed as an ignored exception either). The executors clean up on the way out (--cluster
     cancels its tasks)."""
     import signal
     import threading
@@ -105,6 +117,8 @@ def _interruptible():
     own = (threading.current_thread() is threading.main_thread()
            and signal.getsignal(signal.SIGINT) is signal.default_int_handler)
     previous = signal.signal(signal.SIGINT, _on_ctrl_c) if own else None
+    unraisable = sys.unraisablehook
+    sys.unraisablehook = _quiet_lost_ctrl_c(unraisable)
     try:
         yield
         _stop_if_interrupted()
@@ -112,6 +126,7 @@ def _interruptible():
         _err("interrupted")
         raise typer.Exit(130) from None
     finally:
+        sys.unraisablehook = unraisable
         if own:
             signal.signal(signal.SIGINT, previous)
 

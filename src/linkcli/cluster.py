@@ -167,7 +167,9 @@ def start_local_cluster(workers: int) -> Any:
     Dask's nanny sets OMP/MKL/OPENBLAS_NUM_THREADS=1 in its workers; a few solvers' last
     digits follow the BLAS thread count, so these workers keep this process's environment
     instead (None unsets a variable of that config): the bytes of a serial run and of
-    --jobs, whose processes inherit it too. The workers ignore Ctrl-C (IGNORE_CTRL_C)."""
+    --jobs, whose processes inherit it too. The workers ignore Ctrl-C (IGNORE_CTRL_C) and
+    log only CRITICAL records: their stderr is the CLI's, and a worker whose scheduler went
+    away first (Ctrl-C) logged its failed heartbeat with a traceback at ERROR."""
     import dask
     from distributed import LocalCluster
 
@@ -175,7 +177,7 @@ def start_local_cluster(workers: int) -> Any:
     with dask.config.set(inherit):
         return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                             # no dashboard port to collide over (8787)
-                            dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR,
+                            dashboard_address="127.0.0.1:0", silence_logs=logging.CRITICAL,
                             preload=[IGNORE_CTRL_C])
 
 
