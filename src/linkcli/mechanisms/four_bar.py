@@ -18,7 +18,7 @@ Every function broadcasts: lengths of shape (N, 1) against angles of shape (M,) 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -30,18 +30,33 @@ TOGGLE_RTOL = 64 * 2.0**-52  # relative: rho this close to b + c or |b - c| is a
 
 @dataclass
 class Pose:
-    """The linkage at input angles phi: every array has the broadcast shape."""
+    """The linkage at input angles phi: every array has the broadcast shape. The
+    transmission angle mu is computed when first asked for (most searches need only rho)."""
 
     phi: np.ndarray
     psi: np.ndarray  # output angle
     theta: np.ndarray  # coupler angle (direction A -> B)
-    mu: np.ndarray  # transmission angle, [0, pi]
     rho: np.ndarray  # |A B0|
     valid: np.ndarray  # bool: the linkage assembles here
+    b: np.ndarray  # coupler and output lengths (broadcastable), for mu
+    c: np.ndarray
+    ax: np.ndarray | None = None  # the crank pin A = a e^{i phi}, as computed by `pose`
+    ay: np.ndarray | None = None
+    _mu: np.ndarray | None = field(default=None, repr=False)
+
+    @property
+    def mu(self) -> np.ndarray:
+        """Transmission angle, [0, pi] (`transmission_angle`)."""
+        if self._mu is None:
+            self._mu = np.broadcast_to(transmission_angle(self.b, self.c, self.rho), self.psi.shape)
+        return self._mu
 
     def coupler_point(self, a, px, py):
         """Coupler point P = A + px e^{i theta} + py i e^{i theta}, local frame."""
-        ax, ay = a * np.cos(self.phi), a * np.sin(self.phi)
+        if self.ax is not None:
+            ax, ay = self.ax, self.ay
+        else:
+            ax, ay = a * np.cos(self.phi), a * np.sin(self.phi)
         ct, st = np.cos(self.theta), np.sin(self.theta)
         return ax + px * ct - py * st, ay + px * st + py * ct
 
@@ -105,9 +120,8 @@ def pose(a, b, c, d, phi, branch="open") -> Pose:
     bx = d + c * np.cos(psi) - ax
     by = c * np.sin(psi) - ay
     theta = np.arctan2(by, bx)
-    mu = transmission_angle(b, c, rho)
-    return Pose(phi=np.broadcast_to(phi, psi.shape), psi=psi, theta=theta, mu=mu,
-                rho=rho, valid=np.broadcast_to(valid, psi.shape))
+    return Pose(phi=np.broadcast_to(phi, psi.shape), psi=psi, theta=theta, rho=rho,
+                valid=np.broadcast_to(valid, psi.shape), b=b, c=c, ax=ax, ay=ay)
 
 
 DEAD_CENTRE_SIN = 1e-9  # |sin(psi - theta)| at or below: coupler and output in line
