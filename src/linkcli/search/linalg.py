@@ -60,13 +60,16 @@ def solve(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def solve_spd(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """x with a x = b for symmetric positive definite a (N, n, n) and b (N, n); a system
-    with a pivot that is not positive (not positive definite to working precision) gets
-    NaN. Forward elimination without row swaps, then back substitution."""
+    """x with a x = b for symmetric positive definite a (N, n, n) and b (N, n) (or
+    (N, n, k): k right-hand sides); a system with a pivot that is not positive (not
+    positive definite to working precision) gets NaN. Forward elimination without row
+    swaps, then back substitution."""
     a = np.array(a, dtype=float)
-    x = np.array(b, dtype=float)[..., None]
+    vector = np.ndim(b) == a.ndim - 1
+    x = np.array(b, dtype=float)
+    x = x[..., None] if vector else x
     _eliminate(a, x, pivoting=False)
-    return x[..., 0]
+    return x[..., 0] if vector else x
 
 
 def _eliminate(a: np.ndarray, x: np.ndarray, pivoting: bool) -> None:

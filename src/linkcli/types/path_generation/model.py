@@ -133,6 +133,16 @@ class Design:
         # absurd inputs (lengths of 1e-300 beside 1e300) overflow: keep them finite and large
         return np.nan_to_num(err, nan=HUGE, posinf=HUGE, neginf=-HUGE)
 
+    def penalty_residuals(self, x: np.ndarray, s: np.ndarray, weight: float) -> np.ndarray:
+        """(N, m) the penalty part of `residuals` alone (weight * violations): the
+        constraints need only rho = |A B0| of the closure, computed as `four_bar.pose` does
+        (the same bits), not the coupler points."""
+        phi = self.input_angles(x, s)
+        a, d = x[:, 1:2], x[:, 0:1]
+        rho = np.hypot(a * np.cos(phi) - d, a * np.sin(phi))
+        out = weight * self.penalties(x, _Closure(rho), phi)
+        return np.nan_to_num(out, nan=HUGE, posinf=HUGE, neginf=-HUGE)
+
     def objective(self, x, sign, s) -> np.ndarray:
         """(N,) sum of squared distances (length unit^2)."""
         pts, _, _ = self.points(x, sign, s)
@@ -191,6 +201,13 @@ class Design:
             sweep = x[:, N_LINK + 1:].sum(axis=1)
             out = np.concatenate([out, (self.scale * (sweep - kin.TWO_PI))[:, None]], axis=1)
         return out
+
+
+@dataclass
+class _Closure:
+    """What `Design.constraints` reads of a pose: rho = |A B0| at each target."""
+
+    rho: np.ndarray
 
 
 def rho2_extremes(a, d, lo, width):

@@ -1,11 +1,13 @@
 """Search machinery for path generation, vectorized over candidates (numpy; scipy lazily).
 
 The objective evaluations (one per candidate evaluated, every finite-difference column
-included) are counted by `linkcli.search.budget.Budget` against the `[solver] budget`.
+included; a closed-form Jacobian counts CLOSED_FORM + 1) are counted by
+`linkcli.search.budget.Budget` against the `[solver] budget`.
 * `Space`: the free variables of a Design, optionally with the coupler point and the
   ground pivot projected out (solved by `starts.fit_linear` at every evaluation:
   variable projection, which leaves the lengths, the angles and the timing to search);
-  residuals and central-difference Jacobians of many candidates as one batch.
+  residuals and Jacobians of many candidates as one batch: the target errors' slopes in
+  closed form (`derivatives`), the penalties' by central differences.
 * `distinct`: the best candidates, pairwise apart (restarts from distinct basins).
 * `batch_lm`: Levenberg-Marquardt on many candidates at once
   (linkcli.search.levenberg_marquardt), each row with its own branch sign and direction.
@@ -27,6 +29,7 @@ import numpy as np
 from linkcli.search import levenberg_marquardt, linalg, sampling
 from linkcli.search.budget import Budget
 from linkcli.search.evolution import evolve
+from linkcli.types.path_generation import derivatives
 from linkcli.types.path_generation.model import Design
 from linkcli.types.path_generation.starts import fit_linear
 
@@ -39,8 +42,11 @@ SETTLE_STEP = 3e-5  # unit box: the final polish's difference step (kkt.slopes).
 NONLINEAR = 0.01  # a Jacobian column whose second difference exceeds this share of the first
 SHRINK = 16  # is taken again with a step this much smaller,
 SHRINKS = 3  # at most this many times
+MIN_ROOM = 1e-3  # a central step shrunk below this share of the usual one is round-off
 ROUND_OFF = 1e-13  # dimensionless residual differences this small are round-off
 LINEAR = [4, 5, 6, 7]  # px, py, gx, gy: linear in the coupler point once the rest is set
+CLOSED_FORM = 2  # evaluations a row's closed-form Jacobian counts (measured: 2 to 5 times a
+# residual evaluation's time for 4 to 17 variables, the penalties' differences included)
 
 
 class Space:
@@ -87,16 +93,59 @@ class Space:
 
     def step_sizes(self, z: np.ndarray) -> np.ndarray:
         """Central-difference half steps (N, k): about eps^(1/3) of each variable's scale,
-        shrunk where a bound is nearer than that (the shifted points stay inside)."""
+        shrunk where a bound is nearer than that (the shifted points stay inside), down
+        to MIN_ROOM of it; 0 nearer still (`_differences` then steps away from the bound:
+        a step shrunk to round-off, 7e-15 below a bound, gave slopes wrong in the first
+        digit)."""
         width = np.where(np.isfinite(self.hi - self.lo), self.hi - self.lo, 1.0)
         h = 6e-6 * np.maximum(np.abs(z), np.maximum(width[None, :] * 1e-2, 1e-3))
         room = np.minimum(z - self.lo, self.hi - z)
-        return np.where(room >= h, h, np.maximum(room, 0.0))
+        return np.where(room >= h, h, np.where(room >= MIN_ROOM * h, room, 0.0))
 
     def jacobian(self, z, sign, s, weight, r0):
-        """(N, m, k) Jacobians by central differences (one-sided, second order, where a
-        variable sits on a bound), the N * 2k shifted candidates as one batch; on every
-        variable (no projection) `_sharpened` where the step misleads."""
+        """(N, m, k) Jacobians of the residuals r0 (N, m) at rows z: the target errors'
+        closed-form slopes (`derivatives`: projected, or on every variable; counted as
+        CLOSED_FORM evaluations a row), the penalties' by differences of
+        `Design.penalty_residuals` (which need no coupler point; counted as one
+        evaluation a row), `_sharpened` on every variable; every slope by differences
+        on a row where the closed form does not hold (no assembly, a dead point)."""
+        n, k = z.shape
+        design = self.design
+        self.budget.add(CLOSED_FORM * n)
+        if self.project:
+            x, pose = fit_linear(design, self.full(z), sign, s, with_pose=True)
+            fit, ok = derivatives.projected_jacobian(design, self.idx, x, pose, sign, s)
+        else:
+            x = self.full(z)
+            _, pose, _ = design.points(x, sign, s)
+            fit, ok = derivatives.full_jacobian(design, self.idx, x, pose, s)
+        m = fit.shape[1]
+        sharp = None if self.project else 0
+        jac = np.empty(r0.shape + (k,))
+        jac[:, :m] = fit
+        if r0.shape[1] > m:
+            self.budget.add(n)
+
+            def penalties(zz, rows):
+                return design.penalty_residuals(self.full(zz), s[rows], weight)
+
+            jac[:, m:] = self._differences(z, r0[:, m:], penalties, sharp)
+        bad = np.flatnonzero(~ok)
+        if len(bad):
+            jac[bad] = self._differences(z[bad], r0[bad], self._shifted(sign[bad], s[bad], weight),
+                                         None if self.project else m)
+        return jac
+
+    def _shifted(self, sign, s, weight):
+        """The counted residuals of shifted copies of rows (`rows`: each copy's row)."""
+        return lambda zz, rows: self.residuals(zz, sign[rows], s[rows], weight)
+
+    def _differences(self, z, r0, evaluate, smooth=None):
+        """(N, m, k) slopes of `evaluate(zz, rows)` (residuals of the points zz, shifted
+        copies of the rows `rows` of z) by central differences (one-sided, second order,
+        where a variable is nearer a bound than its step), the N * 2k shifted points as
+        one batch; made faithful by `_sharpened` where the step misleads when `smooth` is
+        given (how many leading residuals are smooth wherever the linkage assembles)."""
         n, k = z.shape
         h = self.step_sizes(z)
         width = np.where(np.isfinite(self.hi - self.lo), self.hi - self.lo, 1.0)
@@ -109,17 +158,16 @@ class Space:
         zz = np.repeat(z[:, None, :], 2 * k, axis=1)
         zz[:, np.arange(k), np.arange(k)] += off1
         zz[:, k + np.arange(k), np.arange(k)] += off2
-        rr = self.residuals(zz.reshape(n * 2 * k, k), np.repeat(sign, 2 * k), np.repeat(s, 2 * k), weight)
+        rr = evaluate(zz.reshape(n * 2 * k, k), np.repeat(np.arange(n), 2 * k))
         rr = rr.reshape(n, 2 * k, -1)
         r1, r2 = rr[:, :k], rr[:, k:]
         central = (r1 - r2) / (2 * h[:, :, None])
-        if not self.project:  # the refinement on every variable (the batched field stage
-            # keeps plain central differences: there the rules below cost more than they gain)
-            central = self._sharpened(z, sign, s, weight, r0, r1, r2, h, edge, central)
+        if smooth is not None:
+            central = self._sharpened(z, evaluate, smooth, r0, r1, r2, h, edge, central)
         onesided = (4 * r1 - r2 - 3 * r0[:, None, :]) / (2 * (sgn * h)[:, :, None])
         return np.transpose(np.where(edge[:, :, None], onesided, central), (0, 2, 1))
 
-    def _sharpened(self, z, sign, s, weight, r0, r1, r2, h, edge, central):
+    def _sharpened(self, z, evaluate, fit, r0, r1, r2, h, edge, central):
         """The central-difference columns (N, k, m) made faithful where a step of the usual
         size misleads: a column whose second difference exceeds NONLINEAR of its first
         (the step spans a bend smaller than itself: a target next to a dead point, where
@@ -128,9 +176,9 @@ class Space:
         penalty (nonzero here) that vanishes on one side of the step gets the slope on
         this side of its kink, not half of it (the search would crawl along the active
         constraint). A penalty max(0, g) that is 0 at one of the three points is left
-        out of the bend test: no smaller step resolves a kink."""
+        out of the bend test: no smaller step resolves a kink. The first `fit` residuals
+        (target errors) are smooth wherever the linkage assembles."""
         k = z.shape[1]
-        fit = 2 * self.design.n_targets  # the target errors: smooth wherever assembled
         h = h.copy()
         t0 = r0[:, None, :]
         noise = ROUND_OFF * (1.0 + _spread(r0))[:, None]
@@ -146,7 +194,7 @@ class Space:
             zs = np.repeat(z[rows][:, None, :], 2, axis=1)
             zs[np.arange(len(rows)), 0, cols] += h[rows, cols]
             zs[np.arange(len(rows)), 1, cols] -= h[rows, cols]
-            rs = self.residuals(zs.reshape(-1, k), np.repeat(sign[rows], 2), np.repeat(s[rows], 2), weight)
+            rs = evaluate(zs.reshape(-1, k), np.repeat(rows, 2))
             rs = rs.reshape(len(rows), 2, -1)
             r1, r2, central = r1.copy(), r2.copy(), central.copy()
             r1[rows, cols], r2[rows, cols] = rs[:, 0], rs[:, 1]

@@ -1,0 +1,160 @@
+"""Closed-form Jacobian of the projected target errors (variable projection), numpy only.
+
+With the coupler point p = px + i py and the ground pivot G = gx + i gy solved for by
+linear least squares (`starts.fit_linear`), the target errors r_k = P_k - T_k are a
+function of the other variables z alone (lengths, ground angle gamma, timing):
+
+    P_k = G + w (a e^{i phi_k} + E_k p),   w = e^{i gamma},  E_k = e^{i theta_k},
+    r(z) = P_perp(z) (f(z) - T),   A = [w E_k, i w E_k, 1, i] (the free linear columns),
+
+and its exact derivative (Golub & Pereyra 1973, eq. 4.3; Kaufman 1975 drops the second
+term) is
+
+    dr/dz_v = P_perp D_v - A (A^T A)^{-1} (dA/dz_v)^T r,
+
+with D_v = dP/dz_v at fixed (p, G). The coupler angle's slopes come from the loop
+a e^{i phi} + b e^{i theta} = d + c e^{i psi} differentiated with psi eliminated
+(Norton, Design of Machinery, ch. 6):
+
+    theta_v = Re(F_v e^{-i psi}) / (b sin(theta - psi)),
+    F_a = e^{i phi}, F_phi = i a e^{i phi}, F_b = e^{i theta}, F_c = -e^{i psi}, F_d = -1.
+
+A linear variable that `fit_linear` holds at a bound is a constant (its column leaves A).
+Complex numbers stand for the (x, y) pairs; rows of the real Jacobian interleave them
+like the residuals (x_1, y_1, x_2, ...). Linear systems by `linkcli.search.linalg`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from linkcli.search import linalg
+from linkcli.types.path_generation.model import N_LINK, Design
+
+LINEAR = (4, 5, 6, 7)  # px, py, gx, gy
+DEAD = 1e-6  # |sin(theta - psi)| below this at a target: the slopes are not trusted there
+
+
+class _Slopes:
+    """The coupler point's slopes at fixed (p, G) along the nonlinear variables `idx`
+    (in their order), dp (N, n, k) complex, and the coupler angle's, dtheta (N, n, k);
+    with what the projection reuses."""
+
+    def __init__(self, design: Design, idx, x: np.ndarray, pose, s) -> None:
+        n_rows, n = len(x), design.n_targets
+        a, b = x[:, 1:2], x[:, 2:3]
+        p = x[:, 4:5] + 1j * x[:, 5:6]
+        self.w = w = np.exp(1j * x[:, 8:9])
+        e_phi = np.exp(1j * pose.phi)
+        self.e_theta = e_theta = np.exp(1j * pose.theta)
+        e_psi = np.exp(1j * pose.psi)
+        sin_tp = np.sin(pose.theta - pose.psi)
+        self.ok = np.all(pose.valid, axis=1) & np.all(np.abs(sin_tp) > DEAD, axis=1)
+        den = b * np.where(np.abs(sin_tp) > DEAD, sin_tp, DEAD)
+        turn = np.conj(e_psi)
+
+        def theta_slope(force):  # theta_v for the loop's partial F_v
+            return (force * turn).real / den
+
+        self.crank = crank = a * e_phi
+        self.arm = arm = e_theta * p  # E_k p
+        slopes = {0: theta_slope(-np.ones_like(crank)), 1: theta_slope(e_phi),
+                  2: theta_slope(e_theta), 3: theta_slope(-e_psi)}
+        t_phi = theta_slope(1j * crank)
+        d_point = {j: w * 1j * arm * slopes[j] for j in (0, 2, 3)}
+        d_point[1] = w * (e_phi + 1j * arm * slopes[1])
+        d_point[8] = 1j * w * (crank + arm)
+        slopes[8] = np.zeros_like(t_phi)
+        d_phi = w * 1j * (crank + arm * t_phi)  # dP_k / dphi_k
+        link = [j for j in idx if j < N_LINK]
+        self.dp = np.stack([d_point[j] for j in link], axis=2) if link else np.zeros((n_rows, n, 0), complex)
+        self.dtheta = np.stack([slopes[j] for j in link], axis=2) if link else np.zeros((n_rows, n, 0))
+        timing = [j for j in idx if j >= N_LINK]
+        if timing:
+            dphi = _phi_slopes(design, np.array(timing), s, n)  # (N, n, t)
+            self.dp = np.concatenate([self.dp, d_phi[:, :, None] * dphi], axis=2)
+            self.dtheta = np.concatenate([self.dtheta, t_phi[:, :, None] * dphi], axis=2)
+
+
+def _real(design: Design, jac: np.ndarray, ok: np.ndarray):
+    """Complex slopes (N, n, k) as the residuals' real rows (x_1, y_1, ...) / L, and
+    which rows hold (finite, `_Slopes.ok`)."""
+    n_rows, n = jac.shape[:2]
+    out = np.stack([jac.real, jac.imag], axis=2).reshape(n_rows, 2 * n, -1) / design.scale
+    return out, ok & np.all(np.isfinite(out), axis=(1, 2))
+
+
+def full_jacobian(design: Design, idx: np.ndarray, x: np.ndarray, pose, s):
+    """(N, 2n, k) Jacobian of the target errors / L with respect to the variables `idx`
+    (any of them), linear ones included (columns w E_k, i w E_k, 1, i), at full vectors
+    x (N, nx) with their pose; and (N,) whether each row's slopes hold (as
+    `projected_jacobian`)."""
+    linear = {4: lambda sl: sl.w * sl.e_theta, 5: lambda sl: 1j * sl.w * sl.e_theta,
+              6: lambda sl: np.ones_like(sl.e_theta), 7: lambda sl: np.full_like(sl.e_theta, 1j)}
+    nonlinear = [j for j in idx if j not in linear]
+    sl = _Slopes(design, nonlinear, x, pose, s)
+    cols, k = [], 0
+    for j in idx:
+        if j in linear:
+            cols.append(linear[j](sl))
+        else:
+            cols.append(sl.dp[:, :, k])
+            k += 1
+    jac = np.stack(cols, axis=2) if cols else np.zeros(sl.e_theta.shape + (0,), complex)
+    return _real(design, jac, sl.ok)
+
+
+def projected_jacobian(design: Design, idx: np.ndarray, x: np.ndarray, pose, sign, s):
+    """(N, 2n, k) Jacobian of the target errors / L with respect to the variables `idx`
+    (none of them linear) at full vectors x (N, nx) whose linear part `fit_linear` has
+    just solved, with that fit's pose; and (N,) whether each row's slopes hold (the
+    linkage assembles at every target, away from a dead point: elsewhere the caller
+    takes differences)."""
+    n_rows = len(x)
+    sl = _Slopes(design, idx, x, pose, s)
+    dp, w = sl.dp, sl.w
+    gamma_col = np.array([j == 8 for j in idx], dtype=float)
+    # the linear columns and their slopes (columns px, py; the pivot's are constant)
+    we = w * sl.e_theta
+    basis = np.stack([we, 1j * we, np.ones_like(we), np.full_like(we, 1j)], axis=2)  # (N, n, 4)
+    turning = 1j * (sl.dtheta + gamma_col[None, None, :])  # d(w E_k)/dz_v = i (theta_v + gamma_v) w E_k
+    d_px = we[:, :, None] * turning
+    free = _unheld(design, x)  # (N, 4)
+    r = (x[:, 6:7] + 1j * x[:, 7:8]) + w * (sl.crank + sl.arm) - (design.targets[:, 0] + 1j * design.targets[:, 1])
+    # (dA_v)^T r for the px and py columns: Re(conj(dA) r) summed over the targets
+    cross = np.zeros((n_rows, 4, dp.shape[2]))
+    cross[:, 0] = _inner(d_px, r[:, :, None])
+    cross[:, 1] = _inner(1j * d_px, r[:, :, None])
+    rhs = np.einsum("nti,ntk->nik", np.conj(basis), dp, optimize=False).real + cross
+    gram = np.einsum("nti,ntj->nij", np.conj(basis), basis, optimize=False).real
+    eye = np.eye(4)
+    both = free[:, :, None] & free[:, None, :]
+    gram = np.where(both, gram, 0.0) + np.where(~free[:, :, None] & (eye > 0), 1.0, 0.0)
+    rhs = np.where(free[:, :, None], rhs, 0.0)
+    coef = linalg.solve_spd(gram, rhs)  # (N, 4, k)
+    return _real(design, dp - np.einsum("nti,nik->ntk", basis, coef, optimize=False), sl.ok)
+
+
+def _inner(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Re(sum over the targets of conj(u) v): the real inner product of (x, y) pairs."""
+    return np.sum((np.conj(u) * v).real, axis=1)
+
+
+def _phi_slopes(design: Design, timing: np.ndarray, s, n: int) -> np.ndarray:
+    """d phi_k / d x_j (N, n, t) for the timing variables j (t of them, ascending): the
+    offset or the first angle moves every target's input angle; the increment delta_m
+    (j = N_LINK + m - 1) those from target m on, in the turning direction s."""
+    if design.timing == "prescribed":
+        return np.ones((len(s), n, len(timing)))
+    first = timing - N_LINK  # the first target (0-based) each variable moves
+    return np.where(np.arange(n)[:, None] >= first[None, :], 1.0, 0.0)[None] * \
+        np.where(timing == N_LINK, 1.0, s[:, None])[:, None, :]
+
+
+def _unheld(design: Design, x: np.ndarray) -> np.ndarray:
+    """(N, 4) the linear variables (px, py, gx, gy) the fit solved for: free and not
+    held at a bound."""
+    cols = list(LINEAR)
+    lo, hi = design.lo[cols], design.hi[cols]
+    v = x[:, cols]
+    return (hi > lo)[None, :] & (v > lo) & (v < hi)
