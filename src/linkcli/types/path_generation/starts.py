@@ -36,6 +36,7 @@ START_STRIDE = 3  # every 3rd sample is tried as the first target's position
 FRACTIONS = (0.05, 0.12, 0.25, 0.45, 0.7, 0.95)  # share of the curve the targets span
 OFFSETS = 24  # prescribed timing with a free offset: hypotheses over its range
 CHUNK = 2_000_000  # complex elements per vectorized block of hypotheses
+CONDITIONED = 1e-9  # n^2 - |sigma|^2 above this share of n^2: the closed-form fit is well posed
 BLOCK = 32_768  # curve points per block of prescribed-timing draws (measured: blocks that stay
 # in the cache take half the time of the whole batch at once)
 
@@ -198,7 +199,11 @@ def fit_linear(design: Design, x: np.ndarray, sign: np.ndarray, s: np.ndarray, w
     i e^{i(gamma + theta_k)}: the normal equations are sums over the targets (the two pivot
     columns and the two coupler columns are orthogonal, each of squared norm n). Fixed
     coordinates move to the right-hand side; the free ones are solved within their bounds
-    (`bounded_lstsq`). With `with_pose`, the closure computed on the way is returned too."""
+    (`bounded_lstsq`). With all four free, in complex numbers p = px + i py, G = gx + i gy,
+    sigma = sum e^{i(gamma + theta_k)}: n p + conj(sigma) G = S1, sigma p + n G = S2, solved
+    in closed form where that solution lies inside the bounds; so is n p = S1 (the pivot
+    fixed) or n G = S2 (the coupler point fixed). With `with_pose`, the
+    closure computed on the way is returned too."""
     free = [j for j in (4, 5, 6, 7) if design.free[j]]
     dd, a, b, c = (x[:, k:k + 1] for k in range(4))
     phi = design.input_angles(x, s)
@@ -230,9 +235,26 @@ def fit_linear(design: Design, x: np.ndarray, sign: np.ndarray, s: np.ndarray, w
     rhs = np.stack([(ca * rx + sa * ry).sum(axis=1), (ca * ry - sa * rx).sum(axis=1),
                     rx.sum(axis=1), ry.sum(axis=1)], axis=1)
     k = [j - 4 for j in free]
-    sol = bounded_lstsq(h[:, k][:, :, k], rhs[:, k], design.lo[free], design.hi[free])
+    lo, hi = design.lo[free], design.hi[free]
     x = x.copy()
-    x[:, free] = sol
+    rest = np.arange(len(x))
+    if len(free) == 4:  # all four free: the complex 2 x 2 system in closed form
+        sigma, s1, s2 = sc + 1j * ss, rhs[:, 0] + 1j * rhs[:, 1], rhs[:, 2] + 1j * rhs[:, 3]
+        det = n * n - (sigma * sigma.conj()).real
+        with np.errstate(divide="ignore", invalid="ignore"):
+            cp = (n * s1 - sigma.conj() * s2) / det
+            cg = (n * s2 - sigma * s1) / det
+        sol = np.stack([cp.real, cp.imag, cg.real, cg.imag], axis=1)
+        inside = (det > CONDITIONED * n * n) & np.all((sol >= lo) & (sol <= hi), axis=1)
+        x[:, free] = np.where(inside[:, None], sol, x[:, free])
+        rest = np.flatnonzero(~inside)
+    elif k in ([0, 1], [2, 3]):  # the coupler point alone, or the pivot alone: n y = S
+        sol = rhs[:, k] / n
+        inside = np.all((sol >= lo) & (sol <= hi), axis=1)
+        x[:, free] = np.where(inside[:, None], sol, x[:, free])
+        rest = np.flatnonzero(~inside)
+    if len(rest):
+        x[np.ix_(rest, free)] = bounded_lstsq(h[rest][:, k][:, :, k], rhs[rest][:, k], lo, hi)
     return (x, p) if with_pose else x
 
 
