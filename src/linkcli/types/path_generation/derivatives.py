@@ -45,10 +45,10 @@ class _Slopes:
         a, b = x[:, 1:2], x[:, 2:3]
         p = x[:, 4:5] + 1j * x[:, 5:6]
         self.w = w = np.exp(1j * x[:, 8:9])
-        e_phi = np.exp(1j * pose.phi)
-        self.e_theta = e_theta = np.exp(1j * pose.theta)
-        e_psi = np.exp(1j * pose.psi)
-        sin_tp = np.sin(pose.theta - pose.psi)
+        e_phi = pose.cphi + 1j * pose.sphi
+        self.e_theta = e_theta = pose.ct + 1j * pose.st
+        e_psi = pose.cpsi + 1j * pose.spsi
+        sin_tp = pose.st * pose.cpsi - pose.ct * pose.spsi  # sin(theta - psi)
         self.ok = np.all(pose.valid, axis=1) & np.all(np.abs(sin_tp) > DEAD, axis=1)
         den = b * np.where(np.abs(sin_tp) > DEAD, sin_tp, DEAD)
         turn = np.conj(e_psi)

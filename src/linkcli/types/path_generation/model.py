@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from linkcli.mechanisms import four_bar as kin
+from linkcli.types.path_generation import closure
 from linkcli.io.meta import MIN_LENGTH as FILE_MIN_LENGTH
 
 NAMES = ("ground", "input", "coupler", "output", "coupler_point_x", "coupler_point_y",
@@ -111,12 +112,12 @@ class Design:
         return lo, phi.max(axis=1) - lo
 
     # ---------------------------------------------------------------- residuals
-    def points(self, x: np.ndarray, sign: np.ndarray, s: np.ndarray, pose: kin.Pose | None = None):
+    def points(self, x: np.ndarray, sign: np.ndarray, s: np.ndarray, pose: closure.Frame | None = None):
         """Global coupler points (N, n, 2), the pose and the input angles (`pose`: the
         closure at these lengths and angles when the caller has it already)."""
         d, a, b, c = (x[:, k:k + 1] for k in range(4))
         phi = self.input_angles(x, s)
-        p = pose if pose is not None else kin.pose(a, b, c, d, phi, sign[:, None])
+        p = pose if pose is not None else closure.frame(a, b, c, d, phi, sign[:, None])
         lx, ly = p.coupler_point(a, x[:, 4:5], x[:, 5:6])
         cg, sg = np.cos(x[:, 8:9]), np.sin(x[:, 8:9])
         gx = x[:, 6:7] + cg * lx - sg * ly
@@ -124,7 +125,7 @@ class Design:
         return np.stack([gx, gy], axis=-1), p, phi
 
     def residuals(self, x: np.ndarray, sign: np.ndarray, s: np.ndarray, weight: float,
-                  pose: kin.Pose | None = None) -> np.ndarray:
+                  pose: closure.Frame | None = None) -> np.ndarray:
         """(N, 2n + m): target errors / L, then weight * constraint violations."""
         pts, p, phi = self.points(x, sign, s, pose)
         err = (pts - self.targets[None]).reshape(len(x), -1) / self.scale
@@ -148,11 +149,11 @@ class Design:
         pts, _, _ = self.points(x, sign, s)
         return np.sum((pts - self.targets[None]) ** 2, axis=(1, 2))
 
-    def penalties(self, x: np.ndarray, p: kin.Pose, phi: np.ndarray) -> np.ndarray:
+    def penalties(self, x: np.ndarray, p: closure.Frame, phi: np.ndarray) -> np.ndarray:
         """(N, m) constraint violations max(0, g) / L, g <= 0 feasible (see `constraints`)."""
         return np.maximum(0.0, self.constraints(x, p, phi)) / self.scale
 
-    def constraints(self, x: np.ndarray, p: kin.Pose, phi: np.ndarray) -> np.ndarray:
+    def constraints(self, x: np.ndarray, p: closure.Frame, phi: np.ndarray) -> np.ndarray:
         """(N, m) constraint functions g (length unit; g <= 0 is feasible):
 
         Grashof class with shortest link s:  s + x_j - (sum of the other two) + margin <= 0

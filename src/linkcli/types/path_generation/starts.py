@@ -29,6 +29,7 @@ import numpy as np
 
 from linkcli.mechanisms import four_bar as kin
 from linkcli.search import linalg
+from linkcli.types.path_generation import closure
 from linkcli.types.path_generation.model import N_LINK, SHORTEST, Design
 
 CURVE_SAMPLES = 120  # samples of the coupler curve over one turn (free timing)
@@ -207,13 +208,13 @@ def fit_linear(design: Design, x: np.ndarray, sign: np.ndarray, s: np.ndarray, w
     free = [j for j in (4, 5, 6, 7) if design.free[j]]
     dd, a, b, c = (x[:, k:k + 1] for k in range(4))
     phi = design.input_angles(x, s)
-    p = kin.pose(a, b, c, dd, phi, sign[:, None])
+    p = closure.frame(a, b, c, dd, phi, sign[:, None])
     if not free:
         return (x, p) if with_pose else x
-    g = x[:, 8:9]
-    ca, sa = np.cos(g + p.theta), np.sin(g + p.theta)
-    rx = design.targets[None, :, 0] - a * np.cos(phi + g)
-    ry = design.targets[None, :, 1] - a * np.sin(phi + g)
+    cg, sg = np.cos(x[:, 8:9]), np.sin(x[:, 8:9])
+    ca, sa = cg * p.ct - sg * p.st, sg * p.ct + cg * p.st  # e^{i(gamma + theta_k)}
+    rx = design.targets[None, :, 0] - a * (cg * p.cphi - sg * p.sphi)
+    ry = design.targets[None, :, 1] - a * (sg * p.cphi + cg * p.sphi)
     fixed = {4: (ca, sa), 5: (-sa, ca)}
     for j in (4, 5):
         if not design.free[j]:
@@ -290,7 +291,7 @@ def bounded_lstsq(h: np.ndarray, rhs: np.ndarray, lo: np.ndarray, hi: np.ndarray
 def local_curve(x: np.ndarray, sign: np.ndarray, phi: np.ndarray):
     """Coupler point in the local frame (complex) at input angles phi, and validity."""
     dd, a, b, c = (x[:, k:k + 1] for k in range(4))
-    p = kin.pose(a, b, c, dd, phi, sign[:, None])
+    p = closure.frame(a, b, c, dd, phi, sign[:, None])
     lx, ly = p.coupler_point(a, x[:, 4:5], x[:, 5:6])
     return lx + 1j * ly, p.valid
 
