@@ -176,3 +176,134 @@ def test_solve_spd_with_several_right_hand_sides_matches_lapack():
     assert np.allclose(linalg.solve_spd(a, b), np.linalg.solve(a, b), rtol=1e-12, atol=1e-12)
     assert np.allclose(linalg.solve_spd(a, b[:, :, 0]), np.linalg.solve(a, b[:, :, :1])[:, :, 0],
                        rtol=1e-12, atol=1e-12)
+
+
+# ---------------------------------------------------------------- penalties
+
+SHORTEST = {"crank-rocker": 1, "double-crank": 0, "rocker-crank": 3, "double-rocker": 2}
+CONSTRAINED = {
+    "double-rocker, window over the span, prescribed": ("double-rocker", "[30, 150]", "prescribed"),
+    "crank-rocker, window over the turn, free": ("crank-rocker", "[40, 140]", "free"),
+    "triple-rocker, window, prescribed": ("triple-rocker", "[20, 160]", "prescribed"),
+    "rocker-crank, free": ("rocker-crank", None, "free"),
+}
+
+
+def constrained_design(tmp_path, grashof, window, timing):
+    from linkcli.io.load import load
+    from linkcli.io.safe_read import read_problem_bytes
+    from linkcli.types.path_generation.model import build
+
+    target = ('timing = "prescribed"\ninput_angles = [20, 50, 80, 110, 140]' if timing == "prescribed"
+              else 'timing = "free"')
+    text = f"""type = "path-generation"
+[target]
+points = [[0, 0], [3, 1], [5, 3], [6, 6], [5, 8]]
+{target}
+[bounds]
+ground = [1, 20]
+input = [1, 20]
+coupler = [1, 20]
+output = [1, 20]
+coupler_point = {{ x = [-20, 20], y = [-20, 20] }}
+ground_pivot = {{ x = [-20, 20], y = [-20, 20] }}
+ground_angle = [0, 360]
+{"input_offset = [-180, 180]" if timing == "prescribed" else ""}
+[constraints]
+grashof = "{grashof}"
+{f"transmission = {window}" if window else ""}
+"""
+    path = tmp_path / "p.toml"
+    path.write_text(text, encoding="utf-8")
+    return build(load(str(path), read_problem_bytes(str(path))))
+
+
+def constraint_values(design, x, s):
+    """The constraint functions g (g <= 0 holds) of one candidate, written from their
+    definitions: the Grashof class (the class's shortest link s: s + x_j - the other two
+    + margin for each other link; triple-rocker p + q - s - l + margin), the
+    transmission window at the extremes of rho = |A B0| (over the full turn for a
+    crank-rocker or double-crank, else over the targets' span), assembly at each target,
+    the dead points phi = 0, pi inside the span, and for free timing the sweep."""
+    from linkcli.types.path_generation.model import GRASHOF_MARGIN
+
+    d, a, b, c = x[:4]
+    links = [d, a, b, c]
+    margin = GRASHOF_MARGIN * sum(links)
+    g = []
+    if design.grashof in SHORTEST:
+        k = SHORTEST[design.grashof]
+        others = [j for j in range(4) if j != k]
+        for j in others:
+            rest = [links[o] for o in others if o != j]
+            g.append(links[k] + links[j] - rest[0] - rest[1] + margin)
+    elif design.grashof == "triple-rocker":
+        srt = sorted(links)
+        g.append(srt[1] + srt[2] - srt[0] - srt[3] + margin)
+    phi = input_angles(design, x, s)
+    lo, hi = phi.min(), phi.max()
+
+    def within(angle):
+        return (angle - lo) % (2 * np.pi) <= hi - lo
+
+    def r2(angle):
+        return a * a + d * d - 2 * a * d * np.cos(angle)
+
+    if design.window is not None:
+        if design.full_turn:
+            r2_min, r2_max = (d - a) ** 2, (d + a) ** 2
+        else:
+            r2_min = (a - d) ** 2 if within(0.0) else min(r2(lo), r2(hi))
+            r2_max = (a + d) ** 2 if within(np.pi) else max(r2(lo), r2(hi))
+        cos_mu = lambda v: (b * b + c * c - v) / (2 * b * c)  # noqa: E731
+        g.append(design.scale * (cos_mu(r2_min) - np.cos(design.window[0])))
+        g.append(design.scale * (np.cos(design.window[1]) - cos_mu(r2_max)))
+    for angle in phi:
+        rho = abs(a * np.exp(1j * angle) - d)
+        g.append(max(abs(b - c) - rho, rho - (b + c)))
+    for angle, rho in ((0.0, abs(a - d)), (np.pi, a + d)):
+        v = max(abs(b - c) - rho, rho - (b + c))
+        g.append(v if within(angle) else min(v, 0.0))
+    if design.timing == "free":
+        g.append(design.scale * (sum(x[10:]) - 2 * np.pi))
+    return np.array(g)
+
+
+@pytest.mark.parametrize("case", sorted(CONSTRAINED))
+def test_penalty_slopes_match_fine_differences_where_violated(tmp_path, case):
+    from linkcli.search.budget import Budget
+    from linkcli.types.path_generation import derivatives
+    from linkcli.types.path_generation.search import Space
+
+    design = constrained_design(tmp_path, *CONSTRAINED[case])
+    rng = np.random.default_rng(5)
+    x, sign, s = draws(design, n=40, seed=2)
+    x[:, :4] = design.lo[:4] + rng.random((40, 4)) * (design.hi[:4] - design.lo[:4])  # break the class
+    if design.timing == "free":
+        x[:, 10:] = rng.random((40, x.shape[1] - 10)) * 1.5  # some beyond one turn
+    weight = 100.0
+    space = Space(design, Budget(10**9), project=True)
+    z = space.free(x)
+    full = space.full(z)
+    phi = design.input_angles(full, s)
+    rho = np.abs(full[:, 1:2] * np.exp(1j * phi) - full[:, 0:1])
+    jac = derivatives.penalty_jacobian(design, space.idx, full, rho, s, weight)
+    checked = 0
+    for i in range(len(z)):
+        def f(zi, i=i):
+            return weight * np.maximum(constraint_values(design, space.full(zi[None])[0], s[i]), 0.0) / design.scale
+
+        for j in range(space.k):
+            h = 1e-5 * max(abs(z[i, j]), 1e-2)
+            points = [z[i].copy() for _ in range(5)]
+            for p, t in zip(points, (-1.0, -0.5, 0.0, 0.5, 1.0)):
+                p[j] += t * h
+            values = np.array([f(p) for p in points])
+            active = np.all(values > 0, axis=0)  # violated all along: one smooth piece
+            inactive = np.all(values == 0, axis=0)
+            ref = (4 * (values[3] - values[1]) / h - (values[4] - values[0]) / (2 * h)) / 3
+            scale = np.maximum(np.abs(ref), 1e-3 * weight)
+            assert np.all(np.abs(jac[i, active, j] - ref[active]) <= 1e-6 * scale[active]), (case, i, j)
+            assert np.all(jac[i, inactive, j] == 0.0)
+            checked += int(active.sum())
+    assert checked > 50

@@ -26,10 +26,12 @@ like the residuals (x_1, y_1, x_2, ...). Linear systems by `linkcli.search.linal
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from linkcli.search import linalg
-from linkcli.types.path_generation.model import N_LINK, Design
+from linkcli.types.path_generation.model import GRASHOF_MARGIN, N_LINK, SHORTEST, Design, RhoOnly, rho2_extremes
 
 LINEAR = (4, 5, 6, 7)  # px, py, gx, gy
 DEAD = 1e-6  # |sin(theta - psi)| below this at a target: the slopes are not trusted there
@@ -158,3 +160,105 @@ def _unheld(design: Design, x: np.ndarray) -> np.ndarray:
     lo, hi = design.lo[cols], design.hi[cols]
     v = x[:, cols]
     return (hi > lo)[None, :] & (v > lo) & (v < hi)
+
+
+def penalty_jacobian(design: Design, idx, x: np.ndarray, rho: np.ndarray, s, weight: float):
+    """(N, m, k) slopes of the penalty residuals weight * max(0, g) / L (`Design.penalties`,
+    columns in the order of `Design.constraints`) along the variables `idx`: the slope of
+    g where g > 0 (the violated side: Gauss-Newton on a one-sided penalty), 0 elsewhere.
+    rho (N, n): |A B0| at the targets. Slopes of the constraint functions:
+
+        Grashof rows: +-1 for each link, plus the margin's share of the total;
+        cos mu(r2) = (b^2 + c^2 - r2) / (2 b c): d/db = (b^2 - c^2 + r2) / (2 b^2 c),
+            d/dc = (c^2 - b^2 + r2) / (2 b c^2), d/dr2 = -1 / (2 b c);
+        r2 = a^2 + d^2 - 2 a d cos(phi) at the span's end that holds the extreme (or
+            (a -+ d)^2 at phi = 0, pi): d/da = 2 (a - d cos phi), d/dd = 2 (d - a cos phi),
+            d/dphi = 2 a d sin phi;
+        assembly: |b - c| - rho_k or rho_k - (b + c), whichever is larger, with
+            d rho_k = (a - d cos phi_k) / rho_k da + (d - a cos phi_k) / rho_k dd
+                      + a d sin phi_k / rho_k dphi_k;
+        the dead points: |b - c| - rho or rho - (b + c), rho = |a - d| or a + d;
+        the sweep: L per increment."""
+
+    n_rows, n = len(x), design.n_targets
+    idx = list(idx)
+    k = len(idx)
+    d, a, b, c = (x[:, j] for j in range(4))
+    phi = design.input_angles(x, s)
+    unit = np.zeros((4, k))  # d(link)/dz for the links d, a, b, c
+    for j in range(4):
+        if j in idx:
+            unit[j, idx.index(j)] = 1.0
+    timing = [j for j in idx if j >= N_LINK]
+    dphi = np.zeros((n_rows, n, k))
+    if timing:
+        dphi[:, :, k - len(timing):] = _phi_slopes(design, np.array(timing), s, n)
+    rows = []
+    g = design.constraints(x, RhoOnly(rho), phi)
+    margin = GRASHOF_MARGIN * unit.sum(axis=0)
+    if design.grashof in SHORTEST:
+        short = SHORTEST[design.grashof]
+        others = [j for j in range(4) if j != short]
+        for j in others:
+            rest = [o for o in others if o != j]
+            rows.append(np.broadcast_to(unit[short] + unit[j] - unit[rest[0]] - unit[rest[1]] + margin,
+                                        (n_rows, k)))
+    elif design.grashof == "triple-rocker":
+        order = np.argsort(np.stack([d, a, b, c], axis=1), axis=1, kind="stable")
+        sign = np.zeros((n_rows, 4))
+        np.put_along_axis(sign, order, np.array([-1.0, 1.0, 1.0, -1.0])[None, :], axis=1)
+        rows.append(np.einsum("nj,jk->nk", sign, unit, optimize=False) + margin)
+    if design.window is not None:
+        bc = 2.0 * b * c
+        for end, at_lo in ((0, True), (1, False)):
+            dr2 = _r2_slopes(design, a, d, phi, dphi, unit, at_lo)
+            r2 = ((d - a) ** 2 if at_lo else (d + a) ** 2) if design.full_turn else \
+                rho2_extremes(a, d, phi.min(axis=1), phi.max(axis=1) - phi.min(axis=1))[end]
+            dcos = (((b * b - c * c + r2) / (b * bc))[:, None] * unit[2]
+                    + ((c * c - b * b + r2) / (c * bc))[:, None] * unit[3] - dr2 / bc[:, None])
+            rows.append(design.scale * (dcos if at_lo else -dcos))
+    sbc = np.sign(b - c)[:, None]
+    below = (sbc * (unit[2] - unit[3]))  # d|b - c|
+    above = np.broadcast_to(unit[2] + unit[3], (n_rows, k))  # d(b + c)
+    safe = np.where(rho > 0, rho, 1.0)
+    drho = ((a[:, None] - d[:, None] * np.cos(phi)) / safe)[:, :, None] * unit[1] + \
+        ((d[:, None] - a[:, None] * np.cos(phi)) / safe)[:, :, None] * unit[0] + \
+        (a[:, None] * d[:, None] * np.sin(phi) / safe)[:, :, None] * dphi
+    short_side = (np.abs(b - c)[:, None] - rho) >= (rho - (b + c)[:, None])
+    assembly = np.where(short_side[:, :, None], below[:, None, :] - drho, drho - above[:, None, :])
+    out = np.concatenate([np.stack(rows, axis=1) if rows else np.zeros((n_rows, 0, k)), assembly], axis=1)
+    dead = []
+    for rho_at, drho_at in ((np.abs(a - d), np.sign(a - d)[:, None] * (unit[1] - unit[0])),
+                            (a + d, np.broadcast_to(unit[0] + unit[1], (n_rows, k)))):
+        first = (np.abs(b - c) - rho_at) >= (rho_at - (b + c))
+        dead.append(np.where(first[:, None], below - drho_at, drho_at - above))
+    out = np.concatenate([out, np.stack(dead, axis=1)], axis=1)
+    if design.timing == "free":
+        sweep = np.array([design.scale if j > N_LINK else 0.0 for j in idx])
+        out = np.concatenate([out, np.broadcast_to(sweep, (n_rows, 1, k))], axis=1)
+    out = np.where((g > 0.0)[:, :, None], out, 0.0) * (weight / design.scale)
+    return np.nan_to_num(out)
+
+
+def _r2_slopes(design: Design, a, d, phi, dphi, unit, lowest: bool) -> np.ndarray:
+    """(N, k) slopes of rho^2's smallest (or largest) value over the full turn or the
+    targets' span (`model.rho2_extremes`)."""
+    if design.full_turn:
+        sgn = -1.0 if lowest else 1.0  # (d - a)^2 or (d + a)^2
+        return 2.0 * (d + sgn * a)[:, None] * (unit[0] + sgn * unit[1])
+    lo = phi.min(axis=1)
+    width = phi.max(axis=1) - lo
+    at = math.pi if not lowest else 0.0
+    holds = np.mod(at - lo, 2.0 * math.pi) <= width
+    ends = np.stack([np.argmin(phi, axis=1), np.argmax(phi, axis=1)], axis=1)  # (N, 2) targets
+    pe = np.take_along_axis(phi, ends, axis=1)
+    r2 = a[:, None] ** 2 + d[:, None] ** 2 - 2 * a[:, None] * d[:, None] * np.cos(pe)
+    pick = np.argmin(r2, axis=1) if lowest else np.argmax(r2, axis=1)
+    rows = np.arange(len(a))
+    p = pe[rows, pick]
+    target = ends[rows, pick]
+    slope = (2.0 * (a - d * np.cos(p)))[:, None] * unit[1] + (2.0 * (d - a * np.cos(p)))[:, None] * unit[0] \
+        + (2.0 * a * d * np.sin(p))[:, None] * dphi[rows, target]
+    sgn = -1.0 if lowest else 1.0
+    extreme = 2.0 * (d + sgn * a)[:, None] * (unit[0] + sgn * unit[1])
+    return np.where(holds[:, None], extreme, slope)

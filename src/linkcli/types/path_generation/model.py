@@ -141,7 +141,7 @@ class Design:
         phi = self.input_angles(x, s)
         a, d = x[:, 1:2], x[:, 0:1]
         rho = np.hypot(a * np.cos(phi) - d, a * np.sin(phi))
-        out = weight * self.penalties(x, _Closure(rho), phi)
+        out = weight * self.penalties(x, RhoOnly(rho), phi)
         return np.nan_to_num(out, nan=HUGE, posinf=HUGE, neginf=-HUGE)
 
     def objective(self, x, sign, s) -> np.ndarray:
@@ -205,7 +205,7 @@ class Design:
 
 
 @dataclass
-class _Closure:
+class RhoOnly:
     """What `Design.constraints` reads of a pose: rho = |A B0| at each target."""
 
     rho: np.ndarray

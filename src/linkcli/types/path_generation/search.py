@@ -1,13 +1,15 @@
 """Search machinery for path generation, vectorized over candidates (numpy; scipy lazily).
 
 The objective evaluations (one per candidate evaluated, every finite-difference column
-included; a closed-form Jacobian counts CLOSED_FORM + 1) are counted by
+included; a closed-form Jacobian counts CLOSED_FORM, one more with the penalties'
+differences) are counted by
 `linkcli.search.budget.Budget` against the `[solver] budget`.
 * `Space`: the free variables of a Design, optionally with the coupler point and the
   ground pivot projected out (solved by `starts.fit_linear` at every evaluation:
   variable projection, which leaves the lengths, the angles and the timing to search);
   residuals and Jacobians of many candidates as one batch: the target errors' slopes in
-  closed form (`derivatives`), the penalties' by central differences.
+  closed form (`derivatives`), the penalties' too when projected, else by central
+  differences.
 * `distinct`: the best candidates, pairwise apart (restarts from distinct basins).
 * `batch_lm`: Levenberg-Marquardt on many candidates at once
   (linkcli.search.levenberg_marquardt), each row with its own branch sign and direction.
@@ -45,8 +47,8 @@ SHRINKS = 3  # at most this many times
 MIN_ROOM = 1e-3  # a central step shrunk below this share of the usual one is round-off
 ROUND_OFF = 1e-13  # dimensionless residual differences this small are round-off
 LINEAR = [4, 5, 6, 7]  # px, py, gx, gy: linear in the coupler point once the rest is set
-CLOSED_FORM = 2  # evaluations a row's closed-form Jacobian counts (measured: 2 to 5 times a
-# residual evaluation's time for 4 to 17 variables, the penalties' differences included)
+CLOSED_FORM = 2  # evaluations a row's closed-form Jacobian counts (measured: 1.8 to 2.9 times a
+# residual evaluation's time for 4 to 15 variables, the penalties' slopes included)
 
 
 class Space:
@@ -104,11 +106,12 @@ class Space:
 
     def jacobian(self, z, sign, s, weight, r0):
         """(N, m, k) Jacobians of the residuals r0 (N, m) at rows z: the target errors'
-        closed-form slopes (`derivatives`: projected, or on every variable; counted as
-        CLOSED_FORM evaluations a row), the penalties' by differences of
-        `Design.penalty_residuals` (which need no coupler point; counted as one
-        evaluation a row), `_sharpened` on every variable; every slope by differences
-        on a row where the closed form does not hold (no assembly, a dead point)."""
+        slopes in closed form (`derivatives`, projected or on every variable; counted as
+        CLOSED_FORM evaluations a row); the penalties' in closed form too when projected
+        (the field stage), else by differences of `Design.penalty_residuals` (which need
+        no coupler point; one evaluation a row) made faithful by `_sharpened`; every
+        slope by differences on a row where the closed form does not hold (no assembly, a
+        dead point)."""
         n, k = z.shape
         design = self.design
         self.budget.add(CLOSED_FORM * n)
@@ -120,16 +123,19 @@ class Space:
             _, pose, _ = design.points(x, sign, s)
             fit, ok = derivatives.full_jacobian(design, self.idx, x, pose, s)
         m = fit.shape[1]
-        sharp = None if self.project else 0
         jac = np.empty(r0.shape + (k,))
         jac[:, :m] = fit
-        if r0.shape[1] > m:
+        if r0.shape[1] > m and self.project:
+            jac[:, m:] = derivatives.penalty_jacobian(design, self.idx, x, pose.rho, s, weight)
+        elif r0.shape[1] > m:  # differences: where a constraint binds, `_sharpened`'s slopes
+            # on the violated side of a kink settle it (closed-form slopes, 0 on the
+            # feasible side, left arc6_window's seeds crawling along its window edge)
             self.budget.add(n)
 
             def penalties(zz, rows):
                 return design.penalty_residuals(self.full(zz), s[rows], weight)
 
-            jac[:, m:] = self._differences(z, r0[:, m:], penalties, sharp)
+            jac[:, m:] = self._differences(z, r0[:, m:], penalties, 0)
         bad = np.flatnonzero(~ok)
         if len(bad):
             jac[bad] = self._differences(z[bad], r0[bad], self._shifted(sign[bad], s[bad], weight),
