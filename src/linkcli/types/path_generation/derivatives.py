@@ -1,4 +1,6 @@
-"""Closed-form Jacobian of the projected target errors (variable projection), numpy only.
+"""Closed-form Jacobians for the path search (numpy only): the target errors, projected
+(`projected_jacobian`) or on every variable (`full_jacobian`), and the penalties
+(`penalty_jacobian`).
 
 With the coupler point p = px + i py and the ground pivot G = gx + i gy solved for by
 linear least squares (`starts.fit_linear`), the target errors r_k = P_k - T_k are a
@@ -7,8 +9,8 @@ function of the other variables z alone (lengths, ground angle gamma, timing):
     P_k = G + w (a e^{i phi_k} + E_k p),   w = e^{i gamma},  E_k = e^{i theta_k},
     r(z) = P_perp(z) (f(z) - T),   A = [w E_k, i w E_k, 1, i] (the free linear columns),
 
-and its exact derivative (Golub & Pereyra 1973, eq. 4.3; Kaufman 1975 drops the second
-term) is
+and its exact derivative (Golub & Pereyra 1973, SIAM J. Numer. Anal. 10; Kaufman 1975,
+BIT 15, drops the second term) is
 
     dr/dz_v = P_perp D_v - A (A^T A)^{-1} (dA/dz_v)^T r,
 
