@@ -285,9 +285,9 @@ def test_penalty_slopes_match_fine_differences_where_violated(tmp_path, case):
     space = Space(design, Budget(10**9), project=True)
     z = space.free(x)
     full = space.full(z)
-    phi = design.input_angles(full, s)
-    rho = np.abs(full[:, 1:2] * np.exp(1j * phi) - full[:, 0:1])
-    jac = derivatives.penalty_jacobian(design, space.idx, full, rho, s, weight)
+    frame, _ = design.frame(full, sign, s)
+    violated = np.array([constraint_values(design, row, si) > 0 for row, si in zip(full, s)])
+    jac = derivatives.penalty_jacobian(design, space.idx, full, frame, s, weight, violated)
     checked = 0
     for i in range(len(z)):
         def f(zi, i=i):

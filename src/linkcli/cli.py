@@ -107,8 +107,8 @@ def _stop_if_interrupted() -> None:
 def _interruptible():
     """Ctrl-C in a command: "interrupted" on stderr and exit 130 (typer would exit 130
     silently), also when the KeyboardInterrupt was swallowed where it landed (checked
-    after each file and at the end; not printed as an ignored exception either). The executors clean up on the way out (--cluster
-    cancels its tasks)."""
+    after each file and at the end; not printed as an ignored exception either). The
+    executors clean up on the way out (--cluster cancels its tasks)."""
     import signal
     import threading
     _ctrl_c_seen[0] = False

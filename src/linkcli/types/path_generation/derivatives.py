@@ -33,9 +33,9 @@ import math
 import numpy as np
 
 from linkcli.search import linalg
-from linkcli.types.path_generation.model import GRASHOF_MARGIN, N_LINK, SHORTEST, Design, RhoOnly, rho2_extremes
+from linkcli.types.path_generation.model import GRASHOF_MARGIN, N_LINK, SHORTEST, Design, rho2_extremes
 
-LINEAR = (4, 5, 6, 7)  # px, py, gx, gy
+LINEAR = [4, 5, 6, 7]  # px, py, gx, gy: linear in the coupler point once the rest is set
 DEAD = 1e-6  # |sin(theta - psi)| below this at a target: the slopes are not trusted there
 
 
@@ -124,7 +124,8 @@ def projected_jacobian(design: Design, idx: np.ndarray, x: np.ndarray, pose, sig
     turning = 1j * (sl.dtheta + gamma_col[None, None, :])  # d(w E_k)/dz_v = i (theta_v + gamma_v) w E_k
     d_px = we[:, :, None] * turning
     free = _unheld(design, x)  # (N, 4)
-    r = (x[:, 6:7] + 1j * x[:, 7:8]) + w * (sl.crank + sl.arm) - (design.targets[:, 0] + 1j * design.targets[:, 1])
+    targets = design.targets[:, 0] + 1j * design.targets[:, 1]
+    r = (x[:, 6:7] + 1j * x[:, 7:8]) + w * (sl.crank + sl.arm) - targets
     # (dA_v)^T r for the px and py columns: Re(conj(dA) r) summed over the targets
     cross = np.zeros((n_rows, 4, dp.shape[2]))
     cross[:, 0] = _inner(d_px, r[:, :, None])
@@ -164,11 +165,12 @@ def _unheld(design: Design, x: np.ndarray) -> np.ndarray:
     return (hi > lo)[None, :] & (v > lo) & (v < hi)
 
 
-def penalty_jacobian(design: Design, idx, x: np.ndarray, rho: np.ndarray, s, weight: float):
+def penalty_jacobian(design: Design, idx, x: np.ndarray, frame, s, weight: float, violated):
     """(N, m, k) slopes of the penalty residuals weight * max(0, g) / L (`Design.penalties`,
     columns in the order of `Design.constraints`) along the variables `idx`: the slope of
-    g where g > 0 (the violated side: Gauss-Newton on a one-sided penalty), 0 elsewhere.
-    rho (N, n): |A B0| at the targets. Slopes of the constraint functions:
+    g where it is `violated` (N, m: the penalty residuals are positive; Gauss-Newton on a
+    one-sided penalty), 0 elsewhere. frame: the closure at x (`closure.Frame`: rho = |A B0|
+    and the crank's direction at the targets). Slopes of the constraint functions:
 
         Grashof rows: +-1 for each link, plus the margin's share of the total;
         cos mu(r2) = (b^2 + c^2 - r2) / (2 b c): d/db = (b^2 - c^2 + r2) / (2 b^2 c),
@@ -196,7 +198,7 @@ def penalty_jacobian(design: Design, idx, x: np.ndarray, rho: np.ndarray, s, wei
     if timing:
         dphi[:, :, k - len(timing):] = _phi_slopes(design, np.array(timing), s, n)
     rows = []
-    g = design.constraints(x, RhoOnly(rho), phi)
+    rho, cphi, sphi = frame.rho, frame.cphi, frame.sphi
     margin = GRASHOF_MARGIN * unit.sum(axis=0)
     if design.grashof in SHORTEST:
         short = SHORTEST[design.grashof]
@@ -223,9 +225,9 @@ def penalty_jacobian(design: Design, idx, x: np.ndarray, rho: np.ndarray, s, wei
     below = (sbc * (unit[2] - unit[3]))  # d|b - c|
     above = np.broadcast_to(unit[2] + unit[3], (n_rows, k))  # d(b + c)
     safe = np.where(rho > 0, rho, 1.0)
-    drho = ((a[:, None] - d[:, None] * np.cos(phi)) / safe)[:, :, None] * unit[1] + \
-        ((d[:, None] - a[:, None] * np.cos(phi)) / safe)[:, :, None] * unit[0] + \
-        (a[:, None] * d[:, None] * np.sin(phi) / safe)[:, :, None] * dphi
+    drho = ((a[:, None] - d[:, None] * cphi) / safe)[:, :, None] * unit[1] + \
+        ((d[:, None] - a[:, None] * cphi) / safe)[:, :, None] * unit[0] + \
+        (a[:, None] * d[:, None] * sphi / safe)[:, :, None] * dphi
     short_side = (np.abs(b - c)[:, None] - rho) >= (rho - (b + c)[:, None])
     assembly = np.where(short_side[:, :, None], below[:, None, :] - drho, drho - above[:, None, :])
     out = np.concatenate([np.stack(rows, axis=1) if rows else np.zeros((n_rows, 0, k)), assembly], axis=1)
@@ -238,7 +240,7 @@ def penalty_jacobian(design: Design, idx, x: np.ndarray, rho: np.ndarray, s, wei
     if design.timing == "free":
         sweep = np.array([design.scale if j > N_LINK else 0.0 for j in idx])
         out = np.concatenate([out, np.broadcast_to(sweep, (n_rows, 1, k))], axis=1)
-    out = np.where((g > 0.0)[:, :, None], out, 0.0) * (weight / design.scale)
+    out = np.where(violated[:, :, None], out, 0.0) * (weight / design.scale)
     return np.nan_to_num(out)
 
 

@@ -112,13 +112,21 @@ class Design:
         return lo, phi.max(axis=1) - lo
 
     # ---------------------------------------------------------------- residuals
+    def frame(self, x: np.ndarray, sign: np.ndarray, s: np.ndarray):
+        """The closure (`closure.Frame`) of candidates x (N, nx) at their input angles, and
+        those angles (N, n)."""
+        d, a, b, c = (x[:, k:k + 1] for k in range(4))
+        phi = self.input_angles(x, s)
+        return closure.frame(a, b, c, d, phi, sign[:, None]), phi
+
     def points(self, x: np.ndarray, sign: np.ndarray, s: np.ndarray, pose: closure.Frame | None = None):
         """Global coupler points (N, n, 2), the pose and the input angles (`pose`: the
         closure at these lengths and angles when the caller has it already)."""
-        d, a, b, c = (x[:, k:k + 1] for k in range(4))
-        phi = self.input_angles(x, s)
-        p = pose if pose is not None else closure.frame(a, b, c, d, phi, sign[:, None])
-        lx, ly = p.coupler_point(a, x[:, 4:5], x[:, 5:6])
+        if pose is None:
+            p, phi = self.frame(x, sign, s)
+        else:
+            p, phi = pose, self.input_angles(x, s)
+        lx, ly = p.coupler_point(x[:, 1:2], x[:, 4:5], x[:, 5:6])
         cg, sg = np.cos(x[:, 8:9]), np.sin(x[:, 8:9])
         gx = x[:, 6:7] + cg * lx - sg * ly
         gy = x[:, 7:8] + sg * lx + cg * ly
@@ -136,7 +144,7 @@ class Design:
 
     def penalty_residuals(self, x: np.ndarray, s: np.ndarray, weight: float) -> np.ndarray:
         """(N, m) the penalty part of `residuals` alone (weight * violations): the
-        constraints need only rho = |A B0| of the closure, computed as `four_bar.pose` does
+        constraints need only rho = |A B0| of the closure, computed as `closure.frame` does
         (the same bits), not the coupler points."""
         phi = self.input_angles(x, s)
         a, d = x[:, 1:2], x[:, 0:1]

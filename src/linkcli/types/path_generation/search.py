@@ -2,8 +2,7 @@
 
 The objective evaluations (one per candidate evaluated, every finite-difference column
 included; a closed-form Jacobian counts CLOSED_FORM, one more with the penalties'
-differences) are counted by
-`linkcli.search.budget.Budget` against the `[solver] budget`.
+differences) are counted by `linkcli.search.budget.Budget` against the `[solver] budget`.
 * `Space`: the free variables of a Design, optionally with the coupler point and the
   ground pivot projected out (solved by `starts.fit_linear` at every evaluation:
   variable projection, which leaves the lengths, the angles and the timing to search);
@@ -32,6 +31,7 @@ from linkcli.search import levenberg_marquardt, linalg, sampling
 from linkcli.search.budget import Budget
 from linkcli.search.evolution import evolve
 from linkcli.types.path_generation import derivatives
+from linkcli.types.path_generation.derivatives import LINEAR
 from linkcli.types.path_generation.model import Design
 from linkcli.types.path_generation.starts import fit_linear
 
@@ -46,7 +46,6 @@ SHRINK = 16  # is taken again with a step this much smaller,
 SHRINKS = 3  # at most this many times
 MIN_ROOM = 1e-3  # a central step shrunk below this share of the usual one is round-off
 ROUND_OFF = 1e-13  # dimensionless residual differences this small are round-off
-LINEAR = [4, 5, 6, 7]  # px, py, gx, gy: linear in the coupler point once the rest is set
 CLOSED_FORM = 2  # evaluations a row's closed-form Jacobian counts (measured: 1.8 to 2.9 times a
 # residual evaluation's time for 4 to 15 variables, the penalties' slopes included)
 
@@ -116,17 +115,18 @@ class Space:
         design = self.design
         self.budget.add(CLOSED_FORM * n)
         if self.project:
-            x, pose = fit_linear(design, self.full(z), sign, s, with_pose=True)
-            fit, ok = derivatives.projected_jacobian(design, self.idx, x, pose, sign, s)
+            x, frame = fit_linear(design, self.full(z), sign, s, with_pose=True)
+            fit, ok = derivatives.projected_jacobian(design, self.idx, x, frame, sign, s)
         else:
             x = self.full(z)
-            _, pose, _ = design.points(x, sign, s)
-            fit, ok = derivatives.full_jacobian(design, self.idx, x, pose, s)
+            frame, _ = design.frame(x, sign, s)
+            fit, ok = derivatives.full_jacobian(design, self.idx, x, frame, s)
         m = fit.shape[1]
         jac = np.empty(r0.shape + (k,))
         jac[:, :m] = fit
-        if r0.shape[1] > m and self.project:
-            jac[:, m:] = derivatives.penalty_jacobian(design, self.idx, x, pose.rho, s, weight)
+        if r0.shape[1] > m and self.project:  # violated: the penalties r0 shows positive
+            jac[:, m:] = derivatives.penalty_jacobian(design, self.idx, x, frame, s, weight,
+                                                      r0[:, m:] > 0.0)
         elif r0.shape[1] > m:  # differences: where a constraint binds, `_sharpened`'s slopes
             # on the violated side of a kink settle it (closed-form slopes, 0 on the
             # feasible side, left arc6_window's seeds crawling along its window edge)

@@ -206,9 +206,8 @@ def fit_linear(design: Design, x: np.ndarray, sign: np.ndarray, s: np.ndarray, w
     fixed) or n G = S2 (the coupler point fixed). With `with_pose`, the
     closure computed on the way is returned too."""
     free = [j for j in (4, 5, 6, 7) if design.free[j]]
-    dd, a, b, c = (x[:, k:k + 1] for k in range(4))
-    phi = design.input_angles(x, s)
-    p = closure.frame(a, b, c, dd, phi, sign[:, None])
+    a = x[:, 1:2]
+    p, _ = design.frame(x, sign, s)
     if not free:
         return (x, p) if with_pose else x
     cg, sg = np.cos(x[:, 8:9]), np.sin(x[:, 8:9])
@@ -243,9 +242,9 @@ def fit_linear(design: Design, x: np.ndarray, sign: np.ndarray, s: np.ndarray, w
         sigma, s1, s2 = sc + 1j * ss, rhs[:, 0] + 1j * rhs[:, 1], rhs[:, 2] + 1j * rhs[:, 3]
         det = n * n - (sigma * sigma.conj()).real
         with np.errstate(divide="ignore", invalid="ignore"):
-            cp = (n * s1 - sigma.conj() * s2) / det
-            cg = (n * s2 - sigma * s1) / det
-        sol = np.stack([cp.real, cp.imag, cg.real, cg.imag], axis=1)
+            point = (n * s1 - sigma.conj() * s2) / det
+            pivot = (n * s2 - sigma * s1) / det
+        sol = np.stack([point.real, point.imag, pivot.real, pivot.imag], axis=1)
         inside = (det > CONDITIONED * n * n) & np.all((sol >= lo) & (sol <= hi), axis=1)
         x[:, free] = np.where(inside[:, None], sol, x[:, free])
         rest = np.flatnonzero(~inside)
