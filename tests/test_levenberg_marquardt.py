@@ -54,3 +54,45 @@ def test_a_bound_that_cuts_off_the_minimum_holds_it():
     assert np.allclose(z[:, 0], 0.5, atol=1e-12)
     assert np.allclose(z[:, 1], 0.25, atol=1e-8)
     assert np.allclose(f, 0.25, rtol=1e-10)  # (1 - 0.5)^2
+
+
+class Plane:
+    """r = z - t with the linear constraint sum(z) <= b held by the LM (`linear`): the
+    minimum is t's projection on the plane, t - (sum t - b) / k, where that is inside the
+    box; with z_0 >= 0.5 binding too, z_0 = 0.5 and the rest t_i - mu with
+    mu = (sum of the rest of t - (b - 0.5)) / (k - 1) (the KKT conditions)."""
+
+    def __init__(self, t, b, lo, hi):
+        self.t = np.asarray(t, float)
+        self.lo, self.hi = np.asarray(lo, float), np.asarray(hi, float)
+        self.linear = (np.ones(len(self.t)), float(b))
+        self.budget = Budget(10**7)
+
+    def residuals(self, z, rows):
+        self.budget.add(len(z))
+        return z - self.t[None, :]
+
+    def jacobian(self, z, rows, r0):
+        return np.repeat(np.eye(len(self.t))[None], len(z), axis=0)
+
+
+PLANE_STARTS = np.array([[0.0, 0.0, 0.0, 0.0], [5.0, 5.0, 5.0, 5.0], [-3.0, 1.0, 4.0, -2.0]])
+
+
+def test_a_linear_constraint_is_held_on_its_plane():
+    z, f, done = batch_lm(Plane([1, 2, 3, 4], 6.0, [-10] * 4, [10] * 4), PLANE_STARTS, 100)
+    assert np.all(done)
+    assert np.allclose(z, [0.0, 1.0, 2.0, 3.0], atol=1e-10)  # t - (10 - 6) / 4
+    assert np.allclose(f, 4.0, rtol=1e-10)
+
+
+def test_a_linear_constraint_and_a_bound_both_binding():
+    z, f, done = batch_lm(Plane([1, 2, 3, 4], 6.0, [0.5, -10, -10, -10], [10] * 4), PLANE_STARTS, 100)
+    mu = (2 + 3 + 4 - (6 - 0.5)) / 3
+    assert np.allclose(z, [0.5, 2 - mu, 3 - mu, 4 - mu], atol=1e-10)
+    assert np.allclose(z.sum(axis=1), 6.0, atol=1e-10)
+
+
+def test_an_inactive_linear_constraint_changes_nothing():
+    z, f, done = batch_lm(Plane([1, 2, 3, 4], 20.0, [-10] * 4, [10] * 4), PLANE_STARTS, 100)
+    assert np.allclose(z, [1, 2, 3, 4], atol=1e-12) and np.all(f < 1e-24)

@@ -4,8 +4,11 @@ Each row z of the batch takes the step s solving (J^T J + lambda D) s = -J^T r w
 D = diag(J^T J) (Marquardt's scaling; Marquardt 1963, More 1978), clipped to the box;
 the step is kept if it lowers |r|^2, and lambda shrinks by 3 (kept) or grows by 4
 (refused). A variable at a bound whose gradient pushes out of the box is frozen for the
-step. The rows are stacked (one residual call for all of them); every linear system is
-solved by `linkcli.search.linalg`, so the steps do not follow the machine's BLAS kernel.
+step. A problem may add one linear inequality c.z <= b (`linear`): a step that would cross
+its plane becomes the model's minimizer on the plane (`_on_plane`), so the constraint is
+held exactly, without a penalty's kink. The rows are stacked (one residual call for all
+of them); every linear system is solved by `linkcli.search.linalg`, so the steps do not
+follow the machine's BLAS kernel.
 """
 
 from __future__ import annotations
@@ -21,7 +24,8 @@ from linkcli.search.budget import Budget
 class BoxedLeastSquares(Protocol):
     """A batch of least-squares problems sharing one box: residuals (N, m) of rows z (N, k)
     picked by `rows` (indices into the batch), their Jacobians (N, m, k) given the
-    residuals r0, the bounds lo, hi (k,), and the budget the residuals count against."""
+    residuals r0, the bounds lo, hi (k,), and the budget the residuals count against;
+    optionally `linear` = (c (k,), b), the constraint c.z <= b (None: none)."""
 
     lo: np.ndarray
     hi: np.ndarray
@@ -32,11 +36,12 @@ class BoxedLeastSquares(Protocol):
     def jacobian(self, z: np.ndarray, rows, r0: np.ndarray) -> np.ndarray: ...
 
 
-def batch_lm(problem: BoxedLeastSquares, z, iterations: int, reserve: int = 0):
+def batch_lm(problem: BoxedLeastSquares, z, iterations: int, reserve: int = 0, enough: float = -1.0):
     """Levenberg-Marquardt on every row of z at once, leaving `reserve` evaluations of the
-    budget unspent (a Jacobian costs 2k + 1 per row); returns (z, cost, converged): a row
-    has converged when a step gains less than 1e-12 of its cost, when no step gains
-    anything (damping above 1e10), or at an exact fit."""
+    budget unspent (a Jacobian costs 2k + 1 per row), and stopping every row once one
+    costs `enough` or less; returns (z, cost, converged): a row has converged when a step
+    gains less than 1e-12 of its cost, when no step gains anything (damping above 1e10),
+    or at an exact fit."""
     z = z.copy()
     k = z.shape[1]
     if k == 0 or problem.budget.left - reserve < len(z):
@@ -48,9 +53,10 @@ def batch_lm(problem: BoxedLeastSquares, z, iterations: int, reserve: int = 0):
     stale = np.ones(len(z), dtype=bool)  # Jacobian to (re)compute
     active = np.ones(len(z), dtype=bool)
     lo, hi = problem.lo, problem.hi
+    linear = getattr(problem, "linear", None)
     for _ in range(iterations):
         rows = np.flatnonzero(active)
-        if len(rows) == 0 or problem.budget.left - reserve < len(rows) * (2 * k + 1):
+        if len(rows) == 0 or f.min() <= enough or problem.budget.left - reserve < len(rows) * (2 * k + 1):
             break
         need = rows[stale[rows]]
         if jac is None:
@@ -60,7 +66,8 @@ def batch_lm(problem: BoxedLeastSquares, z, iterations: int, reserve: int = 0):
             stale[need] = False
         j = jac[rows]
         g = np.einsum("nmk,nm->nk", j, r[rows])
-        h = np.einsum("nmk,nml->nkl", j, j)
+        jt = np.ascontiguousarray(np.transpose(j, (0, 2, 1)))  # rows of J^T: einsum's fast loop
+        h = np.einsum("nkm,nlm->nkl", jt, jt)
         zr = z[rows]
         frozen = (((zr <= lo + 1e-12 * (np.abs(lo) + 1)) & (g > 0))
                   | ((zr >= hi - 1e-12 * (np.abs(hi) + 1)) & (g < 0)))
@@ -70,8 +77,14 @@ def batch_lm(problem: BoxedLeastSquares, z, iterations: int, reserve: int = 0):
         diag = np.einsum("nkk->nk", h)
         damp = lam[rows, None] * (diag + 1e-12 * diag.max(axis=1, keepdims=True)) + frozen + 1e-300
         a = h + np.einsum("nk,kl->nkl", damp, np.eye(k))
-        step = -linalg.solve_spd(a, g)
+        if linear is None:
+            step = -linalg.solve_spd(a, g)
+        else:  # the plane's normal as a second right-hand side (`_on_plane`)
+            both = linalg.solve_spd(a, np.stack([g, linear[0][None, :] * keep], axis=2))
+            step = -both[..., 0]
         step = np.nan_to_num(step) * keep
+        if linear is not None:
+            step = _on_plane(linear, a, g, np.nan_to_num(both[..., 1]), zr, step, keep, lo, hi)
         znew = np.clip(zr + step, lo, hi)
         rnew = problem.residuals(znew, rows)
         fnew = np.einsum("ij,ij->i", rnew, rnew)
@@ -85,3 +98,39 @@ def batch_lm(problem: BoxedLeastSquares, z, iterations: int, reserve: int = 0):
         done = small | (lam[rows] > 1e10) | (f[rows] < 1e-30) | (~ok & (f_old < 1e-30))
         active[rows[done]] = False
     return z, f, ~active
+
+
+def _on_plane(linear, m, g, u, z, step, keep, lo, hi) -> np.ndarray:
+    """Steps (N, k) from rows z that would cross the plane of the linear constraint
+    c.z <= b (`linear` = (c, b)) replaced by the model's minimizer on it: with M the damped
+    normal matrix (N, k, k), g the gradient and u = M^-1 c (the frozen variables, not
+    `keep`, held), s' = s + u (b - c.z - c.s) / (c.u). Where that takes a variable of the
+    plane out of the box, the variable is held at its bound and the minimizer on the plane
+    taken again among the others (an active set that only grows): the plane is met and
+    the box kept."""
+    c, b = linear
+    cm = c[None, :] * keep
+    over = np.flatnonzero(np.einsum("nk,nk->n", cm, z + step) > b)
+    if not len(over):
+        return step
+    step = step.copy()
+    held = ~keep[over]
+    fixed = np.zeros((len(over), z.shape[1]))  # the held variables' steps
+    m, g, z_o, u = m[over], g[over], z[over], u[over]
+    s_o = step[over]
+    for _ in range(z.shape[1]):
+        cu = np.einsum("nk,nk->n", cm[over], u)
+        gap = b - np.einsum("nk,k->n", z_o + s_o, c)
+        s_o = s_o + np.where(cu > 0.0, gap / np.where(cu > 0.0, cu, 1.0), 0.0)[:, None] * u
+        out = ~held & (c[None, :] != 0.0) & ((z_o + s_o < lo) | (z_o + s_o > hi))
+        if not out.any():
+            break
+        held |= out  # at the bound it crossed; the rest solved again with these held
+        fixed = np.where(out, np.clip(z_o + s_o, lo, hi) - z_o, fixed)
+        free = ~held
+        a = np.where(free[:, :, None] & free[:, None, :], m, 0.0) + held[:, :, None] * np.eye(z.shape[1])
+        rhs = np.where(free, -(g + np.einsum("nkl,nl->nk", m, fixed)), fixed)
+        both = np.nan_to_num(linalg.solve_spd(a, np.stack([rhs, c[None, :] * free], axis=2)))
+        s_o, u = both[..., 0], both[..., 1]
+    step[over] = s_o
+    return step
