@@ -16,7 +16,7 @@ ten.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 
@@ -37,6 +37,10 @@ class Frame:
     spsi: np.ndarray
     rho: np.ndarray
     valid: np.ndarray
+
+    def take(self, rows) -> "Frame":
+        """The closure of the candidates `rows` (indices into the first axis)."""
+        return Frame(*(getattr(self, f.name)[rows] for f in fields(self)))
 
     def coupler_point(self, a, px, py):
         """Coupler point P = A + (px + i py) e^{i theta}, in the frame of A0 and B0."""

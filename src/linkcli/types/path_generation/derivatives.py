@@ -118,31 +118,34 @@ def projected_jacobian(design: Design, idx: np.ndarray, x: np.ndarray, pose, sig
     sl = _Slopes(design, idx, x, pose, s)
     dp, w = sl.dp, sl.w
     gamma_col = np.array([j == 8 for j in idx], dtype=float)
-    # the linear columns and their slopes (columns px, py; the pivot's are constant)
+    # the linear columns (px, py, gx, gy) are w E_k, i w E_k, 1, i (their real inner
+    # products: n on the diagonal, sigma = sum w E_k off it, as in fit_linear); the slopes
+    # of the first two, i (theta_v + gamma_v) w E_k; the pivot's are constant
     we = w * sl.e_theta
-    basis = np.stack([we, 1j * we, np.ones_like(we), np.full_like(we, 1j)], axis=2)  # (N, n, 4)
-    turning = 1j * (sl.dtheta + gamma_col[None, None, :])  # d(w E_k)/dz_v = i (theta_v + gamma_v) w E_k
+    turning = 1j * (sl.dtheta + gamma_col[None, None, :])
     d_px = we[:, :, None] * turning
     free = _unheld(design, x)  # (N, 4)
     targets = design.targets[:, 0] + 1j * design.targets[:, 1]
     r = (x[:, 6:7] + 1j * x[:, 7:8]) + w * (sl.crank + sl.arm) - targets
-    # (dA_v)^T r for the px and py columns: Re(conj(dA) r) summed over the targets
-    cross = np.zeros((n_rows, 4, dp.shape[2]))
-    cross[:, 0] = _inner(d_px, r[:, :, None])
-    cross[:, 1] = _inner(1j * d_px, r[:, :, None])
-    rhs = np.einsum("nti,ntk->nik", np.conj(basis), dp, optimize=False).real + cross
-    gram = np.einsum("nti,ntj->nij", np.conj(basis), basis, optimize=False).real
+    # (dA_v)^T r for the px and py columns: Re and Im of sum conj(d(w E_k)) r
+    cross = np.sum(np.conj(d_px) * r[:, :, None], axis=1)
+    along = np.sum(np.conj(we)[:, :, None] * dp, axis=1)  # A^T D: px, py columns
+    plain = np.sum(dp, axis=1)  # gx, gy columns
+    rhs = np.stack([along.real + cross.real, along.imag + cross.imag, plain.real, plain.imag], axis=1)
+    sigma = np.sum(we, axis=1)
+    gram = np.zeros((n_rows, 4, 4))
+    gram[:, 0, 0] = gram[:, 1, 1] = gram[:, 2, 2] = gram[:, 3, 3] = float(design.n_targets)
+    gram[:, 0, 2] = gram[:, 2, 0] = gram[:, 1, 3] = gram[:, 3, 1] = sigma.real
+    gram[:, 0, 3] = gram[:, 3, 0] = sigma.imag
+    gram[:, 1, 2] = gram[:, 2, 1] = -sigma.imag
     eye = np.eye(4)
     both = free[:, :, None] & free[:, None, :]
     gram = np.where(both, gram, 0.0) + np.where(~free[:, :, None] & (eye > 0), 1.0, 0.0)
     rhs = np.where(free[:, :, None], rhs, 0.0)
     coef = linalg.solve_spd(gram, rhs)  # (N, 4, k)
-    return _real(design, dp - np.einsum("nti,nik->ntk", basis, coef, optimize=False), sl.ok)
-
-
-def _inner(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Re(sum over the targets of conj(u) v): the real inner product of (x, y) pairs."""
-    return np.sum((np.conj(u) * v).real, axis=1)
+    fitted = we[:, :, None] * (coef[:, None, 0] + 1j * coef[:, None, 1]) + (coef[:, None, 2]
+                                                                          + 1j * coef[:, None, 3])
+    return _real(design, dp - fitted, sl.ok)
 
 
 def _phi_slopes(design: Design, timing: np.ndarray, s, n: int) -> np.ndarray:

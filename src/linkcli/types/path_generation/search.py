@@ -7,11 +7,15 @@ differences) are counted by `linkcli.search.budget.Budget` against the `[solver]
   ground pivot projected out (solved by `starts.fit_linear` at every evaluation:
   variable projection, which leaves the lengths, the angles and the timing to search);
   residuals and Jacobians of many candidates as one batch: the target errors' slopes in
-  closed form (`derivatives`), the penalties' too when projected, else by central
-  differences.
+  closed form (`derivatives`), the penalties' in closed form or by central differences;
+  free timing's sweep, sum(delta) <= 2 pi, as the linear constraint the
+  Levenberg-Marquardt holds on its plane (a penalty alone made the search crawl along
+  it: closed curves end at a sweep of one turn).
 * `distinct`: the best candidates, pairwise apart (restarts from distinct basins).
 * `batch_lm`: Levenberg-Marquardt on many candidates at once
-  (linkcli.search.levenberg_marquardt), each row with its own branch sign and direction.
+  (linkcli.search.levenberg_marquardt), each row with its own branch sign and direction;
+  a Jacobian reuses the closure and linear fit of the residual call that evaluated
+  its point (`Fixed`).
 * `polish`: `batch_lm` on one candidate (it was scipy's least_squares, whose SVD follows
   the BLAS kernel: one machine ended on another member of a continuum of exact fits).
 * `settle`: the final Newton-KKT polish on the constraints that bind (linkcli.search.kkt).
@@ -32,7 +36,7 @@ from linkcli.search.budget import Budget
 from linkcli.search.evolution import evolve
 from linkcli.types.path_generation import derivatives
 from linkcli.types.path_generation.derivatives import LINEAR
-from linkcli.types.path_generation.model import Design
+from linkcli.types.path_generation.model import N_LINK, Design
 from linkcli.types.path_generation.starts import fit_linear
 
 POLISH_ITERATIONS = 100  # Levenberg-Marquardt steps of one polish, at most
@@ -54,10 +58,12 @@ class Space:
     """The free variables of a Design: z (N, k) <-> full x (N, nx), with the per-candidate
     branch sign and turning direction, and a counted residual function."""
 
-    def __init__(self, design: Design, budget: Budget, project: bool = False) -> None:
+    def __init__(self, design: Design, budget: Budget, project: bool = False,
+                 closed_penalties: bool | None = None) -> None:
         self.design = design
         self.budget = budget
         self.project = project  # variable projection: coupler point and pivot by fit_linear
+        self.closed_penalties = project if closed_penalties is None else closed_penalties
         free = design.free.copy()
         if project:
             free[LINEAR] = False
@@ -65,6 +71,9 @@ class Space:
         self.lo = design.lo[self.idx]
         self.hi = design.hi[self.idx]
         self.base = np.where(free, 0.0, 0.5 * (design.lo + design.hi))
+        self.linear = None  # free timing: the sweep sum(delta) <= 2 pi, held by the LM exactly
+        if design.timing == "free" and np.any(self.idx > N_LINK):
+            self.linear = ((self.idx > N_LINK).astype(float), 2.0 * math.pi)
 
     @property
     def k(self) -> int:
@@ -81,11 +90,17 @@ class Space:
     def free(self, x: np.ndarray) -> np.ndarray:
         return x[:, self.idx]
 
-    def residuals(self, z, sign, s, weight) -> np.ndarray:
+    def fitted(self, z, sign, s):
+        """Full vectors of rows z (the linear part fitted when projected) and their closure."""
+        if self.project:
+            return fit_linear(self.design, self.full(z), sign, s, with_pose=True)
+        x = self.full(z)
+        return x, self.design.frame(x, sign, s)[0]
+
+    def residuals(self, z, sign, s, weight, fit=None) -> np.ndarray:
+        """Counted residuals of rows z (`fit`: their `fitted`, when the caller has it)."""
         self.budget.add(len(z))
-        if not self.project:
-            return self.design.residuals(self.full(z), sign, s, weight)
-        x, pose = fit_linear(self.design, self.full(z), sign, s, with_pose=True)
+        x, pose = self.fitted(z, sign, s) if fit is None else fit
         return self.design.residuals(x, sign, s, weight, pose=pose)
 
     def cost(self, z, sign, s, weight) -> np.ndarray:
@@ -103,28 +118,28 @@ class Space:
         room = np.minimum(z - self.lo, self.hi - z)
         return np.where(room >= h, h, np.where(room >= MIN_ROOM * h, room, 0.0))
 
-    def jacobian(self, z, sign, s, weight, r0):
-        """(N, m, k) Jacobians of the residuals r0 (N, m) at rows z: the target errors'
-        slopes in closed form (`derivatives`, projected or on every variable; counted as
-        CLOSED_FORM evaluations a row); the penalties' in closed form too when projected
-        (the field stage), else by differences of `Design.penalty_residuals` (which need
-        no coupler point; one evaluation a row) made faithful by `_sharpened`; every
-        slope by differences on a row where the closed form does not hold (no assembly, a
-        dead point)."""
+    def jacobian(self, z, sign, s, weight, r0, fit=None):
+        """(N, m, k) Jacobians of the residuals r0 (N, m) at rows z (`fit`: their
+        `fitted`, when the caller has it): the target errors' slopes in closed form
+        (`derivatives`, projected or on every variable; counted as CLOSED_FORM evaluations
+        a row); the penalties' in closed form too with `closed_penalties` (the field
+        stage), else by differences of `Design.penalty_residuals` (which need no coupler
+        point; one evaluation a row) made faithful by `_sharpened`; every slope by
+        differences on a row where the closed form does not hold (no assembly, a dead
+        point). The sweep's penalty (free timing), which the Levenberg-Marquardt holds
+        as a linear constraint (`linear`), has no slope where it is met."""
         n, k = z.shape
         design = self.design
         self.budget.add(CLOSED_FORM * n)
+        x, frame = self.fitted(z, sign, s) if fit is None else fit
         if self.project:
-            x, frame = fit_linear(design, self.full(z), sign, s, with_pose=True)
-            fit, ok = derivatives.projected_jacobian(design, self.idx, x, frame, sign, s)
+            slopes, ok = derivatives.projected_jacobian(design, self.idx, x, frame, sign, s)
         else:
-            x = self.full(z)
-            frame, _ = design.frame(x, sign, s)
-            fit, ok = derivatives.full_jacobian(design, self.idx, x, frame, s)
-        m = fit.shape[1]
+            slopes, ok = derivatives.full_jacobian(design, self.idx, x, frame, s)
+        m = slopes.shape[1]
         jac = np.empty(r0.shape + (k,))
-        jac[:, :m] = fit
-        if r0.shape[1] > m and self.project:  # violated: the penalties r0 shows positive
+        jac[:, :m] = slopes
+        if r0.shape[1] > m and self.closed_penalties:  # violated: the penalties r0 shows positive
             jac[:, m:] = derivatives.penalty_jacobian(design, self.idx, x, frame, s, weight,
                                                       r0[:, m:] > 0.0)
         elif r0.shape[1] > m:  # differences: where a constraint binds, `_sharpened`'s slopes
@@ -140,6 +155,9 @@ class Space:
         if len(bad):
             jac[bad] = self._differences(z[bad], r0[bad], self._shifted(sign[bad], s[bad], weight),
                                          None if self.project else m)
+        if self.linear is not None and r0.shape[1] > m:  # the sweep's penalty (the last): the
+            # LM holds it, so no slope where it is met (differences across its kink mislead)
+            jac[:, -1] = np.where(r0[:, -1:] > 0.0, jac[:, -1], 0.0)
         return jac
 
     def _shifted(self, sign, s, weight):
@@ -237,19 +255,37 @@ class Fixed:
 
     def __init__(self, space: Space, sign, s, weight: float) -> None:
         self.space, self.sign, self.s, self.weight = space, sign, s, weight
-        self.lo, self.hi, self.budget = space.lo, space.hi, space.budget
+        self.lo, self.hi, self.budget, self.linear = space.lo, space.hi, space.budget, space.linear
+        self.last = None  # the last residual call's rows, points and fit
 
     def residuals(self, z, rows) -> np.ndarray:
-        return self.space.residuals(z, self.sign[rows], self.s[rows], self.weight)
+        sign, s = self.sign[rows], self.s[rows]
+        fit = self.space.fitted(z, sign, s)
+        self.last = (np.arange(len(self.sign))[rows], z, fit)
+        return self.space.residuals(z, sign, s, self.weight, fit=fit)
 
     def jacobian(self, z, rows, r0) -> np.ndarray:
-        return self.space.jacobian(z, self.sign[rows], self.s[rows], self.weight, r0)
+        return self.space.jacobian(z, self.sign[rows], self.s[rows], self.weight, r0,
+                                   fit=self._kept(z, rows))
+
+    def _kept(self, z, rows):
+        """The fit (`Space.fitted`) of rows z from the last residual call, when it held
+        them at these very points (Levenberg-Marquardt takes the Jacobians of the points
+        it has just accepted), else None."""
+        if self.last is None:
+            return None
+        held, zz, (x, frame) = self.last
+        pos = np.minimum(np.searchsorted(held, rows), len(held) - 1)
+        if not (np.array_equal(held[pos], rows) and np.array_equal(zz[pos], z)):
+            return None
+        return x[pos], frame.take(pos)
 
 
-def batch_lm(space: Space, z, sign, s, weight: float, iterations: int, reserve: int = 0):
+def batch_lm(space: Space, z, sign, s, weight: float, iterations: int, reserve: int = 0,
+             enough: float = -1.0):
     """linkcli.search.levenberg_marquardt.batch_lm on the rows z (N, k) with their signs
     and directions (N,): returns (z, cost, converged)."""
-    return levenberg_marquardt.batch_lm(Fixed(space, sign, s, weight), z, iterations, reserve)
+    return levenberg_marquardt.batch_lm(Fixed(space, sign, s, weight), z, iterations, reserve, enough)
 
 
 # ---------------------------------------------------------------- polish

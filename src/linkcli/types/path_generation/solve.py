@@ -8,12 +8,14 @@ for free timing the targets reached in order within one turn.
 
 Methods (`[solver] method`):
 
-* `multistart` (what `auto` runs): seeded draws completed in closed form
+* `multistart` (what `auto` runs): rounds of seeded draws completed in closed form
   (`starts`: timing hypotheses on the coupler curve, a similarity fit for scale,
   angle and pivot, a linear fit for coupler point and pivot), then Levenberg-Marquardt on
-  the most promising distinct candidates at once with the linear part projected out, in
-  rounds that halve the field, then Levenberg-Marquardt on every variable, bounds held,
-  from the best distinct few.
+  the most promising distinct candidates at once with the linear part projected out, the
+  field halving after each of its rounds, then the best distinct few refined (still
+  projected, bounds and penalties held) and polished on every variable; until two
+  rounds end at the same optimum. The first two rounds run side by side, in the same
+  batched steps.
 * `least-squares`: plain multistart, Levenberg-Marquardt (`search.polish`) from uniform random draws.
 * `differential-evolution`: scipy's differential evolution alone, on the penalized sum.
 * `de-polish`: differential evolution on half the budget, then the Levenberg-Marquardt polish.
@@ -24,7 +26,6 @@ exact kinematics (`violations`); a violation makes the status infeasible, named 
 
 from __future__ import annotations
 
-import itertools
 import math
 from dataclasses import dataclass, replace
 
@@ -36,7 +37,8 @@ from linkcli.search.budget import Budget, BudgetSpent
 from linkcli.solution import Positions, Solution, SolverRecord, Status
 from linkcli.types.path_generation import starts
 from linkcli.types.path_generation.model import N_LINK, SHORTEST, Design, build, rho2_extremes
-from linkcli.types.path_generation.search import Space, batch_lm, differential_evolution, distinct, polish, settle
+from linkcli.types.path_generation.search import (POLISH_ITERATIONS, Space, batch_lm, differential_evolution,
+                                                 distinct, polish, settle)
 from linkcli.noise import snap
 from linkcli.textnum import num
 
@@ -46,8 +48,9 @@ POINT_EVALUATIONS = 40_000_000  # default cap on evaluations x targets (the cost
 LM_WEIGHT = 1e2  # penalty weight (dimensionless residuals) in the batched stage
 POLISH_WEIGHTS = (1e3, 1e5, 1e7, 1e9)  # final polish; each stiffer one only while a violation is left
 LM_FIELD = 96  # candidates entering the batched Levenberg-Marquardt stage
-LM_ROUNDS = (20, 20, 20)  # iterations per round; the field halves after each round (measured:
-# longer rounds, as the earlier (25, 25, 40, 60, 100), cost time without a better pick)
+FIELD_ROUNDS = 3  # rounds of the batched stage; the field halves after each
+FIELD_ITERATIONS = 20  # iterations per field round (measured: longer ones, as the earlier
+# (25, 25, 40, 60, 100), cost time without a better pick)
 POLISHED = 4  # distinct candidates refined on every variable, then polished
 POLISHED_SCIPY = 2  # of those, polished (`search.polish`, stiffer penalties)
 REFINE_ITERATIONS = 100  # batched Levenberg-Marquardt on every variable before the polish
@@ -122,9 +125,10 @@ def exact_objective(design: Design) -> float:
 # ---------------------------------------------------------------- methods
 
 def multistart(design: Design, budget: Budget, rng) -> tuple[list[Candidate], bool]:
-    """Rounds of `one_round` until an exact fit, a round whose own best lands within
-    CONFIRM of the best so far (the same optimum found again from other starts), MAX_STALE
-    rounds in a row that do not improve the best by more than IMPROVE, or the budget's end.
+    """Rounds of `one_round` (the first two side by side) until an exact fit, a round
+    whose own best lands within CONFIRM of the best so far (the same optimum found again
+    from other starts), MAX_STALE rounds in a row that do not improve the best by more
+    than IMPROVE, or the budget's end.
     Objectives are compared while a candidate is feasible, total violations while none is.
     Returns the best few candidates and whether the best was confirmed: exact, found again
     by a later round (its own best, or the next best kept, `_found_twice`). A
@@ -136,27 +140,34 @@ def multistart(design: Design, budget: Budget, rng) -> tuple[list[Candidate], bo
     confirmed = False
     exact = exact_objective(design)
     size = FIRST_ROUND
-    for index in itertools.count():
-        limit = round_limit(budget.left, size)
+    index = 0
+    while True:
+        sizes = [round_limit(budget.left, size)]
+        if index == 0 and budget.left - sizes[0] >= MIN_ROUND // 2:  # the first two side by side
+            sizes.append(round_limit(budget.left - sizes[0], size))
         size = min(2 * size, ROUND_BUDGET)  # a round that did not settle it: the next is larger
-        with budget.limit(limit):
-            new = [replace(c, round=index) for c in one_round(design, budget, rng)]
-        mine = min((_rank(design, c) for c in new), default=None)
-        found = sorted(found + new, key=lambda c: _rank(design, c))[:POLISHED]
-        top = _rank(design, found[0])
-        done = not top[0] and top[2] <= exact
-        if best is not None and mine is not None:
-            k = 1 if best[0] else 2  # compare violations while infeasible, else objectives
-            tiny = exact if k == 2 else 0.0
-            again = mine[0] == best[0] and abs(mine[k] - best[k]) <= CONFIRM * best[k] + tiny
-            better = top[0] < best[0] or (top[0] == best[0] and top[k] < best[k] * (1 - IMPROVE) - tiny)
-            stale = 0 if better else stale + 1
-            confirmed = again and not better  # a better round is a new optimum, to confirm
-            done |= confirmed or stale >= MAX_STALE
-        best = top if best is None or top < best else best
-        confirmed |= _found_twice(design, found, exact)
-        done |= confirmed
-        if done or budget.left < MIN_ROUND // 2:  # too little left for a round that could settle it
+        with budget.limit(sum(sizes)):
+            rounds = one_round(design, budget, rng, sizes)
+        for new in rounds:
+            new = [replace(c, round=index) for c in new]
+            index += 1
+            mine = min((_rank(design, c) for c in new), default=None)
+            found = sorted(found + new, key=lambda c: _rank(design, c))[:POLISHED]
+            top = _rank(design, found[0])
+            done = not top[0] and top[2] <= exact
+            if best is not None and mine is not None:
+                k = 1 if best[0] else 2  # compare violations while infeasible, else objectives
+                tiny = exact if k == 2 else 0.0
+                again = mine[0] == best[0] and abs(mine[k] - best[k]) <= CONFIRM * best[k] + tiny
+                better = top[0] < best[0] or (top[0] == best[0] and top[k] < best[k] * (1 - IMPROVE) - tiny)
+                stale = 0 if better else stale + 1
+                confirmed = again and not better  # a better round is a new optimum, to confirm
+                done |= confirmed or stale >= MAX_STALE
+            best = top if best is None or top < best else best
+            confirmed |= _found_twice(design, found, exact)
+            if done or confirmed:
+                return found, confirmed
+        if budget.left < MIN_ROUND // 2:  # too little left for a round that could settle it
             return found, confirmed
 
 
@@ -181,45 +192,107 @@ def _found_twice(design: Design, found: list[Candidate], exact: float) -> bool:
             and ranks[1][2] - ranks[0][2] <= CONFIRM * ranks[0][2])
 
 
-def one_round(design: Design, budget: Budget, rng) -> list[Candidate]:
-    """Draws completed in closed form, batched Levenberg-Marquardt with the linear part
-    projected out (the field halving after each round of iterations), then the best
-    distinct few refined on every variable and polished."""
-    per = starts.hypotheses_per_draw(design)
-    n_draws = min(MAX_DRAWS[design.timing], int(SCAN_SHARE * budget.left) // per)
+@dataclass
+class Field:
+    """One round's rows in the batched stage: free variables (N, k) of the projected space,
+    branch signs, directions, penalized costs, and the field rounds done."""
+
+    z: np.ndarray
+    sign: np.ndarray
+    s: np.ndarray
+    f: np.ndarray
+    done: int = 0
+
+    def take(self, keep: np.ndarray) -> None:
+        self.z, self.sign, self.s, self.f = self.z[keep], self.sign[keep], self.s[keep], self.f[keep]
+
+
+def one_round(design: Design, budget: Budget, rng, sizes: list[int]) -> list[list[Candidate]]:
+    """Rounds of the multistart (one per entry of `sizes`, its evaluations) run side by
+    side, each from its own draws: draws completed in closed form, batched
+    Levenberg-Marquardt with the linear part projected out (the field halving after each
+    of the FIELD_ROUNDS), then the best distinct few refined (projected, bounds and
+    penalties held), then polished on every variable. A second round starts one field
+    round after the first (its draws only once the first round's field holds no exact
+    fit, which settles the search alone), so that both share every batched step: a
+    step costs about as much for 200 rows as for 100 (numpy's call overhead). The
+    rounds never exchange rows: each is as independent of the other as in turn."""
     proj = Space(design, budget, project=True)
+    width = proj.hi - proj.lo
+    exact = exact_objective(design) / design.scale ** 2  # dimensionless, as the costs
+    fields = [_drawn(design, proj, budget, rng, sizes[0], len(sizes))]
+    reserve = int(0.15 * budget.left)
+    while True:
+        if any(g.f.min() <= exact for g in fields):  # an exact fit settles the search alone
+            fields = [g for g in fields if g.f.min() <= exact]
+        active = [g for g in fields if g.done < FIELD_ROUNDS]
+        if proj.k == 0 or budget.left <= reserve or not active:
+            break
+        _field_round(proj, active, reserve, width, exact)
+        if len(fields) < len(sizes) and fields[0].f.min() > exact:
+            fields.append(_drawn(design, proj, budget, rng, sizes[1], len(sizes)))
+            reserve = int(0.15 * budget.left)
+    for g in fields:  # the best distinct few; only exact fits where the round has one
+        f = np.where(g.f > exact, np.inf, g.f) if g.f.min() <= exact else g.f
+        keep = distinct(g.z, f, width, POLISHED)
+        g.take(keep if len(keep) else np.arange(min(POLISHED, len(g.z))))
+    space = Space(design, budget, project=True, closed_penalties=False)
+    z, f, conv = batch_lm(space, *_stacked(fields), LM_WEIGHT, REFINE_ITERATIONS, reserve=reserve // 2,
+                          enough=exact)
+    picks, at = [], 0
+    for g in fields:  # each round's best POLISHED_SCIPY (its exact fits alone), polished together
+        f_g = f[at:at + len(g.z)]
+        best = np.argsort(f_g, kind="stable")[:POLISHED_SCIPY]
+        picks.append(at + (best[f_g[best] <= exact] if f.min() <= exact else best))
+        at += len(g.z)
+    pick = np.concatenate(picks)
+    sign, s = np.concatenate([g.sign for g in fields]), np.concatenate([g.s for g in fields])
+    done = polish_all(design, budget, space.full(z[pick], sign[pick], s[pick]), sign[pick], s[pick],
+                      conv[pick])
+    bounds = np.cumsum([0] + [len(p) for p in picks])
+    return [done[a:b] for a, b in zip(bounds[:-1], bounds[1:]) if b > a]
+
+
+def _drawn(design: Design, proj: Space, budget: Budget, rng, size: int, rounds: int) -> Field:
+    """A round's draws (`starts`, SCAN_SHARE of its `size` evaluations), ranked by their
+    penalized cost, the LM_FIELD best distinct kept (fewer when so many Jacobians of
+    `rounds` rounds at once would pass MEMORY elements)."""
+    per = starts.hypotheses_per_draw(design)
+    n_draws = min(MAX_DRAWS[design.timing], int(SCAN_SHARE * size) // per)
     if n_draws >= 8:
         x, sign, s = starts.starts(design, rng, n_draws)
         budget.add(n_draws * per)
     else:  # a tiny budget: plain draws only, half of it to rank them
-        n_draws = max(1, min(64, budget.left // 2))
+        n_draws = max(1, min(64, size // 2))
         x, sign, s = starts.plain_starts(design, rng, n_draws)
     z = proj.free(x)
     f = proj.cost(z, sign, s, LM_WEIGHT) if budget.left >= n_draws else np.zeros(n_draws)
     m = 2 * design.n_targets + design.n_penalties
-    field = max(1, min(LM_FIELD, MEMORY // max(1, m * max(proj.k, 1))))
+    field = max(1, min(LM_FIELD, MEMORY // max(1, rounds * m * max(proj.k, 1))))
+    out = Field(z, sign, s, f)
     keep = distinct(z, f, proj.hi - proj.lo, field)
-    if len(keep) == 0:
-        keep = np.arange(min(field, len(z)))
-    z, sign, s, f = z[keep], sign[keep], s[keep], f[keep]
-    reserve = int(0.15 * budget.left)
-    for iters in LM_ROUNDS:
-        if proj.k == 0 or budget.left <= reserve or f.min() < EXACT:
-            break
-        z, f, _ = batch_lm(proj, z, sign, s, LM_WEIGHT, iters, reserve=reserve)
-        keep = distinct(z, f, proj.hi - proj.lo, max(POLISHED, len(z) // 2))
+    out.take(keep if len(keep) else np.arange(min(field, len(z))))
+    return out
+
+
+def _stacked(fields: list[Field]):
+    return tuple(np.concatenate([getattr(g, a) for g in fields]) for a in ("z", "sign", "s"))
+
+
+def _field_round(proj: Space, fields: list[Field], reserve: int, width, exact: float) -> None:
+    """FIELD_ITERATIONS of batched Levenberg-Marquardt on the rows of every field at once
+    (fewer once a row fits exactly), then each field halved to its best distinct rows
+    (POLISHED at least)."""
+    z, f, _ = batch_lm(proj, *_stacked(fields), LM_WEIGHT, FIELD_ITERATIONS, reserve=reserve, enough=exact)
+    at = 0
+    for g in fields:
+        rows = slice(at, at + len(g.z))
+        at += len(g.z)
+        g.z, g.f = z[rows], f[rows]
+        keep = distinct(g.z, g.f, width, max(POLISHED, len(g.z) // 2))
         if len(keep):
-            z, sign, s, f = z[keep], sign[keep], s[keep], f[keep]
-    keep = distinct(z, f, proj.hi - proj.lo, POLISHED)
-    if len(keep) == 0:
-        keep = np.arange(min(POLISHED, len(z)))
-    x = proj.full(z[keep], sign[keep], s[keep])
-    sign, s = sign[keep], s[keep]
-    space = Space(design, budget)
-    z, f, done = batch_lm(space, space.free(x), sign, s, LM_WEIGHT, REFINE_ITERATIONS,
-                          reserve=reserve // 2)
-    best = np.argsort(f, kind="stable")[:POLISHED_SCIPY]
-    return polish_all(design, budget, space.full(z[best]), sign[best], s[best], done[best])
+            g.take(keep)
+        g.done += 1
 
 
 def plain_multistart(design: Design, budget: Budget, rng) -> list[Candidate]:
@@ -253,24 +326,25 @@ def evolve(design: Design, budget: Budget, seed: int, polish_after: bool) -> lis
 
 
 def polish_all(design: Design, budget: Budget, x, sign, s, converged=None) -> list[Candidate]:
-    """The Levenberg-Marquardt polish on every free variable from each row of x, in turn; a second,
-    stiffer penalty pass where the first leaves a constraint violated. A row converges
-    when the polish meets its tolerances or the batched stage before it had converged."""
+    """The Levenberg-Marquardt polish on every free variable (`search.batch_lm`, at most
+    POLISH_ITERATIONS steps) from every row of x at once, at the penalty weights
+    POLISH_WEIGHTS in turn: the rows a weight leaves violating a constraint go on to the
+    next, stiffer one. A row converges when a polish meets its tolerances or the batched
+    stage before it had converged."""
     space = Space(design, budget)
-    out = []
-    for i in range(len(x)):
-        z0 = space.free(x[i:i + 1])[0]
-        conv = bool(converged[i]) if converged is not None else False
-        for weight in POLISH_WEIGHTS:
-            cap = budget.left // max(1, len(x) - i)
-            if space.k == 0 or cap < 2 * space.k + 2:
-                break
-            z0, _, ok = polish(space, z0, sign[i], s[i], weight, cap)
-            conv = conv or ok
-            if not violations(design, space.full(z0[None])[0], sign[i], s[i]):
-                break
-        out.append(Candidate(space.full(z0[None])[0], sign[i], s[i], conv or space.k == 0))
-    return out
+    z = np.clip(space.free(x), space.lo, space.hi)
+    conv = np.zeros(len(x), dtype=bool) if converged is None else np.array(converged, dtype=bool)
+    todo = np.flatnonzero(np.all(np.isfinite(z), axis=1))
+    for weight in POLISH_WEIGHTS:
+        if (space.k == 0 or not len(todo) or not np.all(space.lo <= space.hi)
+                or budget.left < len(todo) * (2 * space.k + 2)):
+            break
+        z[todo], _, ok = batch_lm(space, z[todo], sign[todo], s[todo], weight, POLISH_ITERATIONS)
+        conv[todo] |= ok
+        full = space.full(z[todo])
+        todo = todo[[bool(violations(design, full[j], sign[i], s[i])) for j, i in enumerate(todo)]]
+    full = space.full(z)
+    return [Candidate(full[i], sign[i], s[i], bool(conv[i]) or space.k == 0) for i in range(len(x))]
 
 
 def settled(design: Design, budget: Budget, best: Candidate) -> Candidate:
