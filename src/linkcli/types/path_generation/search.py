@@ -140,8 +140,12 @@ class Space:
         jac = np.empty(r0.shape + (k,))
         jac[:, :m] = slopes
         if r0.shape[1] > m and self.closed_penalties:  # violated: the penalties r0 shows positive
-            jac[:, m:] = derivatives.penalty_jacobian(design, self.idx, x, frame, s, weight,
-                                                      r0[:, m:] > 0.0)
+            violated = r0[:, m:] > 0.0
+            jac[:, m:] = 0.0
+            some = np.flatnonzero(violated.any(axis=1))  # the rows with a constraint to slope
+            if len(some):
+                jac[some, m:] = derivatives.penalty_jacobian(design, self.idx, x[some], frame.take(some),
+                                                             s[some], weight, violated[some])
         elif r0.shape[1] > m:  # differences: where a constraint binds, `_sharpened`'s slopes
             # on the violated side of a kink settle it (closed-form slopes, 0 on the
             # feasible side, left arc6_window's seeds crawling along its window edge)
