@@ -128,7 +128,7 @@ def _on_plane(linear, m, g, u, z, step, keep, lo, hi) -> np.ndarray:
         held |= out  # at the bound it crossed; the rest solved again with these held
         fixed = np.where(out, np.clip(z_o + s_o, lo, hi) - z_o, fixed)
         free = ~held
-        a = np.where(free[:, :, None] & free[:, None, :], m, 0.0) + held[:, :, None] * np.eye(z.shape[1])
+        a = linalg.restricted(m, free)
         rhs = np.where(free, -(g + np.einsum("nkl,nl->nk", m, fixed)), fixed)
         both = np.nan_to_num(linalg.solve_spd(a, np.stack([rhs, c[None, :] * free], axis=2)))
         s_o, u = both[..., 0], both[..., 1]

@@ -14,6 +14,8 @@ over the stack, a loop over the columns only; sums of products are `np.einsum` w
   (damped normal equations), where it is stable (Golub & Van Loan, section 4.2: the
   pivots are the D of a = L D L^T, all positive); about three times faster.
 - `matvec`, `gram`, `dot`: products as explicit sums.
+- `restricted(a, free)`: a system with some unknowns held (their rows and columns those
+  of the identity), for active sets.
 
 Rows whose pivot is 0 (singular to working precision) come back as NaN; callers test
 for it (`np.isfinite`) instead of catching an exception.
@@ -37,6 +39,15 @@ def matvec(a: np.ndarray, x: np.ndarray) -> np.ndarray:
 def gram(j: np.ndarray) -> np.ndarray:
     """j^T j: (..., m, n) -> (..., n, n)."""
     return np.einsum("...mi,...mj->...ij", j, j, optimize=False)
+
+
+def restricted(a: np.ndarray, free: np.ndarray) -> np.ndarray:
+    """a (N, n, n) with the rows and columns of the unknowns not `free` (N, n) replaced by
+    those of the identity: solved with their value as right-hand side, they are held at
+    it and the others solve the system restricted to the free ones."""
+    held = ~free
+    return (np.where(free[:, :, None] & free[:, None, :], a, 0.0)
+            + np.where(held[:, :, None] & np.eye(a.shape[-1], dtype=bool), 1.0, 0.0))
 
 
 def solve(a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -34,7 +34,7 @@ import numpy as np
 
 from linkcli.search import linalg
 from linkcli.types.path_generation.model import GRASHOF_MARGIN, N_LINK, SHORTEST, Design, rho2_extremes
-from linkcli.types.path_generation.starts import CONDITIONED
+from linkcli.types.path_generation.starts import linear_normal, linear_pair
 
 LINEAR = [4, 5, 6, 7]  # px, py, gx, gy: linear in the coupler point once the rest is set
 DEAD = 1e-6  # |sin(theta - psi)| below this at a target: the slopes are not trusted there
@@ -135,26 +135,17 @@ def projected_jacobian(design: Design, idx: np.ndarray, x: np.ndarray, pose, sig
     rhs = np.stack([along.real + cross.real, along.imag + cross.imag, plain.real, plain.imag], axis=1)
     sigma = np.sum(we, axis=1)
     n = float(design.n_targets)
-    det = n * n - (sigma * sigma.conj()).real
-    # all four free: n p + conj(sigma) G = S1, sigma p + n G = S2 in closed form (as fit_linear)
-    closed = np.all(free, axis=1) & (det > CONDITIONED * n * n)
+    # all four free: fit_linear's complex 2 x 2 in closed form; else the 4 x 4 system
+    s1, s2 = rhs[:, 0] + 1j * rhs[:, 1], rhs[:, 2] + 1j * rhs[:, 3]
+    point, pivot, posed = linear_pair(n, sigma[:, None], s1, s2)
+    closed = np.all(free, axis=1) & posed[:, 0]
     coef = np.empty((n_rows, 4, rhs.shape[2]))
-    if closed.any():
-        sg, dt = sigma[closed][:, None], det[closed][:, None]
-        s1, s2 = rhs[closed, 0] + 1j * rhs[closed, 1], rhs[closed, 2] + 1j * rhs[closed, 3]
-        point, pivot = (n * s1 - sg.conj() * s2) / dt, (n * s2 - sg * s1) / dt
-        coef[closed] = np.stack([point.real, point.imag, pivot.real, pivot.imag], axis=1)
+    coef[closed] = np.stack([point.real, point.imag, pivot.real, pivot.imag], axis=1)[closed]
     rest = np.flatnonzero(~closed)
-    if len(rest):  # a linear variable held at its bound, or an ill-posed fit: the 4 x 4 system
-        gram = np.zeros((len(rest), 4, 4))
-        gram[:, 0, 0] = gram[:, 1, 1] = gram[:, 2, 2] = gram[:, 3, 3] = n
-        gram[:, 0, 2] = gram[:, 2, 0] = gram[:, 1, 3] = gram[:, 3, 1] = sigma[rest].real
-        gram[:, 0, 3] = gram[:, 3, 0] = sigma[rest].imag
-        gram[:, 1, 2] = gram[:, 2, 1] = -sigma[rest].imag
+    if len(rest):  # a linear variable held at its bound, or an ill-posed fit
         fr = free[rest]
-        gram = (np.where(fr[:, :, None] & fr[:, None, :], gram, 0.0)
-                + np.where(~fr[:, :, None] & (np.eye(4) > 0), 1.0, 0.0))
-        coef[rest] = linalg.solve_spd(gram, np.where(fr[:, :, None], rhs[rest], 0.0))
+        coef[rest] = linalg.solve_spd(linalg.restricted(linear_normal(n, sigma[rest]), fr),
+                                      np.where(fr[:, :, None], rhs[rest], 0.0))
     fitted = we[:, :, None] * (coef[:, None, 0] + 1j * coef[:, None, 1]) + (coef[:, None, 2]
                                                                           + 1j * coef[:, None, 3])
     return _real(design, dp - fitted, sl.ok)

@@ -51,9 +51,9 @@ LM_FIELD = 96  # candidates entering the batched Levenberg-Marquardt stage
 FIELD_ROUNDS = 3  # rounds of the batched stage; the field halves after each
 FIELD_ITERATIONS = 20  # iterations per field round (measured: longer ones, as the earlier
 # (25, 25, 40, 60, 100), cost time without a better pick)
-POLISHED = 4  # distinct candidates refined on every variable, then polished
-POLISHED_SCIPY = 2  # of those, polished (`search.polish`, stiffer penalties)
-REFINE_ITERATIONS = 100  # batched Levenberg-Marquardt on every variable before the polish
+POLISHED = 4  # distinct candidates of a round refined (projected), then
+POLISH_PICKS = 2  # of those, the best this many polished on every variable (`polish_all`)
+REFINE_ITERATIONS = 100  # batched Levenberg-Marquardt of the refinement, at most
 MAX_DRAWS = {"free": 600, "prescribed": 2000}
 SCAN_SHARE = 0.6  # share of a round's budget for the draws
 ROUND_BUDGET = 500_000  # evaluations of a round of the multistart, at most
@@ -63,7 +63,6 @@ CONFIRM = 1e-7  # a round whose own best is within this (relative) of the best s
 IMPROVE = 1e-6  # a round improves the best when it lowers it by more than this (relative)
 MAX_STALE = 3  # rounds in a row without improvement that end the search
 MEMORY = 4_000_000  # Jacobian elements held at once by the batched stage
-EXACT = 1e-28  # dimensionless cost below which a candidate is an exact fit
 EXACT_RMS = 1e-9  # rms error, relative to the targets' extent, that ends the rounds
 SETTLE_EVALUATIONS = 5000  # the final KKT polish's reserve in the budget, at most,
 SETTLE_SHARE = 20  # and at most this fraction (1/20) of it
@@ -240,9 +239,9 @@ def one_round(design: Design, budget: Budget, rng, sizes: list[int]) -> list[lis
     z, f, conv = batch_lm(space, *_stacked(fields), LM_WEIGHT, REFINE_ITERATIONS, reserve=reserve // 2,
                           enough=exact)
     picks, at = [], 0
-    for g in fields:  # each round's best POLISHED_SCIPY (its exact fits alone), polished together
+    for g in fields:  # each round's best POLISH_PICKS (its exact fits alone), polished together
         f_g = f[at:at + len(g.z)]
-        best = np.argsort(f_g, kind="stable")[:POLISHED_SCIPY]
+        best = np.argsort(f_g, kind="stable")[:POLISH_PICKS]
         picks.append(at + (best[f_g[best] <= exact] if f.min() <= exact else best))
         at += len(g.z)
     pick = np.concatenate(picks)

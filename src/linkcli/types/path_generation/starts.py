@@ -224,14 +224,8 @@ def fit_linear(design: Design, x: np.ndarray, sign: np.ndarray, s: np.ndarray, w
     if not design.free[7]:
         ry = ry - x[:, 7:8]
     n = float(design.n_targets)
-    sc, ss = ca.sum(axis=1), sa.sum(axis=1)
-    # normal matrix over (px, py, gx, gy) and right-hand side
-    h = np.zeros((len(x), 4, 4))
-    h[:, 0, 0] = h[:, 1, 1] = h[:, 2, 2] = h[:, 3, 3] = n
-    h[:, 0, 2] = h[:, 2, 0] = sc
-    h[:, 0, 3] = h[:, 3, 0] = ss
-    h[:, 1, 2] = h[:, 2, 1] = -ss
-    h[:, 1, 3] = h[:, 3, 1] = sc
+    sigma = ca.sum(axis=1) + 1j * sa.sum(axis=1)
+    h = linear_normal(n, sigma)  # normal matrix over (px, py, gx, gy) and right-hand side
     rhs = np.stack([(ca * rx + sa * ry).sum(axis=1), (ca * ry - sa * rx).sum(axis=1),
                     rx.sum(axis=1), ry.sum(axis=1)], axis=1)
     k = [j - 4 for j in free]
@@ -239,13 +233,10 @@ def fit_linear(design: Design, x: np.ndarray, sign: np.ndarray, s: np.ndarray, w
     x = x.copy()
     rest = np.arange(len(x))
     if len(free) == 4:  # all four free: the complex 2 x 2 system in closed form
-        sigma, s1, s2 = sc + 1j * ss, rhs[:, 0] + 1j * rhs[:, 1], rhs[:, 2] + 1j * rhs[:, 3]
-        det = n * n - (sigma * sigma.conj()).real
-        with np.errstate(divide="ignore", invalid="ignore"):
-            point = (n * s1 - sigma.conj() * s2) / det
-            pivot = (n * s2 - sigma * s1) / det
+        s1, s2 = rhs[:, 0] + 1j * rhs[:, 1], rhs[:, 2] + 1j * rhs[:, 3]
+        point, pivot, posed = linear_pair(n, sigma, s1, s2)
         sol = np.stack([point.real, point.imag, pivot.real, pivot.imag], axis=1)
-        inside = (det > CONDITIONED * n * n) & np.all((sol >= lo) & (sol <= hi), axis=1)
+        inside = posed & np.all((sol >= lo) & (sol <= hi), axis=1)
         x[:, free] = np.where(inside[:, None], sol, x[:, free])
         rest = np.flatnonzero(~inside)
     elif k in ([0, 1], [2, 3]):  # the coupler point alone, or the pivot alone: n y = S
@@ -256,6 +247,29 @@ def fit_linear(design: Design, x: np.ndarray, sign: np.ndarray, s: np.ndarray, w
     if len(rest):
         x[np.ix_(rest, free)] = bounded_lstsq(h[rest][:, k][:, :, k], rhs[rest][:, k], lo, hi)
     return (x, p) if with_pose else x
+
+
+def linear_normal(n: float, sigma: np.ndarray) -> np.ndarray:
+    """The normal matrix (N, 4, 4) of the linear columns (px, py, gx, gy) = (w E_k,
+    i w E_k, 1, i) over n targets: their real inner products, n on the diagonal and
+    sigma = sum w E_k (N,) off it."""
+    h = np.zeros((len(sigma), 4, 4))
+    h[:, 0, 0] = h[:, 1, 1] = h[:, 2, 2] = h[:, 3, 3] = n
+    h[:, 0, 2] = h[:, 2, 0] = h[:, 1, 3] = h[:, 3, 1] = sigma.real
+    h[:, 0, 3] = h[:, 3, 0] = sigma.imag
+    h[:, 1, 2] = h[:, 2, 1] = -sigma.imag
+    return h
+
+
+def linear_pair(n: float, sigma, s1, s2):
+    """The normal equations of `linear_normal` with all four free, in complex numbers:
+    n p + conj(sigma) G = s1, sigma p + n G = s2, solved in closed form (arrays
+    broadcast): (p, G, well posed: n^2 - |sigma|^2 > CONDITIONED n^2)."""
+    det = n * n - (sigma * sigma.conj()).real
+    with np.errstate(divide="ignore", invalid="ignore"):
+        point = (n * s1 - sigma.conj() * s2) / det
+        pivot = (n * s2 - sigma * s1) / det
+    return point, pivot, det > CONDITIONED * n * n
 
 
 def bounded_lstsq(h: np.ndarray, rhs: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
@@ -269,12 +283,11 @@ def bounded_lstsq(h: np.ndarray, rhs: np.ndarray, lo: np.ndarray, hi: np.ndarray
     h = h + (1e-12 * np.trace(h, axis1=1, axis2=2) + 1e-300)[:, None, None] * np.eye(f)
     held = np.zeros((n, f), dtype=bool)
     value = np.zeros((n, f))
-    eye = np.eye(f, dtype=bool)
     y = np.zeros((n, f))
     for _ in range(f + 1):
         free = ~held
         r = rhs - np.einsum("nij,nj->ni", h, value * held)
-        a = np.where(free[:, :, None] & free[:, None, :], h, 0.0) + np.where(held[:, :, None] & eye, 1.0, 0.0)
+        a = linalg.restricted(h, free)
         b = np.where(free, r, value)
         y = np.nan_to_num(linalg.solve_spd(a, b))
         low, high = free & (y < lo), free & (y > hi)
