@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from linkcli.mechanisms.four_bar import grashof_code, pose
+from linkcli.mechanisms.four_bar.kinematics import grashof_code, pose
 
 SAMPLES = 361  # input angles over one turn
 

@@ -186,7 +186,7 @@ def slider(a, b, e, phi, w2, point=(0.0, 0.0)):
 
 def slider_rows(masses, loads, phi, speed, a=0.08, b=0.25, e=0.03, point=(0.1, 0.04)):
     from linkcli.analysis import forces
-    from linkcli.mechanisms.slider_crank import SliderCrank
+    from linkcli.mechanisms.slider_crank.kinematics import SliderCrank
     return forces.slider_crank_rows(SliderCrank(a * 1000, b * 1000, e * 1000, "open", tuple(v * 1000 for v in point)),
                                     phi, speed, loads, masses, 1e-3)  # given in mm: scale to m
 
@@ -239,7 +239,7 @@ def test_forces_section_dispatches_on_the_slider_crank_class():
     """section() with a SliderCrank: its pins, the guide, the mechanical advantage in 1/m
     (omega_in / v_slider from the test's kinematics)."""
     from linkcli.analysis import forces
-    from linkcli.mechanisms.slider_crank import SliderCrank
+    from linkcli.mechanisms.slider_crank.kinematics import SliderCrank
     from linkcli.model import LoadCase, Loads
     from linkcli.units import Units
     notes: list = []

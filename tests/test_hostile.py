@@ -267,7 +267,7 @@ def test_a_transmission_a_rounding_error_outside_the_band_gives_no_warning(monke
     import math
 
     from linkcli.analysis import sections as analyse
-    from linkcli.mechanisms.four_bar import Motion
+    from linkcli.mechanisms.four_bar.kinematics import Motion
     from linkcli.model import FourBar
     from linkcli.units import Units
     fb = FourBar(ground=50, input=20, coupler=50, output=20, branch="open")

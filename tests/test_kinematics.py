@@ -12,7 +12,7 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 
-from linkcli.mechanisms import four_bar as kin
+from linkcli.mechanisms.four_bar import kinematics as kin
 
 FIRE_DOOR = (27.6293, 57.2363, 41.1104, 50.0)  # a, b, c, d
 

@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 
 from linkcli.errors import SchemaError
-from linkcli.mechanisms import slider_crank as sc
+from linkcli.mechanisms.slider_crank import kinematics as sc
 from linkcli.types.precision_position import slider_synthesis as spp
 from linkcli.analysis import slider_tolerance as stol
 

@@ -195,7 +195,7 @@ class PathGenerationProblem:
     ground_pivot: tuple[tuple[float, float], tuple[float, float]]
     ground_angle: tuple[float, float]  # rad
     input_offset: tuple[float, float] | None = None  # prescribed timing: rad, added to every angle
-    grashof: str = "any"  # a class of mechanisms.four_bar.GRASHOF_CLASSES (not change-point) or "any"
+    grashof: str = "any"  # a class of mechanisms.four_bar.kinematics.GRASHOF_CLASSES (not change-point) or "any"
     transmission: tuple[float, float] | None = None  # window on mu, rad
     branch: str = "either"  # "open", "crossed" or "either"
     lines: dict = field(default_factory=dict)  # key -> line of the file, for messages
@@ -251,7 +251,7 @@ class FunctionGenerationProblem:
     shape: tuple[float, ...] = ()  # function form: normalized f at each evaluation point
     spacing: str = "uniform"  # "uniform" (ends included) or "chebyshev" (ends excluded)
     transmission: tuple[float, float] | None = None  # window on mu, rad
-    grashof: str = "any"  # a class of mechanisms.four_bar.GRASHOF_CLASSES (not change-point) or "any"
+    grashof: str = "any"  # a class of mechanisms.four_bar.kinematics.GRASHOF_CLASSES (not change-point) or "any"
     branch: str = "either"  # "open", "crossed" or "either"
     lines: dict = field(default_factory=dict)  # key -> line of the file, for messages
 

@@ -41,7 +41,7 @@ def echo(case) -> dict:
 def four_bar_rows(fb, phi, speed: float, loads, masses, scale: float) -> LoadRows:
     """LoadRows of a four-bar at input angles phi (rad, local frame) turning at `speed` rad/s
     (constant: alpha_input = 0); lengths (file unit) times `scale` are metres."""
-    from linkcli.mechanisms import four_bar as kin
+    from linkcli.mechanisms.four_bar import kinematics as kin
     a, b, c, d = fb.abcd
     p = kin.pose(a, b, c, d, phi, fb.branch)
     w3, w4 = kin.velocities(a, b, c, p, speed)
@@ -56,9 +56,9 @@ def four_bar_rows(fb, phi, speed: float, loads, masses, scale: float) -> LoadRow
 
 
 def slider_crank_rows(sc, phi, speed: float, loads, masses, scale: float) -> LoadRows:
-    """LoadRows of a slider-crank (linkcli.mechanisms.slider_crank.SliderCrank) at crank
+    """LoadRows of a slider-crank (linkcli.mechanisms.slider_crank.kinematics.SliderCrank) at crank
     angles phi (rad) turning at `speed` rad/s; the guide is the x axis at y = offset."""
-    from linkcli.mechanisms import slider_crank as slk
+    from linkcli.mechanisms.slider_crank import kinematics as slk
     a, b, e = sc.abe
     p = slk.pose(a, b, e, phi, sc.branch)
     _, w3 = slk.velocities(a, b, p, speed)
@@ -73,7 +73,7 @@ def slider_crank_rows(sc, phi, speed: float, loads, masses, scale: float) -> Loa
 def slider_study(sc, near=None) -> tuple[bool, tuple[float, float] | None] | None:
     """(full turn, arc with hi >= lo) of a slider-crank's motion study, None if it never
     assembles."""
-    from linkcli.mechanisms import slider_crank as slk
+    from linkcli.mechanisms.slider_crank import kinematics as slk
     mot = slk.motion(*sc.abe, sc.branch, near=near)
     if not mot["assembles"]:
         return None
@@ -90,16 +90,16 @@ def study_of(linkage, motion=None, near=None) -> tuple[bool, tuple[float, float]
     if is_slider_crank(linkage):
         return slider_study(linkage, near)
     if motion is None:
-        from linkcli.mechanisms import four_bar as kin
+        from linkcli.mechanisms.four_bar import kinematics as kin
         motion = kin.motion(*linkage.abcd, linkage.branch, near=near)
     return (motion.input_full_turn, motion.input_arc) if motion.assembles else None
 
 
 def is_slider_crank(linkage) -> bool:
-    """The linkage is a linkcli.mechanisms.slider_crank.SliderCrank (imported only then)."""
+    """The linkage is a linkcli.mechanisms.slider_crank.kinematics.SliderCrank (imported only then)."""
     if type(linkage).__name__ != "SliderCrank":
         return False
-    from linkcli.mechanisms.slider_crank import SliderCrank
+    from linkcli.mechanisms.slider_crank.kinematics import SliderCrank
     return isinstance(linkage, SliderCrank)
 
 

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from linkcli.mechanisms import four_bar as kin
+from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.io.meta import ALL_SECTIONS
 from linkcli.solution import MESSAGES, Solution
 from linkcli.noise import NOISE_FLOOR, quantize, snap, snap_series
@@ -108,7 +108,7 @@ def _build(problem, solution: Solution) -> dict:
 
 
 def is_slider_crank(linkage) -> bool:
-    """The linkage is a linkcli.mechanisms.slider_crank.SliderCrank (else a FourBar)."""
+    """The linkage is a linkcli.mechanisms.slider_crank.kinematics.SliderCrank (else a FourBar)."""
     from linkcli.analysis.forces import is_slider_crank as check
     return check(linkage)
 

@@ -2,7 +2,7 @@
 mechanism"): linkage, grashof (its class), transmission, motion and kinematics rows.
 
 analysis.sections dispatches here when the linkage is a
-linkcli.mechanisms.slider_crank.SliderCrank; the numbers come from that module (closed
+linkcli.mechanisms.slider_crank.kinematics.SliderCrank; the numbers come from that module (closed
 forms: dead centres, stroke, time ratio, velocities and accelerations, Norton ch. 6-7).
 Angles leave in the file's angle unit, lengths in its length unit.
 
@@ -18,8 +18,8 @@ import math
 
 import numpy as np
 
-from linkcli.mechanisms import four_bar as kin
-from linkcli.mechanisms import slider_crank as sc
+from linkcli.mechanisms.four_bar import kinematics as kin
+from linkcli.mechanisms.slider_crank import kinematics as sc
 from linkcli.noise import first_max, first_min, snap, snap_series
 
 

@@ -41,7 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from linkcli.analysis.tolerance import largest_passing, wilson  # the house's own
-from linkcli.mechanisms.slider_crank import (TWO_PI, SliderCrank, arc_contains, arc_sweep, choose_arc,
+from linkcli.mechanisms.slider_crank.kinematics import (TWO_PI, SliderCrank, arc_contains, arc_sweep, choose_arc,
                                              input_arcs, slider_from_trig, slider_partials)
 
 LENGTH_KEYS = ("input", "coupler", "offset")

@@ -53,7 +53,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from linkcli.mechanisms import four_bar as kin
+from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.analysis.tolerance_input import check_lengths
 from linkcli.model import LINKS, FourBar, InverseTolerance, Tolerance
 from linkcli.noise import snap

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkcli.mechanisms import four_bar as kin
+from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.plots.common import (CURVE_COLOR, TARGET_COLOR, Geometry, angle_ticks, draw_linkage, drawn,
                                   frame_drawing, input_grid, joint_paths, link_legend, no_linkage, num,
                                   on_grid, panels)

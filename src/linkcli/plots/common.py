@@ -4,7 +4,7 @@ its global placement, and the figure header.
 Geometry follows the conventions of docs/format.md: in the local frame A0 = (0, 0), B0 = (d, 0),
 A = a e^{i phi}, B = B0 + c e^{i psi}, coupler point P = A + (px + i py) e^{i theta};
 the global frame puts A0 at `ground_pivot` and turns the ground line by `ground_angle`:
-X = G + R(ground_angle) x. The closure itself is `linkcli.mechanisms.four_bar.pose`.
+X = G + R(ground_angle) x. The closure itself is `linkcli.mechanisms.four_bar.kinematics.pose`.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from linkcli.noise import snap
-from linkcli.mechanisms import four_bar as kin
+from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.model import FourBar
 from linkcli.units import Units
 

@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from linkcli.analysis.sections import TRANSMISSION_BAND
-from linkcli.mechanisms import slider_crank as sc
+from linkcli.mechanisms.slider_crank import kinematics as sc
 from linkcli.units import Units
 from linkcli.plots.common import (BAND_COLOR, CURVE_COLOR, LINK_COLORS, TARGET_COLOR, angle_ticks, drawn,
                                   frame_drawing, no_linkage, num, panels, robust_ylim)

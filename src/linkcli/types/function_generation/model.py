@@ -38,7 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from linkcli.mechanisms import four_bar as kin
+from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.model import FunctionGenerationProblem
 from linkcli.types.function_generation.schema import LAW_LIMIT
 

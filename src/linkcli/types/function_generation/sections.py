@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from linkcli.mechanisms import four_bar as kin
+from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.noise import first_max, snap
 from linkcli.types.function_generation.model import Model
 

@@ -42,7 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from linkcli.mechanisms import four_bar as kin
+from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.errors import SolveInputError
 from linkcli.types.function_generation.printed_digits import digits_note
 from linkcli.model import FourBar, FunctionGenerationProblem

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkcli.mechanisms import four_bar as kin
+from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.analysis.sections import TRANSMISSION_BAND
 from linkcli.plots.common import (BAND_COLOR, CURVE_COLOR, LINK_COLORS, Geometry, angle_ticks, draw_linkage,
                                   drawn, frame_drawing, joint_paths, link_legend, no_linkage, num, panels,

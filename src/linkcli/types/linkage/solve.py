@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from linkcli.mechanisms.four_bar import input_arcs
+from linkcli.mechanisms.four_bar.kinematics import input_arcs
 from linkcli.solution import Solution, SolverRecord, Status
 
 

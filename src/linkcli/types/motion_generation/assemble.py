@@ -22,7 +22,7 @@ from itertools import permutations
 
 import numpy as np
 
-from linkcli.mechanisms import four_bar as kin
+from linkcli.mechanisms.four_bar import kinematics as kin
 
 from .poses import as_poses, characteristic_length, to_global
 

@@ -23,7 +23,7 @@ import math
 
 import numpy as np
 
-from linkcli.mechanisms import four_bar as kin
+from linkcli.mechanisms.four_bar import kinematics as kin
 
 FULL_TURN = ("crank-rocker", "double-crank")
 SHORTEST = {"crank-rocker": 4, "double-crank": 3, "rocker-crank": 6, "double-rocker": 5}  # x index

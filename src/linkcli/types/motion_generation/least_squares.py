@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkcli.mechanisms import four_bar as kin
+from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.search.sampling import latin_hypercube
 
 from . import assemble

@@ -7,7 +7,7 @@ phi (K, n) in rad and its branch sign at each pose (K, n) (-1 open, +1 crossed).
 * assembly: it does not assemble at a pose, or (exact synthesis) misses a pose by more
   than EXACT_RTOL of the poses' scale;
 * branch (circuit) defect: the poses lie on different branches, or on different arcs of
-  reachable input angles (mechanisms.four_bar.input_arcs, written here for arrays: two
+  reachable input angles (mechanisms.four_bar.kinematics.input_arcs, written here for arrays: two
   arcs exist when |b - c| > |a - d| and b + c < a + d, one in the upper and one in the lower
   half plane of phi);
 * order defect (3 poses or more): a crank does not reach them in cyclic order in one sense,
@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkcli.mechanisms import four_bar as kin
+from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.types.path_generation.model import FULL_TURN, rho2_extremes
 
 from .assemble import body_poses, pose_errors

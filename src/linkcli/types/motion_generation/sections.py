@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from linkcli.io.tables import Rows
-from linkcli.mechanisms import four_bar as kin
+from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.noise import NOISE_FLOOR, snap
 from linkcli.analysis.sections import gap
 

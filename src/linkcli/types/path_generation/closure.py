@@ -20,7 +20,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from linkcli.mechanisms.four_bar import ASSEMBLY_SLACK
+from linkcli.mechanisms.four_bar.kinematics import ASSEMBLY_SLACK
 
 
 @dataclass

@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from linkcli.mechanisms import four_bar as kin
+from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.types.path_generation import closure
 from linkcli.io.meta import MIN_LENGTH as FILE_MIN_LENGTH
 

@@ -31,7 +31,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from linkcli.mechanisms import four_bar as kin
+from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.model import FourBar
 from linkcli.search.budget import Budget, BudgetSpent
 from linkcli.solution import Positions, Solution, SolverRecord, Status

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkcli.mechanisms import four_bar as kin
+from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.search import linalg
 from linkcli.types.path_generation import closure
 from linkcli.types.path_generation.model import N_LINK, SHORTEST, Design

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from linkcli.errors import SchemaError
-from linkcli.mechanisms.slider_crank import SliderCrank, slider_from_trig, travels, wrap
+from linkcli.mechanisms.slider_crank.kinematics import SliderCrank, slider_from_trig, travels, wrap
 from linkcli.types.precision_position.slider_system import ZERO_CRANK, slider_position_problem, subset_combinations
 
 COINCIDENT = 1e-9  # rad: two crank angles closer than this are one position

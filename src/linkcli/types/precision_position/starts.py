@@ -22,7 +22,7 @@ from itertools import combinations
 
 import numpy as np
 
-from linkcli.mechanisms.four_bar import TWO_PI, choose_arc, ground_distance, input_arcs, wrap
+from linkcli.mechanisms.four_bar.kinematics import TWO_PI, choose_arc, ground_distance, input_arcs, wrap
 
 MAX_SUBSETS = 35  # three-position subsets tried: all of them up to C(7, 3) = 35
 SPREAD = 7  # for more positions: every triple of 7 evenly spread positions (ends included)

@@ -9,8 +9,8 @@ import math
 
 import numpy as np
 
-from linkcli.mechanisms import four_bar as kin
-from linkcli.mechanisms import slider_crank as sc
+from linkcli.mechanisms.four_bar import kinematics as kin
+from linkcli.mechanisms.slider_crank import kinematics as sc
 from linkcli.plots.common import (BAND_COLOR, LINK_COLORS, Geometry, angle_ticks, draw_linkage, drawn,
                                   frame_drawing, header, joint_paths, link_legend, no_linkage, num)
 from linkcli.units import Units

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from linkcli.io.tables import KeyValues, Rows
-from linkcli.mechanisms.four_bar import wrap
+from linkcli.mechanisms.four_bar.kinematics import wrap
 from linkcli.noise import snap
 
 from . import family, simulate, transmission

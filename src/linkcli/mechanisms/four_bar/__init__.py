@@ -1,0 +1,1 @@
+"""The planar four-bar: its home (kinematics, sections, loads, tolerance model, drawing)."""

@@ -1,0 +1,1 @@
+"""The offset slider-crank: its home (kinematics, sections, loads, tolerance model, drawing)."""
