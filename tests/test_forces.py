@@ -185,10 +185,10 @@ def slider(a, b, e, phi, w2, point=(0.0, 0.0)):
 
 
 def slider_rows(masses, loads, phi, speed, a=0.08, b=0.25, e=0.03, point=(0.1, 0.04)):
-    from linkcli.analysis import forces
-    from linkcli.mechanisms.slider_crank.kinematics import SliderCrank
-    return forces.slider_crank_rows(SliderCrank(a * 1000, b * 1000, e * 1000, "open", tuple(v * 1000 for v in point)),
-                                    phi, speed, loads, masses, 1e-3)  # given in mm: scale to m
+    from linkcli import mechanisms
+    from linkcli.model import LoadCase, SliderCrank
+    linkage = SliderCrank(a * 1000, b * 1000, e * 1000, "open", tuple(v * 1000 for v in point))
+    return mechanisms.of(linkage).load_rows(phi, speed, LoadCase(loads, masses), 1e-3)  # given in mm: scale to m
 
 
 def test_slider_crank_static_torque_by_virtual_work():
@@ -244,9 +244,11 @@ def test_forces_section_dispatches_on_the_slider_crank_class():
     from linkcli.units import Units
     notes: list = []
     sc = SliderCrank(80.0, 250.0, 30.0, "open")
-    study = forces.slider_study(sc)
-    assert study == (True, None)
-    out = forces.section(sc, study, math.radians(10), 36, LoadCase(Loads(output_force=-100.0)), Units(), notes)
+    from linkcli import mechanisms
+    mech = mechanisms.of(sc)
+    study = mech.study()
+    assert study.full_turn
+    out = forces.section(mech, study, math.radians(10), 36, LoadCase(Loads(output_force=-100.0)), Units(), notes)
     assert list(out["pins"]) == ["A0", "A", "B", "guide"]
     row = out["rows"][3]
     assert row["input"] == pytest.approx(30.0)

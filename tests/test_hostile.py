@@ -266,7 +266,7 @@ def test_a_transmission_a_rounding_error_outside_the_band_gives_no_warning(monke
     # the band test compares with a relative tolerance of 1e-9: 140.00000000000006 is 140
     import math
 
-    from linkcli.analysis import sections as analyse
+    from linkcli.mechanisms.four_bar import sections as analyse
     from linkcli.mechanisms.four_bar.kinematics import Motion
     from linkcli.model import FourBar
     from linkcli.units import Units

@@ -12,9 +12,11 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from linkcli.analysis.loads import (FourBarState, LinkMass, Loads, Masses, SliderCrankState,
-                                    forces_rows, four_bar_loads, load_cycle,
-                                    mechanical_advantage, slider_crank_loads)
+from linkcli.analysis.loads import forces_rows, load_cycle
+from linkcli.mechanisms.four_bar.loads import FourBarState, four_bar_loads
+from linkcli.mechanisms.newton_euler import cross as cross_rows, mechanical_advantage
+from linkcli.mechanisms.slider_crank.loads import SliderCrankState, slider_crank_loads
+from linkcli.model import LinkMass, Loads, Masses
 
 STEP = 1e-3   # time step of the finite differences (s): error ~ STEP^4
 
@@ -428,7 +430,8 @@ def test_toggle_row_gives_no_mechanical_advantage():
     assert listed[1]["mechanical_advantage"] is None
     assert listed[1]["input_torque"] == 0.0     # the output torque is held without drive torque
     assert listed[0]["mechanical_advantage"] == pytest.approx(1.0 / m["w4"][0], rel=1e-9)
-    assert np.isnan(mechanical_advantage(four_bar_state(m))[1])
+    state = four_bar_state(m)
+    assert np.isnan(mechanical_advantage(state, cross_rows(state.B - state.B0, state.B - state.A))[1])
 
 
 def test_dead_point_row_is_none_not_a_crash():

@@ -300,7 +300,7 @@ def test_coupler_curve_is_placed_globally(mpl):
         dist = np.min(np.hypot(*(seg0 + t[:, None] * (seg1 - seg0) - q).T))
         assert dist < 1e-2
     # the drawing's joints follow the same placement
-    from linkcli.plots.common import Geometry
+    from linkcli.mechanisms.four_bar.drawing import Geometry
     geo = Geometry.of(handed(report))
     k = PATH
     for deg in (0.0, 77.0, 301.0):

@@ -23,11 +23,40 @@ from numpy.testing import assert_allclose
 from linkcli.errors import SchemaError
 from linkcli.mechanisms.slider_crank import kinematics as sc
 from linkcli.types.precision_position import slider_synthesis as spp
-from linkcli.analysis import slider_tolerance as stol
+from linkcli.analysis import tolerance
+from linkcli.mechanisms.slider_crank import tolerance as stol
+from linkcli.model import InverseTolerance, LinkageProblem, Meta, SolverOptions, Tolerance
+from linkcli.solution import Positions, Solution, Status
 
 pytestmark = pytest.mark.filterwarnings("error")
 
 TEXTBOOK = (47.2812, 104.9139, 30.0)
+
+
+# ---------------------------------------------------------------- the code under test
+
+def tolerance_section(lin, lengths, *, clearance=0.0, clearance_slider=0.0, samples=20000, seed=0,
+                      distribution="uniform", allowed_error=None, max_failure_probability=None,
+                      targets=None):
+    """The `tolerance` section of a slider-crank linkage problem (analysis.tolerance.analyse),
+    with targets (crank angle, slider position) as precision positions when given."""
+    given = {k: float(lengths.get(k, 0.0)) for k in stol.LENGTH_KEYS}
+    common = dict(lengths=given, distribution=distribution, clearance=clearance,
+                  clearance_slider=clearance_slider, samples=samples, allowed_error=allowed_error)
+    tol = (Tolerance(**common) if max_failure_probability is None else
+           InverseTolerance(max_failure_probability=max_failure_probability,
+                            lengths_given=any(v > 0 for v in given.values()), **common))
+    meta = Meta(path="t.toml", type="linkage", solver=SolverOptions(seed=seed), tolerance=tol)
+    positions = None if targets is None else Positions("slider", targets.phi, targets.slider,
+                                                       targets.slider, np.zeros(len(targets.phi)))
+    solution = Solution(Status.OK, linkage=lin, positions=positions,
+                        working_span=None if targets is None else targets.span)
+    return tolerance.analyse(LinkageProblem(meta=meta, linkage=lin), solution)
+
+
+def mc(lin, tg, scale, clearance, clearance_slider, n, seed):
+    return tolerance.monte_carlo(stol.Model(lin, tg), np.asarray(scale, dtype=float), clearance,
+                                 clearance_slider, n, seed, "uniform")
 
 
 # ---------------------------------------------------------------- the references
@@ -416,7 +445,7 @@ def test_tolerance_against_an_independent_monte_carlo(case):
         allowed, normal = (0.16 if case == "clearances" else 0.11), False
     target = ref_slider(*link[:3], phi, link[3])
     tg = stol.targets_at(lin, phi, target) if case == "normal-rocking" else None
-    out = stol.analyse(lin, dict(zip(stol.LENGTH_KEYS, tol)), clearance=clearance, clearance_slider=guide,
+    out = tolerance_section(lin, dict(zip(stol.LENGTH_KEYS, tol)), clearance=clearance, clearance_slider=guide,
                        samples=n, seed=11, distribution="normal" if normal else "uniform",
                        allowed_error=allowed, targets=tg)
     ref = independent_mc(link, phi, target, tol, clearance, guide, n, np.random.default_rng(99), normal)
@@ -437,17 +466,17 @@ def test_tolerance_against_an_independent_monte_carlo(case):
 def test_zero_tolerance_gives_zero_error_exactly():
     for branch in sc.BRANCHES:
         lin = sc.SliderCrank(*TEXTBOOK, branch=branch)
-        out = stol.analyse(lin, {}, samples=500, seed=3, allowed_error=1e-300)
+        out = tolerance_section(lin, {}, samples=500, seed=3, allowed_error=1e-300)
         assert out["error_max"] == 0.0 and out["error_mean"] == 0.0 and out["nominal_error"] == 0.0
         assert out["failure_probability"] == 0.0
     lin = sc.SliderCrank(2.0, 1.5, 0.3)  # rocking: targets over its arc
-    out = stol.analyse(lin, {"input": 0.0}, samples=200, seed=3)
+    out = tolerance_section(lin, {"input": 0.0}, samples=200, seed=3)
     assert out["error_max"] == 0.0 and out["assembly_failures"] == 0
 
 
 def test_sensitivity_is_the_largest_partial_over_the_targets():
     lin = sc.SliderCrank(*TEXTBOOK)
-    out = stol.analyse(lin, {"input": 0.01}, samples=100, seed=1)
+    out = tolerance_section(lin, {"input": 0.01}, samples=100, seed=1)
     phi = np.radians(np.arange(0, 360, 10.0))
     h = 1e-5
     for k, key in enumerate(stol.LENGTH_KEYS):
@@ -462,10 +491,10 @@ def test_inverse_mode_finds_the_boundary_and_is_deterministic():
     lin = sc.SliderCrank(*TEXTBOOK)
     kw = dict(clearance=0.01, clearance_slider=0.01, samples=4000, seed=2, allowed_error=0.2,
               max_failure_probability=0.02)
-    out = stol.analyse(lin, {}, **kw)
+    out = tolerance_section(lin, {}, **kw)
     t = out["largest_tolerance"]
     assert out["failure_probability_at_largest"] <= 0.02
-    assert out == stol.analyse(lin, {}, **kw)
+    assert out == tolerance_section(lin, {}, **kw)
     tg = stol.targets_over_range(lin)
-    above = stol.monte_carlo(lin, tg, np.full(3, t * (1 + 2e-4)), 0.01, 0.01, 4000, 2)
-    assert stol.failures(*above, 0.2) / 4000 > 0.02
+    above = mc(lin, tg, np.full(3, t * (1 + 2e-4)), 0.01, 0.01, 4000, 2)
+    assert tolerance.failures(*above, 0.2) / 4000 > 0.02

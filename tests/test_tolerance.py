@@ -20,6 +20,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 from linkcli.analysis import tolerance as tolmod
+from linkcli.mechanisms.four_bar import tolerance as fourbar_tolerance
 from linkcli.errors import InputErrors
 from linkcli.model import LINKS, FourBar, InverseTolerance, Meta, SolverOptions, Tolerance
 from linkcli.io.load import load
@@ -174,11 +175,13 @@ def tol(lengths=0.05, **kw):
 def all_draws(problem, solution):
     """The module's draws for the problem, scaled to lengths (checked separately below)."""
     t = problem.meta.tolerance
-    tg = tolmod.targets(problem, solution)
+    tg = fourbar_tolerance.targets(problem, solution)
     dls, offs = [], []
-    for u, e in tolmod.unit_draws(problem.meta.solver.seed, t.samples, len(tg.phi),
-                                  t.distribution, t.clearance > 0):
-        dls.append(u * tolmod.scale_vector(t.lengths))
+    scale = np.array([float(t.lengths.get(k, 0.0)) for k in fourbar_tolerance.COLUMNS])
+    for u, e, _ in tolmod.unit_draws(problem.meta.solver.seed, t.samples, len(tg.phi),
+                                     len(fourbar_tolerance.COLUMNS), t.distribution,
+                                     4 if t.clearance > 0 else 0):
+        dls.append(u * scale)
         offs.append(None if e is None else e * t.clearance)
     off = None if offs[0] is None else np.concatenate(offs)
     return tg, np.concatenate(dls), off
@@ -190,7 +193,7 @@ def check_against_loop(problem, solution, min_failures=0):
     t = problem.meta.tolerance
     fb = solution.linkage
     ref = ref_errors(fb, tg.phi, tg.kind, tg.value, dl, off, tg.span)
-    err, ok = tolmod.sample_errors(fb, tg, dl, off)
+    err, ok = fourbar_tolerance.sample_errors(fb, tg, dl, off)
     assert_allclose(np.isfinite(ref), ok)
     assert_allclose(err[ok], ref[ok], rtol=1e-9, atol=1e-12)
     rep = tolmod.analyse(problem, solution)
@@ -243,7 +246,7 @@ def test_failures_to_assemble_and_travel_match_loop():
     fb = FourBar(ground=54.0, input=20.0, coupler=40.0, output=35.0, branch="open")
     problem, solution = make(fb, tol(1.0, samples=800, allowed_error=2 * DEG), ptype="linkage",
                              positions=False, phi_deg=(0,), seed=2)
-    tg = tolmod.targets(problem, solution)
+    tg = fourbar_tolerance.targets(problem, solution)
     assert len(tg.phi) == 36 and tg.span == (0.0, 2 * math.pi)
     assert_allclose(tg.phi, np.arange(36) * 10 * DEG)
     rep = check_against_loop(problem, solution, min_failures=100)
@@ -272,7 +275,7 @@ def test_rocking_input_grid_lies_inside_the_arc():
     fb = FourBar(ground=50.0, input=30.0, coupler=25.0, output=35.0, branch="crossed")
     problem, solution = make(fb, tol(0.3, samples=400, allowed_error=1.0 * DEG),
                              ptype="linkage", positions=False, phi_deg=(0,), seed=4)
-    tg = tolmod.targets(problem, solution)
+    tg = fourbar_tolerance.targets(problem, solution)
     g = math.acos((30**2 + 50**2 - (25 + 35) ** 2) / (2 * 30 * 50))
     assert_allclose(tg.phi, -g + (np.arange(36) + 0.5) * (2 * g / 36), rtol=1e-12)
     check_against_loop(problem, solution, min_failures=10)
@@ -372,7 +375,7 @@ def test_clearance_alone_follows_first_order_model():
 # ---------------------------------------------------------------- draws, determinism, units
 
 def test_unit_draws_have_the_stated_distributions():
-    u, e = next(tolmod.unit_draws(0, 50000, 2, "uniform", True))
+    u, e, _ = next(tolmod.unit_draws(0, 50000, 2, 6, "uniform", 4))
     assert u.shape == (50000, 6) and e.shape == (50000, 2, 4, 2)
     assert u.min() >= -1 and u.max() <= 1
     assert_allclose(u.var(axis=0), 1 / 3, rtol=0.02)  # uniform on [-1, 1]
@@ -380,7 +383,7 @@ def test_unit_draws_have_the_stated_distributions():
     assert r2.max() <= 1
     assert_allclose(r2.mean(), 0.5, rtol=0.01)  # uniform over the disc: E r^2 = 1/2
     assert_allclose(np.mean(e, axis=(0, 1, 2)), 0, atol=0.01)
-    un, none = next(tolmod.unit_draws(0, 50000, 2, "normal", False))
+    un, none, _ = next(tolmod.unit_draws(0, 50000, 2, 6, "normal"))
     assert none is None
     assert_allclose(un.std(axis=0), 1 / 3, rtol=0.02)  # the tolerance is 3 sigma
 
@@ -389,7 +392,7 @@ def test_chunks_cover_every_sample_once():
     m = 7
     rows = tolmod.CHUNK_ELEMENTS // m
     n = 2 * rows + 5
-    sizes = [len(u) for u, _ in tolmod.unit_draws(0, n, m, "uniform", False)]
+    sizes = [len(u) for u, _, _ in tolmod.unit_draws(0, n, m, 6, "uniform")]
     assert sizes == [rows, rows, 5]
 
 

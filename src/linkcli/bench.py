@@ -118,10 +118,9 @@ def printed_objective(problem, sol) -> float | None:
     n (NOISE_FLOOR x scale)^2, analysis.sections.error_section) where the solution has
     position errors; else the solver's objective."""
     from linkcli.analysis.sections import error_section, linkage_scale
-    from linkcli.model import FourBar, SliderCrank
     pos = sol.positions
     if (sol.objective is None or pos is None or pos.kind not in ("angle", "point")
-            or not isinstance(sol.linkage, (FourBar, SliderCrank))):
+            or sol.linkage is None):
         return sol.objective
     return error_section(sol, problem.meta.units, None, linkage_scale(sol.linkage))["objective"]
 

@@ -7,6 +7,7 @@ angles back for output. Problem classes hold validated data only: no numerics he
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 from linkcli.units import Units
 
@@ -19,6 +20,7 @@ class SliderCrank:
     """An offset slider-crank: lengths in the length unit; coupler_point (px, py) in the
     coupler frame (origin A, x along A -> B), as the four-bar's (the conventions of docs/format.md)."""
 
+    mechanism: ClassVar[str] = "slider-crank"  # its home: linkcli.mechanisms
     input: float
     coupler: float
     offset: float
@@ -122,12 +124,14 @@ class Meta:
     tolerance: Tolerance | None = None
     notes: tuple[str, ...] = ()  # notes on the file itself (angles that look like the other unit)
     loads: LoadCase | None = None  # [loads] / [masses]: the forces section
+    joints: tuple = ()  # [joints]: io.joints.JointSpec per joint (part sizes, a drawing)
 
 
 @dataclass(frozen=True)
 class FourBar:
     """A planar four-bar (the conventions of docs/format.md). Lengths in the length unit, angles in radians."""
 
+    mechanism: ClassVar[str] = "four-bar"  # its home: linkcli.mechanisms
     ground: float
     input: float
     coupler: float

@@ -39,10 +39,9 @@ def check_lengths(meta, lengths: dict[str, float], complete: bool) -> None:
 def known_lengths(problem) -> tuple[dict[str, float], bool]:
     """(link -> length, complete) of the lengths a problem fixes before solving."""
     linkage = getattr(problem, "linkage", None)
-    if linkage is not None and hasattr(linkage, "abcd"):
-        return {k: getattr(linkage, k) for k in LINKS}, True
-    if linkage is not None and hasattr(linkage, "abe"):  # a slider-crank: the offset may be 0
-        return {"input": linkage.input, "coupler": linkage.coupler}, True
+    if linkage is not None:  # a given linkage: its mechanism says which lengths it has
+        from linkcli.mechanisms import module
+        return module(linkage.mechanism, "schema").known_lengths(linkage), True
     if hasattr(problem, "fixed") and isinstance(problem.fixed, dict):  # function generation
         return {k: float(v) for k, v in problem.fixed.items() if k in LINKS}, False
     bounds = getattr(problem, "lengths", None)

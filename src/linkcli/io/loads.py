@@ -17,17 +17,15 @@ from linkcli.model import LinkMass, LoadCase, Loads, Masses
 
 MAX_LOAD = 1e12  # N, N m, kg, kg m^2, m/s^2: beyond, no linkage; squares stay finite
 SOLVES_COUPLER_POINT = ("path-generation",)  # types whose result always has a coupler point
-LOAD_KEYS = ("coupler_force", "output_torque", "output_force", "gravity")
-FOUR_BAR_LINKS = ("input", "coupler", "output")
-SLIDER_LINKS = ("input", "coupler", "slider")
 
 
 def mechanism_of(root: Table) -> str:
-    """"slider-crank" when [linkage] says `mechanism = "slider-crank"`, else "four-bar" (the
-    [linkage] reader checks the key itself)."""
+    """The mechanism [linkage] names (`mechanism`, default four-bar; the [linkage] reader
+    checks the key itself: an unknown one is taken as the four-bar here)."""
+    from linkcli.mechanisms import NAMES
     link = root.data.get("linkage")
     mechanism = link.get("mechanism") if isinstance(link, dict) else None
-    return "slider-crank" if mechanism == "slider-crank" else "four-bar"
+    return mechanism if mechanism in NAMES else "four-bar"
 
 
 def has_coupler_point(root: Table, kind: str) -> bool:
@@ -51,7 +49,10 @@ def read_loads(root: Table, kind: str) -> LoadCase | None:
     they hold errors, recorded on the reader)."""
     if "loads" not in root and "masses" not in root:
         return None
-    slider = mechanism_of(root) == "slider-crank"
+    from linkcli.mechanisms import NAMES, module
+    mechanism = mechanism_of(root)
+    own = module(mechanism, "schema")
+    others = {name: module(name, "schema") for name in NAMES if name != mechanism}
     errors = len(root.reader.errors)
     given: dict = {}
     loads = Loads()
@@ -59,12 +60,13 @@ def read_loads(root: Table, kind: str) -> LoadCase | None:
     if t is not None:
         force = _pair(t, "coupler_force", "a force [Fx, Fy] of two finite numbers (N)")
         gravity = _pair(t, "gravity", "an acceleration [gx, gy] of two finite numbers (m/s^2)")
-        wrong, right = ("output_torque", "output_force") if slider else ("output_force", "output_torque")
-        if wrong in t:
-            t.raw(wrong)
-            what = ("output_force (N along the slider axis) on a slider-crank" if slider
-                    else "output_torque (N m on the output link) on a four-bar; output_force is a slider-crank's")
-            t.error(wrong, what, raw_got=f"{wrong} = {t.data[wrong]!r}")
+        right, what = own.OUTPUT_LOAD
+        for name, other in others.items():
+            wrong = other.OUTPUT_LOAD[0]
+            if wrong != right and wrong in t:
+                t.raw(wrong)
+                t.error(wrong, f"{right} ({what}) on a {mechanism}; {wrong} is a {name}'s",
+                        raw_got=f"{wrong} = {t.data[wrong]!r}")
         value = t.number(right, 0.0, lo=-MAX_LOAD, hi=MAX_LOAD)
         if force is not None and any(force) and not has_coupler_point(root, kind):
             if kind == "linkage":
@@ -83,17 +85,17 @@ def read_loads(root: Table, kind: str) -> LoadCase | None:
     masses = Masses()
     m = root.table("masses")
     if m is not None:
-        links = SLIDER_LINKS if slider else FOUR_BAR_LINKS
-        other = "output" if slider else "slider"
-        if other in m:
-            m.raw(other)
-            m.error(other, f"masses of {', '.join(links)} on a "
-                    f"{'slider-crank' if slider else 'four-bar'}", raw_got=f"a mass for {other}")
-        read = {link: _link_mass(m, link, link == "slider") for link in links if link in m}
-        masses = Masses(input=read.get("input"), coupler=read.get("coupler"),
-                        output=read.get("slider" if slider else "output"))
+        links = tuple(own.MASSES)
+        foreign = [k for other in others.values() for k in other.MASSES if k not in links]
+        for other in dict.fromkeys(foreign):
+            if other in m:
+                m.raw(other)
+                m.error(other, f"masses of {', '.join(links)} on a {mechanism}", raw_got=f"a mass for {other}")
+        point = own.POINT_MASSES
+        read = {link: _link_mass(m, link, link in point) for link in links if link in m}
+        masses = Masses(**{own.MASSES[link]: v for link, v in read.items()})
         given["masses"] = {link: {"mass": v.mass, "center": list(v.center), "inertia": v.inertia}
-                           if link != "slider" else {"mass": v.mass}
+                           if link not in point else {"mass": v.mass}
                            for link, v in read.items() if v is not None}
     if len(root.reader.errors) > errors:
         return None
@@ -123,13 +125,13 @@ def _amount(t: Table, key: str, default, what: str):
     return value
 
 
-def _link_mass(masses: Table, link: str, slider: bool) -> LinkMass | None:
-    """{ mass, center, inertia } of one link (a slider: { mass } only)."""
+def _link_mass(masses: Table, link: str, point_mass: bool) -> LinkMass | None:
+    """{ mass, center, inertia } of one link (a body that only translates, a slider: { mass } only)."""
     t = masses.table(link)
     if t is None:
         return None
     mass = _amount(t, "mass", MISSING, "a mass >= 0 (kg)")
-    if slider:
+    if point_mass:
         return None if mass is None else LinkMass(mass)
     center = t.number_list("center", [0.0, 0.0], length=2, what="coordinates [x, y] in the link's frame")
     inertia = _amount(t, "inertia", 0.0, "an inertia >= 0 about the centre (kg m^2)")

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from linkcli.model import LINKS, InverseTolerance, Meta, Reference, SolverOptions, Tolerance
+from linkcli.model import InverseTolerance, Meta, Reference, SolverOptions, Tolerance
 from linkcli.io.reader import Table
 from linkcli.registry import ProblemType
 from linkcli.units import ANGLE_UNITS, LENGTH_TO_MM, Units
@@ -72,6 +72,7 @@ def read_meta(root: Table, kind: str, spec: ProblemType) -> Meta:
     tolerance = read_tolerance(root, units) if spec.tolerance else None
     sections = read_sections(root, spec.default_sections, spec.sections)
     loads = read_load_case(root, kind, spec, sections)
+    joints = read_joint_table(root, kind, spec, units)
     if loads is not None and "forces" not in sections:
         sections = sections + ("forces",)  # on when [loads] or [masses] is given (as tolerance)
     report = root.data.get("report")
@@ -84,7 +85,8 @@ def read_meta(root: Table, kind: str, spec: ProblemType) -> Meta:
     if tolerance is not None and "tolerance" not in sections:
         sections = sections + ("tolerance",)
     return Meta(path=root.reader.path, type=kind, title=title, units=units, solver=solver,
-                sections=sections, reference=reference, tolerance=tolerance, loads=loads)
+                sections=sections, reference=reference, tolerance=tolerance, loads=loads,
+                joints=joints or ())
 
 
 def read_load_case(root: Table, kind: str, spec: ProblemType, sections: tuple[str, ...]):
@@ -101,6 +103,22 @@ def read_load_case(root: Table, kind: str, spec: ProblemType, sections: tuple[st
         root.reader.error(("report", "sections"), 'a [loads] or [masses] table for the "forces" '
                           "section (the loads to analyse)", raw_got="neither")
     return loads
+
+
+def read_joint_table(root: Table, kind: str, spec: ProblemType, units: Units):
+    """[joints] (linkcli.io.joints) on a type whose result is a linkage; refused, located, on
+    one that has none."""
+    from linkcli.io.joints import read_joints
+    from linkcli.io.loads import mechanism_of
+    from linkcli.registry import NAMES, problem_type
+    if "forces" not in spec.sections:
+        if "joints" in root:
+            root.raw("joints")
+            with_linkage = ", ".join(n for n in NAMES if "forces" in problem_type(n).sections)
+            root.error("joints", f"a problem whose result is a linkage ({with_linkage}) for [joints]",
+                       raw_got=f'type = "{kind}", which has no linkage')
+        return ()
+    return read_joints(root, mechanism_of(root), units)
 
 
 def read_units(root: Table) -> Units:
@@ -151,9 +169,6 @@ def read_sections(root: Table, default: tuple[str, ...], allowed: tuple[str, ...
     return tuple(s for s in ALL_SECTIONS if s in value)
 
 
-SLIDER_LINKS = ("input", "coupler", "offset")  # a slider-crank's toleranced lengths
-
-
 def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     """[tolerance]: `lengths` (one +- tolerance for every link, or a table per link; a
     path generator's table may add `coupler_point`, +- on each coordinate of P), `distribution`,
@@ -162,10 +177,12 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     t = root.table("tolerance")
     if t is None:
         return None
+    from linkcli.io.loads import mechanism_of
+    from linkcli.mechanisms import NAMES, module
     path_type = root.raw("type") == "path-generation"
-    link_table = root.data.get("linkage")
-    slider = isinstance(link_table, dict) and link_table.get("mechanism") == "slider-crank"
-    links = SLIDER_LINKS if slider else LINKS
+    mechanism = mechanism_of(root)
+    own = module(mechanism, "schema")
+    links = own.TOLERANCED
     per_link = links + (("coupler_point",) if path_type else ())
     raw = t.raw("lengths", None)
     lengths = {k: 0.0 for k in links}
@@ -184,17 +201,19 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     distribution = t.string("distribution", "uniform", choices=("uniform", "normal"))
     clearance = t.number("clearance", 0.0, nonnegative=True, what="a radial clearance >= 0")
     clearance_slider = 0.0
-    if slider:
+    if "clearance_slider" in own.PLAYS:
         clearance_slider = t.number("clearance_slider", 0.0, nonnegative=True,
                                     what="a radial play of the slider in its guide >= 0 (length unit)")
-    elif "clearance_slider" in t:
-        t.allow("clearance_slider")
-        t.error("clearance_slider", 'no clearance_slider for a four-bar (the play of a slider in its guide: '
-                'only with [linkage] mechanism = "slider-crank")', t.data["clearance_slider"])
+    for name in NAMES:
+        for key, what in module(name, "schema").PLAYS.items():
+            if key not in own.PLAYS and key in t:
+                t.allow(key)
+                t.error(key, f'no {key} for a {mechanism} ({what}: only with [linkage] mechanism = "{name}")',
+                        t.data[key])
     samples = t.number("samples", 20000, integer=True, lo=1, hi=MAX_SAMPLES)
     allowed = t.number("allowed_error", None, positive=True)
     if allowed is not None:
-        allowed = units.to_rad(allowed) if not (path_type or slider) else allowed  # slider: length
+        allowed = units.to_rad(allowed) if not (path_type or own.OUTPUT == "length") else allowed
     level = t.number("max_failure_probability", None, what="a probability strictly between 0 and 1")
     if level is not None and not 0.0 < level < 1.0:
         t.error("max_failure_probability", "a probability strictly between 0 and 1", level)

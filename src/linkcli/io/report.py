@@ -125,35 +125,9 @@ def render(report: dict, digits: int = 6) -> Group:
     parts.append(head)
     parts.append(Text(r["message"]))
     if "linkage" in r:
-        lk = r["linkage"]
-        slider = lk.get("mechanism") == "slider-crank"  # input, coupler, offset: no ground or output
-        rows = [("mechanism", "slider-crank")] if slider else []
-        rows += [(f"{k} ({lu})", lk[k]) for k in (("input", "coupler", "offset") if slider
-                                                  else ("ground", "input", "coupler", "output"))]
-        rows.append(("branch", lk["branch"]))
-        if "coupler_point" in lk:
-            rows.append((f"coupler point ({lu})", lk["coupler_point"]))
-            if "ground_pivot" in lk:  # a slider-crank has its crank pivot at the origin
-                rows += [(f"ground pivot ({lu})", lk["ground_pivot"]),
-                         (f"ground angle ({au})", lk["ground_angle"])]
-            if "coupler_angle" in lk:
-                rows.append((f"coupler angle ({au})", lk["coupler_angle"]))
-        parts.append(_kv("Link lengths", rows, digits))
+        parts.append(_kv("Link lengths", _linkage_rows(r["linkage"], lu, au), digits))
     if "grashof" in r:
-        g = r["grashof"]
-    if "grashof" in r and "crank_plus_offset" in g:  # a slider-crank: turns fully iff a + |e| <= b
-        a_e, b = g["crank_plus_offset"], g["coupler"]
-        rel = "<" if a_e < b else ("=" if a_e == b else ">")
-        parts.append(_kv("Class", [("class", g["class"]),
-                                   ("input + |offset| vs coupler", f"{fmt(a_e, digits)} {rel} {fmt(b, digits)}")],
-                         digits))
-    elif "grashof" in r:
-        sl, pq = g["s_plus_l"], g["p_plus_q"]
-        rel = "vs" if sl is None or pq is None else "<" if sl < pq else ("=" if sl == pq else ">")
-        parts.append(_kv("Grashof", [("class", g["class"]), ("shortest", g["shortest"]),
-                                     ("longest", g["longest"]),
-                                     ("s + l vs p + q", f"{fmt(g['s_plus_l'], digits)} {rel} {fmt(g['p_plus_q'], digits)}")],
-                         digits))
+        parts.append(_class_table(r["grashof"], digits))
     if "transmission" in r:
         tr = r["transmission"]
         t = Table(title=f"Transmission angle ({au})", title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
@@ -207,6 +181,28 @@ def render(report: dict, digits: int = 6) -> Group:
     return Group(*parts)
 
 
+def _linkage_rows(lk: dict, lu: str, au: str) -> list[tuple[str, object]]:
+    """The linkage section in its own order: text as it is, numbers and coordinates in the
+    length unit, `*_angle` keys in the angle unit."""
+    rows = []
+    for key, value in lk.items():
+        label = key.replace("_", " ")
+        if not isinstance(value, str):
+            label += f" ({au})" if key.endswith("_angle") else f" ({lu})"
+        rows.append((label, value))
+    return rows
+
+
+def _class_table(g: dict, digits: int) -> Table:
+    """The class section as its mechanism lays it out (mechanisms.layout_of), else key by key."""
+    from linkcli.mechanisms import layout_of
+    layout = layout_of(g)
+    if layout is None:
+        return _kv("Class", [(k.replace("_", " "), v) for k, v in g.items()], digits)
+    title, rows = layout.class_block(g, lambda v: fmt(v, digits))
+    return _kv(title, rows, digits)
+
+
 def _motion_units(lu: str, au: str) -> dict[str, str]:
     """The unit of each Motion row that has one (time ratio, steps and yes/no have none)."""
     return {"input_range": au, "output_range": au, "output_swing": au, "slider_range": lu,
@@ -218,8 +214,10 @@ def _position_heads(r: dict, lu: str, au: str) -> dict[str, str]:
     error are points or slider positions (length) for path generation and a slider-crank,
     output angles for a four-bar's function, poses (x, y, angle) for motion generation,
     with a position error (length) and an angle error."""
-    slider = r.get("linkage", {}).get("mechanism") == "slider-crank"
-    unit = lu if r["type"] == "path-generation" or slider else au
+    from linkcli.mechanisms import module
+    mechanism = r.get("linkage", {}).get("mechanism", "four-bar")
+    length_output = module(mechanism, "schema").OUTPUT == "length"  # a slider's position
+    unit = lu if r["type"] == "path-generation" or length_output else au
     heads = {"input": f"input ({au})", "position_error": f"position error ({lu})",
              "angle_error": f"angle error ({au})"}
     if r["type"] == "motion-generation":

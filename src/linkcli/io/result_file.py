@@ -14,7 +14,7 @@ from linkcli.model import LinkageProblem, Meta
 from linkcli.io.loads import read_loads
 from linkcli.io.meta import MAX_LENGTH, read_units
 from linkcli.types.linkage import TYPE as LINKAGE
-from linkcli.types.linkage.schema import read_linkage
+from linkcli.mechanisms.schema import read_linkage
 from linkcli.io.reader import Reader
 from linkcli.io.result_motion import motion_study
 

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkcli.plots.common import (CURVE_COLOR, TARGET_COLOR, Geometry, draw_linkage, drawn, frame_drawing,
-                                  input_grid, joint_paths, link_legend, num, panels)
+from linkcli.mechanisms.four_bar.drawing import Geometry, draw_linkage, input_grid, joint_paths, link_legend
+from linkcli.plots.common import CURVE_COLOR, TARGET_COLOR, drawn, frame_drawing, num, panels
 
 NEEDS = ("linkage", "positions")
 LABEL_ALL = 12  # up to this many targets each one is numbered; beyond, every k-th

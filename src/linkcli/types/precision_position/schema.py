@@ -10,14 +10,16 @@ from linkcli.errors import SchemaError
 from linkcli.io.reader import Table
 from linkcli.types.precision_position.system import position_problem
 from linkcli.types.precision_position.slider_system import slider_position_problem
-from linkcli.types.linkage.schema import read_mechanism, read_motion, refuse_foreign
+from linkcli.mechanisms.schema import read_mechanism, refuse_foreign
+from linkcli.types.linkage.schema import read_motion
 
 MAX_POSITIONS = 1000
+SYNTHESIZED = ("four-bar", "slider-crank")  # the mechanisms precision positions can design
 
 
 def parse(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
     link = root.table("linkage", required=True)
-    mechanism = read_mechanism(link) if link else "four-bar"
+    mechanism = read_mechanism(link, SYNTHESIZED) if link else "four-bar"
     if link is not None and mechanism is not None and refuse_foreign(link, mechanism):
         mechanism = None
     if mechanism == "slider-crank":

@@ -1,9 +1,6 @@
-"""The shared report sections of an offset slider-crank (SPEC, "Slider-crank — the second
-mechanism"): linkage, grashof (its class), transmission, motion and kinematics rows.
-
-analysis.sections dispatches here when the linkage is a
-linkcli.mechanisms.slider_crank.kinematics.SliderCrank; the numbers come from that module (closed
-forms: dead centres, stroke, time ratio, velocities and accelerations, Norton ch. 6-7).
+"""The slider-crank's own report sections (docs/format.md, the slider-crank): linkage,
+grashof (its class), transmission, motion and kinematics rows, from the closed forms of
+`kinematics` (dead centres, stroke, time ratio, velocities and accelerations, Norton ch. 6-7).
 Angles leave in the file's angle unit, lengths in its length unit.
 
 Transmission angle mu = arccos(|e - a sin(phi)| / b) falls as |h| = |e - a sin(phi)| grows,
@@ -18,17 +15,11 @@ import math
 
 import numpy as np
 
-from linkcli.mechanisms.four_bar import kinematics as kin
+from linkcli.mechanisms.columns import TRANSMISSION_BAND, angle_out as _ang, rows_of, turn_out as _dang
+from linkcli.mechanisms.protocol import Study
 from linkcli.mechanisms.slider_crank import kinematics as sc
 from linkcli.noise import first_max, first_min, snap, snap_series
-
-
-def _ang(units, x):
-    return float(units.from_rad(snap(float(kin.wrap(x)), 1.0)))
-
-
-def _dang(units, x):
-    return float(units.from_rad(float(x)))
+from linkcli.textnum import num
 
 
 def size(sl) -> float:
@@ -36,16 +27,16 @@ def size(sl) -> float:
     return max(sl.input, sl.coupler, abs(sl.offset))
 
 
-def study_arc(sl, near=None):
-    """(full turn, (lo, hi) with hi >= lo in rad, the arc running lo -> hi counter-clockwise)
-    of the crank; None when it never assembles."""
+def study_arc(sl, near=None) -> Study | None:
+    """The crank's study: a full turn, or the arc (lo, hi) with hi >= lo (rad, running lo ->
+    hi counter-clockwise) holding `near`; None when it never assembles."""
     arcs = sc.input_arcs(*sl.abe)
     if arcs is None:
-        return True, (0.0, kin.TWO_PI)
+        return Study(True, (0.0, sc.TWO_PI))
     if not arcs:
         return None
     lo, hi = sc.choose_arc(arcs, near)
-    return False, (lo, lo + sc.arc_sweep(lo, hi))
+    return Study(False, (lo, lo + sc.arc_sweep(lo, hi)))
 
 
 def linkage_section(sl, u) -> dict:
@@ -72,10 +63,10 @@ def transmission_extremes(sl, full: bool, arc):
         root = math.asin(e / a)
         cands += [root, math.pi - root]
     if full:
-        phi = np.sort(np.mod(np.array(cands), kin.TWO_PI))  # sweep order from 0
+        phi = np.sort(np.mod(np.array(cands), sc.TWO_PI))  # sweep order from 0
     else:
         inside = [c for c in cands if bool(sc.arc_contains((lo, hi), c))]
-        phi = np.array([lo] + sorted(inside, key=lambda c: (c - lo) % kin.TWO_PI) + [hi])
+        phi = np.array([lo] + sorted(inside, key=lambda c: (c - lo) % sc.TWO_PI) + [hi])
     p = sc.pose(a, b, e, phi, "open")  # mu does not depend on the branch
     mu = np.where(p.valid, p.mu, np.nan)
     mu = np.where(np.isnan(mu), np.inf, mu)
@@ -85,16 +76,22 @@ def transmission_extremes(sl, full: bool, arc):
     return float(mu[i]), float(phi[i]), float(mu_hi[j]), float(phi[j])
 
 
-def transmission_section(sl, full, arc, u) -> dict:
-    mn, at_mn, mx, at_mx = transmission_extremes(sl, full, arc)
+def transmission_section(sl, study: Study, u, notes: list) -> dict:
+    """Extremes over the crank's range; a note when mu falls below the recommended band."""
+    mn, at_mn, mx, at_mx = transmission_extremes(sl, study.full_turn, study.arc)
+    band = TRANSMISSION_BAND[0]
+    if math.degrees(mn) < band * (1 - 1e-9):
+        notes.append(f"transmission angle falls below the recommended {band:g} deg "
+                     f"({num(math.degrees(mn))}..{num(math.degrees(mx))} deg over the crank's range)")
     return {"min": _dang(u, mn), "max": _dang(u, mx),
             "input_at_min": _ang(u, at_mn), "input_at_max": _ang(u, at_mx)}
 
 
-def motion_section(sl, full, arc, u) -> dict:
+def motion_section(sl, study: Study, u) -> dict:
     """input_full_turn, input_range (rocking crank), slider_range, stroke, and for a turning
     crank time_ratio (advance over return, >= 1) and slow_stroke (outward: folded ->
     extended dead centre; return; neither)."""
+    full, arc = study.full_turn, study.arc
     m = sc.motion(*sl.abe, sl.branch, near=None if full else arc[0])
     out = {"input_full_turn": full}
     if not full:
@@ -109,19 +106,19 @@ def motion_section(sl, full, arc, u) -> dict:
     return out
 
 
-def kinematics_rows(sl, full, arc, speed, steps, u, study_inputs) -> list[dict]:
-    """One row per step (the inputs of analysis.sections.study_inputs): input, coupler (rod
+def kinematics_rows(sl, study: Study, speed, steps, u) -> list[dict]:
+    """One row per step (protocol.Study.rows): input, coupler (rod
     angle), slider, transmission, coupler_velocity, slider_velocity, coupler_acceleration,
     slider_acceleration (angle unit per s, per s^2; length unit per s, per s^2), and the
     coupler point's position, velocity and acceleration when given."""
     a, b, e = sl.abe
-    phi, shown = study_inputs(full, arc, steps)
+    phi, shown = study.rows(steps)
     p = sc.pose(a, b, e, phi, sl.branch)
     vs, w3 = sc.velocities(a, b, p, speed)
     acc, a3 = sc.accelerations(a, b, p, speed)
     rate, rate2 = abs(speed), speed * speed
     scale = size(sl)
-    cols = [("input", u.from_rad(shown)), ("coupler", u.from_rad(snap(kin.wrap(p.theta), 1.0))),
+    cols = [("input", u.from_rad(shown)), ("coupler", u.from_rad(snap(sc.wrap(p.theta), 1.0))),
             ("slider", snap_series(p.slider, scale)), ("transmission", u.from_rad(p.mu)),
             ("coupler_velocity", u.from_rad(snap_series(w3, rate))),
             ("slider_velocity", snap_series(vs, scale * rate)),
@@ -137,9 +134,4 @@ def kinematics_rows(sl, full, arc, speed, steps, u, study_inputs) -> list[dict]:
                  ("coupler_point_vy", snap_series(vy, big * rate)),
                  ("coupler_point_ax", snap_series(ax, big * rate2)),
                  ("coupler_point_ay", snap_series(ay, big * rate2))]
-    rows = []
-    for k in range(len(phi)):
-        ok = bool(p.valid[k])
-        rows.append({name: (float(v[k]) if math.isfinite(v[k]) and (ok or name == "input") else None)
-                     for name, v in cols})
-    return rows
+    return rows_of(cols, p.valid)

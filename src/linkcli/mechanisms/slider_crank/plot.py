@@ -4,7 +4,7 @@ point, the target positions when there are any) beside its motion over the crank
 slider travel s(phi), slider velocity and acceleration at the file's input speed, and the
 transmission angle against its recommended lower limit. Everything is drawn from the
 report handed in (linkage lengths, motion study, positions), through the closed forms of
-linkcli.mechanisms.slider_crank; nothing is loaded or solved here.
+`kinematics`; nothing is loaded or solved here.
 """
 
 from __future__ import annotations
@@ -13,17 +13,13 @@ import math
 
 import numpy as np
 
-from linkcli.analysis.sections import TRANSMISSION_BAND
+from linkcli.mechanisms.columns import TRANSMISSION_BAND
 from linkcli.mechanisms.slider_crank import kinematics as sc
 from linkcli.units import Units
-from linkcli.plots.common import (BAND_COLOR, CURVE_COLOR, LINK_COLORS, TARGET_COLOR, angle_ticks, drawn,
-                                  frame_drawing, no_linkage, num, panels, robust_ylim)
+from linkcli.plots.common import (BAND_COLOR, CURVE_COLOR, LINK_COLORS, TARGET_COLOR, angle_ticks,
+                                  drawn, frame_drawing, no_linkage, num, panels, robust_ylim)
 
 SAMPLES = 720
-
-
-def is_slider_crank(report: dict) -> bool:
-    return isinstance(report.get("linkage"), dict) and report["linkage"].get("mechanism") == "slider-crank"
 
 
 def study_grid(a, b, e, near=None, n: int = SAMPLES):

@@ -1,0 +1,116 @@
+"""[joints]: one inline table per joint, read in one place for every use of it.
+
+    [joints]
+    A  = { diameter = 8, width = 10, shear = "double", fit = "H7/g6" }   # part sizes
+    O2 = { at = [0, 0], ground = true }                                # a drawn linkage's drawing
+    S  = { at = [90, 52], slider = 0 }
+
+Part sizes (any mechanism; the names are the mechanism's joints, `JOINTS` in its schema):
+`diameter` (pin diameter, length unit), `width` (bearing width, length unit), `shear`
+("single" or "double": the pin's shear planes), `fit` (an ISO 286 hole/shaft fit such as
+"H7/g6"; its limits are looked up where the fit is used). The drawing (a mechanism whose
+schema has `JOINTS = None`: any names, the drawing's own): `at` (the joint's place in the
+drawn assembly, [x, y] length unit), `ground` (fixed to the ground), `slider` (a slider on
+a ground guide through `at`, at this angle, the file's angle unit). Pure Python (`check`
+reads it without numpy); the mechanism's schema checks what the names mean.
+"""
+
+from __future__ import annotations
+
+import difflib
+from dataclasses import dataclass
+
+from linkcli.io.meta import MAX_LENGTH, bounded_point
+from linkcli.io.reader import Table, describe
+
+MAX_JOINTS = 1000
+SIZE_KEYS = ("diameter", "width", "shear", "fit")
+DRAWING_KEYS = ("at", "ground", "slider")
+SHEAR = ("single", "double")
+
+
+@dataclass(frozen=True)
+class JointSpec:
+    """One joint as the file gives it (lengths in the length unit, `slider` in rad)."""
+
+    name: str
+    at: tuple[float, float] | None = None
+    ground: bool = False
+    slider: float | None = None
+    diameter: float | None = None
+    width: float | None = None
+    shear: str = "single"
+    fit: str | None = None
+    line: int | None = None
+
+    @property
+    def shear_planes(self) -> int:
+        return 2 if self.shear == "double" else 1
+
+
+def read_joints(root: Table, mechanism: str, units) -> tuple[JointSpec, ...] | None:
+    """Every joint of [joints] (in file order), () without the table, None when in error
+    (errors recorded). `mechanism` names the [linkage] mechanism whose joints they are."""
+    from linkcli.mechanisms import module
+    t = root.table("joints")
+    if t is None:
+        return ()
+    names = module(mechanism, "schema").JOINTS  # None: the drawing names its own joints
+    errors = len(root.reader.errors)
+    keys = list(t.keys())
+    if len(keys) > MAX_JOINTS:
+        t.error(None, f"at most {MAX_JOINTS} joints", raw_got=f"{len(keys)} joints")
+        return None
+    out = []
+    for name in keys:
+        if names is not None and name not in names:
+            hint = difflib.get_close_matches(name, names, n=1, cutoff=0.5)
+            extra = f' (did you mean "{hint[0]}"?)' if hint else ""
+            t.raw(name)
+            t.error(name, f"a joint of the {mechanism}: one of {', '.join(names)}{extra}",
+                    raw_got=f'joint "{name}"')
+            continue
+        joint = t.table(name)
+        if joint is None:
+            t.error(name, "an inline table of the joint's keys, e.g. { diameter = 8, width = 10 }",
+                    t.raw(name))
+            continue
+        out.append(_joint(joint, name, drawing=names is None, mechanism=mechanism, units=units,
+                          line=root.reader.line_of(("joints", name))))
+    if len(root.reader.errors) > errors:
+        return None
+    return tuple(out)
+
+
+def _joint(t: Table, name: str, *, drawing: bool, mechanism: str, units, line) -> JointSpec:
+    """One joint's keys; the drawing's keys only for a drawn linkage."""
+    at, ground, slider = None, False, None
+    if drawing:
+        at = bounded_point(t, "at", None)
+        ground = t.boolean("ground", False)
+        slider = t.number("slider", None, lo=-MAX_LENGTH, hi=MAX_LENGTH,
+                          what="the angle of the slider's ground guide (angle unit)")
+        if slider is not None:
+            slider = units.to_rad(slider)
+    else:
+        for key in DRAWING_KEYS:
+            if key in t:
+                t.allow(key)
+                t.error(key, f"part sizes for a {mechanism} joint ({', '.join(SIZE_KEYS)}); "
+                        f'"{key}" belongs to a drawn linkage (mechanism = "drawn")',
+                        raw_got=f"{key} = {describe(t.raw(key))}")
+    diameter = _size(t, "diameter", "a pin diameter > 0 (length unit)")
+    width = _size(t, "width", "a bearing width > 0 (length unit)")
+    shear = t.string("shear", "single", choices=SHEAR)
+    fit = t.string("fit", None, max_len=40)
+    return JointSpec(name=name, at=tuple(at) if at else None, ground=bool(ground), slider=slider,
+                     diameter=diameter, width=width, shear=shear or "single", fit=fit, line=line)
+
+
+def _size(t: Table, key: str, what: str):
+    """A positive length within MAX_LENGTH; None when absent or bad (error recorded)."""
+    value = t.number(key, None, positive=True, what=what)
+    if value is not None and value > MAX_LENGTH:
+        t.error(key, f"{what}, at most {MAX_LENGTH:g}", value)
+        return None
+    return value

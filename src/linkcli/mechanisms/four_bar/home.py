@@ -1,0 +1,104 @@
+"""The four-bar behind the mechanism protocol (mechanisms.protocol): its sections, loads,
+made parts and drawing, from the closed forms of `kinematics`.
+
+Frames (the conventions of docs/format.md): local A0 = (0, 0), B0 = (d, 0), A = a e^{i phi},
+B = B0 + c e^{i psi}, P = A + (px + i py) e^{i theta}; the global frame puts A0 at
+`ground_pivot` and turns the ground line by `ground_angle`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from linkcli.mechanisms.four_bar import kinematics as kin
+from linkcli.mechanisms.four_bar import sections
+from linkcli.mechanisms.protocol import LoadRows, Mechanism, Skeleton, Study
+
+
+class FourBarMechanism(Mechanism):
+    name = "four-bar"
+    NO_ASSEMBLY = "the linkage cannot assemble at any input angle"
+    DEAD_POINT = "coupler and output in line"
+
+    def size(self) -> float:
+        return max(self.linkage.abcd)
+
+    def lengths_section(self, units) -> dict:
+        return sections.linkage_section(self.linkage, units)
+
+    def class_section(self, units) -> dict:
+        return kin.grashof(*self.linkage.abcd)
+
+    def linkage_notes(self, want: set, units) -> list[str]:
+        """The change-point warning, with any section that depends on the class or motion."""
+        if not want & {"grashof", "transmission", "motion", "kinematics"}:
+            return []
+        flat = sections.change_point_inputs(*self.linkage.abcd)
+        return [sections.change_point_note(flat, self.linkage, units)] if flat else []
+
+    def study(self, near=None) -> Study | None:
+        fb = self.linkage
+        mot = kin.motion(*fb.abcd, fb.branch, near=near)
+        return Study(mot.input_full_turn, mot.input_arc, mot) if mot.assembles else None
+
+    def transmission_section(self, study, span, units, notes) -> dict:
+        return sections.transmission_section(self.linkage, study.detail, span, units, notes)
+
+    def motion_section(self, study, units) -> dict:
+        return sections.motion_section(study.detail, units)
+
+    def kinematics_rows(self, study, speed, steps, units) -> list[dict]:
+        return sections.kinematics_rows(self.linkage, study, speed, steps, units)
+
+    def load_rows(self, phi, speed, case, metres) -> LoadRows:
+        """Pins A0 (ground -> input), A (input -> coupler), B (coupler -> output), B0
+        (ground -> output) at input angles phi (local frame), constant input speed."""
+        from linkcli.mechanisms.four_bar.loads import FourBarState, four_bar_loads
+        from linkcli.mechanisms.newton_euler import in_metres
+        fb = self.linkage
+        a, b, c, d = fb.abcd
+        p = kin.pose(a, b, c, d, phi, fb.branch)
+        w3, w4 = kin.velocities(a, b, c, p, speed)
+        a3, a4 = kin.accelerations(a, b, c, p, speed)
+        point = None if fb.coupler_point is None else tuple(v * metres for v in fb.coupler_point)
+        state = FourBarState.from_angles(
+            ground_length=d * metres, input_length=a * metres, coupler_length=b * metres,
+            output_length=c * metres, phi=phi, psi=p.psi, omega_input=speed, omega_coupler=w3,
+            omega_output=w4, alpha_input=0.0, alpha_coupler=a3, alpha_output=a4, coupler_point=point,
+            ground_pivot=tuple(v * metres for v in fb.ground_pivot), ground_angle=fb.ground_angle)
+        return four_bar_loads(state, case.loads, in_metres(case.masses, metres))
+
+    def tolerance_model(self, problem, solution):
+        from linkcli.mechanisms.four_bar.tolerance import Model, targets
+        return Model(self.linkage, targets(problem, solution))
+
+    def skeleton(self, phi) -> Skeleton:
+        """A0, B0 on the ground; A, B (and P) moving; links input A0-A, coupler A-B(-P),
+        output B0-B; the coupler point's path is traced."""
+        fb = self.linkage
+        a, b, c, d = fb.abcd
+        p = kin.pose(a, b, c, d, phi, fb.branch)
+        cg, sg = math.cos(fb.ground_angle), math.sin(fb.ground_angle)
+        gx, gy = fb.ground_pivot
+
+        def place(x, y):
+            x, y = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+            return np.stack([gx + cg * x - sg * y, gy + sg * x + cg * y], axis=-1)
+
+        n = p.psi.shape
+        ok = p.valid
+        joints = {"A0": place(np.zeros(n), np.zeros(n)), "B0": place(np.full(n, d), np.zeros(n)),
+                  "A": place(a * np.cos(p.phi), a * np.sin(p.phi)),
+                  "B": place(np.where(ok, d + c * np.cos(p.psi), np.nan), np.where(ok, c * np.sin(p.psi), np.nan))}
+        coupler = ("A", "B")
+        if fb.coupler_point is not None:
+            px, py = p.coupler_point(a, *fb.coupler_point)
+            joints["P"] = place(np.where(ok, px, np.nan), np.where(ok, py, np.nan))
+            coupler = ("A", "B", "P")
+        return Skeleton(joints=joints, links={"input": ("A0", "A"), "coupler": coupler, "output": ("B0", "B")},
+                        ground=("A0", "B0"), valid=np.asarray(ok), traced=("P",) if "P" in joints else ())
+
+
+HOME = FourBarMechanism

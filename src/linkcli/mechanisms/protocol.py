@@ -1,0 +1,176 @@
+"""The protocol every mechanism's home implements, and the records its methods return.
+
+Shared code -- the report sections of analysis/, the loads, the tolerance Monte Carlo, the
+plots, the animation and CAD writers -- holds a `Mechanism` (from `linkcli.mechanisms.of`)
+and calls these methods; it never asks which mechanism it holds. A home lives in
+`mechanisms/<name>/`: `kinematics.py` (closed forms, vectorized over angles and
+populations), `schema.py` (its `[linkage]` keys), `home.py` (the `Mechanism` below),
+and what else it needs (`sections.py`, `loads.py`, `tolerance.py`).
+
+Angles are radians and lengths the file's length unit inside; section methods return
+output-ready dicts (the file's units, round-off snapped to 0 under the noise floor of
+`size()`), as the report prints them.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+import numpy as np
+
+from linkcli.mechanisms.four_bar.kinematics import wrap  # the one wrap
+
+TWO_PI = 2.0 * np.pi
+
+
+@dataclass(frozen=True)
+class Study:
+    """The range of the motion study: the drive turns fully, or rocks over `arc` = (lo, hi)
+    with hi >= lo (rad, counter-clockwise from lo). `detail` is the home's own record of
+    the range (a four-bar's `Motion`), passed back to its section methods."""
+
+    full_turn: bool
+    arc: tuple[float, float]
+    detail: Any = None
+
+    def rows(self, steps: int) -> tuple[np.ndarray, np.ndarray]:
+        """(phi, shown): the drive angles (rad) of the study's rows and as printed. A full
+        turn: phi = k 2 pi / steps from 0, shown 0 .. 360 deg; a rocking drive: the centres
+        of `steps` equal cells of its arc (its ends are toggles, where a constant speed
+        would need an infinite one elsewhere), shown wrapped to (-180, 180] deg. The
+        kinematics and forces sections share these rows."""
+        if self.full_turn:
+            phi = np.arange(steps) * (TWO_PI / steps)
+            return phi, phi
+        lo, hi = self.arc
+        phi = lo + (np.arange(steps) + 0.5) * ((hi - lo) / steps)
+        return phi, wrap(phi)
+
+
+@dataclass(frozen=True)
+class Guide:
+    """A straight slider guide fixed to the ground: through `point` at `angle` (rad),
+    drawn over the travel of `joint`."""
+
+    point: tuple[float, float]
+    angle: float
+    joint: str
+
+
+@dataclass(frozen=True)
+class Skeleton:
+    """What a drawing needs at n rows, in the global frame (length unit).
+
+    joints: name -> (n, 2) positions (NaN where the linkage does not assemble);
+    links: name -> the joints it carries, in drawing order (a binary link is a bar, a
+    ternary or larger one a plate); ground: the joints fixed to the ground (drawn as
+    pivots); guides: slider guides; sliders: joints that slide on a guide (drawn as
+    blocks); traced: the points whose paths a drawing follows (coupler point, output
+    point); valid: (n,) the rows where it assembles."""
+
+    joints: dict[str, np.ndarray]
+    links: dict[str, tuple[str, ...]]
+    ground: tuple[str, ...]
+    valid: np.ndarray
+    guides: tuple[Guide, ...] = ()
+    sliders: tuple[str, ...] = ()
+    traced: tuple[str, ...] = ()
+
+    def size(self) -> float:
+        """The largest extent of the joints over the rows: the drawing's length scale."""
+        pts = np.concatenate([np.asarray(p, dtype=float).reshape(-1, 2) for p in self.joints.values()])
+        pts = pts[np.all(np.isfinite(pts), axis=1)]
+        if not len(pts):
+            return 1.0
+        extent = float(np.max(pts.max(axis=0) - pts.min(axis=0)))
+        return extent if extent > 0 else 1.0
+
+
+@dataclass
+class LoadRows:
+    """Inverse dynamics at every row: input_torque (n,) N m (the drive's torque on its
+    link, counter-clockwise positive); pins {name: (n, 2) N}, each the force the ground or
+    the neighbouring link exerts at that joint (the home documents on which link);
+    singular (n,) bool (a dead point: forces NaN); mechanical_advantage (n,) (NaN at a
+    toggle: infinite); force_scale (N) and torque_scale (N m) for the noise floor;
+    pin_names in report order."""
+
+    input_torque: np.ndarray
+    pins: dict[str, np.ndarray]
+    singular: np.ndarray
+    mechanical_advantage: np.ndarray
+    force_scale: float
+    torque_scale: float
+    pin_names: tuple[str, ...] = field(default=())
+
+    def magnitude(self, pin: str) -> np.ndarray:
+        return np.hypot(self.pins[pin][:, 0], self.pins[pin][:, 1])
+
+
+class Mechanism(ABC):
+    """One linkage of one mechanism, and everything shared code may ask of it.
+
+    Class attributes: `name` (the `[linkage] mechanism` value), `NO_ASSEMBLY` (the note
+    when it never assembles), `DEAD_POINT` (what a dead point of its loads means, for the
+    forces note)."""
+
+    name: ClassVar[str]
+    NO_ASSEMBLY: ClassVar[str]
+    DEAD_POINT: ClassVar[str]
+
+    def __init__(self, linkage) -> None:
+        self.linkage = linkage
+
+    # ------------------------------------------------------------ scale and report
+    @abstractmethod
+    def size(self) -> float:
+        """The linkage's length scale: round-off below NOISE_FLOOR times it is 0."""
+
+    @abstractmethod
+    def lengths_section(self, units) -> dict:
+        """The report's `linkage` section (a result file's `[linkage]` reads back)."""
+
+    @abstractmethod
+    def class_section(self, units) -> dict:
+        """The report's `grashof` section: the class and the figures that decide it."""
+
+    def linkage_notes(self, want: set, units) -> list[str]:
+        """Warnings about the linkage itself (a change point ...), given the asked sections."""
+        return []
+
+    @abstractmethod
+    def study(self, near: float | None = None) -> Study | None:
+        """The drive's range for the motion study (the arc holding `near` when it rocks in
+        several arcs); None when it never assembles."""
+
+    @abstractmethod
+    def transmission_section(self, study: Study, span, units, notes: list) -> dict:
+        """The `transmission` section over the study's range (and the working `span`,
+        (start, signed sweep) rad, where a problem has targets); notes get the band warning."""
+
+    @abstractmethod
+    def motion_section(self, study: Study, units) -> dict:
+        """The `motion` section: range of motion of the drive and the output."""
+
+    @abstractmethod
+    def kinematics_rows(self, study: Study, speed: float, steps: int, units) -> list[dict]:
+        """The `kinematics` rows at `study.rows(steps)` for a constant drive `speed` rad/s."""
+
+    # ------------------------------------------------------------ loads
+    @abstractmethod
+    def load_rows(self, phi, speed: float, case, metres: float) -> LoadRows:
+        """Inverse dynamics at drive angles phi turning at `speed` rad/s (constant) under the
+        load case (model.LoadCase); lengths times `metres` are metres."""
+
+    # ------------------------------------------------------------ tolerance
+    @abstractmethod
+    def tolerance_model(self, problem, solution):
+        """The made-part model of the tolerance Monte Carlo (analysis.tolerance.Model)."""
+
+    # ------------------------------------------------------------ drawing
+    @abstractmethod
+    def skeleton(self, phi) -> Skeleton:
+        """Joints, links, ground pivots and guides at drive angles phi, global frame."""
+

@@ -1,0 +1,57 @@
+"""`[linkage]` of any mechanism: its `mechanism` key, then the keys of that mechanism's home
+(`mechanisms/<package>/schema.py`: `KEYS` and `read(t, units)`). Pure Python (`check` reads
+it without numpy).
+"""
+
+from __future__ import annotations
+
+from linkcli.io.meta import MAX_RATIO, over_ratio
+from linkcli.io.reader import Table, describe
+from linkcli.mechanisms import NAMES, module
+
+ASSEMBLY_RTOL = 1e-12  # relative: ranges that only touch close at one position and cannot move
+
+
+def refuse_ratio(t, lengths: dict) -> bool:
+    """A located error (and True) when the longest link is over MAX_RATIO times the shortest:
+    beyond, double precision cannot resolve the linkage's angles."""
+    extremes = over_ratio(lengths)
+    if not extremes:
+        return False
+    longest, shortest = extremes
+    t.error(longest, f"a linkage whose longest link is at most {MAX_RATIO:g} times its shortest "
+            "(beyond, double precision cannot resolve its angles)",
+            raw_got=f"{longest} = {lengths[longest]:g} and {shortest} = {lengths[shortest]:g}")
+    return True
+
+
+def read_mechanism(t: Table, choices: tuple[str, ...] = NAMES) -> str | None:
+    """`mechanism`: one of `choices`, default four-bar; None when bad (error recorded)."""
+    return t.string("mechanism", "four-bar", choices=choices)
+
+
+def refuse_foreign(t: Table, mechanism: str) -> bool:
+    """Keys of another mechanism, not this one's, in this [linkage]: one located error each;
+    True if any."""
+    own = module(mechanism, "schema").KEYS
+    foreign = [k for name in NAMES if name != mechanism for k in module(name, "schema").KEYS
+               if k not in own]
+    found = False
+    for key in dict.fromkeys(foreign):
+        if key in t:
+            t.allow(key)  # one message, not a second "unknown key" for the same line
+            t.error(key, f"no {key} in a {mechanism} [linkage] (its keys: {', '.join(own)})",
+                    raw_got=f"{key} = {describe(t.data[key])}")
+            found = True
+    return found
+
+
+def read_linkage(t: Table, units, choices: tuple[str, ...] = NAMES):
+    """[linkage] of any mechanism in `choices`: its model dataclass; None when in error."""
+    mechanism = read_mechanism(t, choices)
+    if mechanism is None:  # one line for the mechanism, none for keys that depend on it
+        t.allow(*dict.fromkeys(k for name in NAMES for k in module(name, "schema").KEYS))
+        return None
+    foreign = refuse_foreign(t, mechanism)
+    linkage = module(mechanism, "schema").read(t, units)
+    return None if foreign else linkage
