@@ -15,6 +15,7 @@ PACKAGES = {  # the `[linkage] mechanism` value -> its package under linkcli.mec
     "slider-crank": "slider_crank",
 }
 NAMES = tuple(PACKAGES)
+DEFAULT = "four-bar"  # a [linkage] without `mechanism`
 
 
 def module(name: str, part: str):
