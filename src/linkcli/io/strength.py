@@ -119,27 +119,15 @@ def read_material(t: Table) -> StrengthSpec | None:
 def read_link_sections(root: Table, mechanism: str) -> dict[str, LinkSection]:
     """[sections]: one cross-section per link the mechanism has (`LINKS` of its schema; None:
     the drawing names its links, checked when analysed)."""
-    import difflib
-
+    from linkcli.io.joints import named_tables
     from linkcli.mechanisms import module
     t = root.table("sections")
     if t is None:
         return {}
-    names = module(mechanism, "schema").LINKS
+    entries = named_tables(t, module(mechanism, "schema").LINKS, "link", mechanism,
+                           "{ width = 12, thickness = 4 } or { diameter = 10 }")
     out = {}
-    for link in list(t.keys()):
-        if names is not None and link not in names:
-            hint = difflib.get_close_matches(link, names, n=1, cutoff=0.5)
-            extra = f' (did you mean "{hint[0]}"?)' if hint else ""
-            t.raw(link)
-            t.error(link, f"a link of the {mechanism}: one of {', '.join(names)}{extra}",
-                    raw_got=f'link "{link}"')
-            continue
-        section = t.table(link)
-        if section is None:
-            t.error(link, "an inline table of the cross-section, e.g. { width = 12, thickness = 4 } "
-                    "or { diameter = 10 }", t.raw(link))
-            continue
+    for link, section in entries or ():
         shape = _section(section, root.reader.line_of(("sections", link)))
         if shape is not None:
             out[link] = shape
