@@ -409,7 +409,7 @@ def test_slider_crank_rod_is_a_two_force_member(tmp_path):
     assert coupler["tension"] == pytest.approx(max(rod.max(), 0), rel=1e-9)
     assert coupler["stress_max"] == pytest.approx(np.abs(rod).max() / 50, rel=1e-9)
     assert strength["unchecked"] == ["link input"]
-    assert any("guide: not a pin" in n for n in rep["notes"])
+    assert any("guide: not a revolute pin" in n for n in rep["notes"])
     assert any("endurance 95 MPa is the listed specimen value of 6061-T6" in n for n in rep["notes"])
 
 

@@ -9,12 +9,12 @@ it holds. Part sizes are in the file's length unit ([joints], [sections]), stren
 linkcli.noise.NOISE_FLOOR times its part's stress scale (the problem's force scale over the
 area) is 0; peaks tied within linkcli.noise.TIE go to the first row in sweep order.
 
-Pins (direct shear and bearing of a pinned joint: Shigley's Mechanical Engineering Design,
-"stress"; Norton, Machine Design, "direct shear" and "bearing stress"): average shear
-tau = F / (planes pi d^2 / 4) (single shear one plane, double two), bearing
-sigma_b = F / (d w), with F the magnitude of the pin force; the
-shear's cycle gives the fatigue factor through von Mises (sigma' = sqrt(3) tau), its peak the
-static factor 0.577 Sy / tau_max; bearing's static factor is Sy / sigma_b. Links: the beam
+Pins (a pin in single and double shear and its bearing stress: Shigley's Mechanical
+Engineering Design, ch. 3; Norton, Machine Design, "direct shear" and "bearing stress"):
+average shear tau = F / (planes pi d^2 / 4) (single shear one plane, double two), bearing
+sigma_b = F / (d w), with F the magnitude of the pin force; the shear's cycle gives the
+fatigue factor through von Mises (sigma' = sqrt(3) tau), its peak the static factor
+0.577 Sy / tau_max; bearing's static factor is Sy / sigma_b. Links: the beam
 of linkcli.analysis.beam, fibre stresses N/A +- M/Z at every load point, the static factor
 Sy / |sigma|_max, the fatigue factor of the worst fibre's cycle, and the pinned-pinned column
 of analysis.fatigue.column_load against the largest compression.
@@ -47,7 +47,7 @@ def section(mech, computed, speed: float, meta, notes: list) -> dict:
     metres = metres_per_unit(units)
     members = mech.member_forces(phi, speed, meta.loads, metres, rows)
     if members is None:
-        raise SolveInputError(f"a mechanism whose loads on each link are known for [material] (the "
+        raise SolveInputError("a mechanism whose loads on each link are known for [material] (the "
                               "strength section)", f"the {mech.name}, which does not give them yet",
                               path=meta.path, line=spec.lines.get("material"), key="material")
     _check_names(members, meta)
@@ -78,8 +78,8 @@ def section(mech, computed, speed: float, meta, notes: list) -> dict:
         notes.append(_unchecked_note(unchecked, plates))
     no_pin = [name for name in sizes if name not in members.pins]
     if no_pin:
-        notes.append(f"[joints] {', '.join(no_pin)}: not a pin (a slider's guide), its sizes are "
-                     "not checked for strength")
+        notes.append(f"[joints] {', '.join(no_pin)}: not a revolute pin (a slider's guide), its "
+                     "sizes are not checked for strength")
     if spec.endurance_listed:
         notes.append(f"endurance {spec.endurance:g} MPa is the listed specimen value of {spec.name} "
                      "(fully reversed, polished), not corrected for the part's surface, size and "
