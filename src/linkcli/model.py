@@ -111,6 +111,39 @@ class LoadCase:
 
 
 @dataclass(frozen=True)
+class LinkSection:
+    """A link's cross-section ([sections], docs/strength.md), length unit: a `rectangle`
+    (`width` in the plane of motion, `thickness` normal to it), a `round` bar (`diameter`) or
+    a `tube` (outer `diameter`, `wall`)."""
+
+    shape: str
+    width: float | None = None
+    thickness: float | None = None
+    diameter: float | None = None
+    wall: float | None = None
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class StrengthSpec:
+    """[material] and [strength] (docs/strength.md): the strengths in MPa (`yield_`: the
+    tensile yield strength; `endurance`: fully reversed; `modulus`: Young's), the material's
+    listed `name` and `source` when named, `endurance_listed` when the endurance is the list's
+    uncorrected specimen value; the `required` safety factor and the fatigue `criterion`."""
+
+    ultimate: float
+    yield_: float
+    endurance: float
+    modulus: float
+    name: str | None = None
+    source: str | None = None
+    endurance_listed: bool = False
+    required: float = 1.0
+    criterion: str = "goodman"
+    lines: dict = field(default_factory=dict, compare=False)  # table name -> line, for messages
+
+
+@dataclass(frozen=True)
 class Meta:
     """What every problem file has: where it came from and how to solve and report it."""
 
@@ -125,6 +158,8 @@ class Meta:
     notes: tuple[str, ...] = ()  # notes on the file itself (angles that look like the other unit)
     loads: LoadCase | None = None  # [loads] / [masses]: the forces section
     joints: tuple = ()  # [joints]: io.joints.JointSpec per joint (part sizes, a drawing)
+    link_sections: dict = field(default_factory=dict)  # [sections]: link -> LinkSection
+    strength: StrengthSpec | None = None  # [material] / [strength]: the strength section
 
 
 @dataclass(frozen=True)

@@ -96,12 +96,20 @@ def figure(result):
     from linkcli.registry import problem_type
     report = drawn(result)
     with matplotlib.rc_context(STYLE):
+        panels = []  # any type's result with a forces (strength) section: panels under its figure
         if "forces" in report and report["forces"].get("rows"):
             from linkcli.plots import forces
-            fig = Figure(figsize=(FIGSIZE[0], FIGSIZE[1] + forces.HEIGHT), layout="constrained")
-            top, bottom = fig.subfigures(2, 1, height_ratios=[FIGSIZE[1], forces.HEIGHT])
+            panels.append(forces)
+        if "strength" in report and report["strength"].get("rows"):
+            from linkcli.plots import strength
+            panels.append(strength)
+        if panels:
+            heights = [FIGSIZE[1]] + [panel.HEIGHT for panel in panels]
+            fig = Figure(figsize=(FIGSIZE[0], sum(heights)), layout="constrained")
+            top, *below = fig.subfigures(len(heights), 1, height_ratios=heights)
             problem_type(report["type"]).module("plot").draw(top, result)
-            forces.draw(bottom, result)  # any type's result with a forces section
+            for panel, sub in zip(panels, below):
+                panel.draw(sub, result)
             return fig
         fig = Figure(figsize=FIGSIZE, layout="constrained")
         problem_type(report["type"]).module("plot").draw(fig, result)

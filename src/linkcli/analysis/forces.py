@@ -31,15 +31,24 @@ def echo(case) -> dict:
     return dict(case.given)
 
 
-def section(mech, study, speed: float, steps: int, case, units, notes: list) -> dict:
+def study_rows(mech, study, speed: float, steps: int, case, units):
+    """(phi, inputs, LoadRows): the drive angles (rad) of the motion study's rows, the same as
+    printed (the file's angle unit) and the home's inverse dynamics there -- what the
+    `forces` and `strength` sections share."""
+    phi, shown = study.rows(steps)
+    inputs = units.from_rad(np.asarray(shown, dtype=float))
+    return phi, inputs, mech.load_rows(phi, speed, case, metres_per_unit(units))
+
+
+def section(mech, study, speed: float, steps: int, case, units, notes: list,
+            computed=None) -> dict:
     """The `forces` section: input_torque {peak, at_input, rms}, pins {name: {max, min, mean,
     amplitude, x: {...}, y: {...}}}, rows [{input, input_torque, pins {name: {x, y,
     magnitude}}, mechanical_advantage}], at the rows of the motion study `study` = (full
-    turn, arc). Notes name the toggles (infinite mechanical advantage) and dead points
-    (unbounded forces, left out of the load cycle)."""
-    phi, shown = study.rows(steps)
-    inputs = units.from_rad(np.asarray(shown, dtype=float))
-    rows = mech.load_rows(phi, speed, case, metres_per_unit(units))
+    turn, arc); `computed`: its `study_rows` when already solved. Notes name the toggles
+    (infinite mechanical advantage) and dead points (unbounded forces, left out of the load
+    cycle)."""
+    _, inputs, rows = computed or study_rows(mech, study, speed, steps, case, units)
     rows = replace(rows, mechanical_advantage=snap_series(rows.mechanical_advantage))
     cycle = load_cycle(rows, inputs)
     out = {"input_torque": cycle["input_torque"], "pins": cycle["pins"]}

@@ -57,9 +57,23 @@ def read_joints(root: Table, mechanism: str, units) -> tuple[JointSpec, ...] | N
         return ()
     names = module(mechanism, "schema").JOINTS  # None: the drawing names its own joints
     errors = len(root.reader.errors)
+    entries = named_tables(t, names, "joint", mechanism, "{ diameter = 8, width = 10 }")
+    if entries is None:
+        return None
+    out = [_joint(joint, name, drawing=names is None, mechanism=mechanism, units=units,
+                  line=root.reader.line_of(("joints", name))) for name, joint in entries]
+    if len(root.reader.errors) > errors:
+        return None
+    return tuple(out)
+
+
+def named_tables(t: Table, names, kind: str, mechanism: str, example: str):
+    """(name, inline table) of each entry of `t` named by one of `names` (None: any name, the
+    drawing's own), in file order; a name not among them or an entry that is not a table is
+    a located error (with "did you mean"). None when there are over MAX_JOINTS entries."""
     keys = list(t.keys())
     if len(keys) > MAX_JOINTS:
-        t.error(None, f"at most {MAX_JOINTS} joints", raw_got=f"{len(keys)} joints")
+        t.error(None, f"at most {MAX_JOINTS} {kind}s", raw_got=f"{len(keys)} {kind}s")
         return None
     out = []
     for name in keys:
@@ -67,19 +81,15 @@ def read_joints(root: Table, mechanism: str, units) -> tuple[JointSpec, ...] | N
             hint = difflib.get_close_matches(name, names, n=1, cutoff=0.5)
             extra = f' (did you mean "{hint[0]}"?)' if hint else ""
             t.raw(name)
-            t.error(name, f"a joint of the {mechanism}: one of {', '.join(names)}{extra}",
-                    raw_got=f'joint "{name}"')
+            t.error(name, f"a {kind} of the {mechanism}: one of {', '.join(names)}{extra}",
+                    raw_got=f'{kind} "{name}"')
             continue
-        joint = t.table(name)
-        if joint is None:
-            t.error(name, "an inline table of the joint's keys, e.g. { diameter = 8, width = 10 }",
-                    t.raw(name))
+        entry = t.table(name)
+        if entry is None:
+            t.error(name, f"an inline table of the {kind}'s keys, e.g. {example}", t.raw(name))
             continue
-        out.append(_joint(joint, name, drawing=names is None, mechanism=mechanism, units=units,
-                          line=root.reader.line_of(("joints", name))))
-    if len(root.reader.errors) > errors:
-        return None
-    return tuple(out)
+        out.append((name, entry))
+    return out
 
 
 def _joint(t: Table, name: str, *, drawing: bool, mechanism: str, units, line) -> JointSpec:

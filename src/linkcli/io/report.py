@@ -22,7 +22,7 @@ from linkcli.io.terminal_text import terminal_safe
 MAX_TABLE_WIDTH = 400  # columns a table may take when printed to a file or a pipe
 STATUS_STYLE = {"ok": "bold green", "infeasible": "bold yellow", "not-converged": "bold red"}
 KNOWN = ("file", "title", "type", "status", "message", "units", "linkage", "grashof",
-         "transmission", "motion", "kinematics", "positions", "error", "solver", "notes", "forces", "loads", "masses")
+         "transmission", "motion", "kinematics", "positions", "error", "solver", "notes", "forces", "loads", "masses", "strength")
 
 
 def console(file=None, width: int | None = None) -> Console:
@@ -169,6 +169,8 @@ def render(report: dict, digits: int = 6) -> Group:
                                     for k, v in props.items()], digits))
     if "forces" in r:
         parts.extend(_forces(r["forces"], digits, au))
+    if "strength" in r:
+        parts.extend(_strength(r["strength"], digits, lu, au))
     for name, section in r.items():
         if name not in KNOWN:
             units = _tolerance_units(section, lu, au) if name == "tolerance" else None
@@ -249,6 +251,50 @@ def _forces(forces: dict, digits: int, au: str) -> list:
         line["mechanical_advantage"] = row["mechanical_advantage"]
         table.append(line)
     parts.append(_rows("Forces", table, digits, heads))
+    return parts
+
+
+def _strength(strength: dict, digits: int, lu: str, au: str) -> list:
+    """The strength section: material and the weakest part, one row per pin and per link
+    (factors, stresses in MPa), and the stresses over the cycle."""
+    material = strength["material"]
+    rows = [("material", material["name"])] if "name" in material else []
+    rows += [(f"{k.replace('_', ' ')} (MPa)", material[k])
+             for k in ("ultimate", "yield_strength", "endurance", "modulus")]
+    rows += [("fatigue criterion", strength["criterion"]), ("required factor", strength["required"])]
+    critical = strength.get("critical")
+    if critical:
+        rows += [("weakest part", critical["part"]), ("its factor", critical["factor"]),
+                 ("failure mode", critical["mode"]), (f"at input ({au})", critical["at_input"])]
+    if strength.get("unchecked"):
+        rows.append(("not checked", ", ".join(strength["unchecked"])))
+    parts: list = [_kv("Strength", rows, digits)]
+    heads = {"diameter": f"d ({lu})", "width": f"w ({lu})", "force_max": "|F| max (N)",
+             "force_min": "|F| min (N)", "shear_max": "tau max (MPa)",
+             "bearing_max": "bearing (MPa)", "at_input": f"at input ({au})",
+             "shear_alternating": "tau a (MPa)", "shear_mean": "tau m (MPa)",
+             "static_factor": "static n", "bearing_factor": "bearing n",
+             "fatigue_factor": "fatigue n", "factor": "n", "length": f"length ({lu})",
+             "tension": "tension (N)", "tension_at": f"at ({au})", "compression": "compression (N)",
+             "compression_at": f"at ({au})", "bending": "M max (N m)", "bending_at": f"at ({au})",
+             "stress_max": "sigma max (MPa)", "alternating": "sigma a (MPa)", "mean": "sigma m (MPa)",
+             "buckling_load": "P cr (N)", "buckling_factor": "buckling n"}
+    if strength["pins"]:
+        parts.append(_rows("Pins: shear and bearing", strength["pins"], digits, heads))
+    if strength["links"]:
+        parts.append(_rows("Links: axial, bending, buckling", strength["links"], digits, heads))
+    table, cycle_heads = [], {"input": f"input ({au})"}
+    for row in strength["rows"]:
+        line = {"input": row["input"]}
+        for name, value in row.get("pins", {}).items():
+            line[f"pin {name}"] = value
+            cycle_heads[f"pin {name}"] = f"tau {name} (MPa)"
+        for name, value in row.get("links", {}).items():
+            line[f"link {name}"] = value
+            cycle_heads[f"link {name}"] = f"sigma {name} (MPa)"
+        table.append(line)
+    parts.append(_rows("Stress over the cycle (pin shear, link's largest fibre stress)", table,
+                       digits, cycle_heads))
     return parts
 
 

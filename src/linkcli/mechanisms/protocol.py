@@ -109,6 +109,38 @@ class LoadRows:
         return np.hypot(self.pins[pin][:, 0], self.pins[pin][:, 1])
 
 
+@dataclass(frozen=True)
+class LinkLoad:
+    """One load on one link at every row (n rows), SI, global frame: `force` (n, 2) N acting
+    ON the link at the point `at` (n, 2) m, and a `couple` (n,) N m on it (counter-clockwise
+    positive). `name`: the joint it acts through (a pin force) or what it is (a home's word:
+    "drive", "coupler_force", "output_torque", "inertia" -- weight and d'Alembert inertia of
+    the link's mass at its centre, -m a_G + m g and -I_G alpha)."""
+
+    name: str
+    at: np.ndarray
+    force: np.ndarray
+    couple: np.ndarray
+
+
+@dataclass(frozen=True)
+class MemberForces:
+    """What the strength section needs of a mechanism at the rows of a load study.
+
+    links: link name (as [sections] names it) -> the joints at its ends, in order (a binary
+    link: two joints; its axis runs from the first to the second). loads: link name -> every
+    load on it, its joints' forces first (in the order of `links`, named by the joint), then
+    what acts between or beside them (a coupler force, a drive or load torque, its mass's
+    weight and inertia); together they are in equilibrium at every valid row (sum of forces
+    and of moments 0: d'Alembert). pins: joint name (as [joints] names it) -> (n, 2) N, the
+    shear force the pin carries (for two links joined, the force one exerts on the other);
+    only revolute pins (a slider's guide is not one)."""
+
+    links: dict[str, tuple[str, ...]]
+    loads: dict[str, tuple[LinkLoad, ...]]
+    pins: dict[str, np.ndarray]
+
+
 class Mechanism(ABC):
     """One linkage of one mechanism, and everything shared code may ask of it.
 
@@ -163,6 +195,18 @@ class Mechanism(ABC):
     def load_rows(self, phi, speed: float, case, metres: float) -> LoadRows:
         """Inverse dynamics at drive angles phi turning at `speed` rad/s (constant) under the
         load case (model.LoadCase); lengths times `metres` are metres."""
+
+    def member_forces(self, phi, speed: float, case, metres: float,
+                      rows: LoadRows) -> MemberForces | None:
+        """The loads on every moving link and the force through every revolute pin at drive
+        angles phi (the rows of `rows`, this home's `load_rows(phi, speed, case, metres)`),
+        for the strength section (analysis.strength). Contract (MemberForces): forces ON
+        each link in N at points in m, global frame; each link's loads in equilibrium with
+        its own mass's weight and d'Alembert inertia included; NaN at the rows `rows`
+        marks singular. Links are named as the home's schema `LINKS`, joints as `JOINTS`.
+        None (this default): the home does not give them, and a file asking for the
+        strength section is told so (exit 2)."""
+        return None
 
     # ------------------------------------------------------------ tolerance
     @abstractmethod
