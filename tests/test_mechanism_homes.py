@@ -54,7 +54,8 @@ def test_every_home_implements_the_protocol_and_the_light_modules(name):
     assert issubclass(home, Mechanism) and not getattr(home, "__abstractmethods__", None)
     assert home.name == name
     schema = mechanisms.module(name, "schema")
-    for key in ("KEYS", "JOINTS", "TOLERANCED", "PLAYS", "OUTPUT", "MASSES", "POINT_MASSES", "OUTPUT_LOAD"):
+    for key in ("KEYS", "JOINTS", "LINKS", "TOLERANCED", "PLAYS", "OUTPUT", "MASSES", "POINT_MASSES",
+                "OUTPUT_LOAD"):
         assert hasattr(schema, key), f"{name}'s schema has no {key}"
     assert callable(schema.read) and callable(schema.known_lengths)
     assert callable(mechanisms.module(name, "layout").class_block)
