@@ -15,8 +15,8 @@ import sys
 from pathlib import Path
 
 ANIMATE = {"formats": (".gif", ".mp4", ".svg"), "folder_format": ".gif", "what": "animations",
-           "noun": "animation path"}
-DXF = {"formats": (".dxf",), "folder_format": ".dxf", "what": "drawings", "noun": "DXF path"}
+           "noun": "an animation path"}
+DXF = {"formats": (".dxf",), "folder_format": ".dxf", "what": "drawings", "noun": "a DXF path"}
 NEEDS = {  # format -> (module, pip name, extra) it needs
     ".gif": (("matplotlib", "matplotlib", "plot"),),
     ".svg": (("matplotlib", "matplotlib", "plot"),),

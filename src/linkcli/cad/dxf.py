@@ -28,6 +28,7 @@ metadata (dates, GUIDs) are fixed, so the same result gives the same bytes.
 
 from __future__ import annotations
 
+import contextlib
 import io
 import math
 
@@ -58,7 +59,8 @@ def render(scene: Scene, widths: dict[str, float] | None = None, diameters: dict
     def q(xy) -> tuple[float, float]:
         return tuple(float(round(float(v) / grid) * grid) + 0.0 for v in xy)
 
-    doc = ezdxf.new("R2010", units=UNITS[scene.units.length])
+    with fixed_metadata():
+        doc = ezdxf.new("R2010", units=UNITS[scene.units.length])
     for name, color in LAYERS.items():
         doc.layers.add(name, color=color)
     msp = doc.modelspace()
@@ -141,14 +143,22 @@ def _pieces(xy: np.ndarray) -> list[np.ndarray]:
     return [part for part, good in zip(np.split(xy, cuts), np.split(ok, cuts)) if good[0] and len(part) > 1]
 
 
-def _bytes(doc) -> bytes:
-    """The document as DXF text, its metadata fixed (ezdxf's option for reproducible files)."""
+@contextlib.contextmanager
+def fixed_metadata():
+    """ezdxf's option for reproducible files, on while a document is made and written:
+    fixed dates, GUIDs and ezdxf marker strings instead of the clock's."""
     import ezdxf
     before = ezdxf.options.write_fixed_meta_data_for_testing
     ezdxf.options.write_fixed_meta_data_for_testing = True
     try:
-        stream = io.StringIO()
-        doc.write(stream)
+        yield
     finally:
         ezdxf.options.write_fixed_meta_data_for_testing = before
+
+
+def _bytes(doc) -> bytes:
+    """The document as DXF text (UTF-8), its metadata fixed."""
+    stream = io.StringIO()
+    with fixed_metadata():
+        doc.write(stream)
     return stream.getvalue().encode("utf-8")
