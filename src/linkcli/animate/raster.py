@@ -2,7 +2,8 @@
 frame the moving parts drawn over a copy of them (blitting), FRAME_MS a frame.
 
 GIF (Pillow): every frame mapped, without dithering, onto one palette: the 256 commonest
-colours of three frames spread over the motion; loops forever.
+colours of three frames spread over the motion (each pixel to its nearest, so that the
+drawing's flat colours stay exact); loops forever.
 MP4 (imageio-ffmpeg's ffmpeg binary): H.264 (libx264, CRF 20, yuv420p), one thread and
 ffmpeg's bitexact flags, no metadata. Both give identical bytes from run to run.
 """
@@ -44,12 +45,25 @@ def common_colours(rgb: np.ndarray, most: int = 256) -> np.ndarray:
     """The `most` commonest colours of an (h, w, 3) uint8 picture, (most, 3) uint8, the
     commonest first (ties: the smaller 0xRRGGBB first), padded with black: the flat
     colours of a drawing stay exact, its anti-aliased edges take the nearest of them."""
-    packed = (rgb[..., 0].astype(np.uint32) << 16) | (rgb[..., 1].astype(np.uint32) << 8) | rgb[..., 2]
-    values, counts = np.unique(packed.ravel(), return_counts=True)
+    values, counts = np.unique(packed(rgb).ravel(), return_counts=True)
     keep = values[np.lexsort((values, -counts))][:most]
     out = np.zeros((most, 3), dtype=np.uint8)
     out[:len(keep)] = np.stack([(keep >> 16) & 255, (keep >> 8) & 255, keep & 255], axis=1)
     return out
+
+
+def packed(rgb: np.ndarray) -> np.ndarray:
+    """0xRRGGBB of each pixel of an (..., 3) uint8 array."""
+    return (rgb[..., 0].astype(np.uint32) << 16) | (rgb[..., 1].astype(np.uint32) << 8) | rgb[..., 2]
+
+
+def nearest(rgb: np.ndarray, palette: np.ndarray) -> np.ndarray:
+    """(h, w) uint8 indices of the palette colour nearest each pixel (Euclidean in RGB; a
+    tie to the lower index): a colour of the palette maps to itself."""
+    values, inverse = np.unique(packed(rgb).ravel(), return_inverse=True)
+    colours = np.stack([(values >> 16) & 255, (values >> 8) & 255, values & 255], axis=1).astype(np.int32)
+    d = ((colours[:, None, :] - palette[None, :, :].astype(np.int32)) ** 2).sum(axis=2)
+    return np.argmin(d, axis=1).astype(np.uint8)[inverse].reshape(rgb.shape[:2])
 
 
 def gif(mv: Movie) -> bytes:
@@ -59,9 +73,12 @@ def gif(mv: Movie) -> bytes:
     from PIL import Image
     frames = list(rgb_frames(mv))
     picks = sorted({int(i) for i in np.linspace(0, len(frames) - 1, PALETTE_FRAMES)})
-    palette = Image.new("P", (1, 1))
-    palette.putpalette(common_colours(np.concatenate([frames[i] for i in picks], axis=0)).ravel().tolist())
-    indexed = [Image.fromarray(f).quantize(palette=palette, dither=Image.Dither.NONE) for f in frames]
+    palette = common_colours(np.concatenate([frames[i] for i in picks], axis=0))
+    indexed = []
+    for frame in frames:
+        image = Image.fromarray(nearest(frame, palette), mode="P")
+        image.putpalette(palette.ravel().tolist())
+        indexed.append(image)
     buf = io.BytesIO()
     indexed[0].save(buf, format="GIF", save_all=True, append_images=indexed[1:], duration=FRAME_MS, loop=0,
                     optimize=False)
