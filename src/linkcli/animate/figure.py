@@ -78,13 +78,14 @@ def frame_label(scene: Scene, k: int) -> str:
 
 
 def title(scene: Scene) -> str:
+    """The drawing's title: the motion and its frames."""
     from linkcli.plots.common import num
     n = len(scene.values)
     if scene.full_turn:
         step = scene.units.from_rad(2 * math.pi / n)
-        return f"Full turn of the drive, {n} frames, one every {num(float(step))} {scene.units.angle}"
+        return f"A full turn in {n} frames, one every {num(float(step))} {scene.units.angle}"
     lo, hi = (num(float(scene.units.from_rad(v))) for v in scene.drive.study.arc)
-    return f"The drive rocks from {lo} to {hi} {scene.units.angle} and back, {n} frames"
+    return f"From {lo} to {hi} {scene.units.angle} and back in {n} frames"
 
 
 def movie(scene: Scene, dpi: float = DPI) -> Movie:

@@ -76,7 +76,8 @@ def gif(mv: Movie) -> bytes:
     palette = common_colours(np.concatenate([frames[i] for i in picks], axis=0))
     indexed = []
     for frame in frames:
-        image = Image.fromarray(nearest(frame, palette), mode="P")
+        index = nearest(frame, palette)
+        image = Image.frombytes("P", (index.shape[1], index.shape[0]), index.tobytes())
         image.putpalette(palette.ravel().tolist())
         indexed.append(image)
     buf = io.BytesIO()
