@@ -194,3 +194,25 @@ def test_bad_dxf_paths_and_missing_ezdxf_are_refused_before_solving(monkeypatch,
     code, out, err = run_cli("synth", "problems/firedoor.toml", "--dxf", str(target))
     assert (code, out) == (2, "")
     assert err == f'{target}: expected ezdxf for --dxf DXF (pip install "linkcli[cad]"), found it not installed\n'
+
+
+def test_sections_of_the_file_give_the_outlines(tmp_path):
+    """--dxf of a file with [sections]: each sized link's outline on OUTLINES, two lines at
+    half its in-plane width from its axis (rectangle width; round bar diameter)."""
+    import math
+    from conftest import run_cli
+    src = tmp_path / "door.toml"
+    src.write_text('type = "linkage"\n[linkage]\nground = 50\ninput = 27.6293\ncoupler = 57.2363\n'
+                   'output = 41.1104\n[motion]\nsteps = 12\n[loads]\noutput_torque = -20\n'
+                   '[sections]\ncoupler = { width = 6, thickness = 3 }\noutput = { diameter = 8 }\n'
+                   '[material]\nname = "AISI 1020 HR"\n', encoding="utf-8")
+    out = tmp_path / "door.dxf"
+    code, _, err = run_cli("synth", str(src), "--dxf", str(out))
+    assert code in (0, 1), err
+    doc = ezdxf.readfile(out)
+    offsets = []
+    for line in doc.modelspace().query('LINE[layer=="OUTLINES"]'):
+        (x1, y1), (x2, y2) = (line.dxf.start[0], line.dxf.start[1]), (line.dxf.end[0], line.dxf.end[1])
+        offsets.append(round(math.hypot(x2 - x1, y2 - y1), 6))
+    # two sized links, two straight edges each, as long as the links
+    assert sorted(offsets) == sorted([57.2363, 57.2363, 41.1104, 41.1104])

@@ -103,6 +103,6 @@ def write_dxf(result, target: Path) -> None:
     from linkcli.cad.dxf import render
     from linkcli.plot import write_bytes
     meta = result.problem.meta
-    diameters = {j.name: j.diameter for j in getattr(meta, "joints", ()) if j.diameter}
-    # widths: the [sections] of issue 32, once read, go here (cad.dxf.render's `widths`)
-    write_bytes(target, render(scene(result, target, "draw"), diameters=diameters))
+    diameters = {j.name: j.diameter for j in meta.joints if j.diameter}
+    widths = {name: section.plane_width for name, section in meta.link_sections.items()}
+    write_bytes(target, render(scene(result, target, "draw"), widths=widths, diameters=diameters))

@@ -123,6 +123,12 @@ class LinkSection:
     wall: float | None = None
     line: int | None = None
 
+    @property
+    def plane_width(self) -> float | None:
+        """The width in the plane of motion: a rectangle's `width`, a round bar's or tube's
+        outer `diameter` (what a drawing's outline shows)."""
+        return self.width if self.shape == "rectangle" else self.diameter
+
 
 @dataclass(frozen=True)
 class StrengthSpec:

@@ -20,8 +20,7 @@ the middle of a rocking arc; the flipper at its start), each kind on its own lay
 
 A pin circle's diameter is the joint's `[joints] diameter` when given, else PIN_SHARE of the
 drawing's size. Link outlines need widths (a link's `[sections]` width, or the diameter of a
-round one): `write` takes them; today no reader supplies them (the `[sections]` reader is
-issue 32's), so the command draws lines. Coordinates are rounded to 1e-13 of the drawing's
+round or tube one, from the problem's `[sections]`): a link without one is a line. Coordinates are rounded to 1e-13 of the drawing's
 size (a power of ten: the same bytes on every CPU when the last bits of a sine differ);
 metadata (dates, GUIDs) are fixed, so the same result gives the same bytes.
 """
