@@ -38,7 +38,7 @@ def section(mech, study, speed: float, steps: int, case, units, notes: list) -> 
     turn, arc). Notes name the toggles (infinite mechanical advantage) and dead points
     (unbounded forces, left out of the load cycle)."""
     phi, shown = study.rows(steps)
-    inputs = units.from_rad(np.asarray(shown, dtype=float))
+    inputs = study.printed(shown, units)
     rows = mech.load_rows(phi, speed, case, metres_per_unit(units))
     rows = replace(rows, mechanical_advantage=snap_series(rows.mechanical_advantage))
     cycle = load_cycle(rows, inputs)
@@ -46,7 +46,7 @@ def section(mech, study, speed: float, steps: int, case, units, notes: list) -> 
     if cycle["singular_rows"]:
         out["dead_points"] = cycle["singular_rows"]
     out["rows"] = forces_rows(rows, inputs)
-    _notes(rows, inputs, units, mech.DEAD_POINT, notes)
+    _notes(rows, inputs, study.unit(units), mech.DEAD_POINT, notes)
     return out
 
 
@@ -56,8 +56,7 @@ def _listed(values, unit: str) -> str:
     return f"{shown}{more} {unit}"
 
 
-def _notes(rows: LoadRows, inputs, units, dead_point: str, notes: list) -> None:
-    unit = units.angle
+def _notes(rows: LoadRows, inputs, unit: str, dead_point: str, notes: list) -> None:
     dead = inputs[rows.singular]
     toggle = inputs[~rows.singular & ~np.isfinite(rows.mechanical_advantage)]
     if toggle.size:
