@@ -31,6 +31,9 @@ GRID_DEG = 0.25  # reach and extremes: grid step of a turning drive (deg)
 KSECTION = 16  # points a round when refining a dead point
 ROUNDS = 14  # 16^14 > 7e16: to round-off from a grid cell
 NEWTON_STEPS = 12
+BISECTIONS = 80
+TIE_GRID = 1e-6  # grid extremes this close to the best are refined too (a tie may hide there)
+MAX_CANDIDATES = 8
 
 
 @dataclass(frozen=True)
@@ -102,32 +105,30 @@ def _ksection(kin, good: float, bad: float) -> tuple[float, int | None]:
 # ---------------------------------------------------------------- extremes
 
 def extremes(evaluate, lo: float, hi: float, full_turn: bool, step: float, count: int,
-             periodic: bool = False):
-    """Per quantity (count of them): (min, q at min, max, q at max) over offsets [lo, hi]
-    (module docstring). `evaluate(q)` -> (value (n, count), d/dq (n, count), d2/dq2
-    (n, count)); NaN where undefined. `periodic`: the quantities are angles, followed
-    continuously over the grid (unwrapped) and reported in that continuous form."""
-    cells = max(8, int(math.ceil((hi - lo) / step)))
-    q = np.linspace(lo, hi, cells + 1)
-    value, _, _ = evaluate(q)
-    if periodic:
-        value = value.copy()
-        for k in range(count):
-            finite = np.isfinite(value[:, k])
-            value[finite, k] = np.unwrap(value[finite, k])
-    out = []
-    candidates = []
+             periodic: bool = False, key=None):
+    """Per quantity (count of them): [min, q at min, max, q at max] over offsets [lo, hi]
+    (module docstring), None where never defined. `evaluate(q)` -> (value, d/dq, d2/dq2),
+    each (n, count), NaN where undefined. `periodic`: the quantities are angles, followed
+    continuously over the grid (unwrapped) and reported in that continuous form. Every grid
+    extreme within a relative TIE_GRID of the best is refined; refined values within
+    noise.TIE of each other are a tie, won by the smallest `key(q)` (the sweep order)."""
+    from linkcli.noise import TIE
+    key = key or (lambda q: q)
+    q, value = grid_values(evaluate, lo, hi, step, periodic)
+    cells = len(q) - 1
+    out, candidates = [], []
     for k in range(count):
         column = value[:, k]
         finite = np.isfinite(column)
         if not finite.any():
             out.append(None)
             continue
-        hi_k = int(np.nanargmax(np.where(finite, column, -np.inf)))
-        lo_k = int(np.nanargmin(np.where(finite, column, np.inf)))
-        candidates.append((k, lo_k, -1.0))
-        candidates.append((k, hi_k, 1.0))
-        out.append([float(column[lo_k]), float(q[lo_k]), float(column[hi_k]), float(q[hi_k])])
+        out.append([math.inf, 0.0, -math.inf, 0.0])
+        for sense in (-1.0, 1.0):
+            signed = np.where(finite, sense * column, -np.inf)
+            best = signed.max()
+            near = np.flatnonzero(signed >= best - TIE_GRID * max(abs(best), 1e-300))
+            candidates += [(k, int(i), sense) for i in near[:MAX_CANDIDATES]]
     if not candidates:
         return out
     starts = np.array([q[i] for _, i, _ in candidates])
@@ -137,31 +138,79 @@ def extremes(evaluate, lo: float, hi: float, full_turn: bool, step: float, count
         left = np.where([i == 0 for _, i, _ in candidates], starts - (q[1] - q[0]), left)
         right = np.where([i == cells for _, i, _ in candidates], starts + (q[1] - q[0]), right)
     cols = np.array([k for k, _, _ in candidates])
+    rows = np.arange(len(candidates))
     x = starts.copy()
     for _ in range(NEWTON_STEPS):
         _, d1, d2 = evaluate(x)
-        g = d1[np.arange(len(x)), cols]
-        h = d2[np.arange(len(x)), cols]
         with np.errstate(all="ignore"):
-            nxt = x - g / h
-        inside = np.isfinite(nxt) & (nxt >= left) & (nxt <= right)
-        nxt = np.where(inside, nxt, x)
+            nxt = x - d1[rows, cols] / d2[rows, cols]
+        nxt = np.where(np.isfinite(nxt) & (nxt >= left) & (nxt <= right), nxt, x)
         if np.all(nxt == x):
             break
         x = nxt
-    value, _, _ = evaluate(x)
-    grid = np.array([out[k][0] if sense < 0 else out[k][2] for k, _, sense in candidates])
-    for n_, (k, _, sense) in enumerate(candidates):
-        v = value[n_, k]
+    refined, _, _ = evaluate(x)
+    for n_, (k, i, sense) in enumerate(candidates):
+        v = refined[n_, k]
         if periodic:  # the refined angle on the grid's continuous branch
-            v = v + TWO_PI * np.round((grid[n_] - v) / TWO_PI)
+            v = v + TWO_PI * np.round((value[i, k] - v) / TWO_PI)
+        if not np.isfinite(v) or sense * v < sense * value[i, k]:
+            v, x[n_] = value[i, k], q[i]  # Newton wandered off: the grid value stands
         entry = out[k]
-        if not np.isfinite(v):
-            continue
-        if sense < 0 and v <= entry[0]:
-            entry[0], entry[1] = float(v), float(x[n_])
-        if sense > 0 and v >= entry[2]:
-            entry[2], entry[3] = float(v), float(x[n_])
+        at = 0 if sense < 0 else 2
+        current = entry[at]
+        if not math.isfinite(current) or sense * (v - current) > TIE * max(abs(v), abs(current)):
+            entry[at], entry[at + 1] = float(v), float(x[n_])
+        elif abs(v - current) <= TIE * max(abs(v), abs(current)) and key(x[n_]) < key(entry[at + 1]):
+            entry[at], entry[at + 1] = float(v), float(x[n_])
+    return out
+
+
+def grid_values(evaluate, lo, hi, step, periodic=False):
+    """(q, values) on the grid over [lo, hi] (angles unwrapped along it when `periodic`)."""
+    cells = max(8, int(math.ceil((hi - lo) / step)))
+    q = np.linspace(lo, hi, cells + 1)
+    value, _, _ = evaluate(q)
+    if periodic:
+        value = value.copy()
+        for k in range(value.shape[1]):
+            finite = np.isfinite(value[:, k])
+            value[finite, k] = np.unwrap(value[finite, k])
+    return q, value
+
+
+def crossings(evaluate, q, value, columns) -> dict[int, list[float]]:
+    """Per column in `columns`: the offsets where it changes sign on the grid (q, value),
+    refined to round-off by Newton's method kept inside each bracket by bisection."""
+    brackets = []
+    for k in columns:
+        v = value[:, k]
+        ok = np.isfinite(v[:-1]) & np.isfinite(v[1:])
+        idx = np.flatnonzero(ok & ((np.sign(v[:-1]) != np.sign(v[1:])) | (v[:-1] == 0)))
+        brackets += [(k, q[i], q[i + 1], v[i]) for i in idx]
+    out: dict[int, list[float]] = {k: [] for k in columns}
+    if not brackets:
+        return out
+    cols = np.array([b[0] for b in brackets])
+    a = np.array([b[1] for b in brackets])
+    b = np.array([b[2] for b in brackets])
+    fa = np.sign(np.array([b_[3] for b_ in brackets]))
+    rows = np.arange(len(brackets))
+    x = 0.5 * (a + b)
+    for _ in range(BISECTIONS):
+        f, d1, _ = evaluate(x)
+        fx, dx = f[rows, cols], d1[rows, cols]
+        same = np.sign(fx) == fa
+        a, b = np.where(same, x, a), np.where(same, b, x)
+        with np.errstate(all="ignore"):
+            newton = x - fx / dx
+        x_new = np.where(np.isfinite(newton) & (newton > np.minimum(a, b)) & (newton < np.maximum(a, b)),
+                         newton, 0.5 * (a + b))
+        x_new = np.where(fx == 0, x, x_new)
+        if np.all(x_new == x):
+            break
+        x = x_new
+    for n_, k in enumerate(cols):
+        out[int(k)].append(float(x[n_]))
     return out
 
 

@@ -67,22 +67,27 @@ def class_section(structure) -> dict:
 
 # ---------------------------------------------------------------- quantities over rows
 
-def _closure_values(home, q, closures, rates: bool):
-    from linkcli.mechanisms.drawn.motion import closure_vectors, transmission
-    st = home.solved.kin.run(q, rates=rates)
-    out = [transmission(c.kind, *closure_vectors(home.solved.kin, st, c)) for c in closures]
-    return st, out
-
-
 def _evaluate_closures(home, closures):
+    """The signed angle psi of each closure (b against a: motion.closure_vectors) and its
+    rates per offset: mu = |psi| at a pin; at a guide psi folded to [-90, 90] deg and
+    mu = 90 deg - |psi| (smooth where mu is not: its extremes and zeros give mu's)."""
+    from linkcli.mechanisms.drawn.motion import _half, closure_vectors
+    from linkcli.mechanisms.drawn.solver import cross, direction_rates, dot
     speed = home.linkage.drives[0].speed
+    kin = home.solved.kin
 
     def evaluate(q):
-        _, values = _closure_values(home, q, closures, True)
-        v = np.stack([m for m, _, _ in values], axis=1)
-        d1 = np.stack([d / speed for _, d, _ in values], axis=1)
-        d2 = np.stack([dd / speed ** 2 for _, _, dd in values], axis=1)
-        return v, d1, d2
+        st = kin.run(q, rates=True)
+        v, d1, d2 = [], [], []
+        for c in closures:
+            a, da, dda, b, db, ddb = closure_vectors(kin, st, c)
+            _, wa, aa = direction_rates(a, da, dda)
+            _, wb, ab = direction_rates(b, db, ddb)
+            psi = np.arctan2(cross(a, b), dot(a, b))
+            v.append(_half(psi) if c.kind == "guide" else psi)
+            d1.append((wb - wa) / speed)
+            d2.append((ab - aa) / speed ** 2)
+        return np.stack(v, axis=1), np.stack(d1, axis=1), np.stack(d2, axis=1)
     return evaluate
 
 
@@ -144,7 +149,15 @@ def _extremes(home, study, evaluate, count, periodic=False):
     if hi <= lo:
         v, _, _ = evaluate(np.array([lo]))
         return [[float(v[0, k]), lo, float(v[0, k]), lo] for k in range(count)]
-    return extremes(evaluate, lo, hi, full, grid_step(home.solved.kin), count, periodic)
+    return extremes(evaluate, lo, hi, full, grid_step(home.solved.kin), count, periodic, _sweep_key(home, study))
+
+
+def _sweep_key(home, study):
+    """Ties go to the first in sweep order: from drive value 0 for a full turn, from the
+    range's start otherwise."""
+    lo, _, full = _span(home, study)
+    start = home.solved.start
+    return (lambda q: (start + q) % TWO_PI) if full else (lambda q: q - lo)
 
 
 TWO_PI = 2.0 * math.pi
@@ -155,31 +168,47 @@ TWO_PI = 2.0 * math.pi
 def transmission_section(home, study, u, notes) -> dict:
     """min, max (and the drive's value there) over every closure, the closure where each
     lies, and per closure its links, min, max, worst (farther from 90 deg) and where."""
+    from linkcli.mechanisms.drawn.motion import crossings, grid_step, grid_values
     sv = home.solved
     closures = sv.structure.closures()
     if not closures:
         return {}
-    found = _extremes(home, study, _evaluate_closures(home, closures), len(closures))
-    per = {}
-    overall = None
-    for c, ext in zip(closures, found):
+    evaluate = _evaluate_closures(home, closures)
+    found = _extremes(home, study, evaluate, len(closures))
+    lo, hi, full = _span(home, study)
+    guides = [k for k, c in enumerate(closures) if c.kind == "guide"]
+    zeros = {}
+    if guides and hi > lo:
+        q, value = grid_values(evaluate, lo, hi, grid_step(sv.kin))
+        zeros = crossings(evaluate, q, value, guides)
+    key = _sweep_key(home, study)
+    per, mins, maxs = {}, [], []
+    for k, (c, ext) in enumerate(zip(closures, found)):
         if ext is None:
             continue
-        mn, at_mn, mx, at_mx = ext
+        s_mn, at_s_mn, s_mx, at_s_mx = ext
+        if c.kind == "pin":  # mu = |psi|, psi of one sign on the drawn branch
+            (mn, at_mn, mx, at_mx) = (s_mn, at_s_mn, s_mx, at_s_mx) if s_mx > 0 else (-s_mx, at_s_mx, -s_mn, at_s_mn)
+        else:  # mu = 90 deg - |psi|
+            far = [(abs(s_mn), at_s_mn), (abs(s_mx), at_s_mx)]
+            top = max(far, key=lambda t: t[0])
+            mn, at_mn = math.pi / 2 - top[0], top[1]
+            if zeros.get(k):
+                mx, at_mx = math.pi / 2, min(zeros[k], key=key)
+            else:
+                low = min(far, key=lambda t: t[0])
+                mx, at_mx = math.pi / 2 - low[0], low[1]
         worst, at_worst = (mn, at_mn) if (math.pi / 2 - mn) >= (mx - math.pi / 2) else (mx, at_mx)
-        per[c.joint] = {"links": list(c.links), "min": _dang(u, mn), "input_at_min": _shown(home, at_mn, u),
-                        "max": _dang(u, mx), "input_at_max": _shown(home, at_mx, u),
-                        "worst": _dang(u, worst), "input_at_worst": _shown(home, at_worst, u)}
-        if overall is None:
-            overall = [mn, at_mn, c.joint, mx, at_mx, c.joint]
-        else:
-            if mn < overall[0] * (1 - 1e-9):
-                overall[:3] = [mn, at_mn, c.joint]
-            if mx > overall[3] * (1 + 1e-9):
-                overall[3:] = [mx, at_mx, c.joint]
-    if overall is None:
+        per[c.joint] = {"links": [b or "ground" for b in c.links], "min": _dang(u, mn),
+                        "input_at_min": _shown(home, at_mn, u), "max": _dang(u, mx),
+                        "input_at_max": _shown(home, at_mx, u), "worst": _dang(u, worst),
+                        "input_at_worst": _shown(home, at_worst, u)}
+        mins.append((mn, at_mn, c.joint))
+        maxs.append((mx, at_mx, c.joint))
+    if not per:
         return {}
-    mn, at_mn, j_mn, mx, at_mx, j_mx = overall
+    mn, at_mn, j_mn = min(mins, key=lambda t: t[0])  # ties: the first closure in plan order
+    mx, at_mx, j_mx = max(maxs, key=lambda t: t[0])
     band = TRANSMISSION_BAND
     if math.degrees(mn) < band[0] * (1 - 1e-9) or math.degrees(mx) > band[1] * (1 + 1e-9):
         notes.append(f"transmission angle leaves the recommended {band[0]:g}..{band[1]:g} deg band "
@@ -215,8 +244,15 @@ def motion_section(home, study, u) -> dict:
     if sliders:
         found = _extremes(home, study, _evaluate_sliders(home, sliders), len(sliders))
         scale = size(d)
-        out["sliders"] = {j: {"range": [snap(e[0], scale), snap(e[2], scale)], "stroke": snap(e[2] - e[0], scale)}
-                          for j, e in zip(sliders, found) if e is not None}
+        full = bool(study.full_turn)
+        out["sliders"] = {}
+        for j, e in zip(sliders, found):
+            if e is None:
+                continue
+            entry = {"range": [snap(e[0], scale), snap(e[2], scale)], "stroke": snap(e[2] - e[0], scale)}
+            if full:
+                entry.update(_time_ratio(e[1], e[3]))
+            out["sliders"][j] = entry
     out["drives"] = {dr.name: {"kind": dr.kind, "speed": _dang(u, dr.speed) if dr.kind == "turn" else dr.speed}
                      for dr in d.drives}
     return out
@@ -274,12 +310,17 @@ def _link_ranges(home, study, links, u) -> dict:
             mn, at_mn, mx, at_mx = e
             entry = {"full_turn": False, "range": [_ang(u, mn), _ang(u, mx)], "swing": _dang(u, mx - mn)}
             if full:
-                forward = (at_mx - at_mn) % TWO_PI
-                slow, fast = max(forward, TWO_PI - forward), min(forward, TWO_PI - forward)
-                if fast > 0:
-                    entry["time_ratio"] = slow / fast
+                entry.update(_time_ratio(at_mn, at_mx))
             out[k] = entry
     return {k: out[k] for k in links if k in out}
+
+
+def _time_ratio(at_min: float, at_max: float) -> dict:
+    """With a drive turning fully at constant speed: the time ratio of the two strokes between
+    a link's (or slider's) extremes, slow over fast (>= 1; Norton ch. 3)."""
+    forward = (at_max - at_min) % TWO_PI
+    slow, fast = max(forward, TWO_PI - forward), min(forward, TWO_PI - forward)
+    return {"time_ratio": slow / fast} if fast > 0 else {}
 
 
 def shortfall_message(home, lo: float, hi: float) -> str:
