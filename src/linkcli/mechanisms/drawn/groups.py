@@ -29,10 +29,11 @@ import numpy as np
 from linkcli.mechanisms.drawn.solver import cross, dot, perp, rotate
 from linkcli.mechanisms.drawn.structure import GROUND, Group
 
-TRACK_STEPS = 360  # grid steps over one turn of the leading drive (or over its slide bound)
+TRACK_STEPS = 180  # largest steps over one turn of the leading drive (or over its slide bound)
 NEWTON_ITERATIONS = 30
 RESIDUAL_RTOL = 1e-13  # converged: every residual below this times the linkage's size
-BISECTIONS = 60
+CORRECTION = 0.5  # largest Newton correction of a step, relative to the predicted move
+MIN_STEP = 1e-12  # relative to the grid step: a smaller step means a dead point
 
 
 @dataclass(frozen=True)
@@ -84,7 +85,11 @@ def constraints(structure, op: Group, placed: set[str]) -> list[Constraint]:
 
 
 class GroupSolver:
-    """The equations of one group over rows of a state (poses of the bodies placed before)."""
+    """The equations of one group over rows of a state (poses of the bodies placed before).
+
+    `prepare` gathers, once per state, every pin's points in their bodies' frames and the
+    known places they must meet, so that each Newton iteration is a few array operations
+    over (rows, constraints)."""
 
     def __init__(self, kin, op: Group, index: int):
         self.kin = kin
@@ -96,72 +101,106 @@ class GroupSolver:
         self.links = list(op.links)
         self.slot = {b: k for k, b in enumerate(self.links)}
         self.cons = constraints(kin.structure, op, placed)
+        self.pins = [c for c in self.cons if c.kind == "pin"]
+        self.slides = [c for c in self.cons if c.kind == "slide"]
         self.m = 3 * len(self.links)
         self.size = max(1.0, _extent(kin.drawing))
+        self.slot_a = np.array([self.slot[c.body] for c in self.pins], dtype=int)
+        self.paired = np.array([c.ref != "known" for c in self.pins], dtype=bool)
+        self.slot_b = np.array([self.slot[c.ref] if c.ref != "known" else 0 for c in self.pins], dtype=int)
+        rows = np.arange(len(self.pins))
+        self.row_x, self.row_y = 2 * rows, 2 * rows + 1
 
-    # ------------------------------------------------------------ pieces
+    # ------------------------------------------------------------ what a state gives
+    def prepare(self, st, rows=slice(None)) -> dict:
+        """Per state rows: each pin's points in its bodies' frames (la, lb: (n, C, 2)) and the
+        known places (x: (n, C, 2)); each slide's pieces."""
+        q = st.q[rows]
+        n = q.shape[0]
+        geo, speeds = self.kin.geometry, self.kin.speeds
+        la = np.empty((n, len(self.pins), 2))
+        lb = np.zeros((n, len(self.pins), 2))
+        x = np.zeros((n, len(self.pins), 2))
+        for k, c in enumerate(self.pins):
+            la[:, k] = geo.point(c.body, c.joint, q, speeds)[0]
+            if c.ref == "known":
+                x[:, k] = st.pos[c.joint][rows]
+            else:
+                lb[:, k] = geo.point(c.ref, c.joint, q, speeds)[0]
+        return {"st": st, "rows": rows, "q": q, "la": la, "lb": lb, "x": x}
+
+    def _origin_theta(self, body, z, prep):
+        if body in self.slot:
+            k = 3 * self.slot[body]
+            return z[:, k:k + 2], z[:, k + 2]
+        return prep["st"].origin[body][prep["rows"]], prep["st"].theta[body][prep["rows"]]
+
     def _point(self, st, body, joint, z, rows=slice(None)):
         """(p, R l, R l', R l'') of a body's point: a group body from z, else the state's."""
         l, dl, ddl = self.kin.geometry.point(body, joint, st.q[rows], self.kin.speeds)
-        theta = z[:, 3 * self.slot[body] + 2] if body in self.slot else st.theta[body][rows]
+        prep = {"st": st, "rows": rows}
+        origin, theta = self._origin_theta(body, z, prep)
         c, s = np.cos(theta), np.sin(theta)
         rl = rotate(l, c, s)
-        origin = z[:, 3 * self.slot[body]:3 * self.slot[body] + 2] if body in self.slot else st.origin[body][rows]
         return origin + rl, rl, rotate(dl, c, s), rotate(ddl, c, s)
 
     def _guide(self, st, joint, z, rows=slice(None)):
         body, g, beta = self.kin.geometry.guides[joint]
-        theta = z[:, 3 * self.slot[body] + 2] if body in self.slot else st.theta[body][rows]
+        origin, theta = self._origin_theta(body, z, {"st": st, "rows": rows})
         c, s = np.cos(theta), np.sin(theta)
         rg = rotate(g, c, s)
-        origin = z[:, 3 * self.slot[body]:3 * self.slot[body] + 2] if body in self.slot else st.origin[body][rows]
         u = rotate(np.array([math.cos(beta), math.sin(beta)]), c, s)
         return origin + rg, rg, u, body
 
-    def _joint_place(self, st, con, z, rows):
-        if con.body is None:
-            return st.pos[con.joint][rows], None, None
-        p, rl, rdl, rddl = self._point(st, con.body, con.joint, z, rows)
-        return p, rl, (rdl, rddl)
-
     # ------------------------------------------------------------ residual and Jacobian
-    def residual(self, st, z, rows=slice(None), jacobian: bool = True):
+    def residual(self, prep, z, jacobian: bool = True):
         n = z.shape[0]
         f = np.zeros((n, self.m))
         jac = np.zeros((n, self.m, self.m)) if jacobian else None
-        r = 0
-        for con in self.cons:
-            if con.kind == "pin":
-                p, rl, _, _ = self._point(st, con.body, con.joint, z, rows)
-                if con.ref == "known":
-                    ref = st.pos[con.joint][rows]
-                else:
-                    ref, rl_ref, _, _ = self._point(st, con.ref, con.joint, z, rows)
-                f[:, r:r + 2] = p - ref
-                if jacobian:
-                    k = 3 * self.slot[con.body]
-                    jac[:, r, k], jac[:, r + 1, k + 1] = 1.0, 1.0
-                    jac[:, r:r + 2, k + 2] = perp(rl)
-                    if con.ref != "known":
-                        k = 3 * self.slot[con.ref]
-                        jac[:, r, k], jac[:, r + 1, k + 1] = -1.0, -1.0
-                        jac[:, r:r + 2, k + 2] = -perp(rl_ref)
-                r += 2
+        npins = len(self.pins)
+        if npins:
+            ka = 3 * self.slot_a
+            ta = z[:, ka + 2]
+            rla = _rot(prep["la"], ta)
+            pa = z[:, np.stack([ka, ka + 1], axis=-1)] + rla
+            kb = 3 * self.slot_b
+            tb = z[:, kb + 2]
+            rlb = _rot(prep["lb"], tb)
+            pb = np.where(self.paired[None, :, None], z[:, np.stack([kb, kb + 1], axis=-1)] + rlb, prep["x"])
+            f[:, :2 * npins] = (pa - pb).reshape(n, 2 * npins)
+            if jacobian:
+                jac[:, self.row_x, ka] = 1.0
+                jac[:, self.row_y, ka + 1] = 1.0
+                jac[:, self.row_x, ka + 2] = -rla[..., 1]
+                jac[:, self.row_y, ka + 2] = rla[..., 0]
+                if self.paired.any():
+                    sel = np.flatnonzero(self.paired)
+                    kbs = kb[sel]
+                    jac[:, self.row_x[sel], kbs] -= 1.0
+                    jac[:, self.row_y[sel], kbs + 1] -= 1.0
+                    jac[:, self.row_x[sel], kbs + 2] += rlb[:, sel, 1]
+                    jac[:, self.row_y[sel], kbs + 2] -= rlb[:, sel, 0]
+        r = 2 * npins
+        st, rows = prep["st"], prep["rows"]
+        for con in self.slides:
+            q_point, rg, u, gbody = self._guide(st, con.joint, z, rows)
+            if con.body is None:
+                p, rl = st.pos[con.joint][rows], None
             else:
-                q_point, rg, u, gbody = self._guide(st, con.joint, z, rows)
-                p, rl, _ = self._joint_place(st, con, z, rows)
-                e = p - q_point
-                f[:, r] = cross(u, e)
-                if jacobian:
-                    if gbody in self.slot:
-                        k = 3 * self.slot[gbody]
-                        jac[:, r, k], jac[:, r, k + 1] = u[:, 1], -u[:, 0]
-                        jac[:, r, k + 2] = cross(perp(u), e) - cross(u, perp(rg))
-                    if con.body is not None:
-                        k = 3 * self.slot[con.body]
-                        jac[:, r, k], jac[:, r, k + 1] = -u[:, 1], u[:, 0]
-                        jac[:, r, k + 2] += cross(u, perp(rl))
-                r += 1
+                p, rl, _, _ = self._point(st, con.body, con.joint, z, rows)
+            e = p - q_point
+            f[:, r] = cross(u, e)
+            if jacobian:
+                if gbody in self.slot:
+                    k = 3 * self.slot[gbody]
+                    jac[:, r, k], jac[:, r, k + 1] = u[:, 1], -u[:, 0]
+                    jac[:, r, k + 2] = cross(perp(u), e) - cross(u, perp(rg))
+                if con.body is not None:
+                    k = 3 * self.slot[con.body]
+                    jac[:, r, k] += -u[:, 1]
+                    jac[:, r, k + 1] += u[:, 0]
+                    jac[:, r, k + 2] += cross(u, perp(rl))
+            r += 1
         return f, jac
 
     def rates_rhs(self, st, z, twist, order: int):
@@ -220,33 +259,41 @@ class GroupSolver:
     def newton(self, st, z, rows=slice(None), iterations: int = NEWTON_ITERATIONS):
         """(z, converged (n,), sign of det J (n,)) from the guess z over the rows."""
         z = np.array(z, dtype=float)
+        prep = self.prepare(st, rows)
         tol = RESIDUAL_RTOL * self.size
-        done = np.zeros(z.shape[0], dtype=bool)
         for _ in range(iterations):
-            f, jac = self.residual(st, z, rows)
-            small = np.all(np.abs(f) <= tol, axis=1)
-            done = small | done
-            todo = ~small & np.all(np.isfinite(f), axis=1)
+            f, jac = self.residual(prep, z)
+            todo = ~np.all(np.abs(f) <= tol, axis=1) & np.all(np.isfinite(f), axis=1)
             if not todo.any():
                 break
-            step = _solve(jac[todo], f[todo])
-            z[todo] -= step
-        f, jac = self.residual(st, z, rows)
+            z[todo] -= _solve(jac[todo], f[todo])
+        f, jac = self.residual(prep, z)
         done = np.all(np.abs(f) <= tol, axis=1)
         with np.errstate(all="ignore"):
-            sign = np.sign(np.linalg.det(jac))
+            sign = np.sign(np.linalg.det(np.nan_to_num(jac)))
         return z, done, sign
+
+
+def _rot(local, theta):
+    """R(theta) l for (n, C, 2) points and (n, C) angles."""
+    c, s = np.cos(theta), np.sin(theta)
+    return np.stack([local[..., 0] * c - local[..., 1] * s, local[..., 0] * s + local[..., 1] * c], axis=-1)
 
 
 def _solve(jac, f):
     """jac^-1 f per row; NaN where the Jacobian is singular or not finite."""
-    with np.errstate(all="ignore"):
-        det = np.linalg.det(np.nan_to_num(jac, nan=0.0, posinf=0.0, neginf=0.0))
-    out = np.full(f.shape, np.nan)
-    ok = np.isfinite(det) & (det != 0) & np.all(np.isfinite(f), axis=1) & np.all(np.isfinite(jac), axis=(1, 2))
-    if ok.any():
-        out[ok] = np.linalg.solve(jac[ok], f[ok][..., None])[..., 0]
-    return out
+    try:
+        with np.errstate(all="ignore"):
+            out = np.linalg.solve(jac, f[..., None])[..., 0]
+        return np.where(np.isfinite(out), out, np.nan)
+    except np.linalg.LinAlgError:  # a singular row among them: one by one
+        out = np.full(f.shape, np.nan)
+        for i in range(len(f)):
+            try:
+                out[i] = np.linalg.solve(jac[i], f[i])
+            except np.linalg.LinAlgError:
+                pass
+        return out
 
 
 def _bodies_of(op) -> set[str]:
@@ -284,8 +331,6 @@ def bound(kin) -> float:
 def build_track(kin, index: int, op: Group) -> Track:
     """Continuation from the drawing both ways (module docstring)."""
     solver = GroupSolver(kin, op, index)
-    reach = bound(kin)
-    grid = np.linspace(0.0, reach, TRACK_STEPS + 1)
     z0 = drawn_unknowns(kin, op)
     st0 = kin.run(np.zeros(1), rates=False, upto=index)
     z0, ok, sign0 = solver.newton(st0, z0[None, :])
@@ -295,57 +340,43 @@ def build_track(kin, index: int, op: Group) -> Track:
                               "equations are independent there)",
                               "a drawing where they can move without the drives (a singular group)",
                               key="links")
-    halves = []
-    for direction in (1.0, -1.0):
-        qs = direction * grid
-        st = kin.run(qs, rates=False, upto=index)
-        zs = [z0[0]]
-        q_done = [0.0]
-        end = None
-        for k in range(1, len(qs)):
-            guess = zs[-1] + (zs[-1] - zs[-2]) * ((qs[k] - q_done[-1]) / (q_done[-1] - q_done[-2])) \
-                if len(zs) > 1 else zs[-1]
-            z, ok, sign = solver.newton(st, guess[None, :], rows=slice(k, k + 1))
-            if st.valid[k] and ok[0] and sign[0] == sign0[0] and _near(z[0], zs[-1], qs[k] - q_done[-1], zs, q_done):
-                zs.append(z[0])
-                q_done.append(qs[k])
-                continue
-            end, z_end = _refine(kin, solver, index, q_done[-1], qs[k], zs[-1], sign0[0])
-            q_done.append(end)
-            zs.append(z_end)
-            break
-        halves.append((np.array(q_done), np.array(zs), end))
+    halves = [_follow(kin, solver, index, z0[0], sign0[0], direction) for direction in (1.0, -1.0)]
     (qf, zf, ef), (qb, zb, eb) = halves
     q = np.concatenate([qb[::-1], qf[1:]])
     z = np.concatenate([zb[::-1], zf[1:]])
     return Track(q, z, float(sign0[0]), (eb, ef))
 
 
-def _near(z, last, step, zs, qs) -> bool:
-    """The step stays on the drawn branch: no angle jumps by more than a quarter turn, and the
-    change is at most four times the previous step's (scaled to the step)."""
-    change = np.abs(z - last)
-    if np.any(change[2::3] > math.pi / 2):
-        return False
-    if len(zs) < 2:
-        return True
-    before = np.abs(zs[-1] - zs[-2]) * abs(step / (qs[-1] - qs[-2]))
-    return bool(np.all(change <= 4.0 * before + 1e-6 * (1.0 + np.abs(last))))
-
-
-def _refine(kin, solver, index, q_good, q_bad, z_good, sign):
-    """The dead point between an offset that solves and one that does not: bisection."""
-    for _ in range(BISECTIONS):
-        mid = 0.5 * (q_good + q_bad)
-        if mid == q_good or mid == q_bad:
-            break
-        st = kin.run(np.array([mid]), rates=False, upto=index)
-        z, ok, s = solver.newton(st, z_good[None, :])
-        if st.valid[0] and ok[0] and s[0] == sign and np.all(np.abs(z[0] - z_good)[2::3] < math.pi / 2):
-            q_good, z_good = mid, z[0]
+def _follow(kin, solver, index, z0, sign, direction):
+    """(q, z, end) of the continuation one way: steps of at most the grid step, halved where
+    Newton fails, lands on the other branch or corrects the secant prediction by more than
+    CORRECTION of the step (a turn of the branch the step would cut), doubled again after a
+    success; it ends where the step falls below MIN_STEP (a dead point) or at the bound."""
+    reach = bound(kin)
+    full = reach / TRACK_STEPS
+    h = full
+    qs, zs = [0.0], [z0]
+    scale = np.tile([solver.size, solver.size, 1.0], len(solver.links))
+    while abs(qs[-1]) < reach:
+        q = direction * min(abs(qs[-1]) + h, reach)
+        if len(zs) > 1:
+            guess = zs[-1] + (zs[-1] - zs[-2]) * ((q - qs[-1]) / (qs[-1] - qs[-2]))
         else:
-            q_bad = mid
-    return q_good, z_good
+            guess = zs[-1]
+        st = kin.run(np.array([q]), rates=False, upto=index)
+        z, ok, s = solver.newton(st, guess[None, :], iterations=12)
+        moved = np.max(np.abs(guess - zs[-1]) / scale)
+        corrected = np.max(np.abs(z[0] - guess) / scale)
+        if (st.valid[0] and ok[0] and s[0] == sign and np.all(np.abs(z[0] - zs[-1])[2::3] < math.pi / 4)
+                and corrected <= CORRECTION * moved + 1e-9):
+            qs.append(q)
+            zs.append(z[0])
+            h = min(2.0 * h, full)
+            continue
+        h *= 0.5
+        if h < MIN_STEP * full:
+            return np.array(qs), np.array(zs), qs[-1]
+    return np.array(qs), np.array(zs), None
 
 
 # ---------------------------------------------------------------- rows
@@ -396,7 +427,7 @@ def _subset(st, rows):
 
 def _group_rates(kin, solver: GroupSolver, st, z) -> None:
     """Velocities and accelerations of the group's links (module docstring)."""
-    _, jac = solver.residual(st, np.nan_to_num(z))
+    _, jac = solver.residual(solver.prepare(st), np.nan_to_num(z))
     ok = np.all(np.isfinite(z), axis=1)
     zero = np.zeros_like(z)
     rhs1 = solver.rates_rhs(st, np.nan_to_num(z), zero, 1)

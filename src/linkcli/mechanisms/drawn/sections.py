@@ -67,11 +67,12 @@ def class_section(structure) -> dict:
 
 # ---------------------------------------------------------------- quantities over rows
 
-def _evaluate_closures(home, closures):
-    """The signed angle psi of each closure (b against a: motion.closure_vectors) and its
-    rates per offset: mu = |psi| at a pin; at a guide psi folded to [-90, 90] deg and
-    mu = 90 deg - |psi| (smooth where mu is not: its extremes and zeros give mu's)."""
-    from linkcli.mechanisms.drawn.motion import _half, closure_vectors
+def _evaluate_closures(home, closures, sine: bool = False):
+    """Per offset: the signed angle psi of each closure (b against a: motion.closure_vectors)
+    with its rates, or (`sine`) sin psi with its rates. mu = |psi| at a pin, 90 deg - |psi|
+    folded to [-90, 90] deg at a guide: mu is smooth except where sin psi = 0, so its
+    extremes lie at psi's extremes, at the zeros of sin psi or at the range's ends."""
+    from linkcli.mechanisms.drawn.motion import closure_vectors
     from linkcli.mechanisms.drawn.solver import cross, direction_rates, dot
     speed = home.linkage.drives[0].speed
     kin = home.solved.kin
@@ -84,9 +85,15 @@ def _evaluate_closures(home, closures):
             _, wa, aa = direction_rates(a, da, dda)
             _, wb, ab = direction_rates(b, db, ddb)
             psi = np.arctan2(cross(a, b), dot(a, b))
-            v.append(_half(psi) if c.kind == "guide" else psi)
-            d1.append((wb - wa) / speed)
-            d2.append((ab - aa) / speed ** 2)
+            dpsi, ddpsi = (wb - wa) / speed, (ab - aa) / speed ** 2
+            if sine:
+                v.append(np.sin(psi))
+                d1.append(np.cos(psi) * dpsi)
+                d2.append(np.cos(psi) * ddpsi - np.sin(psi) * dpsi * dpsi)
+            else:
+                v.append(psi)
+                d1.append(dpsi)
+                d2.append(ddpsi)
         return np.stack(v, axis=1), np.stack(d1, axis=1), np.stack(d2, axis=1)
     return evaluate
 
@@ -168,40 +175,41 @@ TWO_PI = 2.0 * math.pi
 def transmission_section(home, study, u, notes) -> dict:
     """min, max (and the drive's value there) over every closure, the closure where each
     lies, and per closure its links, min, max, worst (farther from 90 deg) and where."""
-    from linkcli.mechanisms.drawn.motion import crossings, grid_step, grid_values
+    from linkcli.mechanisms.drawn.motion import closure_vectors, crossings, grid_step, grid_values, transmission
     sv = home.solved
     closures = sv.structure.closures()
     if not closures:
         return {}
-    evaluate = _evaluate_closures(home, closures)
-    found = _extremes(home, study, evaluate, len(closures))
     lo, hi, full = _span(home, study)
-    guides = [k for k, c in enumerate(closures) if c.kind == "guide"]
-    zeros = {}
-    if guides and hi > lo:
-        q, value = grid_values(evaluate, lo, hi, grid_step(sv.kin))
-        zeros = crossings(evaluate, q, value, guides)
+    count = len(closures)
+    found = _extremes(home, study, _evaluate_closures(home, closures), count, periodic=True)
+    cands = [[e[1], e[3]] if e else [] for e in found]
+    if hi > lo:
+        sine = _evaluate_closures(home, closures, sine=True)
+        q, value = grid_values(sine, lo, hi, grid_step(sv.kin))
+        for k, roots in crossings(sine, q, value, range(count)).items():
+            cands[k] += roots
+        if not full:
+            for k in range(count):
+                cands[k] += [lo, hi]
+    flat = np.array([x for c in cands for x in c])
+    st = sv.kin.run(flat, rates=False)
     key = _sweep_key(home, study)
     per, mins, maxs = {}, [], []
-    for k, (c, ext) in enumerate(zip(closures, found)):
-        if ext is None:
+    start = 0
+    for k, c in enumerate(closures):
+        xs = flat[start:start + len(cands[k])]
+        if not len(xs):
             continue
-        s_mn, at_s_mn, s_mx, at_s_mx = ext
-        if c.kind == "pin":  # mu = |psi|, psi of one sign on the drawn branch
-            (mn, at_mn, mx, at_mx) = (s_mn, at_s_mn, s_mx, at_s_mx) if s_mx > 0 else (-s_mx, at_s_mx, -s_mn, at_s_mn)
-        else:  # mu = 90 deg - |psi|
-            far = [(abs(s_mn), at_s_mn), (abs(s_mx), at_s_mx)]
-            top = max(far, key=lambda t: t[0])
-            mn, at_mn = math.pi / 2 - top[0], top[1]
-            if zeros.get(k):
-                mx, at_mx = math.pi / 2, min(zeros[k], key=key)
-            else:
-                low = min(far, key=lambda t: t[0])
-                mx, at_mx = math.pi / 2 - low[0], low[1]
+        a, _, _, b, _, _ = closure_vectors(sv.kin, st, c)
+        mu = transmission(c.kind, a[start:start + len(xs)], None, None, b[start:start + len(xs)], None, None)[0]
+        start += len(xs)
+        mn, at_mn = _pick(mu, xs, key, -1.0)
+        mx, at_mx = _pick(mu, xs, key, 1.0)
         worst, at_worst = (mn, at_mn) if (math.pi / 2 - mn) >= (mx - math.pi / 2) else (mx, at_mx)
-        per[c.joint] = {"links": [b or "ground" for b in c.links], "min": _dang(u, mn),
+        per[c.joint] = {"links": [b_ or "ground" for b_ in c.links], "min": _dang(u, snap(mn, 1.0)),
                         "input_at_min": _shown(home, at_mn, u), "max": _dang(u, mx),
-                        "input_at_max": _shown(home, at_mx, u), "worst": _dang(u, worst),
+                        "input_at_max": _shown(home, at_mx, u), "worst": _dang(u, snap(worst, 1.0)),
                         "input_at_worst": _shown(home, at_worst, u)}
         mins.append((mn, at_mn, c.joint))
         maxs.append((mx, at_mx, c.joint))
@@ -213,9 +221,20 @@ def transmission_section(home, study, u, notes) -> dict:
     if math.degrees(mn) < band[0] * (1 - 1e-9) or math.degrees(mx) > band[1] * (1 + 1e-9):
         notes.append(f"transmission angle leaves the recommended {band[0]:g}..{band[1]:g} deg band "
                      f"({num(math.degrees(mn))}..{num(math.degrees(mx))} deg over the drive's range)")
-    return {"min": _dang(u, mn), "max": _dang(u, mx), "input_at_min": _shown(home, at_mn, u),
+    return {"min": _dang(u, snap(mn, 1.0)), "max": _dang(u, mx), "input_at_min": _shown(home, at_mn, u),
             "input_at_max": _shown(home, at_mx, u), "closure_at_min": j_mn, "closure_at_max": j_mx,
             "closures": per}
+
+
+def _pick(values, xs, key, sense: float):
+    """(value, x) of the extreme of `values` (sense -1: min, +1: max); ties within noise.TIE
+    go to the smallest key(x)."""
+    from linkcli.noise import TIE
+    finite = np.isfinite(values)
+    best = float(np.max(sense * values[finite]))
+    tied = [i for i in np.flatnonzero(finite) if sense * values[i] >= best - TIE * abs(best)]
+    i = min(tied, key=lambda i: key(xs[i]))
+    return float(values[i]), float(xs[i])
 
 
 def _shown(home, q, u) -> float:
@@ -276,8 +295,9 @@ def _closure_of(structure, index: int):
     """(joint, links) of the closure of plan op `index`."""
     from linkcli.mechanisms.drawn.structure import Group
     op = structure.plan[index]
-    if isinstance(op, Group):
-        return ", ".join(j for j in structure.pins if any(b in op.links for b in structure.pins[j])), op.links
+    if isinstance(op, Group):  # the joints inside the group
+        inside = [j for j, bodies in structure.pins.items() if bodies and all(b in op.links for b in bodies)]
+        return ", ".join(inside), op.links
     joint = op.joint
     for c in structure.closures():
         if c.joint == joint:
