@@ -354,7 +354,7 @@ def _follow(kin, solver, index, z0, sign, direction):
     success; it ends where the step falls below MIN_STEP (a dead point) or at the bound."""
     reach = bound(kin)
     full = reach / TRACK_STEPS
-    h = full
+    h = full / 8  # the first step has no secant to predict it: a short one
     qs, zs = [0.0], [z0]
     scale = np.tile([solver.size, solver.size, 1.0], len(solver.links))
     while abs(qs[-1]) < reach:
@@ -368,7 +368,7 @@ def _follow(kin, solver, index, z0, sign, direction):
         moved = np.max(np.abs(guess - zs[-1]) / scale)
         corrected = np.max(np.abs(z[0] - guess) / scale)
         if (st.valid[0] and ok[0] and s[0] == sign and np.all(np.abs(z[0] - zs[-1])[2::3] < math.pi / 4)
-                and corrected <= CORRECTION * moved + 1e-9):
+                and (len(zs) == 1 or corrected <= CORRECTION * moved + 1e-9)):
             qs.append(q)
             zs.append(z[0])
             h = min(2.0 * h, full)
