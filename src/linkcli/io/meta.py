@@ -182,7 +182,7 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     path_type = root.raw("type") == "path-generation"
     mechanism = mechanism_of(root)
     own = module(mechanism, "schema")
-    links = own.TOLERANCED
+    links = own.TOLERANCED if own.TOLERANCED is not None else own.toleranced(root)  # None: the drawing's links
     per_link = links + (("coupler_point",) if path_type else ())
     raw = t.raw("lengths", None)
     lengths = {k: 0.0 for k in links}

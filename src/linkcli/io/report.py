@@ -107,7 +107,7 @@ def _generic(name: str, section, digits: int, units: dict[str, str] | None = Non
 
 def _tolerance_units(section: dict, lu: str, au: str) -> dict[str, str]:
     measure = str(section.get("measure", ""))
-    err = lu if ("coupler point" in measure or "slider" in measure) else au  # a length error
+    err = lu if ("coupler point" in measure or "slider" in measure or "distance" in measure) else au  # a length error
     keys = ("nominal_error", "error_mean", "error_p95", "error_max", "allowed_error")
     out = {k: err for k in keys}
     out.update({"lengths": lu, "clearance": lu, "clearance_slider": lu, "largest_tolerance": lu, "sensitivity": f"{err}/{lu}"})
