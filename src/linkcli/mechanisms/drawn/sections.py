@@ -204,6 +204,7 @@ def transmission_section(home, study, u, notes) -> dict:
         a, _, _, b, _, _ = closure_vectors(sv.kin, st, c)
         mu = transmission(c.kind, a[start:start + len(xs)], None, None, b[start:start + len(xs)], None, None)[0]
         start += len(xs)
+        mu = _locked(sv, c, xs, mu, full)
         mn, at_mn = _pick(mu, xs, key, -1.0)
         mx, at_mx = _pick(mu, xs, key, 1.0)
         worst, at_worst = (mn, at_mn) if (math.pi / 2 - mn) >= (mx - math.pi / 2) else (mx, at_mx)
@@ -224,6 +225,21 @@ def transmission_section(home, study, u, notes) -> dict:
     return {"min": _dang(u, snap(mn, 1.0)), "max": _dang(u, mx), "input_at_min": _shown(home, at_mn, u),
             "input_at_max": _shown(home, at_mx, u), "closure_at_min": j_mn, "closure_at_max": j_mx,
             "closures": per}
+
+
+def _locked(sv, closure, xs, mu, full: bool):
+    """At a dead point of the reach the locking closure's angle is exactly 0 or 180 deg (a
+    guide's 0): the value the refined end only approaches to round-off."""
+    if full:
+        return mu
+    r = sv.reach
+    mu = np.array(mu, dtype=float)
+    for end, op in ((r.lo, r.locks[0]), (r.hi, r.locks[1])):
+        if op is None or getattr(sv.structure.plan[op], "joint", None) != closure.joint:
+            continue
+        at = np.abs(xs - end) <= 1e-9 * max(1.0, abs(end))  # the study's ends, to round-off
+        mu[at] = np.where(mu[at] < np.pi / 2, 0.0, np.pi) if closure.kind == "pin" else 0.0
+    return mu
 
 
 def _pick(values, xs, key, sense: float):
