@@ -64,7 +64,7 @@ def read(t: Table, units) -> Drawn | None:
         return None
     joints = _drawn_joints(joint_table, specs)
     links = _links(root, joints)
-    drives = _drives(root, joints, links or (), units)
+    drives = _drives(root, joints, links, units)
     motion = _motion(root, joints, links or (), drives, units)
     if len(root.reader.errors) > errors or joints is None or links is None or drives is None or motion is None:
         return None
@@ -224,7 +224,8 @@ def _drives(root: Table, joints, links, units) -> tuple[Drive, ...] | None:
     t = root.table("drive", required=True)
     if t is None or joints is None:
         return None
-    link_names = {k.name: k for k in links}
+    named = links is not None  # without valid links, only the speeds are checked here
+    link_names = {k.name: k for k in links or ()}
     sliders = {j.name for j in joints if j.slider is not None}
     grounded = {j.name for j in joints if j.ground}
     keys = list(t.keys())
@@ -244,6 +245,8 @@ def _drives(root: Table, joints, links, units) -> tuple[Drive, ...] | None:
         if speed == 0.0:
             sub.error("speed", "a non-zero number (angle unit/s for a link, length unit/s for a slider)", 0.0)
             speed = None
+        if not named:
+            continue
         if is_link and is_slider:
             t.error(name, f'a drive naming one link or one slider joint ("{name}" is both)',
                     raw_got=f'"{name}", a link and a slider joint')
