@@ -33,7 +33,7 @@ ROUNDS = 14  # 16^14 > 7e16: to round-off from a grid cell
 NEWTON_STEPS = 12
 BISECTIONS = 80
 TIE_GRID = 1e-6  # grid extremes this close to the best are refined too (a tie may hide there)
-MAX_CANDIDATES = 8
+MAX_CANDIDATES = 3
 
 
 @dataclass(frozen=True)
