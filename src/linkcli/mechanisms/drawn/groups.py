@@ -277,22 +277,28 @@ class GroupSolver:
 def _rot(local, theta):
     """R(theta) l for (n, C, 2) points and (n, C) angles."""
     c, s = np.cos(theta), np.sin(theta)
-    return np.stack([local[..., 0] * c - local[..., 1] * s, local[..., 0] * s + local[..., 1] * c], axis=-1)
+    out = np.empty(local.shape)
+    out[..., 0] = local[..., 0] * c - local[..., 1] * s
+    out[..., 1] = local[..., 0] * s + local[..., 1] * c
+    return out
 
 
 def _solve(jac, f):
-    """jac^-1 f per row; NaN where the Jacobian is singular or not finite."""
+    """jac^-1 f per row (LAPACK's batched solve: its rounding, which differs between CPUs,
+    stays far below the printed digits -- positions are converged by Newton on elementwise
+    residuals, and a rate is one well-conditioned solve; search.linalg's elementwise
+    elimination is slower on 12 x 12 stacks); NaN where the Jacobian is singular."""
     try:
         with np.errstate(all="ignore"):
             out = np.linalg.solve(jac, f[..., None])[..., 0]
         return np.where(np.isfinite(out), out, np.nan)
-    except np.linalg.LinAlgError:  # a singular row among them: one by one
+    except np.linalg.LinAlgError:  # a singular row among them: solve the others
         out = np.full(f.shape, np.nan)
-        for i in range(len(f)):
-            try:
-                out[i] = np.linalg.solve(jac[i], f[i])
-            except np.linalg.LinAlgError:
-                pass
+        with np.errstate(all="ignore"):
+            det = np.linalg.det(np.nan_to_num(jac))
+        ok = np.isfinite(det) & (det != 0)
+        if ok.any():
+            out[ok] = np.linalg.solve(jac[ok], f[ok][..., None])[..., 0]
         return out
 
 
