@@ -223,3 +223,12 @@ span = [-10, 10]
         length = s  # C0 is the cylinder's origin and the guide runs through it
         cos_angle = (40 ** 2 + 60 ** 2 - length ** 2) / (2 * 40 * 60)
         assert row["links"]["arm"]["angle"] == pytest.approx(math.degrees(math.acos(cos_angle)), rel=1e-5)
+
+
+def test_a_drawn_result_file_is_refused_by_analyze_with_one_line(tmp_path):
+    code, out, _ = run_cli("synth", "problems/drawn_shaper.toml", "--format", "toml")
+    assert code == 0
+    path = write(tmp_path, out, "result.toml")
+    code, _, err = run_cli("analyze", path)
+    assert code == 2 and err.count("\n") == 1
+    assert "reads a drawn linkage from its problem file" in err

@@ -144,6 +144,8 @@ class DrawnMechanism(Mechanism):
             from linkcli.mechanisms.drawn.sections import shortfall_message
             shortfall = shortfall_message(self, lo, hi)
         a, b = max(lo, reach_lo), min(hi, reach_hi)
+        if a > b:  # the span lies beyond a dead point: no row is reached; the range is that end
+            a = b = reach_hi if lo > reach_hi else reach_lo
         return DrawnStudy(False, (sv.value(a), sv.value(b)), sv, shortfall,
                           span=(sv.value(lo), sv.value(hi)))
 

@@ -57,6 +57,12 @@ def read(t: Table, units) -> Drawn | None:
     from linkcli.io.joints import read_joints
     root = t.reader.root()
     errors = len(root.reader.errors)
+    if "status" in root.data and "joints" not in root.data:  # a result file keeps no drawing
+        t.error("mechanism", "a drawing to analyse: `analyze` reads a drawn linkage from its problem "
+                "file (with [joints], [links] and [drive]), not from a result file",
+                raw_got='a result file of a drawn linkage')
+        _skip(root)
+        return None
     specs = read_joints(root, "drawn", units)
     joint_table = root.table("joints", required=True)
     if specs is None or joint_table is None:

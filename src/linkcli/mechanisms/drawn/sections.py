@@ -205,6 +205,8 @@ def transmission_section(home, study, u, notes) -> dict:
         mu = transmission(c.kind, a[start:start + len(xs)], None, None, b[start:start + len(xs)], None, None)[0]
         start += len(xs)
         mu = _locked(sv, c, xs, mu, full)
+        if not np.isfinite(mu).any():
+            continue
         mn, at_mn = _pick(mu, xs, key, -1.0)
         mx, at_mx = _pick(mu, xs, key, 1.0)
         worst, at_worst = (mn, at_mn) if (math.pi / 2 - mn) >= (mx - math.pi / 2) else (mx, at_mx)
