@@ -20,12 +20,12 @@ SOLVES_COUPLER_POINT = ("path-generation",)  # types whose result always has a c
 
 
 def mechanism_of(root: Table) -> str:
-    """The mechanism [linkage] names (`mechanism`, default four-bar; the [linkage] reader
-    checks the key itself: an unknown one is taken as the four-bar here)."""
-    from linkcli.mechanisms import NAMES
+    """The mechanism [linkage] names (`mechanism`, default mechanisms.DEFAULT; the [linkage]
+    reader checks the key itself: an unknown one is taken as the default here)."""
+    from linkcli.mechanisms import DEFAULT, NAMES
     link = root.data.get("linkage")
     mechanism = link.get("mechanism") if isinstance(link, dict) else None
-    return mechanism if mechanism in NAMES else "four-bar"
+    return mechanism if mechanism in NAMES else DEFAULT
 
 
 def has_coupler_point(root: Table, kind: str) -> bool:

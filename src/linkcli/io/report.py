@@ -267,8 +267,8 @@ def _position_heads(r: dict, lu: str, au: str) -> dict[str, str]:
     error are points or slider positions (length) for path generation and a slider-crank,
     output angles for a four-bar's function, poses (x, y, angle) for motion generation,
     with a position error (length) and an angle error."""
-    from linkcli.mechanisms import module
-    mechanism = r.get("linkage", {}).get("mechanism", "four-bar")
+    from linkcli.mechanisms import DEFAULT, module
+    mechanism = r.get("linkage", {}).get("mechanism", DEFAULT)
     length_output = module(mechanism, "schema").OUTPUT == "length"  # a slider's position
     unit = lu if r["type"] == "path-generation" or length_output else au
     heads = {"input": f"input ({au})", "position_error": f"position error ({lu})",

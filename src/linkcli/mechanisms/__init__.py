@@ -16,6 +16,7 @@ PACKAGES = {  # the `[linkage] mechanism` value -> its package under linkcli.mec
     "drawn": "drawn",
 }
 NAMES = tuple(PACKAGES)
+DEFAULT = "four-bar"  # a [linkage] without `mechanism`
 
 
 def module(name: str, part: str):

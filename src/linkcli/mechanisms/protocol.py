@@ -20,7 +20,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from linkcli.mechanisms.four_bar.kinematics import wrap  # the one wrap
+from linkcli.angles import wrap  # the one wrap
 
 TWO_PI = 2.0 * np.pi
 
