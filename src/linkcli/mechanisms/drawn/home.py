@@ -19,7 +19,8 @@ from functools import lru_cache
 import numpy as np
 
 from linkcli.mechanisms.drawn.model import TURN, Drawn
-from linkcli.mechanisms.protocol import LoadRows, Mechanism, Skeleton, Study, wrap
+from linkcli.angles import wrap
+from linkcli.mechanisms.protocol import LoadRows, Mechanism, Skeleton, Study
 
 TWO_PI = 2.0 * math.pi
 

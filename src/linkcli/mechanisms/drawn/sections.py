@@ -16,7 +16,7 @@ import numpy as np
 
 from linkcli.mechanisms.columns import TRANSMISSION_BAND, angle_out as _ang, turn_out as _dang
 from linkcli.mechanisms.drawn.structure import GROUND, describe_plan
-from linkcli.mechanisms.protocol import wrap
+from linkcli.angles import wrap
 from linkcli.noise import snap, snap_series
 from linkcli.textnum import num
 
