@@ -77,11 +77,18 @@ class LinkMass:
 
 @dataclass(frozen=True)
 class Masses:
-    """Mass properties per link; None is massless. Slider-crank: `output` is the slider."""
+    """Mass properties per link; None is massless. Slider-crank: `output` is the slider.
+    A drawn linkage names its own bodies: `named` holds (link or slider joint, LinkMass)
+    pairs in file order (the three fields stay None)."""
 
     input: LinkMass | None = None
     coupler: LinkMass | None = None
     output: LinkMass | None = None
+    named: tuple[tuple[str, LinkMass], ...] = ()
+
+    def of(self, name: str) -> LinkMass | None:
+        """The named body's mass (a drawn linkage's link or slider block), None if massless."""
+        return dict(self.named).get(name)
 
 
 @dataclass(frozen=True)
@@ -90,13 +97,16 @@ class Loads:
 
     coupler_force: (Fx, Fy) N at the coupler point; output_torque: N m on the output link
     (four-bar, CCW +); output_force: N on the slider along +x (slider-crank);
-    gravity: (gx, gy) m/s^2 acting on the masses.
+    gravity: (gx, gy) m/s^2 acting on the masses. A drawn linkage names where its loads act:
+    torques ((link, N m CCW +), ...) and forces ((joint, (Fx, Fy) N), ...), in file order.
     """
 
     coupler_force: tuple[float, float] = (0.0, 0.0)
     output_torque: float = 0.0
     output_force: float = 0.0
     gravity: tuple[float, float] = (0.0, 0.0)
+    torques: tuple[tuple[str, float], ...] = ()
+    forces: tuple[tuple[str, tuple[float, float]], ...] = ()
 
 
 @dataclass(frozen=True)

@@ -36,7 +36,7 @@ def study_rows(mech, study, speed: float, steps: int, case, units):
     printed (the file's angle unit) and the home's inverse dynamics there -- what the
     `forces` and `strength` sections share."""
     phi, shown = study.rows(steps)
-    inputs = units.from_rad(np.asarray(shown, dtype=float))
+    inputs = study.printed(shown, units)
     return phi, inputs, mech.load_rows(phi, speed, case, metres_per_unit(units))
 
 
@@ -55,7 +55,7 @@ def section(mech, study, speed: float, steps: int, case, units, notes: list,
     if cycle["singular_rows"]:
         out["dead_points"] = cycle["singular_rows"]
     out["rows"] = forces_rows(rows, inputs)
-    _notes(rows, inputs, units, mech.DEAD_POINT, notes)
+    _notes(rows, inputs, study.unit(units), mech.DEAD_POINT, notes)
     return out
 
 
@@ -65,8 +65,7 @@ def _listed(values, unit: str) -> str:
     return f"{shown}{more} {unit}"
 
 
-def _notes(rows: LoadRows, inputs, units, dead_point: str, notes: list) -> None:
-    unit = units.angle
+def _notes(rows: LoadRows, inputs, unit: str, dead_point: str, notes: list) -> None:
     dead = inputs[rows.singular]
     toggle = inputs[~rows.singular & ~np.isfinite(rows.mechanical_advantage)]
     if toggle.size:

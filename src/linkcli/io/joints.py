@@ -11,13 +11,17 @@ Part sizes (any mechanism; the names are the mechanism's joints, `JOINTS` in its
 "H7/g6"; its limits are looked up where the fit is used). The drawing (a mechanism whose
 schema has `JOINTS = None`: any names, the drawing's own): `at` (the joint's place in the
 drawn assembly, [x, y] length unit), `ground` (fixed to the ground), `slider` (a slider on
-a ground guide through `at`, at this angle, the file's angle unit). Pure Python (`check`
-reads it without numpy); the mechanism's schema checks what the names mean.
+a ground guide through `at`, at this angle, the file's angle unit), `guide` (the link whose
+guide the slider runs on, when not the ground's). Pure Python (`check` reads it without
+numpy); the mechanism's schema checks what the names mean. A file's [joints] is read once:
+a second reader (the drawn linkage's schema, after the file's meta) gets the same joints
+and no second set of errors.
 """
 
 from __future__ import annotations
 
 import difflib
+import weakref
 from dataclasses import dataclass
 
 from linkcli.io.meta import MAX_LENGTH, bounded_point
@@ -25,7 +29,7 @@ from linkcli.io.reader import Table, describe
 
 MAX_JOINTS = 1000
 SIZE_KEYS = ("diameter", "width", "shear", "fit")
-DRAWING_KEYS = ("at", "ground", "slider")
+DRAWING_KEYS = ("at", "ground", "slider", "guide")
 SHEAR = ("single", "double")
 
 
@@ -37,6 +41,7 @@ class JointSpec:
     at: tuple[float, float] | None = None
     ground: bool = False
     slider: float | None = None
+    guide: str | None = None
     diameter: float | None = None
     width: float | None = None
     shear: str = "single"
@@ -48,9 +53,20 @@ class JointSpec:
         return 2 if self.shear == "double" else 1
 
 
+_READ: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()  # reader -> {mechanism: joints}
+
+
 def read_joints(root: Table, mechanism: str, units) -> tuple[JointSpec, ...] | None:
     """Every joint of [joints] (in file order), () without the table, None when in error
-    (errors recorded). `mechanism` names the [linkage] mechanism whose joints they are."""
+    (errors recorded). `mechanism` names the [linkage] mechanism whose joints they are.
+    Read once per file and mechanism (module docstring)."""
+    done = _READ.setdefault(root.reader, {})
+    if mechanism not in done:
+        done[mechanism] = _read_joints(root, mechanism, units)
+    return done[mechanism]
+
+
+def _read_joints(root: Table, mechanism: str, units) -> tuple[JointSpec, ...] | None:
     from linkcli.mechanisms import module
     t = root.table("joints")
     if t is None:
@@ -94,7 +110,7 @@ def named_tables(t: Table, names, kind: str, mechanism: str, example: str):
 
 def _joint(t: Table, name: str, *, drawing: bool, mechanism: str, units, line) -> JointSpec:
     """One joint's keys; the drawing's keys only for a drawn linkage."""
-    at, ground, slider = None, False, None
+    at, ground, slider, guide = None, False, None, None
     if drawing:
         at = bounded_point(t, "at", None)
         ground = t.boolean("ground", False)
@@ -102,6 +118,7 @@ def _joint(t: Table, name: str, *, drawing: bool, mechanism: str, units, line) -
                           what="the angle of the slider's ground guide (angle unit)")
         if slider is not None:
             slider = units.to_rad(slider)
+        guide = t.string("guide", None, max_len=200)
     else:
         for key in DRAWING_KEYS:
             if key in t:
@@ -113,7 +130,7 @@ def _joint(t: Table, name: str, *, drawing: bool, mechanism: str, units, line) -
     width = _size(t, "width", "a bearing width > 0 (length unit)")
     shear = t.string("shear", "single", choices=SHEAR)
     fit = t.string("fit", None, max_len=40)
-    return JointSpec(name=name, at=tuple(at) if at else None, ground=bool(ground), slider=slider,
+    return JointSpec(name=name, at=tuple(at) if at else None, ground=bool(ground), slider=slider, guide=guide,
                      diameter=diameter, width=width, shear=shear or "single", fit=fit, line=line)
 
 

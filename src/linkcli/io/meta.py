@@ -195,7 +195,7 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     path_type = root.raw("type") == "path-generation"
     mechanism = mechanism_of(root)
     own = module(mechanism, "schema")
-    links = own.TOLERANCED
+    links = own.TOLERANCED if own.TOLERANCED is not None else own.toleranced(root)  # None: the drawing's links
     per_link = links + (("coupler_point",) if path_type else ())
     raw = t.raw("lengths", None)
     lengths = {k: 0.0 for k in links}
@@ -217,9 +217,11 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     if "clearance_slider" in own.PLAYS:
         clearance_slider = t.number("clearance_slider", 0.0, nonnegative=True,
                                     what="a radial play of the slider in its guide >= 0 (length unit)")
+    refused = set()
     for name in NAMES:
         for key, what in module(name, "schema").PLAYS.items():
-            if key not in own.PLAYS and key in t:
+            if key not in own.PLAYS and key in t and key not in refused:  # once, naming the first home
+                refused.add(key)
                 t.allow(key)
                 t.error(key, f'no {key} for a {mechanism} ({what}: only with [linkage] mechanism = "{name}")',
                         t.data[key])

@@ -55,8 +55,23 @@ def _kv(title: str, rows: list[tuple[str, object]], digits: int) -> Table:
     return t
 
 
+def _flat(row: dict, prefix: str = "") -> dict:
+    """A row with nested objects flattened: {"links": {"crank": {"angle": 1}}} ->
+    {"links crank angle": 1} (a drawn linkage's kinematics rows)."""
+    out = {}
+    for k, v in row.items():
+        key = f"{prefix} {k}" if prefix else str(k)
+        if isinstance(v, dict):
+            out.update(_flat(v, key))
+        else:
+            out[key] = v
+    return out
+
+
 def _rows(title: str, rows: list[dict], digits: int, headers: dict | None = None,
           no_wrap: bool = False) -> Table:
+    if any(isinstance(v, dict) for r in rows for v in r.values()):
+        rows = [_flat(r) for r in rows]
     cols = list(dict.fromkeys(k for r in rows for k in r))
     t = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
     for c in cols:
@@ -92,7 +107,7 @@ def _generic(name: str, section, digits: int, units: dict[str, str] | None = Non
 
 def _tolerance_units(section: dict, lu: str, au: str) -> dict[str, str]:
     measure = str(section.get("measure", ""))
-    err = lu if ("coupler point" in measure or "slider" in measure) else au  # a length error
+    err = lu if ("coupler point" in measure or "slider" in measure or "distance" in measure) else au  # a length error
     keys = ("nominal_error", "error_mean", "error_p95", "error_max", "allowed_error")
     out = {k: err for k in keys}
     out.update({"lengths": lu, "clearance": lu, "clearance_slider": lu, "largest_tolerance": lu, "sensitivity": f"{err}/{lu}"})
@@ -128,7 +143,7 @@ def render(report: dict, digits: int = 6) -> Group:
         parts.append(_kv("Link lengths", _linkage_rows(r["linkage"], lu, au), digits))
     if "grashof" in r:
         parts.append(_class_table(r["grashof"], digits))
-    if "transmission" in r:
+    if "transmission" in r and r["transmission"]:
         tr = r["transmission"]
         t = Table(title=f"Transmission angle ({au})", title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
         for c in ("over", "min", "at input", "max", "at input"):
@@ -139,11 +154,22 @@ def render(report: dict, digits: int = 6) -> Group:
             t.add_row("working range (targets)", fmt(tr["working_min"], digits),
                       fmt(tr["working_input_at_min"], digits), fmt(tr["working_max"], digits),
                       fmt(tr["working_input_at_max"], digits))
+        for joint, c in tr.get("closures", {}).items():  # a drawn linkage: every closure
+            t.add_row(f"closure at {joint} ({', '.join(c['links'])})", fmt(c["min"], digits),
+                      fmt(c["input_at_min"], digits), fmt(c["max"], digits), fmt(c["input_at_max"], digits))
         parts.append(t)
     if "motion" in r:
         units = _motion_units(lu, au)
+        motion = r["motion"]
+        flat = {k: v for k, v in motion.items() if not isinstance(v, (dict, list)) or k in units}
         parts.append(_kv("Motion", [(k.replace("_", " ") + (f" ({units[k]})" if k in units else ""), v)
-                                    for k, v in r["motion"].items()], digits))
+                                    for k, v in flat.items()], digits))
+        for k, v in motion.items():  # a drawn linkage's ranges per link, slider and drive
+            if k in flat:
+                continue
+            table = [{"name": name, **inner} for name, inner in v.items()] if isinstance(v, dict) else v
+            if table and all(isinstance(x, dict) for x in table):
+                parts.append(_rows(f"Motion: {k.replace('_', ' ')}", table, digits))
     if "positions" in r:
         parts.append(_rows("Positions", r["positions"], digits, _position_heads(r, lu, au)))
     if "error" in r:
@@ -158,11 +184,15 @@ def render(report: dict, digits: int = 6) -> Group:
                  "coupler_point_x": f"P x ({lu})", "coupler_point_y": f"P y ({lu})",
                  "coupler_point_vx": f"P vx ({lu}/s)", "coupler_point_vy": f"P vy ({lu}/s)",
                  "coupler_point_ax": f"P ax ({lu}/s2)", "coupler_point_ay": f"P ay ({lu}/s2)"}
+        heads.update(_drawn_heads(r["kinematics"], lu, au))
         parts.append(_rows("Kinematics", r["kinematics"], digits, heads))
     if "loads" in r:
-        units = {"coupler_force": "N", "output_torque": "N m", "output_force": "N", "gravity": "m/s2"}
-        parts.append(_kv("Loads", [(f"{k.replace('_', ' ')} ({units[k]})", v) for k, v in r["loads"].items()],
-                         digits))
+        units = {"coupler_force": "N", "output_torque": "N m", "output_force": "N", "gravity": "m/s2",
+                 "torques": "N m", "forces": "N"}
+        parts.append(_kv("Loads", [(f"{k.replace('_', ' ')} {name} ({units[k]})", x) for k, v in r["loads"].items()
+                                   if isinstance(v, dict) for name, x in v.items()]
+                         + [(f"{k.replace('_', ' ')} ({units[k]})", v) for k, v in r["loads"].items()
+                            if not isinstance(v, dict)], digits))
     if "masses" in r:
         units = {"mass": "kg", "center": lu, "inertia": "kg m2"}
         parts.append(_kv("Masses", [(f"{link} {k} ({units[k]})", v) for link, props in r["masses"].items()
@@ -181,6 +211,29 @@ def render(report: dict, digits: int = 6) -> Group:
     for note in r.get("notes", []):
         parts.append(Text(f"warning: {note}", style="yellow"))
     return Group(*parts)
+
+
+def _drawn_heads(rows: list[dict], lu: str, au: str) -> dict[str, str]:
+    """Headings of a drawn linkage's nested kinematics columns (flattened by `_rows`): a link's
+    angle and rates, a slider's place and rates, a closure's transmission angle, a point's
+    coordinates and rates, another drive's value."""
+    heads = {}
+    units = {("links", "angle"): ("", au), ("links", "velocity"): (" w", f"{au}/s"),
+             ("links", "acceleration"): (" a", f"{au}/s2"), ("sliders", "position"): ("", lu),
+             ("sliders", "velocity"): (" v", f"{lu}/s"), ("sliders", "acceleration"): (" a", f"{lu}/s2")}
+    for row in rows[:1]:
+        for group, inner in row.items():
+            if not isinstance(inner, dict):
+                continue
+            for name, value in inner.items():
+                if not isinstance(value, dict):
+                    heads[f"{group} {name}"] = f"mu {name} ({au})" if group == "transmission" else f"{name}"
+                    continue
+                for part in value:
+                    mark, unit = units.get((group, part), (f" {part}", lu if part in ("x", "y") else
+                                           f"{lu}/s" if part.startswith("v") else f"{lu}/s2"))
+                    heads[f"{group} {name} {part}"] = f"{name}{mark} ({unit})"
+    return heads
 
 
 def _linkage_rows(lk: dict, lu: str, au: str) -> list[tuple[str, object]]:

@@ -13,6 +13,7 @@ import importlib
 PACKAGES = {  # the `[linkage] mechanism` value -> its package under linkcli.mechanisms
     "four-bar": "four_bar",
     "slider-crank": "slider_crank",
+    "drawn": "drawn",
 }
 NAMES = tuple(PACKAGES)
 DEFAULT = "four-bar"  # a [linkage] without `mechanism`

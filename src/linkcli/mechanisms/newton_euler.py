@@ -176,7 +176,8 @@ def in_metres(masses, scale: float):
     from dataclasses import fields, replace
     def one(m: LinkMass | None):
         return None if m is None else LinkMass(m.mass, (m.center[0] * scale, m.center[1] * scale), m.inertia)
-    return replace(masses, **{f.name: one(getattr(masses, f.name)) for f in fields(masses)})
+    return replace(masses, **{f.name: one(getattr(masses, f.name)) for f in fields(masses) if f.name != "named"},
+                   named=tuple((name, one(m)) for name, m in masses.named))
 
 
 # ---------------------------------------------------------------- loads on each link (strength)

@@ -34,6 +34,7 @@ class Study:
     full_turn: bool
     arc: tuple[float, float]
     detail: Any = None
+    shortfall: str | None = None  # why the asked motion stops short of what was asked (exit 1)
 
     def rows(self, steps: int) -> tuple[np.ndarray, np.ndarray]:
         """(phi, shown): the drive angles (rad) of the study's rows and as printed. A full
@@ -47,6 +48,15 @@ class Study:
         lo, hi = self.arc
         phi = lo + (np.arange(steps) + 0.5) * ((hi - lo) / steps)
         return phi, wrap(phi)
+
+    def printed(self, shown, units) -> np.ndarray:
+        """The rows' drive values as the report prints them (the file's angle unit; a home
+        whose drive slides prints lengths)."""
+        return units.from_rad(np.asarray(shown, dtype=float))
+
+    def unit(self, units) -> str:
+        """The unit of the printed drive values."""
+        return units.angle
 
 
 @dataclass(frozen=True)
@@ -189,6 +199,11 @@ class Mechanism(ABC):
     @abstractmethod
     def kinematics_rows(self, study: Study, speed: float, steps: int, units) -> list[dict]:
         """The `kinematics` rows at `study.rows(steps)` for a constant drive `speed` rad/s."""
+
+    def study_keys(self, speed: float, steps: int, units) -> dict:
+        """What the `motion` section records to reproduce the study: the [motion] input speed
+        (angle unit per s) and steps (a home whose drives carry their own speeds: steps)."""
+        return {"input_speed": float(units.from_rad(float(speed))), "steps": steps}
 
     # ------------------------------------------------------------ loads
     @abstractmethod

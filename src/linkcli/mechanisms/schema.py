@@ -40,7 +40,8 @@ def refuse_foreign(t: Table, mechanism: str) -> bool:
     for key in dict.fromkeys(foreign):
         if key in t:
             t.allow(key)  # one message, not a second "unknown key" for the same line
-            t.error(key, f"no {key} in a {mechanism} [linkage] (its keys: {', '.join(own)})",
+            keys = f"its keys: {', '.join(own)}" if own else "its only key is mechanism"
+            t.error(key, f"no {key} in a {mechanism} [linkage] ({keys})",
                     raw_got=f"{key} = {describe(t.data[key])}")
             found = True
     return found
