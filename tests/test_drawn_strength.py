@@ -292,13 +292,18 @@ def test_the_fire_door_drawn_has_the_named_fire_doors_strength(reverse_output, t
 
 
 # ---------------------------------------------------------------- a Watt six-bar's two-force link
+def with_pin_sizes(text: str, names) -> str:
+    """A drawing whose joints `names` are sized as pins (d 4, w 5 mm)."""
+    lines = text.splitlines()
+    for k, row in enumerate(lines):
+        if row.split("=")[0].strip() in names and "{ at" in row:
+            lines[k] = row.rstrip()[:-1].rstrip() + ", diameter = 4, width = 5 }"
+    return "\n".join(lines) + "\n"
+
+
 def watt_with_pins() -> str:
-    """drawn_watt's drawing with the pins C and D sized (d 4, w 5 mm)."""
-    text = drawing("drawn_watt")
-    for name in ("C", "D"):
-        line = next(row for row in text.splitlines() if row.startswith(f"{name}  = {{ at"))
-        text = text.replace(line, line.replace(" }", ", diameter = 4, width = 5 }"))
-    return text
+    """drawn_watt's drawing with the pins C and D sized."""
+    return with_pin_sizes(drawing("drawn_watt"), ("C", "D"))
 
 
 WATT_STRENGTH = """
@@ -448,11 +453,7 @@ def test_a_section_naming_no_link_of_the_drawing_is_refused(tmp_path):
 def test_jansens_pins_of_three_bodies_and_a_point_are_told_apart(tmp_path):
     """Jansen's A (crank m, j, k) and Q (ground, bde, c) join three bodies: pins; F, a point of
     the foot only, is none (its sizes get a note); bde, a plate, is listed unchecked."""
-    text = drawing("drawn_jansen")
-    for name in ("A", "Q", "F"):
-        line = next(row for row in text.splitlines() if row.startswith(f"{name} = {{ at"))
-        text = text.replace(line, line.replace(" }", ", diameter = 4, width = 5 }"))
-    text += """[loads]
+    text = with_pin_sizes(drawing("drawn_jansen"), ("A", "Q", "F")) + """[loads]
 forces = { F = [0, 30] }
 [sections]
 j = { width = 8, thickness = 3 }
