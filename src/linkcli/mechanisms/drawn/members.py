@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkcli.mechanisms.drawn.loads import SLIDER, link_forces, pin_bodies
+from linkcli.mechanisms.drawn.loads import link_forces, pin_bodies
 from linkcli.mechanisms.drawn.model import TURN
 from linkcli.mechanisms.drawn.structure import GROUND
 from linkcli.mechanisms.newton_euler import in_metres, inertia_loads, link_load
