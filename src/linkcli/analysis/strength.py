@@ -63,7 +63,7 @@ def section(mech, computed, speed: float, meta, notes: list) -> dict:
     for name, joints in members.links.items():
         if name not in meta.link_sections:
             continue
-        if len(joints) != 2:
+        if len(joints) != 2 or name in members.not_bars:
             plates.append(name)
             continue
         links.append(_link(name, members.loads[name], meta.link_sections[name], spec, inputs, valid,
@@ -75,11 +75,11 @@ def section(mech, computed, speed: float, meta, notes: list) -> dict:
            "critical": _critical(pins, links, inputs)}
     if unchecked:
         out["unchecked"] = unchecked
-        notes.append(_unchecked_note(unchecked, plates))
+        notes.append(_unchecked_note(unchecked, plates, members.not_bars))
     no_pin = [name for name in sizes if name not in members.pins]
     if no_pin:
-        notes.append(f"[joints] {', '.join(no_pin)}: not a revolute pin (a slider's guide), its "
-                     "sizes are not checked for strength")
+        notes.append(f"[joints] {', '.join(no_pin)}: not a revolute pin (a slider's guide, a point on "
+                     "one link only), its sizes are not checked for strength")
     if spec.endurance_listed:
         notes.append(f"endurance {spec.endurance:g} MPa is the listed specimen value of {spec.name} "
                      "(fully reversed, polished), not corrected for the part's surface, size and "
@@ -235,12 +235,18 @@ def _material(spec) -> dict:
     return out
 
 
-def _unchecked_note(unchecked: list[str], plates: list[str]) -> str:
+def _unchecked_note(unchecked: list[str], plates: list[str], not_bars: dict[str, str]) -> str:
+    """Names the unchecked parts and why: no size, a plate, or a link that is no bar (its
+    home's reason, e.g. a slider's guide)."""
     shown = ", ".join(unchecked[:MAX_LISTED]) + (f" and {len(unchecked) - MAX_LISTED} more"
                                                  if len(unchecked) > MAX_LISTED else "")
     why = "no size given ([joints] diameter and width, [sections])"
-    if plates:
-        why += f"; {', '.join(plates)}: a plate of three or more joints (bars only are checked)"
+    solid = [name for name in plates if name not in not_bars]
+    if solid:
+        why += f"; {', '.join(solid)}: a plate of three or more joints (bars only are checked)"
+    for name in plates:
+        if name in not_bars:
+            why += f"; {name}: {not_bars[name]} (bars only are checked)"
     return f"strength not checked for {shown}: {why}"
 
 

@@ -144,11 +144,14 @@ class MemberForces:
     weight and inertia); together they are in equilibrium at every valid row (sum of forces
     and of moments 0: d'Alembert). pins: joint name (as [joints] names it) -> (n, 2) N, the
     shear force the pin carries (for two links joined, the force one exerts on the other);
-    only revolute pins (a slider's guide is not one)."""
+    only revolute pins (a slider's guide is not one). not_bars: link name -> why a link of two
+    joints is still no bar between two pins (a slider's guide: the block runs along it);
+    strength lists it unchecked, as a plate of three or more joints."""
 
     links: dict[str, tuple[str, ...]]
     loads: dict[str, tuple[LinkLoad, ...]]
     pins: dict[str, np.ndarray]
+    not_bars: dict[str, str] = field(default_factory=dict)
 
 
 class Mechanism(ABC):

@@ -178,6 +178,13 @@ class DrawnMechanism(Mechanism):
         from linkcli.mechanisms.drawn.loads import drawn_loads
         return drawn_loads(self, self.state(phi), case, metres)
 
+    def member_forces(self, phi, speed, case, metres, rows):
+        """Every link with its joints (a binary link a bar, more joints a plate, a binary link
+        carrying a slider's guide no bar) and its loads; every pin joining two bodies or more
+        (drawn.members: the shear of a pin of three or more bodies)."""
+        from linkcli.mechanisms.drawn.members import drawn_members
+        return drawn_members(self, self.state(phi), case, metres, rows)
+
     def tolerance_model(self, problem, solution):
         from linkcli.mechanisms.drawn.tolerance import model
         return model(self, problem)

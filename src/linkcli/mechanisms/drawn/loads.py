@@ -17,7 +17,8 @@ Unknowns, and the convention of every reported pin force (which body it acts on)
   "J/guide" (N, global x and y); the guide's body carries -N perp(u) at J (frictionless).
 - Each drive: its torque on the driven link (N m, counter-clockwise positive; the ground
   takes the reaction), or its force along the guide on a driven slider's block (N; the
-  guide's body takes the reaction). The leading drive's effort is `input_torque`.
+  guide's body takes the reaction). The leading drive's effort is `input_torque`, every
+  drive's is in `efforts` (DrawnLoadRows).
 External loads: gravity on every mass; [loads] torques (N m on a link) and forces (N at a
 joint: on the slider block at a slider joint, else on the first link of [links] carrying it).
 Lengths enter in metres. Singular rows: where a closure locks (|sin mu| <= SINGULAR_TOLERANCE:
@@ -29,6 +30,8 @@ stands still (|rate| <= SINGULAR_TOLERANCE times its largest over the rows).
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+
 import numpy as np
 
 from linkcli.mechanisms.newton_euler import SINGULAR_TOLERANCE, finite_max, max_norm, scales
@@ -38,6 +41,14 @@ from linkcli.mechanisms.drawn.structure import GROUND
 from linkcli.model import LinkMass
 
 SLIDER = "slider"
+
+
+@dataclass
+class DrawnLoadRows(LoadRows):
+    """LoadRows with every drive's effort: drive name -> (n,) its torque on its link (N m) or
+    its force along the guide on its slider's block (N); the first is `input_torque`."""
+
+    efforts: dict[str, np.ndarray] = field(default_factory=dict)
 
 
 def pin_bodies(drawing) -> dict[str, list[str]]:
@@ -193,8 +204,9 @@ def drawn_loads(home, st, case, metres: float) -> LoadRows:
         length = max(max_norm(pos[b] - pos[a]) for k in d.links for a, b in zip(k.joints, k.joints[1:]))
         force_scale, torque_scale = scales(force_terms, inertia_terms,
                                            sum(abs(t) for _, t in loads.torques), length)
-        return LoadRows(solution[:, drive_columns[0]], pins, singular, _advantage(home, st, metres),
-                        force_scale, torque_scale, tuple(name for name, _, _ in pin_names(d)))
+        return DrawnLoadRows(solution[:, drive_columns[0]], pins, singular, _advantage(home, st, metres),
+                             force_scale, torque_scale, tuple(name for name, _, _ in pin_names(d)),
+                             {drive.name: solution[:, col] for drive, col in zip(d.drives, drive_columns)})
 
 
 def _apply_known(rhs, row_of, centre, target, point, force) -> None:
