@@ -131,7 +131,7 @@ def _interruptible():
             signal.signal(signal.SIGINT, previous)
 
 
-def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path], precision: int,
+def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], precision: int,
                    jobs: int, plot: Optional[Path], table: Optional[str] = None,
                    cluster: Optional[str] = None) -> int:
     """synth and analyze: run the pipeline over the files (`request`: mode, seed, debug,
@@ -320,7 +320,10 @@ def _plot(results, files: int, plot: Path, debug: bool) -> int:
 
 
 # metavars are written for people: FILE..., N, DIR (not click's {files}... or <int range>)
-FILES = typer.Argument(..., help="Problem files (TOML).", exists=False, metavar="FILE...")
+# FILE arguments are plain strings: click's Path would refuse an unreadable file for the
+# whole batch before anything runs, and pathlib would rewrite the names ("" -> ".",
+# "./a//b.toml" -> "a/b.toml"); each file is read, and refused in its slot, by io.safe_read
+FILES = typer.Argument(..., help="Problem files (TOML).", metavar="FILE...")
 FORMAT = typer.Option(Format.table, "--format", "-f", metavar="table|json|toml|csv",
                       help="Output format (csv: the row tables, see --table).")
 TABLE = typer.Option(None, "--table", metavar="NAME",
@@ -342,7 +345,7 @@ CLUSTER = typer.Option(None, "--cluster", metavar="ADDRESS",
 
 
 @app.command(cls=PlainUsage)
-def synth(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
+def synth(files: List[str] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
           seed: Optional[int] = SEED, precision: int = PRECISION, jobs: int = JOBS,
           plot: Optional[Path] = PLOT, debug: bool = DEBUG, timing: bool = TIMING,
           table: Optional[str] = TABLE, cluster: Optional[str] = CLUSTER) -> None:
@@ -355,7 +358,7 @@ def synth(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Path
 
 
 @app.command(cls=PlainUsage)
-def analyze(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
+def analyze(files: List[str] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
             precision: int = PRECISION, jobs: int = JOBS, plot: Optional[Path] = PLOT,
             debug: bool = DEBUG, table: Optional[str] = TABLE) -> None:
     """Analyse given linkages: `type = "linkage"` files or results of `synth --format toml`."""
@@ -367,7 +370,7 @@ def analyze(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Pa
 
 
 @app.command(cls=PlainUsage)
-def check(files: List[Path] = FILES, debug: bool = DEBUG) -> None:
+def check(files: List[str] = FILES, debug: bool = DEBUG) -> None:
     """Validate problem files without solving (exit 2 on any error)."""
     from linkcli.pipeline import Request, serial
     worst = 0
@@ -381,7 +384,7 @@ def check(files: List[Path] = FILES, debug: bool = DEBUG) -> None:
 
 
 @app.command(cls=PlainUsage)
-def bench(files: List[Path] = typer.Argument(None, metavar="[FILE...]",
+def bench(files: List[str] = typer.Argument(None, metavar="[FILE...]",
                                              help="Problem files (default: the bench set shipped with linkcli, "
                                                   "a copy of problems/bench/)."),
           format: Format = FORMAT,
