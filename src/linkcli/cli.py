@@ -58,8 +58,13 @@ def main_callback(
 
 
 def _err(line: str) -> None:
+    """One line on stderr (escaped: one_line); a stderr that cannot take it is ignored, as
+    there is nowhere left to say so."""
     from linkcli.io.terminal_text import one_line
-    sys.stderr.write(one_line(line.rstrip("\n")) + "\n")
+    try:
+        sys.stderr.write(one_line(line.rstrip("\n")) + "\n")
+    except (OSError, AttributeError, ValueError):  # closed, full, or None
+        pass
 
 
 def _progress(total: int):
@@ -158,6 +163,7 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
     counts = {0: 0, 1: 0, 2: 0}
     reports: list[dict] = []
     results = []
+    printed = 0  # reports shown so far
     prog = _progress(len(names))
     task = None
     if prog is not None:
@@ -169,8 +175,8 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
                 _stop_if_interrupted()
                 code, errors = outcome.exit_code, outcome.errors
                 report = outcome.result.report if outcome.result is not None else None
-                if outcome.result is not None:
-                    results.append(outcome.result)
+                if outcome.result is not None and plot is not None:
+                    results.append(outcome.result)  # kept for the plots only: a report may hold 100,000 rows
                 if prog is not None:
                     prog.stop()  # the transient bar clears; output prints cleanly below
                 for line in errors:
@@ -182,13 +188,15 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
                     reports.append({"file": name, "status": "bad-input" if code == 2 else "error",
                                     "message": "; ".join(errors)})
                 elif report is not None:
-                    reports.append(report)
+                    printed += 1
+                    if fmt in (Format.json, Format.toml) or out is not None:
+                        reports.append(report)  # written at the end
                     if fmt is Format.csv and out is None:
                         worst = max(worst, _print_csv(report, table, precision))
                     if fmt is Format.table and out is None:
                         from linkcli.io.report import print_reports
                         print_reports([report], precision)
-                        if len(reports) < len(names):
+                        if printed < len(names):
                             sys.stdout.write("\n")
                         sys.stdout.flush()
                 if prog is not None:
@@ -204,12 +212,11 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
     if out is not None:
         worst = max(worst, _write_out([r for r in reports if "type" in r], out, fmt, precision, table))
     elif fmt is Format.json:  # a bad file has its slot object, alone or in a batch
-        from linkcli.io.export import to_json
-        sys.stdout.write(to_json(reports if len(names) > 1 else reports[0], precision))
+        from linkcli.io.export import write_json
+        write_json(reports if len(names) > 1 else reports[0], precision, sys.stdout)
     elif fmt is Format.toml and reports:
         from linkcli.io.export import to_toml_many
         sys.stdout.write(to_toml_many(reports, precision))
-    reports = [r for r in reports if "type" in r]
     if plot is not None and results:
         worst = max(worst, _plot(results, len(names), plot, debug))
     if len(names) > 1:
@@ -264,7 +271,7 @@ def _csv_tables(report: dict, table: Optional[str]) -> tuple[dict, str | None]:
 
 def _print_csv(report: dict, table: Optional[str], precision: int) -> int:
     """One problem's one row table as CSV on stdout (the only one, or --table NAME)."""
-    from linkcli.io.csv_tables import to_csv
+    from linkcli.io.csv_tables import write_csv
     tables, problem = _csv_tables(report, table)
     if problem is None and len(tables) != 1:
         known = ", ".join(tables) or "none (ask for a section with rows, e.g. kinematics or positions)"
@@ -273,16 +280,16 @@ def _print_csv(report: dict, table: Optional[str], precision: int) -> int:
     if problem:
         _err(problem)
         return 2
-    sys.stdout.write(to_csv(next(iter(tables.values())), precision))
+    write_csv(next(iter(tables.values())), precision, sys.stdout)
     return 0
 
 
 def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int, table: Optional[str] = None) -> int:
-    from linkcli.io.export import result_stems, to_json, to_toml
+    from linkcli.io.export import result_stems, to_toml, write_json
     from linkcli.io.report import render_text
     for rep, stem in zip(reports, result_stems([rep["file"] for rep in reports])):
         if fmt is Format.csv:  # one file per row table: <stem>.<table>.csv
-            from linkcli.io.csv_tables import to_csv
+            from linkcli.io.csv_tables import write_csv
             tables, problem = _csv_tables(rep, table)
             if problem:
                 _err(problem)
@@ -290,20 +297,19 @@ def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int, tabl
             for name, rows in tables.items():
                 target = out / f"{stem}.{name}.csv"
                 try:
-                    target.write_text(to_csv(rows, precision), encoding="utf-8")
+                    with open(target, "w", encoding="utf-8", newline="") as handle:
+                        write_csv(rows, precision, handle)
                 except OSError as exc:
                     _err(f"{target}: expected a writable result file, found {exc.strerror or exc}")
                     return 2
             continue
         target = out / f"{stem}.{EXT[fmt.value]}"
-        if fmt is Format.json:
-            text = to_json(rep, precision)
-        elif fmt is Format.toml:
-            text = to_toml(rep, precision)
-        else:
-            text = render_text([rep], precision)
         try:
-            target.write_text(text, encoding="utf-8")
+            with open(target, "w", encoding="utf-8") as handle:
+                if fmt is Format.json:
+                    write_json(rep, precision, handle)
+                else:
+                    handle.write(to_toml(rep, precision) if fmt is Format.toml else render_text([rep], precision))
         except OSError as exc:
             _err(f"{target}: expected a writable result file, found {exc.strerror or exc}")
             return 2
@@ -433,12 +439,23 @@ def new(type_name: str = typer.Argument(..., metavar="TYPE", help="The problem t
 
 
 def main() -> None:
-    """Console-script entry point."""
+    """Console-script entry point. Standard output is guarded (io.output_guard): a reader
+    that closes the pipe ends the command quietly with exit 141, an output that refuses the
+    text (a full device, a closed stdout) is one line and exit 2."""
+    from linkcli.io.output_guard import Guarded, OutputLost, exit_code
+    sys.stdout = Guarded(sys.stdout)
     try:
-        app(prog_name="linkcli")
+        try:
+            app(prog_name="linkcli")
+        except SystemExit as done:
+            code = done.code
+        sys.stdout.flush()  # what the buffer held fails here, inside the guard
     except KeyboardInterrupt:
         _err("interrupted")
-        sys.exit(130)
+        code = 130
+    except OutputLost as lost:
+        code = exit_code(lost, _err)
+    sys.exit(code)
 
 
 if __name__ == "__main__":

@@ -13,7 +13,7 @@ from __future__ import annotations
 import csv
 import io
 
-from linkcli.io.export import rounded
+from linkcli.io.export import rounded_leaf
 
 
 def _is_rows(value) -> bool:
@@ -33,19 +33,10 @@ def row_tables(report: dict) -> dict[str, list[dict]]:
     return out
 
 
-def _flatten(prefix: str, value, cells: dict) -> None:
-    if isinstance(value, dict):
-        for k, v in value.items():
-            _flatten(f"{prefix}.{k}" if prefix else str(k), v, cells)
-    elif isinstance(value, list):
-        names = ("_x", "_y") if len(value) == 2 else tuple(f"_{i + 1}" for i in range(len(value)))
-        for suffix, v in zip(names, value):
-            _flatten(prefix + suffix, v, cells)
-    else:
-        cells[prefix] = value
-
-
-def _cell(value) -> str:
+def _text(value, digits: int) -> str:
+    """One cell: a number rounded like JSON (a whole number without ".0"), true/false, a
+    string with its wrapped numbers rounded, empty for None or a non-finite number."""
+    value = rounded_leaf(value, digits)
     if value is None:
         return ""
     if isinstance(value, bool):
@@ -55,17 +46,44 @@ def _cell(value) -> str:
     return str(value)
 
 
-def to_csv(rows: list[dict], digits: int) -> str:
-    """One row table as CSV text (a header line, then one line per row; "\\n" line ends)."""
+def _cells(prefix: str, value, cells: dict, digits: int, fmt: str) -> None:
+    """The cells of one row (or of a value inside it), by column name, rounded as they
+    are flattened (no rounded copy of the rows is made)."""
+    if isinstance(value, dict):
+        for k, v in value.items():
+            name = f"{prefix}.{k}" if prefix else str(k)
+            if type(v) is float and v - v == 0.0:  # the common leaf, inlined
+                v = float(format(v, fmt)) + 0.0
+                cells[name] = repr(v) if v != int(v) or abs(v) >= 1e16 else str(int(v))
+            elif isinstance(v, (dict, list, tuple)):
+                _cells(name, v, cells, digits, fmt)
+            else:
+                cells[name] = _text(v, digits)
+    elif isinstance(value, (list, tuple)):
+        names = ("_x", "_y") if len(value) == 2 else tuple(f"_{i + 1}" for i in range(len(value)))
+        for suffix, v in zip(names, value):
+            _cells(prefix + suffix, v, cells, digits, fmt)
+    else:
+        cells[prefix] = _text(value, digits)
+
+
+def write_csv(rows: list[dict], digits: int, file) -> None:
+    """One row table as CSV (a header line, then one line per row; "\\n" line ends),
+    written to `file` as it is made."""
+    fmt = f".{digits}g"
     flat = []
-    for row in rounded(rows, digits):
+    for row in rows:
         cells: dict = {}
-        _flatten("", row, cells)
+        _cells("", row, cells, digits, fmt)
         flat.append(cells)
     columns = list(dict.fromkeys(k for cells in flat for k in cells))
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
+    writer = csv.writer(file, lineterminator="\n")
     writer.writerow(columns)
-    for cells in flat:
-        writer.writerow([_cell(cells.get(c)) for c in columns])
+    writer.writerows([cells.get(c, "") for c in columns] for cells in flat)
+
+
+def to_csv(rows: list[dict], digits: int) -> str:
+    """`write_csv` as text."""
+    buffer = io.StringIO()
+    write_csv(rows, digits, buffer)
     return buffer.getvalue()

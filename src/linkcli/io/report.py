@@ -20,6 +20,41 @@ from linkcli.io.export import rounded
 from linkcli.io.terminal_text import terminal_safe
 
 MAX_TABLE_WIDTH = 400  # columns a table may take when printed to a file or a pipe
+MAX_ROWS = 100  # a row table longer than this shows its first HEAD_ROWS and last TAIL_ROWS
+HEAD_ROWS, TAIL_ROWS = 40, 10
+
+
+class Elided(list):
+    """The rows of a long row table that the table view shows (the first HEAD_ROWS and the
+    last TAIL_ROWS), with how many the table has (`total`) and its name for `--table`
+    (`name`, as csv_tables.row_tables names it). `like(rows)` carries both over to rows
+    made from these (rounded, escaped, laid out by a type)."""
+
+    def __init__(self, rows, total: int, name: str | None) -> None:
+        super().__init__(rows)
+        self.total = total
+        self.name = name
+
+    def like(self, rows) -> "Elided":
+        return Elided(rows, self.total, self.name)
+
+
+def elided(report: dict) -> dict:
+    """The report with every row table longer than MAX_ROWS cut to its first and last rows
+    (an Elided list), so that the table view's cost stays bounded however many rows a
+    report holds; the other sections are shared, not copied."""
+    from linkcli.io.csv_tables import row_tables
+    out = dict(report)
+    for name, rows in row_tables(report).items():
+        if len(rows) <= MAX_ROWS:
+            continue
+        cut = Elided(rows[:HEAD_ROWS] + rows[-TAIL_ROWS:], len(rows), name)
+        section, _, sub = name.partition(".")
+        if sub:
+            out[section] = {**out[section], sub: cut}
+        else:
+            out[section] = cut
+    return out
 STATUS_STYLE = {"ok": "bold green", "infeasible": "bold yellow", "not-converged": "bold red"}
 KNOWN = ("file", "title", "type", "status", "message", "units", "linkage", "grashof",
          "transmission", "motion", "kinematics", "positions", "error", "solver", "notes", "forces", "loads", "masses")
@@ -57,11 +92,20 @@ def _kv(title: str, rows: list[tuple[str, object]], digits: int) -> Table:
 
 def _rows(title: str, rows: list[dict], digits: int, headers: dict | None = None,
           no_wrap: bool = False) -> Table:
+    """A row table; a long one (more than MAX_ROWS, or Elided already) shows its first
+    and last rows with a "..." row between and a caption saying how to get them all."""
+    if not isinstance(rows, Elided) and len(rows) > MAX_ROWS:
+        rows = Elided(rows[:HEAD_ROWS] + rows[-TAIL_ROWS:], len(rows), None)
     cols = list(dict.fromkeys(k for r in rows for k in r))
     t = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
+    if isinstance(rows, Elided):  # printed under the table by _emit, one line however narrow the table
+        where = (f"--format csv --table {rows.name}" if rows.name else "--format csv") + " or --format json"
+        t.note = f"{len(rows)} of {rows.total} rows shown; {where} gives them all"
     for c in cols:
         t.add_column((headers or {}).get(c, c.replace("_", " ")), justify="right", no_wrap=no_wrap)
-    for r in rows:
+    for i, r in enumerate(rows):
+        if isinstance(rows, Elided) and i == len(rows) - TAIL_ROWS:
+            t.add_row(*("..." for _ in cols))
         t.add_row(*(fmt(r.get(c), digits) for c in cols))
     return t
 
@@ -107,13 +151,24 @@ def _type_tables(kind: str, name: str, section, digits: int, lu: str, au: str) -
     if kind not in PACKAGES:
         return []
     blocks = problem_type(kind).module("sections").report_tables(name, section, lu, au)
+    cut = [section] if isinstance(section, Elided) else [v for v in section.values()
+                                                          if isinstance(v, Elided)] if isinstance(section, dict) else []
     return [_kv(b.title, b.rows, digits) if isinstance(b, KeyValues)
-            else _rows(b.title, b.rows, digits, b.headers, no_wrap=b.no_wrap) for b in blocks]
+            else _rows(b.title, _as_cut(b.rows, cut), digits, b.headers, no_wrap=b.no_wrap) for b in blocks]
+
+
+def _as_cut(rows: list, cut: list) -> list:
+    """Rows a type laid out one for one from an Elided list of its section (same length)
+    are cut the same way: they say so."""
+    if isinstance(rows, Elided):
+        return rows
+    source = next((c for c in cut if len(c) == len(rows)), None)
+    return source.like(rows) if source is not None else rows
 
 
 def render(report: dict, digits: int = 6) -> Group:
     """One problem's block."""
-    r = terminal_safe(rounded(report, digits))
+    r = terminal_safe(rounded(elided(report), digits))
     lu, au = r["units"]["length"], r["units"]["angle"]
     parts: list = []
     head = Text()
@@ -250,7 +305,8 @@ def _forces(forces: dict, digits: int, au: str) -> list:
             heads[name] = f"|{name}| (N)"
         line["mechanical_advantage"] = row["mechanical_advantage"]
         table.append(line)
-    parts.append(_rows("Forces", table, digits, heads))
+    parts.append(_rows("Forces", _as_cut(table, [forces["rows"]] if isinstance(forces["rows"], Elided) else []),
+                       digits, heads))
     return parts
 
 
@@ -285,8 +341,18 @@ def _emit(con: Console, group: Group) -> None:
                         width, con.width = con.width, need
                         con.print(part)
                         con.width = width
+                        _note(con, part)
                         continue
         con.print(part)
+        _note(con, part)
+
+
+def _note(con: Console, part) -> None:
+    """The line a table carries under it (an elided row table's "50 of N rows shown"), on
+    one line of its own."""
+    note = getattr(part, "note", None)
+    if note:
+        con.print(Text(note, no_wrap=True, overflow="ignore"), crop=False)
 
 
 def print_reports(reports: list[dict], digits: int, file=None) -> None:
