@@ -52,7 +52,7 @@ def _cells(prefix: str, value, cells: dict, digits: int, fmt: str) -> None:
     if isinstance(value, dict):
         for k, v in value.items():
             name = f"{prefix}.{k}" if prefix else str(k)
-            if type(v) is float and v - v == 0.0:  # the common leaf, inlined
+            if type(v) is float and -1e308 < v < 1e308:  # the common leaf, inlined (export.round_sig)
                 v = float(format(v, fmt)) + 0.0
                 cells[name] = repr(v) if v != int(v) or abs(v) >= 1e16 else str(int(v))
             elif isinstance(v, (dict, list, tuple)):

@@ -29,11 +29,14 @@ _CONTAINERS = (dict, list, tuple)
 
 
 def round_sig(x: float, digits: int) -> float | None:
+    """x to `digits` significant digits; None when x is not finite, or when its rounding
+    is not (1.5e308 to one digit is 2e308)."""
     if not math.isfinite(x):
         return None
     if x == 0.0:
         return 0.0
-    return float(f"{x:.{digits}g}") + 0.0
+    value = float(f"{x:.{digits}g}") + 0.0
+    return value if math.isfinite(value) else None
 
 
 def rounded_leaf(obj, digits: int):
@@ -94,15 +97,15 @@ def iter_json(obj, digits: int, level: int = 0) -> Iterator[str]:
     values = obj.values() if is_dict else obj
     inner, outer = "  " * (level + 1), "  " * level
     if not any(isinstance(v, _CONTAINERS) for v in values):
-        # _leaf inlined for floats (most leaves): v - v is 0.0 only for a finite v; "%g" of
-        # -0.0 is "-0", and + 0.0 makes it 0.0
+        # round_sig inlined for the common float (false for nan, inf and the few whose
+        # rounding could overflow); "%g" of -0.0 is "-0", and + 0.0 makes it 0.0
         fmt = f".{digits}g"
         if is_dict:
             flat = {k if type(k) is str else str(k):
-                    (float(format(v, fmt)) + 0.0 if v - v == 0.0 else None) if type(v) is float
+                    float(format(v, fmt)) + 0.0 if type(v) is float and -1e308 < v < 1e308
                     else rounded_leaf(v, digits) for k, v in obj.items()}
         else:
-            flat = [(float(format(v, fmt)) + 0.0 if v - v == 0.0 else None) if type(v) is float
+            flat = [float(format(v, fmt)) + 0.0 if type(v) is float and -1e308 < v < 1e308
                     else rounded_leaf(v, digits) for v in obj]
         text = _flat_encoder(level)(flat)
         yield ("{\n" if is_dict else "[\n") + inner + text[1:-1] + "\n" + outer + ("}" if is_dict else "]")
