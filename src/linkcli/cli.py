@@ -218,7 +218,7 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
         from linkcli.io.export import to_toml_many
         sys.stdout.write(to_toml_many(reports, precision))
     if plot is not None and results:
-        worst = max(worst, _plot(results, len(names), plot, debug))
+        worst = max(worst, _plot(results, len(names), plot, debug, precision))
     if len(names) > 1:
         _err(f"{len(names)} files: {counts[0]} solved, {counts[1]} infeasible or not converged, "
              f"{counts[2]} bad input")
@@ -316,13 +316,13 @@ def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int, tabl
     return 0
 
 
-def _plot(results, files: int, plot: Path, debug: bool) -> int:
+def _plot(results, files: int, plot: Path, debug: bool, precision: int = 6) -> int:
     try:
         from linkcli import plot as plotting
     except ImportError:
         _err(f"{plot}: expected the plot extra (pip install \"linkcli[plot]\"), found no plotting module")
         return 2
-    return plotting.plot_command(results, files, plot, debug)
+    return plotting.plot_command(results, files, plot, debug, precision)
 
 
 # metavars are written for people: FILE..., N, DIR (not click's {files}... or <int range>)

@@ -82,7 +82,8 @@ def fmt(v, digits: int = 6) -> str:
 
 
 def _kv(title: str, rows: list[tuple[str, object]], digits: int) -> Table:
-    t = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, show_header=False, pad_edge=False, show_edge=False)
+    t = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, show_header=False, pad_edge=False,
+              show_edge=False, min_width=cell_len(title))  # a title wider than its rows stays on one line
     t.add_column("key", style="bold")
     t.add_column("value")
     for k, v in rows:
