@@ -172,12 +172,19 @@ def render(report: dict, digits: int = 6) -> Group:
     r = terminal_safe(rounded(elided(report), digits))
     lu, au = r["units"]["length"], r["units"]["angle"]
     parts: list = []
-    head = Text()
-    head.append(r.get("title") or r["file"], style="bold")
+    name = Text()
+    name.append(r.get("title") or r["file"], style="bold")
     if r.get("title"):
-        head.append(f"  ({r['file']})")
-    head.append(f"  {r['type']}  ")
-    head.append(r["status"], style=STATUS_STYLE.get(r["status"], "bold"))
+        name.append(f"  ({r['file']})")
+    status = Text(f"{r['type']}  ")
+    status.append(r["status"], style=STATUS_STYLE.get(r["status"], "bold"))
+    # one line when it fits; else the title wraps in its column and the type and status
+    # stay on the first line (_emit prints it as it is)
+    head = Table.grid(padding=(0, 2))
+    head.add_column(overflow="fold")  # a long file name folds, never cut with an ellipsis
+    head.add_column(no_wrap=True)
+    head.add_row(name, status)
+    head.is_head = True
     parts.append(head)
     parts.append(Text(r["message"]))
     if "linkage" in r:
@@ -313,9 +320,9 @@ def _forces(forces: dict, digits: int, au: str) -> list:
 
 def _compact(table: Table) -> None:
     """Fix each column at its longest cell or header word (headers wrap at words, cells
-    never)."""
+    never; a no_wrap column's header stays whole)."""
     for column in table.columns:
-        words = str(column.header).split() or [""]
+        words = ([str(column.header)] if column.no_wrap else str(column.header).split()) or [""]
         column.width = max([cell_len(str(c)) for c in column.cells] + [cell_len(w) for w in words])
 
 
@@ -324,28 +331,69 @@ def _width(con: Console, table: Table) -> int:
     return Measurement.get(con, con.options.update_width(MAX_TABLE_WIDTH), table).maximum
 
 
+def _blocks(con: Console, table: Table) -> list[Table]:
+    """A row table too wide for the terminal as several tables of its columns, each as wide
+    as fits, the first column (the row's key: input angle, parameter, problem) repeated
+    in each, as wide tables are printed in blocks; no number is cut or folded. A single
+    column wider than the terminal still folds."""
+    def block(columns, title) -> Table:
+        t = Table(title=title, title_justify="left", box=table.box, pad_edge=False, show_edge=False,
+                  min_width=min(cell_len(title), con.width))  # the title on one line when it fits
+        for c in columns:
+            t.add_column(c.header, justify=c.justify, no_wrap=c.no_wrap, width=c.width)
+        for cells in zip(*(list(c.cells) for c in columns)):
+            t.add_row(*cells)
+        return t
+
+    key, rest = table.columns[0], table.columns[1:]
+    title = str(table.title or "")
+    out: list[Table] = []
+    group: list = []
+    for column in rest:
+        trial = block([key] + group + [column], title)
+        if group and _width(con, trial) > con.width:
+            out.append(block([key] + group, title if not out else f"{title} (continued)"))
+            group = []
+        group.append(column)
+    out.append(block([key] + group, title if not out else f"{title} (continued)"))
+    for t in out:
+        if _width(con, t) > con.width:  # one column alone is too wide: fold its cells
+            for column in t.columns:
+                column.width, column.overflow = None, "fold"
+    return out
+
+
+def print_table(con: Console, part) -> None:
+    """Print one part of a report (or any rich table, e.g. bench's). A table never shows a
+    truncated number: one wider than the console is laid out compactly (headers wrap at
+    words, cells never); if it still does not fit it is printed wider (a file or a pipe:
+    one row per line, every digit) or, on a terminal, a row table in blocks of columns
+    (_blocks) and a key/value table with its cells folded onto a second line."""
+    if isinstance(part, Table) and not getattr(part, "is_head", False) and _width(con, part) > con.width:
+        _compact(part)
+        need = _width(con, part)
+        if need > con.width:
+            if not con.is_terminal:
+                width, con.width = con.width, need
+                con.print(part)
+                con.width = width
+                _note(con, part)
+                return
+            if part.show_header and len(part.columns) > 2:
+                for piece in _blocks(con, part):
+                    con.print(piece)
+                _note(con, part)
+                return
+            for column in part.columns:
+                column.width, column.overflow = None, "fold"
+    con.print(part)
+    _note(con, part)
+
+
 def _emit(con: Console, group: Group) -> None:
-    """Print a report part by part. A table never shows a truncated number: one wider than
-    the console is laid out compactly (headers wrap at words, cells never), and if it still
-    does not fit it is printed wider (a file or a pipe: one row per line, every digit) or,
-    on a terminal, folds its cells onto a second line."""
+    """Print a report part by part (print_table)."""
     for part in group.renderables:
-        if isinstance(part, Table):
-            if _width(con, part) > con.width:
-                _compact(part)
-                need = _width(con, part)
-                if need > con.width:
-                    if con.is_terminal:
-                        for column in part.columns:
-                            column.width, column.overflow = None, "fold"
-                    else:
-                        width, con.width = con.width, need
-                        con.print(part)
-                        con.width = width
-                        _note(con, part)
-                        continue
-        con.print(part)
-        _note(con, part)
+        print_table(con, part)
 
 
 def _note(con: Console, part) -> None:
