@@ -10,6 +10,7 @@ light. `--debug` lets a traceback through.
 from __future__ import annotations
 
 import contextlib
+import os
 import sys
 from enum import Enum
 from pathlib import Path
@@ -151,6 +152,9 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
         execute = executor(jobs, names, debug, cluster)
     except LinkcliError as exc:
         return _fail(exc, debug)
+    if table is not None and fmt is not Format.csv:
+        _err(f"--table: expected --format csv with it (the row table to write), found --format {fmt.value}")
+        return 2
     if fmt is Format.csv and out is None and len(names) > 1:
         _err(f"--format csv: expected --out DIR with several files (one CSV file per table), "
              f"found {len(names)} files")
@@ -244,7 +248,10 @@ def _plot_problem(plot: Path, names: list[str]) -> bool:
 
 
 def _prepare_out(out: Path) -> bool:
-    """--out must be a folder that exists or can be made; checked before any solve."""
+    """--out must be a folder that exists or can be made, and that takes a file (a probe
+    file is made and removed: permissions, a read-only file system); checked before any
+    solve."""
+    import tempfile
     if out.exists() and not out.is_dir():
         _err(f"{out}: expected a folder for --out, found a file")
         return False
@@ -252,6 +259,13 @@ def _prepare_out(out: Path) -> bool:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         _err(f"{out}: expected a folder for --out that can be created, found {exc.strerror or exc}")
+        return False
+    try:
+        handle, probe = tempfile.mkstemp(prefix=".linkcli-probe-", dir=out)
+        os.close(handle)
+        os.unlink(probe)
+    except OSError as exc:
+        _err(f"{out}: expected a folder for --out that can be written, found {exc.strerror or exc}")
         return False
     return True
 

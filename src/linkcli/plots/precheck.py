@@ -3,7 +3,8 @@ its very end on a name it could have refused at once.
 
 The same rules as the plot itself (plot.output_paths: one file -> PATH.png|PATH.svg, several
 -> a folder), and the folder that will hold the picture must be creatable: its nearest
-existing ancestor must be a folder (`afile/x.png` is refused). Nothing is created here.
+existing ancestor must be a folder (`afile/x.png` is refused) that takes a file (a probe
+file is made there and removed). Nothing else is created here.
 """
 
 from __future__ import annotations
@@ -24,4 +25,13 @@ def plot_path_problem(plot: Path, names: list[str]) -> str | None:
         probe = probe.parent
     if probe.exists() and not probe.is_dir():
         return f"{plot}: expected a plot path inside a folder, found {probe} is a file"
+    if probe.is_dir():  # the folder that will hold the picture (or be made in) must take a file
+        import os
+        import tempfile
+        try:
+            handle, name = tempfile.mkstemp(prefix=".linkcli-probe-", dir=probe)
+            os.close(handle)
+            os.unlink(name)
+        except OSError as exc:
+            return f"{plot}: expected a plot path in a folder that can be written, found {probe}: {exc.strerror or exc}"
     return None

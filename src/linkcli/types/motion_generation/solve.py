@@ -30,6 +30,7 @@ import math
 
 import numpy as np
 
+from linkcli.io.meta import MAX_LENGTH
 from linkcli.model import FourBar
 from linkcli.noise import first_min
 from linkcli.search.budget import Budget
@@ -111,6 +112,7 @@ def _pivot_box(problem, poses, scale, rng, count):
     ga = problem.ground_angle or (-math.pi, math.pi)
     lo = np.array([gp[0][0], gp[1][0], max(d[0], LENGTH_FLOOR * scale * 1e-3), ga[0]])
     hi = np.array([gp[0][1], gp[1][1], d[1], ga[1]])
+    lo[:3], hi[:3] = np.maximum(lo[:3], [-MAX_LENGTH, -MAX_LENGTH, 0.0]), np.minimum(hi[:3], MAX_LENGTH)  # sizes a file accepts
     unit = latin_hypercube(rng, count, 4)
     x = lo + unit * (hi - lo)
     a0 = x[:, :2]
@@ -240,6 +242,7 @@ def _bounds(problem, poses, scale):
     distance from the poses' centroid to the farthest ground pivot allowed; given ground
     pivots are fixed."""
     lo, hi = least_squares.default_bounds(poses)
+    lo, hi = np.maximum(lo, -MAX_LENGTH), np.minimum(hi, MAX_LENGTH)  # within the sizes any file accepts
     reach = 0.0  # a missing length bound must reach the poses from the farthest ground pivot allowed
     cen = poses[:, :2].mean(0)
     corners = ([p for p in problem.ground_pivots] if problem.ground_pivots is not None else []) + (
@@ -252,7 +255,7 @@ def _bounds(problem, poses, scale):
         if r is not None:
             lo[k], hi[k] = max(r[0], 1e-6 * r[1]), r[1]
         else:
-            hi[k] = max(hi[k], reach)
+            hi[k] = min(max(hi[k], reach), MAX_LENGTH)
     if problem.ground_pivot is not None:
         (lo[0], hi[0]), (lo[1], hi[1]) = problem.ground_pivot
     if problem.ground_angle is not None:
