@@ -69,15 +69,37 @@ def _err(line: str) -> None:
 
 
 def _progress(total: int):
-    """A rich progress display on stderr (a spinner, the file count and the elapsed time)
-    for batches and long solves; silent when stderr is not a terminal."""
+    """A rich progress display on stderr (a spinner, the file being solved, the files
+    done, the evaluations the solve has spent so far and the elapsed time) for batches and
+    long solves; None (nothing shown, nothing counted) when stderr is not a terminal."""
     if not sys.stderr.isatty():
         return None
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
     return Progress(SpinnerColumn(), TextColumn("{task.description}"), BarColumn(),
-                    MofNCompleteColumn(), TimeElapsedColumn(),
+                    MofNCompleteColumn(), TextColumn("{task.fields[work]}"), TimeElapsedColumn(),
                     console=Console(file=sys.stderr), transient=True)
+
+
+class _Evaluations:
+    """The evaluations a serial solve spends (search.budget.watch), shown in the progress
+    display at most every `every` seconds; `reset()` for the next file."""
+
+    def __init__(self, prog, task, every: float = 0.1) -> None:
+        import time
+        self.prog, self.task, self.every, self.clock = prog, task, every, time.monotonic
+        self.count, self.shown = 0, 0.0
+
+    def __call__(self, n: int) -> None:
+        self.count += n
+        now = self.clock()
+        if now - self.shown >= self.every:
+            self.shown = now
+            self.prog.update(self.task, work=f"{self.count:,} evaluations")
+
+    def reset(self) -> None:
+        self.count, self.shown = 0, 0.0
+        self.prog.update(self.task, work="")
 
 
 _ctrl_c_seen = [False]  # set by _interruptible's handler; read by _stop_if_interrupted
@@ -170,9 +192,12 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
     printed = 0  # reports shown so far
     prog = _progress(len(names))
     task = None
+    counter = None
     if prog is not None:
+        from linkcli.search import budget
         prog.start()
-        task = prog.add_task(f"solving {names[0]}", total=len(names))
+        task = prog.add_task(f"solving {names[0]}", total=len(names), work="")
+        counter = budget.watch = _Evaluations(prog, task)  # a serial solve counts here
     try:
         with contextlib.closing(execute(names, request)) as outcomes:  # Ctrl-C: closed at once
             for name, outcome in zip(names, outcomes):
@@ -207,11 +232,14 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
                     done = int(prog.tasks[0].completed) + 1
                     nxt = names[done] if done < len(names) else ""
                     prog.update(task, advance=1, description=f"solving {nxt}" if nxt else "done")
+                    counter.reset()
                     prog.start()
     except LinkcliError as exc:  # the executor failed (--cluster): no file is to blame
         return max(worst, _fail(exc, debug))
     finally:
         if prog is not None:
+            from linkcli.search import budget
+            budget.watch = None
             prog.stop()
     if out is not None:
         worst = max(worst, _write_out([r for r in reports if "type" in r], out, fmt, precision, table))
