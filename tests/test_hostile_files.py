@@ -251,3 +251,96 @@ def test_a_short_array_is_shown_in_what_was_found(tmp_path, value, shown):
     assert code == 2
     assert err == (f"{target}:13: loads.coupler_force: expected a force [Fx, Fy] of two finite "
                    f"numbers (N), found {shown}\n")
+
+
+# -- sizes: a result any file can hold ------------------------------------------------------
+
+def test_path_targets_near_the_size_limit_give_a_result_analyze_reads(tmp_path):
+    # targets 1.9e9 apart: the default bounds (5 times the targets' extent) are kept within
+    # the sizes a file accepts, so the linkage found is one `analyze` reads back (before:
+    # lengths of 5.2e9, coordinates of 5.5e9, refused by analyze)
+    problem = tmp_path / "far.toml"
+    problem.write_text('type = "path-generation"\n[target]\n'
+                       'points = [[-9.5e8, 2e8], [-3e8, 9.8e8], [5e8, 8e8], [9.7e8, -6e8]]\ntiming = "free"\n'
+                       '[solver]\nbudget = 40000\n')
+    code, out, err = run_cli("synth", str(problem), "--format", "toml")
+    assert code in (0, 1), err
+    result = tmp_path / "far_result.toml"
+    result.write_text(out)
+    import tomllib
+    lk = tomllib.loads(out)["linkage"]
+    assert max(lk[k] for k in ("ground", "input", "coupler", "output")) <= 1e9
+    assert max(abs(v) for v in lk["coupler_point"] + lk["ground_pivot"]) <= 1e9
+    code, out, err = run_cli("analyze", str(result))
+    assert code in (0, 1) and err == "", err
+
+
+def test_a_motion_search_near_the_size_limit_stays_within_it(tmp_path):
+    problem = tmp_path / "far.toml"
+    problem.write_text('type = "motion-generation"\n[target]\nposes = [[-6e8, -5e8, 20], [7e8, 6e8, 65]]\n')
+    code, out, err = run_cli("synth", str(problem), "--format", "toml")
+    assert code in (0, 1), err
+    result = tmp_path / "result.toml"
+    result.write_text(out)
+    code, out, err = run_cli("analyze", str(result))
+    assert code in (0, 1) and err == "", err
+
+
+def test_a_solved_linkage_beyond_the_sizes_is_refused_as_input(tmp_path):
+    problem = tmp_path / "huge.toml"  # the closed form gives a connecting rod of 1.76e9 mm
+    problem.write_text('type = "quick-return"\nmechanism = "slider-crank"\ntime_ratio = 1.25\nstroke = 1e9\n'
+                       '[linkage]\noffset = 1e9\n')
+    code, out, err = run_cli("synth", str(problem))
+    assert code == 2 and out == ""
+    assert err.startswith(f"{problem}: linkage: expected data whose linkage fits the sizes a file accepts "
+                          "(lengths and coordinates at most 1e+09 mm: give the problem in a larger length "
+                          "unit), found a linkage with coupler 1.")
+    assert len(err.splitlines()) == 1
+
+
+# -- options refused before any solve -----------------------------------------------------
+
+@pytest.mark.parametrize("option", ["--out", "--plot"])
+def test_an_unwritable_folder_is_refused_before_solving(option):
+    prefix = _as_another_user()
+    if prefix is None:
+        pytest.skip("running as root without setpriv: every folder is writable")
+    folder = Path(tempfile.mkdtemp())
+    try:
+        folder.chmod(0o755)
+        locked = folder / "locked"
+        locked.mkdir()
+        locked.chmod(0o555)
+        shutil.copy(ROOT / "problems" / "firedoor.toml", folder / "a.toml")
+        (folder / "a.toml").chmod(0o644)
+        target = str(locked) if option == "--out" else str(locked / "a.png")
+        code, out, err = _cli("synth", str(folder / "a.toml"), option, target, prefix=prefix, cwd=folder)
+    finally:
+        shutil.rmtree(folder)
+    assert code == 2 and out == ""  # nothing solved, nothing printed
+    assert err.count("\n") == 1 and "can be written, found" in err and "Permission denied" in err
+
+
+@pytest.mark.parametrize("fmt", ["table", "json", "toml"])
+def test_table_without_csv_is_refused(fmt):
+    code, out, err = run_cli("synth", "problems/firedoor.toml", "--format", fmt, "--table", "positions")
+    assert code == 2 and out == ""
+    assert err == f"--table: expected --format csv with it (the row table to write), found --format {fmt}\n"
+
+
+# -- round-off prints as 0 ----------------------------------------------------------------------
+
+def test_a_pivot_on_a_zero_bound_prints_zero_in_the_trade_off(tmp_path):
+    problem = tmp_path / "flip.toml"
+    text = open(ROOT / "problems" / "flipper.toml").read().replace("[objective]", "[objective]\npareto = 5")
+    import re
+    text = re.sub(r"^base_pivot\s*=.*$", "base_pivot = { x = [400, 1400], y = [-50, 0] }", text, flags=re.M)
+    problem.write_text(text)
+    code, out, err = run_cli("synth", str(problem), "--format", "json")
+    import json
+    report = json.loads(out)
+    values = [v for row in report["pareto"] for v in row["rod_pivot"] + row["base_pivot"]]
+    values += [v for v in report["cylinder"]["rod_pivot"] + report["cylinder"]["base_pivot"]]
+    size = max(abs(v) for v in values)
+    assert all(v == 0 or abs(v) > 1e-9 * size for v in values), values  # no round-off of 0 printed
+    assert any(row["base_pivot"][1] == 0 for row in report["pareto"])
