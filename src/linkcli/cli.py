@@ -435,7 +435,8 @@ def check(files: List[str] = FILES, debug: bool = DEBUG) -> None:
 def bench(files: List[str] = typer.Argument(None, metavar="[FILE...]",
                                              help="Problem files (default: the bench set shipped with linkcli, "
                                                   "a copy of problems/bench/)."),
-          format: Format = FORMAT,
+          format: Format = typer.Option(Format.table, "--format", "-f", metavar="table|json|toml|csv",
+                                        help="Output format (csv: one row per run)."),
           seeds: int = typer.Option(3, "--seeds", metavar="N", help="Seeds per setting.", min=1),
           precision: int = typer.Option(4, "--precision", metavar="N",
                                         help="Significant digits in the output (1 .. 17).", min=1, max=17),
