@@ -10,7 +10,6 @@ light. `--debug` lets a traceback through.
 from __future__ import annotations
 
 import contextlib
-import os
 import sys
 from enum import Enum
 from pathlib import Path
@@ -279,7 +278,7 @@ def _prepare_out(out: Path) -> bool:
     """--out must be a folder that exists or can be made, and that takes a file (a probe
     file is made and removed: permissions, a read-only file system); checked before any
     solve."""
-    import tempfile
+    from linkcli.io.output_guard import refuses_files
     if out.exists() and not out.is_dir():
         _err(f"{out}: expected a folder for --out, found a file")
         return False
@@ -288,12 +287,9 @@ def _prepare_out(out: Path) -> bool:
     except OSError as exc:
         _err(f"{out}: expected a folder for --out that can be created, found {exc.strerror or exc}")
         return False
-    try:
-        handle, probe = tempfile.mkstemp(prefix=".linkcli-probe-", dir=out)
-        os.close(handle)
-        os.unlink(probe)
-    except OSError as exc:
-        _err(f"{out}: expected a folder for --out that can be written, found {exc.strerror or exc}")
+    why = refuses_files(out)
+    if why:
+        _err(f"{out}: expected a folder for --out that can be written, found {why}")
         return False
     return True
 

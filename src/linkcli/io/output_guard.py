@@ -1,4 +1,5 @@
-"""Standard output that can be lost mid-run, and what linkcli does then.
+"""Where output goes: standard output that can be lost mid-run, and what linkcli does then;
+a folder that must take files (--out, --plot), probed before anything is solved.
 
 Three ways the output goes: the reader closes the pipe (`linkcli synth ... | head -1`:
 EPIPE), the device refuses it (`> /dev/full`: ENOSPC), or there is none (`>&-`: Python's
@@ -88,3 +89,17 @@ def exit_code(lost: OutputLost, report) -> int:
     report(f"standard output: expected an output that takes the report, found "
            f"{lost.error.strerror or lost.error}")
     return 2
+
+
+def refuses_files(folder) -> str | None:
+    """Why `folder` (an existing folder) cannot take a new file, or None: a probe file is
+    made and removed, which catches what permission bits do not show (a read-only file
+    system, an ACL, root squash)."""
+    import tempfile
+    try:
+        handle, probe = tempfile.mkstemp(prefix=".linkcli-probe-", dir=folder)
+        os.close(handle)
+        os.unlink(probe)
+    except OSError as exc:
+        return exc.strerror or str(exc)
+    return None

@@ -26,12 +26,8 @@ def plot_path_problem(plot: Path, names: list[str]) -> str | None:
     if probe.exists() and not probe.is_dir():
         return f"{plot}: expected a plot path inside a folder, found {probe} is a file"
     if probe.is_dir():  # the folder that will hold the picture (or be made in) must take a file
-        import os
-        import tempfile
-        try:
-            handle, name = tempfile.mkstemp(prefix=".linkcli-probe-", dir=probe)
-            os.close(handle)
-            os.unlink(name)
-        except OSError as exc:
-            return f"{plot}: expected a plot path in a folder that can be written, found {probe}: {exc.strerror or exc}"
+        from linkcli.io.output_guard import refuses_files
+        why = refuses_files(probe)
+        if why:
+            return f"{plot}: expected a plot path in a folder that can be written, found {probe}: {why}"
     return None
