@@ -75,6 +75,7 @@ def test_json_of_report_rows_has_the_bytes_of_the_reference_writer():
 
 
 def test_json_is_written_in_bounded_pieces():
+    from linkcli.io.export import FLUSH_PIECES
     rows = [{"input": k * 0.001, "output": math.sin(k)} for k in range(20_000)]
     sizes = []
 
@@ -84,9 +85,10 @@ def test_json_is_written_in_bounded_pieces():
             return super().write(text)
 
     out = Recorder()
-    write_json({"kinematics": rows}, 6, out, chunk=4096)
+    write_json({"kinematics": rows}, 6, out)
     assert out.getvalue() == reference_json({"kinematics": rows}, 6)
-    assert len(sizes) > 100 and max(sizes) < 4096 + 200  # never the whole text at once
+    whole = len(out.getvalue())
+    assert len(sizes) >= 2 * len(rows) // FLUSH_PIECES and max(sizes) < whole / 4  # never the whole text at once
 
 
 def reference_csv(rows, digits):

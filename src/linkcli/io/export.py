@@ -5,14 +5,14 @@ significant digits, numbers inside messages and notes likewise (linkcli.textnum)
 0.0, non-finite to None (JSON null; left out of TOML, which has no null). Same report, same
 bytes. `result_stems` names the files written per result (--out and --plot).
 
-JSON scales with the rows of a report (100,000 kinematics or load rows): `iter_json`
+JSON scales with the rows of a report (100,000 kinematics or load rows): `write_json`
 rounds at the leaves as it writes (no rounded copy of the report) and hands every
 container that holds only numbers, strings, booleans and nulls -- a row, a pin's force, a
 point -- to the json module's C encoder, with the separators of its depth, so that the
 bytes are exactly those of `json.dumps(rounded(report, digits), indent=2,
 ensure_ascii=False)` (tests/test_export.py holds them against that reference); only the
-few containers that hold containers are walked in Python. The text comes out in pieces
-for the caller to write as they come.
+few containers that hold containers are walked in Python. The text is written in pieces
+as it is made.
 """
 
 from __future__ import annotations
@@ -21,7 +21,6 @@ import json
 import math
 from functools import lru_cache
 from pathlib import PurePath
-from typing import Iterator
 
 from linkcli.textnum import render
 
@@ -84,15 +83,16 @@ def _flat_encoder(level: int):
     return lambda obj: "".join(iterencode(obj, 0))
 
 
-def iter_json(obj, digits: int, level: int = 0) -> Iterator[str]:
-    """The text of `json.dumps(rounded(obj, digits), indent=2, ensure_ascii=False)`, in
-    pieces (module docstring)."""
+def _json(obj, digits: int, level: int, out: list, flush=None) -> None:
+    """Append the text of `json.dumps(rounded(obj, digits), indent=2, ensure_ascii=False)`
+    (at indent `level`) to `out`, in pieces (module docstring); `flush()`, when given, is
+    called between the items of a long array, so the caller can write what `out` holds."""
     if not isinstance(obj, _CONTAINERS):
-        yield _flat_encoder(level)(rounded_leaf(obj, digits))
+        out.append(_flat_encoder(level)(rounded_leaf(obj, digits)))
         return
     is_dict = isinstance(obj, dict)
     if not obj:
-        yield "{}" if is_dict else "[]"
+        out.append("{}" if is_dict else "[]")
         return
     values = obj.values() if is_dict else obj
     inner, outer = "  " * (level + 1), "  " * level
@@ -108,41 +108,47 @@ def iter_json(obj, digits: int, level: int = 0) -> Iterator[str]:
             flat = [float(format(v, fmt)) + 0.0 if type(v) is float and -1e308 < v < 1e308
                     else rounded_leaf(v, digits) for v in obj]
         text = _flat_encoder(level)(flat)
-        yield ("{\n" if is_dict else "[\n") + inner + text[1:-1] + "\n" + outer + ("}" if is_dict else "]")
+        out.append(("{\n" if is_dict else "[\n") + inner + text[1:-1] + "\n" + outer + ("}" if is_dict else "]"))
         return
-    yield "{" if is_dict else "["
+    out.append("{" if is_dict else "[")
     first = True
     if is_dict:
         for key, value in obj.items():
-            yield ("\n" if first else ",\n") + inner + json.encoder.encode_basestring(str(key)) + ": "
+            out.append(("\n" if first else ",\n") + inner + json.encoder.encode_basestring(str(key)) + ": ")
             first = False
-            yield from iter_json(value, digits, level + 1)
+            _json(value, digits, level + 1, out, flush)
     else:
         for value in obj:
-            yield ("\n" if first else ",\n") + inner
+            out.append(("\n" if first else ",\n") + inner)
             first = False
-            yield from iter_json(value, digits, level + 1)
-    yield "\n" + outer + ("}" if is_dict else "]")
+            _json(value, digits, level + 1, out, flush)
+            if flush is not None and len(out) >= FLUSH_PIECES:
+                flush()
+    out.append("\n" + outer + ("}" if is_dict else "]"))
+
+
+FLUSH_PIECES = 4096  # write_json writes after about this many pieces
 
 
 def to_json(reports, digits: int) -> str:
-    return "".join(iter_json(reports, digits)) + "\n"
+    out: list[str] = []
+    _json(reports, digits, 0, out)
+    out.append("\n")
+    return "".join(out)
 
 
-def write_json(reports, digits: int, file, chunk: int = 1 << 16) -> None:
-    """`to_json(reports, digits)` written to `file` as it is made, about `chunk`
-    characters a write: the whole text is never held (100,000 rows are 50 MB of it)."""
-    pieces: list[str] = []
-    size = 0
-    for piece in iter_json(reports, digits):
-        pieces.append(piece)
-        size += len(piece)
-        if size >= chunk:
-            file.write("".join(pieces))
-            pieces.clear()
-            size = 0
-    pieces.append("\n")
-    file.write("".join(pieces))
+def write_json(reports, digits: int, file) -> None:
+    """`to_json(reports, digits)` written to `file` as it is made, a few thousand pieces
+    (some 100 KB) a write: the whole text is never held (100,000 rows are 50 MB of it)."""
+    out: list[str] = []
+
+    def flush() -> None:
+        file.write("".join(out))
+        out.clear()
+
+    _json(reports, digits, 0, out, flush)
+    out.append("\n")
+    flush()
 
 
 def _drop_none(obj):
