@@ -46,17 +46,20 @@ def _text(value, digits: int) -> str:
     return str(value)
 
 
-def _cells(prefix: str, value, cells: dict, digits: int, fmt: str) -> None:
+def _cells(prefix: str, value, cells: dict, digits: int | None, fmt: str) -> None:
     """The cells of one row (or of a value inside it), by column name, rounded as they
-    are flattened (no rounded copy of the rows is made)."""
+    are flattened (no rounded copy of the rows is made); `digits` None: the column names
+    alone (every cell None)."""
     if isinstance(value, dict):
         for k, v in value.items():
             name = f"{prefix}.{k}" if prefix else str(k)
-            if type(v) is float and -1e308 < v < 1e308:  # the common leaf, inlined (export.round_sig)
+            if isinstance(v, (dict, list, tuple)):
+                _cells(name, v, cells, digits, fmt)
+            elif digits is None:
+                cells[name] = None
+            elif type(v) is float and -1e308 < v < 1e308:  # the common leaf, inlined (export.round_sig)
                 v = float(format(v, fmt)) + 0.0
                 cells[name] = repr(v) if v != int(v) or abs(v) >= 1e16 else str(int(v))
-            elif isinstance(v, (dict, list, tuple)):
-                _cells(name, v, cells, digits, fmt)
             else:
                 cells[name] = _text(v, digits)
     elif isinstance(value, (list, tuple)):
@@ -64,22 +67,28 @@ def _cells(prefix: str, value, cells: dict, digits: int, fmt: str) -> None:
         for suffix, v in zip(names, value):
             _cells(prefix + suffix, v, cells, digits, fmt)
     else:
-        cells[prefix] = _text(value, digits)
+        cells[prefix] = None if digits is None else _text(value, digits)
 
 
 def write_csv(rows: list[dict], digits: int, file) -> None:
     """One row table as CSV (a header line, then one line per row; "\\n" line ends),
-    written to `file` as it is made."""
+    written to `file` as it is made: the columns (their first appearance over all rows)
+    in a first pass that formats nothing, then each row formatted and written, so the
+    cells of 100,000 rows are never held at once."""
     fmt = f".{digits}g"
-    flat = []
+    names: dict = {}
     for row in rows:
-        cells: dict = {}
-        _cells("", row, cells, digits, fmt)
-        flat.append(cells)
-    columns = list(dict.fromkeys(k for cells in flat for k in cells))
+        _cells("", row, names, None, fmt)
+    columns = list(names)
     writer = csv.writer(file, lineterminator="\n")
     writer.writerow(columns)
-    writer.writerows([cells.get(c, "") for c in columns] for cells in flat)
+    for start in range(0, len(rows), 1000):
+        block = []
+        for row in rows[start:start + 1000]:
+            cells: dict = {}
+            _cells("", row, cells, digits, fmt)
+            block.append([cells.get(c, "") for c in columns])
+        writer.writerows(block)
 
 
 def to_csv(rows: list[dict], digits: int) -> str:
