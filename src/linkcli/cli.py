@@ -193,10 +193,13 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
     task = None
     counter = None
     if prog is not None:
+        from linkcli.pipeline import serial
         from linkcli.search import budget
         prog.start()
         task = prog.add_task(f"solving {names[0]}", total=len(names), work="")
-        counter = budget.watch = _Evaluations(prog, task)  # a serial solve counts here
+        counter = _Evaluations(prog, task)
+        if execute is serial:  # solves in this process count here (a forked --jobs worker must not
+            budget.watch = counter  # touch the display: its lock may have been held at the fork)
     try:
         with contextlib.closing(execute(names, request)) as outcomes:  # Ctrl-C: closed at once
             for name, outcome in zip(names, outcomes):
