@@ -256,3 +256,76 @@ def test_importing_the_module_imports_no_dask():
                      "('dask', 'distributed', 'tornado', 'cloudpickle')))")
     assert run.returncode == 0, run.stderr
     assert run.stdout.strip() == "[]"
+
+
+class Listener:
+    """A TCP listener on a free local port that is not a Dask scheduler: `banner` bytes
+    sent as soon as a client connects (another protocol that speaks first, e.g. SSH), then
+    whatever it receives is read and never answered (an HTTP server waiting for a request
+    line Dask never sends). Runs in a daemon thread for the `with` block."""
+
+    def __init__(self, banner: bytes = b"") -> None:
+        import socket
+        self.banner = banner
+        self.server = socket.create_server(("127.0.0.1", 0))
+        self.address = f"tcp://127.0.0.1:{self.server.getsockname()[1]}"
+        self.open: list = []
+
+    def _serve(self) -> None:
+        while True:
+            try:
+                conn, _ = self.server.accept()
+            except OSError:  # closed
+                return
+            self.open.append(conn)
+            if self.banner:
+                conn.sendall(self.banner)
+
+    def __enter__(self) -> "Listener":
+        import threading
+        threading.Thread(target=self._serve, daemon=True).start()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.server.close()
+        for conn in self.open:
+            conn.close()
+
+
+@pytest.mark.parametrize("banner, found", [  # a silent listener: test_cluster_cli.py
+    (b"SSH-2.0-OpenSSH_9.6p1 Ubuntu-3ubuntu13\r\n", "a listener that does not speak Dask's protocol"),
+    (b"HTTP/1.0 400 Bad request\r\nContent-Type: text/html\r\n\r\n<html></html>\r\n",
+     "a listener that does not speak Dask's protocol"),
+    (b"\x08" + b"\x00" * 7 + b"\x01" * 8, "a listener that "),  # a plausible frame size, then junk
+])
+def test_a_listener_that_is_not_a_scheduler_is_one_input_error_line(banner, found):
+    # Dask's own connect waits without limit for a handshake and trusts the frame sizes it
+    # reads; the probe bounds the whole exchange by the connect timeout
+    with Listener(banner) as listener:
+        with pytest.raises(InputError) as caught:
+            next(map_ordered(fake_solve, [("a", 1)], listener.address, connect_timeout=1.0))
+    message = str(caught.value)
+    assert message.startswith(f"--cluster: expected a Dask scheduler answering at "
+                              f"{listener.address} within 1 s, found {found}"), message
+    assert "\n" not in message
+
+
+def test_a_worker_address_is_refused_naming_the_scheduler(cluster):
+    worker = next(iter(cluster.scheduler.workers))
+    with pytest.raises(InputError) as caught:
+        next(map_ordered(fake_solve, [("a", 1)], worker, connect_timeout=2.0))
+    assert str(caught.value) == (f"--cluster: expected a Dask scheduler answering at {worker} "
+                                 "within 2 s, found a Dask worker (give its scheduler's address)")
+
+
+def test_local_n_is_limited_to_the_tasks_and_cpus_like_jobs():
+    from linkcli.cluster import local_workers
+    cpus = os.cpu_count() or 1
+    assert local_workers("local:1000000", items=3) == min(3, cpus)
+    assert local_workers("local:1000000", items=10**6) == cpus
+    assert local_workers("local:1", items=50) == 1
+    for address in ("local:0", "local:" + "9" * 5000, "local:١"):  # zero, 5000 digits, an Arabic digit
+        with pytest.raises(InputError) as caught:
+            local_workers(address)
+        assert str(caught.value).startswith("--cluster: expected local:N with N a whole number")
+        assert len(str(caught.value)) < 200

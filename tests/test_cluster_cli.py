@@ -286,3 +286,30 @@ def test_a_ctrl_c_inside_a_gc_callback_is_not_printed_as_an_ignored_exception(mo
     assert err.splitlines()[-1] == "interrupted"
     assert "Traceback" not in err and "Exception ignored" not in err, err
     assert sys.unraisablehook is hook  # restored
+
+
+def test_a_silent_listener_is_one_line_and_exit_2_in_bounded_time():
+    # something accepts the connection and never answers (an HTTP server waits for a request
+    # line Dask never sends): Dask alone would wait for its handshake without limit; a hang
+    # here ends in the subprocess timeout, a failure
+    import socket
+    with socket.create_server(("127.0.0.1", 0)) as server:
+        address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
+        run = python("import sys\n"
+                     "from linkcli.cli import main\n"
+                     f"sys.argv = ['linkcli', 'synth', 'problems/firedoor.toml', '--cluster', {address!r}]\n"
+                     "try:\n"
+                     "    main()\n"
+                     "except SystemExit as done:\n"
+                     "    print(done.code)\n", timeout=60)
+    assert run.stdout == "2\n"
+    assert run.stderr == (f"--cluster: expected a Dask scheduler answering at {address} within 5 s, "
+                          "found a listener that did not answer as Dask within 5 s\n")
+
+
+def test_local_with_a_million_workers_starts_no_more_than_it_can_use():
+    # local:N is limited to the files and the CPUs, as --jobs is: one file, one worker
+    code, out, err = run_cli("synth", "problems/firedoor.toml", "--format", "json",
+                             "--cluster", "local:1000000")
+    assert code == 0, err
+    assert json.loads(out)["status"] == "ok"

@@ -88,7 +88,7 @@ def test_a_title_with_terminal_escapes_is_shown_escaped_in_the_table(tmp_path):
     code, out, err = run_cli("synth", str(p))
     assert code == 0, err
     assert "\x1b" not in out and "\x07" not in out
-    assert out.splitlines()[0].startswith("\\x1b[2J\\x1b[31mRED\\x07  (")
+    assert out.splitlines()[0].startswith("\\x1b[2J\\x1b[31mRED\\x07")  # (the file may wrap below it)
 
 
 def test_a_file_name_with_escapes_is_shown_escaped_in_errors(tmp_path):

@@ -198,12 +198,12 @@ def command(files: list[str], fmt: str, seeds: int, precision: int, debug: bool,
         from linkcli.io.export import to_toml
         sys.stdout.write(to_toml({"summary" if summary_only else "bench": shown}, precision))
     else:
-        from linkcli.io.report import console
+        from linkcli.io.report import console, print_table
         out = console(width=None if sys.stdout.isatty() else 400)  # tables are as wide as their cells
         if not summary_only:
-            out.print(_table("linkcli bench: run time against error", rows, COLUMNS, precision))
-        out.print(_table("reliability over the seeds (within 1e-6 of the best known)", summary(rows),
-                         SUMMARY_COLUMNS, precision))
+            print_table(out, _table("linkcli bench: run time against error", rows, COLUMNS, precision))
+        print_table(out, _table("reliability over the seeds (within 1e-6 of the best known)", summary(rows),
+                                SUMMARY_COLUMNS, precision))  # on a terminal: in blocks of columns
     return worst
 
 

@@ -58,20 +58,47 @@ def main_callback(
 
 
 def _err(line: str) -> None:
+    """One line on stderr (escaped: one_line); a stderr that cannot take it is ignored, as
+    there is nowhere left to say so."""
     from linkcli.io.terminal_text import one_line
-    sys.stderr.write(one_line(line.rstrip("\n")) + "\n")
+    try:
+        sys.stderr.write(one_line(line.rstrip("\n")) + "\n")
+    except (OSError, AttributeError, ValueError):  # closed, full, or None
+        pass
 
 
 def _progress(total: int):
-    """A rich progress display on stderr (a spinner, the file count and the elapsed time)
-    for batches and long solves; silent when stderr is not a terminal."""
+    """A rich progress display on stderr (a spinner, the file being solved, the files
+    done, the evaluations the solve has spent so far and the elapsed time) for batches and
+    long solves; None (nothing shown, nothing counted) when stderr is not a terminal."""
     if not sys.stderr.isatty():
         return None
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
     return Progress(SpinnerColumn(), TextColumn("{task.description}"), BarColumn(),
-                    MofNCompleteColumn(), TimeElapsedColumn(),
+                    MofNCompleteColumn(), TextColumn("{task.fields[work]}"), TimeElapsedColumn(),
                     console=Console(file=sys.stderr), transient=True)
+
+
+class _Evaluations:
+    """The evaluations a serial solve spends (search.budget.watch), shown in the progress
+    display at most every `every` seconds; `reset()` for the next file."""
+
+    def __init__(self, prog, task, every: float = 0.1) -> None:
+        import time
+        self.prog, self.task, self.every, self.clock = prog, task, every, time.monotonic
+        self.count, self.shown = 0, 0.0
+
+    def __call__(self, n: int) -> None:
+        self.count += n
+        now = self.clock()
+        if now - self.shown >= self.every:
+            self.shown = now
+            self.prog.update(self.task, work=f"{self.count:,} evaluations")
+
+    def reset(self) -> None:
+        self.count, self.shown = 0, 0.0
+        self.prog.update(self.task, work="")
 
 
 _ctrl_c_seen = [False]  # set by _interruptible's handler; read by _stop_if_interrupted
@@ -131,7 +158,7 @@ def _interruptible():
             signal.signal(signal.SIGINT, previous)
 
 
-def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path], precision: int,
+def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], precision: int,
                    jobs: int, plot: Optional[Path], table: Optional[str] = None,
                    cluster: Optional[str] = None, exports: tuple = (None, None)) -> int:
     """synth and analyze: run the pipeline over the files (`request`: mode, seed, debug,
@@ -146,6 +173,9 @@ def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path],
         execute = executor(jobs, names, debug, cluster)
     except LinkcliError as exc:
         return _fail(exc, debug)
+    if table is not None and fmt is not Format.csv:
+        _err(f"--table: expected --format csv with it (the row table to write), found --format {fmt.value}")
+        return 2
     if fmt is Format.csv and out is None and len(names) > 1:
         _err(f"--format csv: expected --out DIR with several files (one CSV file per table), "
              f"found {len(names)} files")
@@ -160,19 +190,26 @@ def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path],
     counts = {0: 0, 1: 0, 2: 0}
     reports: list[dict] = []
     results = []
+    printed = 0  # reports shown so far
     prog = _progress(len(names))
     task = None
+    counter = None
     if prog is not None:
+        from linkcli.pipeline import serial
+        from linkcli.search import budget
         prog.start()
-        task = prog.add_task(f"solving {names[0]}", total=len(names))
+        task = prog.add_task(f"solving {names[0]}", total=len(names), work="")
+        counter = _Evaluations(prog, task)
+        if execute is serial:  # solves in this process count here (a forked --jobs worker must not
+            budget.watch = counter  # touch the display: its lock may have been held at the fork)
     try:
         with contextlib.closing(execute(names, request)) as outcomes:  # Ctrl-C: closed at once
             for name, outcome in zip(names, outcomes):
                 _stop_if_interrupted()
                 code, errors = outcome.exit_code, outcome.errors
                 report = outcome.result.report if outcome.result is not None else None
-                if outcome.result is not None:
-                    results.append(outcome.result)
+                if outcome.result is not None and plot is not None:
+                    results.append(outcome.result)  # kept for the plots only: a report may hold 100,000 rows
                 if prog is not None:
                     prog.stop()  # the transient bar clears; output prints cleanly below
                 for line in errors:
@@ -184,36 +221,40 @@ def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path],
                     reports.append({"file": name, "status": "bad-input" if code == 2 else "error",
                                     "message": "; ".join(errors)})
                 elif report is not None:
-                    reports.append(report)
+                    printed += 1
+                    if fmt in (Format.json, Format.toml) or out is not None:
+                        reports.append(report)  # written at the end
                     if fmt is Format.csv and out is None:
                         worst = max(worst, _print_csv(report, table, precision))
                     if fmt is Format.table and out is None:
                         from linkcli.io.report import print_reports
                         print_reports([report], precision)
-                        if len(reports) < len(names):
+                        if printed < len(names):
                             sys.stdout.write("\n")
                         sys.stdout.flush()
                 if prog is not None:
                     done = int(prog.tasks[0].completed) + 1
                     nxt = names[done] if done < len(names) else ""
                     prog.update(task, advance=1, description=f"solving {nxt}" if nxt else "done")
+                    counter.reset()
                     prog.start()
     except LinkcliError as exc:  # the executor failed (--cluster): no file is to blame
         return max(worst, _fail(exc, debug))
     finally:
         if prog is not None:
+            from linkcli.search import budget
+            budget.watch = None
             prog.stop()
     if out is not None:
         worst = max(worst, _write_out([r for r in reports if "type" in r], out, fmt, precision, table))
     elif fmt is Format.json:  # a bad file has its slot object, alone or in a batch
-        from linkcli.io.export import to_json
-        sys.stdout.write(to_json(reports if len(names) > 1 else reports[0], precision))
+        from linkcli.io.export import write_json
+        write_json(reports if len(names) > 1 else reports[0], precision, sys.stdout)
     elif fmt is Format.toml and reports:
         from linkcli.io.export import to_toml_many
         sys.stdout.write(to_toml_many(reports, precision))
-    reports = [r for r in reports if "type" in r]
     if plot is not None and results:
-        worst = max(worst, _plot(results, len(names), plot, debug))
+        worst = max(worst, _plot(results, len(names), plot, debug, precision))
     if any(exports) and results:
         from linkcli import exports as export_files
         worst = max(worst, export_files.write(results, len(names), *exports, debug))
@@ -250,7 +291,10 @@ def _exports_problem(exports: tuple, names: list[str]) -> bool:
 
 
 def _prepare_out(out: Path) -> bool:
-    """--out must be a folder that exists or can be made; checked before any solve."""
+    """--out must be a folder that exists or can be made, and that takes a file (a probe
+    file is made and removed: permissions, a read-only file system); checked before any
+    solve."""
+    from linkcli.io.output_guard import refuses_files
     if out.exists() and not out.is_dir():
         _err(f"{out}: expected a folder for --out, found a file")
         return False
@@ -258,6 +302,10 @@ def _prepare_out(out: Path) -> bool:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         _err(f"{out}: expected a folder for --out that can be created, found {exc.strerror or exc}")
+        return False
+    why = refuses_files(out)
+    if why:
+        _err(f"{out}: expected a folder for --out that can be written, found {why}")
         return False
     return True
 
@@ -277,7 +325,7 @@ def _csv_tables(report: dict, table: Optional[str]) -> tuple[dict, str | None]:
 
 def _print_csv(report: dict, table: Optional[str], precision: int) -> int:
     """One problem's one row table as CSV on stdout (the only one, or --table NAME)."""
-    from linkcli.io.csv_tables import to_csv
+    from linkcli.io.csv_tables import write_csv
     tables, problem = _csv_tables(report, table)
     if problem is None and len(tables) != 1:
         known = ", ".join(tables) or "none (ask for a section with rows, e.g. kinematics or positions)"
@@ -286,16 +334,16 @@ def _print_csv(report: dict, table: Optional[str], precision: int) -> int:
     if problem:
         _err(problem)
         return 2
-    sys.stdout.write(to_csv(next(iter(tables.values())), precision))
+    write_csv(next(iter(tables.values())), precision, sys.stdout)
     return 0
 
 
 def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int, table: Optional[str] = None) -> int:
-    from linkcli.io.export import result_stems, to_json, to_toml
+    from linkcli.io.export import result_stems, to_toml, write_json
     from linkcli.io.report import render_text
     for rep, stem in zip(reports, result_stems([rep["file"] for rep in reports])):
         if fmt is Format.csv:  # one file per row table: <stem>.<table>.csv
-            from linkcli.io.csv_tables import to_csv
+            from linkcli.io.csv_tables import write_csv
             tables, problem = _csv_tables(rep, table)
             if problem:
                 _err(problem)
@@ -303,37 +351,39 @@ def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int, tabl
             for name, rows in tables.items():
                 target = out / f"{stem}.{name}.csv"
                 try:
-                    target.write_text(to_csv(rows, precision), encoding="utf-8")
+                    with open(target, "w", encoding="utf-8", newline="") as handle:
+                        write_csv(rows, precision, handle)
                 except OSError as exc:
                     _err(f"{target}: expected a writable result file, found {exc.strerror or exc}")
                     return 2
             continue
         target = out / f"{stem}.{EXT[fmt.value]}"
-        if fmt is Format.json:
-            text = to_json(rep, precision)
-        elif fmt is Format.toml:
-            text = to_toml(rep, precision)
-        else:
-            text = render_text([rep], precision)
         try:
-            target.write_text(text, encoding="utf-8")
+            with open(target, "w", encoding="utf-8") as handle:
+                if fmt is Format.json:
+                    write_json(rep, precision, handle)
+                else:
+                    handle.write(to_toml(rep, precision) if fmt is Format.toml else render_text([rep], precision))
         except OSError as exc:
             _err(f"{target}: expected a writable result file, found {exc.strerror or exc}")
             return 2
     return 0
 
 
-def _plot(results, files: int, plot: Path, debug: bool) -> int:
+def _plot(results, files: int, plot: Path, debug: bool, precision: int = 6) -> int:
     try:
         from linkcli import plot as plotting
     except ImportError:
         _err(f"{plot}: expected the plot extra (pip install \"linkcli[plot]\"), found no plotting module")
         return 2
-    return plotting.plot_command(results, files, plot, debug)
+    return plotting.plot_command(results, files, plot, debug, precision)
 
 
 # metavars are written for people: FILE..., N, DIR (not click's {files}... or <int range>)
-FILES = typer.Argument(..., help="Problem files (TOML).", exists=False, metavar="FILE...")
+# FILE arguments are plain strings: click's Path would refuse an unreadable file for the
+# whole batch before anything runs, and pathlib would rewrite the names ("" -> ".",
+# "./a//b.toml" -> "a/b.toml"); each file is read, and refused in its slot, by io.safe_read
+FILES = typer.Argument(..., help="Problem files (TOML).", metavar="FILE...")
 FORMAT = typer.Option(Format.table, "--format", "-f", metavar="table|json|toml|csv",
                       help="Output format (csv: the row tables, see --table).")
 TABLE = typer.Option(None, "--table", metavar="NAME",
@@ -359,7 +409,7 @@ CLUSTER = typer.Option(None, "--cluster", metavar="ADDRESS",
 
 
 @app.command(cls=PlainUsage)
-def synth(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
+def synth(files: List[str] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
           seed: Optional[int] = SEED, precision: int = PRECISION, jobs: int = JOBS,
           plot: Optional[Path] = PLOT, debug: bool = DEBUG, timing: bool = TIMING,
           table: Optional[str] = TABLE, cluster: Optional[str] = CLUSTER,
@@ -374,7 +424,7 @@ def synth(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Path
 
 
 @app.command(cls=PlainUsage)
-def analyze(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
+def analyze(files: List[str] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
             precision: int = PRECISION, jobs: int = JOBS, plot: Optional[Path] = PLOT,
             debug: bool = DEBUG, table: Optional[str] = TABLE,
             animate: Optional[Path] = ANIMATE, dxf: Optional[Path] = DXF) -> None:
@@ -388,7 +438,7 @@ def analyze(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Pa
 
 
 @app.command(cls=PlainUsage)
-def check(files: List[Path] = FILES, debug: bool = DEBUG) -> None:
+def check(files: List[str] = FILES, debug: bool = DEBUG) -> None:
     """Validate problem files without solving (exit 2 on any error)."""
     from linkcli.pipeline import Request, serial
     worst = 0
@@ -402,10 +452,11 @@ def check(files: List[Path] = FILES, debug: bool = DEBUG) -> None:
 
 
 @app.command(cls=PlainUsage)
-def bench(files: List[Path] = typer.Argument(None, metavar="[FILE...]",
+def bench(files: List[str] = typer.Argument(None, metavar="[FILE...]",
                                              help="Problem files (default: the bench set shipped with linkcli, "
                                                   "a copy of problems/bench/)."),
-          format: Format = FORMAT,
+          format: Format = typer.Option(Format.table, "--format", "-f", metavar="table|json|toml|csv",
+                                        help="Output format (csv: one row per run)."),
           seeds: int = typer.Option(3, "--seeds", metavar="N", help="Seeds per setting.", min=1),
           precision: int = typer.Option(4, "--precision", metavar="N",
                                         help="Significant digits in the output (1 .. 17).", min=1, max=17),
@@ -451,12 +502,23 @@ def new(type_name: str = typer.Argument(..., metavar="TYPE", help="The problem t
 
 
 def main() -> None:
-    """Console-script entry point."""
+    """Console-script entry point. Standard output is guarded (io.output_guard): a reader
+    that closes the pipe ends the command quietly with exit 141, an output that refuses the
+    text (a full device, a closed stdout) is one line and exit 2."""
+    from linkcli.io.output_guard import Guarded, OutputLost, exit_code
+    sys.stdout = Guarded(sys.stdout)
     try:
-        app(prog_name="linkcli")
+        try:
+            app(prog_name="linkcli")
+        except SystemExit as done:
+            code = done.code
+        sys.stdout.flush()  # what the buffer held fails here, inside the guard
     except KeyboardInterrupt:
         _err("interrupted")
-        sys.exit(130)
+        code = 130
+    except OutputLost as lost:
+        code = exit_code(lost, _err)
+    sys.exit(code)
 
 
 if __name__ == "__main__":

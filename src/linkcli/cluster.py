@@ -87,7 +87,7 @@ def map_ordered(function: Callable[[Any], Any], items: Iterable[Any], address: s
     total = len(items)
     _require_distributed()  # before the log filter: importing it installs dask's handlers
     with _quiet_dask_logs():
-        cluster, client = _connect(address, connect_timeout)
+        cluster, client = _connect(address, connect_timeout, total)
         futures: list[Any] = []
         try:
             from distributed import as_completed
@@ -134,9 +134,11 @@ def _result_of(future: Any, outcome: Any, item: Any, address: str,
                        f"(its tasks were {future.status})")
 
 
-def _connect(address: str, timeout: float) -> tuple[Any, Any]:
-    """(LocalCluster or None, Client) for `address`; InputError for a malformed address
-    or no scheduler answering within `timeout` seconds."""
+def _connect(address: str, timeout: float, items: int = 1) -> tuple[Any, Any]:
+    """(LocalCluster or None, Client) for `address`; InputError for a malformed address,
+    or when no Dask scheduler answers there within `timeout` seconds (nothing listening,
+    or a listener of another kind: probe_scheduler). `items`: how many tasks a `local:N`
+    cluster will run (it starts no more workers than that)."""
     from distributed import Client
 
     address = address.strip()
@@ -144,16 +146,18 @@ def _connect(address: str, timeout: float) -> tuple[Any, Any]:
         raise InputError("a scheduler address (tcp://HOST:PORT) or local:N", "nothing",
                          path=OPTION)
     if address.startswith(LOCAL_PREFIX):
-        cluster = start_local_cluster(_local_workers(address))
+        cluster = start_local_cluster(local_workers(address, items))
         try:
             return cluster, Client(cluster, set_as_default=False, timeout=timeout)
         except BaseException:
             cluster.close()
             raise
-    try:
-        return None, Client(address, set_as_default=False, timeout=timeout)
-    except (OSError, ValueError, TypeError) as exc:  # refused, timed out, bad address
-        reason = one_line(exc)
+    reason = probe_scheduler(address, timeout)
+    if reason is None:
+        try:
+            return None, Client(address, set_as_default=False, timeout=timeout)
+        except (OSError, ValueError, TypeError) as exc:  # refused, timed out, bad address
+            reason = one_line(exc)
     # The half-built Client sits in a reference cycle; collected at interpreter exit, after
     # its event loop has stopped, its __del__ would wait 10 s and print a traceback.
     gc.collect()
@@ -191,13 +195,55 @@ def _require_distributed() -> None:
                          path=OPTION) from None
 
 
-def _local_workers(address: str) -> int:
-    """N of `local:N`: a whole number of worker processes, at least 1."""
+def local_workers(address: str, items: int = 1) -> int:
+    """How many worker processes `local:N` starts: N (a whole number >= 1) limited, as
+    `--jobs` is, to the number of tasks and of CPUs: more processes cannot run at once,
+    and each costs a Python process's start and memory."""
+    import os
+
+    from linkcli.io.terminal_text import shown
     text = address[len(LOCAL_PREFIX):]
-    if not (text.isdigit() and int(text) >= 1):
+    if not (text.isascii() and text.isdigit() and len(text) <= 18 and int(text) >= 1):
         raise InputError("local:N with N a whole number of worker processes >= 1",
-                         repr(address), path=OPTION)
-    return int(text)
+                         shown(repr(address), 60), path=OPTION)
+    return max(1, min(int(text), items, os.cpu_count() or 1))
+
+
+def probe_scheduler(address: str, timeout: float) -> str | None:
+    """None when a Dask scheduler answers at `address` within `timeout` seconds, else what
+    was found there, in words. Dask's own connect waits without limit for the handshake
+    of whatever accepts the connection (an HTTP server never answers it) and trusts the
+    frame sizes it reads (another protocol's bytes ask for exabytes): this asks the
+    listener's `identity` under one deadline for the whole exchange and catches whatever
+    the reply makes Dask raise. The connection uses the client's security settings from
+    Dask's config (TLS when configured), as the Client will."""
+    import asyncio
+
+    from distributed.comm import connect
+    from distributed.security import Security
+
+    async def identity():
+        comm = await connect(address, timeout=timeout, **Security().get_connection_args("client"))
+        try:
+            await comm.write({"op": "identity", "reply": True})
+            return await comm.read()
+        finally:
+            comm.abort()
+
+    try:
+        reply = asyncio.run(asyncio.wait_for(identity(), timeout))
+    except (TimeoutError, asyncio.TimeoutError):
+        return f"a listener that did not answer as Dask within {timeout:g} s"
+    except (OSError, ValueError, TypeError) as exc:  # refused, unreachable, bad address
+        return one_line(exc)
+    except Exception as exc:  # another protocol's bytes, read as Dask frames
+        return f"a listener that does not speak Dask's protocol (its reply raised {type(exc).__name__})"
+    kind = reply.get("type") if isinstance(reply, dict) else None
+    if kind == "Scheduler":
+        return None
+    if kind in ("Worker", "Nanny"):
+        return f"a Dask {kind.lower()} (give its scheduler's address)"
+    return "a listener that does not answer as a Dask scheduler"
 
 
 def _close(client: Any, cluster: Any, outstanding: list[Any]) -> None:

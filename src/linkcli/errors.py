@@ -79,19 +79,29 @@ class SolveInputError(InputError):
     of the key that causes it."""
 
 
-class InputErrors(InputError):
-    """Every error found in one file, reported together (one line each)."""
+MAX_LISTED = 100  # error lines listed for one file; one more line counts the rest
 
-    def __init__(self, errors: list[InputError]) -> None:
+
+class InputErrors(InputError):
+    """Every error found in one file, reported together (one line each): the first
+    MAX_LISTED of them (in the order given), then one line counting the `unlisted` rest,
+    so that a file of 400,000 unknown keys is 101 lines, not 400,000."""
+
+    def __init__(self, errors: list[InputError], unlisted: int = 0) -> None:
         super().__init__(errors[0].expected, errors[0].got, path=errors[0].path,
                          line=errors[0].line, key=errors[0].key)
-        self.errors = errors
+        self.errors = errors[:MAX_LISTED]
+        self.unlisted = unlisted + len(errors) - len(self.errors)
 
     def __reduce__(self):
-        return (InputErrors, (self.errors,))
+        return (InputErrors, (self.errors, self.unlisted))
 
     def lines(self) -> list[str]:
-        return [str(e) for e in self.errors]
+        lines = [str(e) for e in self.errors]
+        if self.unlisted:
+            lines.append(f"{self.path or '<input>'}: expected at most {MAX_LISTED} errors listed per "
+                         f"file, found {self.unlisted} more (fix these and run again)")
+        return lines
 
     def __str__(self) -> str:
         return "\n".join(self.lines())

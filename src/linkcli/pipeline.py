@@ -102,6 +102,8 @@ def run(path: str, request: Request, source: bytes | InputError | None = None) -
         started = time.perf_counter()
         solution = solve(problem)
         seconds = time.perf_counter() - started
+        from linkcli.io.meta import refuse_oversized
+        refuse_oversized(problem, solution.linkage)  # a result no file could hold
         report = analyse(problem, solution)
         if request.timing and "solver" in report:
             report["solver"]["seconds"] = seconds

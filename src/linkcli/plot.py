@@ -24,10 +24,11 @@ def _err(line: str) -> None:
     sys.stderr.write(line.rstrip("\n") + "\n")
 
 
-def plot_command(results: list, files: int, plot_path, debug: bool) -> int:
+def plot_command(results: list, files: int, plot_path, debug: bool, digits: int = 6) -> int:
     """Draw every Result; return the exit code (0, or 2 for a bad PATH or no matplotlib,
     1 for a plot that failed to draw). `files`: how many files the command was given
-    (one: PATH is the picture; several: PATH is a folder)."""
+    (one: PATH is the picture; several: PATH is a folder); `digits`: --precision, for the
+    numbers of the titles."""
     plot_path = Path(plot_path)
     try:
         targets = output_paths([result.report for result in results], files, plot_path)
@@ -35,7 +36,8 @@ def plot_command(results: list, files: int, plot_path, debug: bool) -> int:
     except PlotError as exc:
         _err(str(exc))
         return exc.exit_code
-    return write_each(results, targets, write, debug, "plotting")
+    return write_each(results, targets, lambda result, target: write(result, target, digits), debug,
+                      "plotting")
 
 
 def write_each(results: list, targets: list[Path], write_one, debug: bool, doing: str) -> int:
@@ -125,28 +127,40 @@ def figure(result):
     return fig
 
 
-def render(result, fmt: str) -> bytes:
-    """The picture of one Result as PNG or SVG bytes, identical from run to run."""
+def render(result, fmt: str, digits: int = 6) -> bytes:
+    """The picture of one Result as PNG or SVG bytes, identical from run to run; numbers
+    in its title to `digits` significant digits. A glyph the font lacks (a title in a
+    script DejaVu Sans does not cover) is drawn as a box without matplotlib's warning."""
+    import warnings
+
     import matplotlib
 
     from linkcli import __version__
-    from linkcli.plots.common import DPI, STYLE
-    fig = figure(result)
+    from linkcli.io.terminal_text import one_line
+    from linkcli.plots.common import DPI, STYLE, TITLE_DIGITS
     report = result.report
-    title = str(report.get("title") or report.get("file") or "linkcli plot")
+    title = one_line(str(report.get("title") or report.get("file") or "linkcli plot"))
     buf = io.BytesIO()
-    with matplotlib.rc_context(STYLE):
-        if fmt == "svg":
-            fig.savefig(buf, format="svg",
-                        metadata={"Date": None, "Creator": f"linkcli {__version__}", "Title": title})
-        else:
-            fig.savefig(buf, format="png", dpi=DPI, metadata={"Software": f"linkcli {__version__}", "Title": title})
+    token = TITLE_DIGITS.set(digits)
+    try:
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", message="Glyph .* missing from", category=UserWarning)
+            fig = figure(result)
+            with matplotlib.rc_context(STYLE):
+                if fmt == "svg":
+                    fig.savefig(buf, format="svg",
+                                metadata={"Date": None, "Creator": f"linkcli {__version__}", "Title": title})
+                else:
+                    fig.savefig(buf, format="png", dpi=DPI,
+                                metadata={"Software": f"linkcli {__version__}", "Title": title})
+    finally:
+        TITLE_DIGITS.reset(token)
     return buf.getvalue()
 
 
-def write(result, target: Path) -> None:
+def write(result, target: Path, digits: int = 6) -> None:
     """Render and write one plot; a path that cannot be written is bad input (exit 2)."""
-    write_bytes(target, render(result, target.suffix.lower().lstrip(".") or "png"))
+    write_bytes(target, render(result, target.suffix.lower().lstrip(".") or "png", digits))
 
 
 def write_bytes(target: Path, data: bytes) -> None:

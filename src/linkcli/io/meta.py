@@ -26,6 +26,32 @@ def over_ratio(lengths: dict[str, float]) -> tuple[str, str] | None:
     return (longest, shortest) if lengths[longest] > MAX_RATIO * lengths[shortest] else None
 
 
+ANGLE_FIELDS = ("ground_angle", "coupler_angle")  # a linkage's fields that are not sizes
+
+
+def refuse_oversized(problem, linkage) -> None:
+    """SolveInputError (exit 2) when a solved linkage has a length or coordinate beyond
+    MAX_LENGTH: no file could hold it (`analyze` of the result would refuse it), so the
+    data are refused instead, with the way out (a larger length unit)."""
+    from dataclasses import fields, is_dataclass
+
+    from linkcli.errors import SolveInputError
+    if linkage is None or not is_dataclass(linkage):
+        return
+    for f in fields(linkage):
+        value = getattr(linkage, f.name)
+        if f.name in ANGLE_FIELDS or isinstance(value, (str, bool)) or value is None:
+            continue
+        size = max(abs(float(v)) for v in value) if isinstance(value, tuple) else abs(float(value))
+        if size > MAX_LENGTH:
+            unit = problem.meta.units.length
+            raise SolveInputError(
+                f"data whose linkage fits the sizes a file accepts (lengths and coordinates at most "
+                f"{MAX_LENGTH:g} {unit}: give the problem in a larger length unit)",
+                f"a linkage with {f.name.replace('_', ' ')} {size:.6g} {unit}", path=problem.meta.path,
+                key="linkage")
+
+
 def in_motion_order(angles: list[float]) -> list[float]:
     """Input angles (rad) of positions the input passes in the order given: kept as written
     when they already run one way; else, if taking each step the short way round makes

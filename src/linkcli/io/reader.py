@@ -11,18 +11,20 @@ them all together as `InputErrors`. No numerics here.
 from __future__ import annotations
 
 import difflib
+import heapq
 import math
 import re
 import tomllib
 from typing import NamedTuple
 
-from linkcli.errors import InputError, InputErrors, SchemaError, TomlSyntaxError
+from linkcli.errors import MAX_LISTED, InputError, InputErrors, SchemaError, TomlSyntaxError
 from linkcli.io.safe_read import read_problem_bytes
 from linkcli.io.terminal_text import shown as _one_line  # escaped, one line, at most 200 characters
 from linkcli.io.misplaced_keys import top_level_hint
 from linkcli.io.link_names import link_name_hint
 from linkcli.io.header_lines import with_parent_lines
 from linkcli.io.huge_numbers import refuse_huge_integers, too_many_digits
+from linkcli.io.nesting import MAX_DEPTH, deep_bracket_line, deep_key_line, too_deep
 
 MISSING = object()
 MAX_ARRAY = 10_000  # longest array accepted anywhere in a problem file
@@ -65,10 +67,30 @@ def describe(value) -> str:
         short = value if len(value) <= 60 else value[:57] + "..."
         return f'"{_one_line(short)}" (string)'
     if isinstance(value, list):
-        return f"an array of {len(value)}"
+        text = _short_literal(value)
+        return f"an array of {len(value)}" + (f": {text}" if text and value else "")
     if isinstance(value, dict):
         return "a table"
     return type(value).__name__
+
+
+def _short_literal(value, depth: int = 0) -> str | None:
+    """A small array of numbers, booleans or short strings (or arrays of them, two levels)
+    as written in TOML (`[inf, 0]`, `[[0, 0], [1, 1]]`), or None when it would not be
+    short: the found value of an error names what is wrong in it."""
+    if isinstance(value, list):
+        if depth >= 2 or len(value) > 6:
+            return None
+        parts = [_short_literal(v, depth + 1) for v in value]
+        text = None if None in parts else "[" + ", ".join(parts) + "]"
+        return text if text is not None and len(text) <= 60 else None
+    if isinstance(value, bool):
+        return str(value).lower()
+    if isinstance(value, (int, float)):
+        return describe(value) if not isinstance(value, int) or abs(value) < 10**15 else None
+    if isinstance(value, str) and len(value) <= 20:
+        return '"' + _one_line(value) + '"'
+    return None
 
 
 _OUTSIDE = re.compile(r"[\n#\"']")  # what can change the state outside a string
@@ -142,14 +164,15 @@ def _mask(text: str) -> tuple[str, set[int]]:
     return "".join(parts), inside
 
 
-def _line_map(text: str) -> dict[tuple[str, ...], int]:
+def _line_map(text: str, masked: tuple[str, set[int]] | None = None) -> dict[tuple[str, ...], int]:
     """Key path -> 1-based line, from a scan of the raw text.
 
     Structure (headers, keys, brackets) is read from the masked text of `_mask`, so that
     a `#`, a bracket or a `key =` inside a string or a comment counts for nothing; key
     names are then taken from the raw text at the same place (quoted keys keep their
-    content). A line that begins inside a multi-line string holds no key."""
-    masked, inside = _mask(text)
+    content). A line that begins inside a multi-line string holds no key. `masked`: the
+    text's `_mask` when the caller has it."""
+    masked, inside = masked or _mask(text)
     lines: dict[tuple[str, ...], int] = {}
     twice: set[tuple[str, ...]] = set()  # paths met on two lines: array-of-tables elements
 
@@ -185,6 +208,16 @@ def _line_map(text: str) -> dict[tuple[str, ...], int]:
 
 
 
+def _key_at(lines: dict[tuple[str, ...], int], line: int | None) -> str | None:
+    """The key whose value holds `line`: the first key of the nearest line at or above it
+    (an array's value may run over several lines), dotted; None if there is none."""
+    best, where = None, 0
+    for path, n in lines.items():
+        if line is not None and where < n <= line:
+            best, where = path, n
+    return _one_line(".".join(best)) if best else None
+
+
 def _kind(positive: bool, nonnegative: bool, integer: bool) -> str:
     """What a number must be, in words."""
     if positive:
@@ -210,7 +243,13 @@ class NumberRule(NamedTuple):
         """The `expected` of the error: its words, and the range when there is one."""
         kind = self.what or _kind(self.positive, self.nonnegative, self.integer)
         if self.lo is not None or self.hi is not None:
-            kind += f" in [{'-inf' if self.lo is None else _fmt(self.lo)}, {'inf' if self.hi is None else _fmt(self.hi)}]"
+            hi = "inf" if self.hi is None else _fmt(self.hi)
+            if self.positive and (self.lo is None or self.lo <= 0):  # a positive number's range opens at 0
+                kind += f" in (0, {hi}]"
+            elif self.nonnegative and (self.lo is None or self.lo < 0):
+                kind += f" in [0, {hi}]"
+            else:
+                kind += f" in [{'-inf' if self.lo is None else _fmt(self.lo)}, {hi}]"
         return kind
 
     def accepts(self, value) -> bool:
@@ -242,6 +281,11 @@ class Reader:
                 raise InputError("a UTF-8 text file", f"an undecodable byte at offset {exc.start}", path=path) from None
         if text.startswith("\ufeff"):  # a UTF-8 byte-order mark (Windows editors): not TOML
             text = text[1:]
+        masked = _mask(text)
+        deep = deep_key_line(masked[0])
+        if deep is not None:  # before tomllib, whose parse is quadratic in a key's parts
+            raise SchemaError(f"dotted keys of at most {MAX_DEPTH} parts",
+                              "a longer one", path=path, line=deep)
         try:
             self.data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as exc:
@@ -254,15 +298,27 @@ class Reader:
             msg = "a syntax error: " + msg[:1].lower() + msg[1:]
             raise TomlSyntaxError("valid TOML", msg, path=path, line=line) from None
         except ValueError:  # not a TOMLDecodeError: an integer beyond Python's digit limit
-            raise too_many_digits(path, text) from None
+            error = too_many_digits(path, text)
+            error.key = _key_at(_line_map(text, masked), error.line)
+            raise error from None
         except RecursionError:
-            raise TomlSyntaxError("valid TOML", "nesting too deep", path=path) from None
-        self.lines = _line_map(text)
+            raise SchemaError(f"tables and arrays nested at most {MAX_DEPTH} levels deep",
+                              "deeper nesting", path=path, line=deep_bracket_line(masked[0])) from None
+        self.lines = _line_map(text, masked)
+        deep = too_deep(self.data)
+        if deep is not None:
+            self.error(deep, f"tables and arrays nested at most {MAX_DEPTH} levels deep",
+                       raw_got="deeper nesting")
+            raise InputErrors(self.errors)
         refuse_huge_integers(self)
 
     # -- errors ---------------------------------------------------------------
     def line_of(self, path: tuple[str, ...]) -> int | None:
-        path = tuple(re.sub(r"\[\d+\]$", "", p) for p in path)
+        line = self.lines.get(path)
+        if line is not None:  # a key on a line of its own (the usual case)
+            return line
+        if any("[" in p for p in path):  # an array item `key[i]`: the line of its key
+            path = tuple(re.sub(r"\[\d+\]$", "", p) for p in path)
         for n in range(len(path), 0, -1):
             if path[:n] in self.lines:
                 return self.lines[path[:n]]
@@ -299,21 +355,34 @@ class Reader:
         self._seen.setdefault(path, set())
 
     def finish(self) -> None:
-        """Report unknown keys of every table read, then raise everything collected."""
+        """Report unknown keys of every table read, then raise everything collected, in
+        the order of their lines (at most MAX_LISTED listed: InputErrors). Linear in the
+        number of keys: the message of an unknown key (its "did you mean") is built only
+        for the keys listed."""
+        unknown = []  # (path, key, allowed) of each unknown key
         for path, data in self._tables.items():
-            seen = self._seen.get(path, set())
-            allowed = self._allowed.get(path, set()) | seen
-            for key in data:
-                if key not in allowed:
-                    hint = difflib.get_close_matches(key, sorted(allowed), n=1, cutoff=0.6)
-                    expected = "a known key" + (f' (did you mean "{hint[0]}"?)' if hint
-                                                else f" (one of: {', '.join(sorted(allowed))})" if allowed else "")
-                    expected = link_name_hint(key, allowed) or expected
-                    expected = top_level_hint(path, key, self._tables.get((), {}).keys() | self._seen.get((), set())) or expected
-                    self.error(path + (key,), expected, raw_got=f'unknown key "{key}"')
-        if self.errors:
-            self.errors.sort(key=lambda e: (e.line or 0))
-            raise InputErrors(self.errors)
+            allowed = self._allowed.get(path, set()) | self._seen.get(path, set())
+            unknown.extend((path, key, allowed) for key in data if key not in allowed)
+        if not self.errors and not unknown:
+            return
+        # by line; on one line, the checks' errors before the unknown keys
+        entries = [(e.line or 0, i, e) for i, e in enumerate(self.errors)]
+        entries += [(self.line_of(path + (key,)) or 0, len(entries) + j, (path, key, allowed))
+                    for j, (path, key, allowed) in enumerate(unknown)]
+        listed = heapq.nsmallest(MAX_LISTED, entries)
+        top_level = self._tables.get((), {}).keys() | self._seen.get((), set())
+        known: dict[tuple[str, ...], list[str]] = {}  # a table's known keys, sorted once
+        errors = []
+        for line, _, item in listed:
+            if isinstance(item, InputError):
+                errors.append(item)
+                continue
+            path, key, allowed = item
+            names = known.setdefault(path, sorted(allowed))
+            errors.append(SchemaError(_unknown_key_expected(path, key, allowed, names, top_level),
+                                      _one_line(f'unknown key "{key}"'), path=self.path, line=line or None,
+                                      key=_one_line(".".join(path + (key,))) or None))
+        raise InputErrors(errors, unlisted=len(entries) - len(listed))
 
     @property
     def _allowed(self) -> dict[tuple[str, ...], set[str]]:
@@ -324,6 +393,18 @@ class Reader:
         if not hasattr(self, "_allowed_keys"):
             self._allowed_keys = {}
         self._allowed_keys.setdefault(path, set()).update(keys)
+
+
+def _unknown_key_expected(path: tuple[str, ...], key: str, allowed: set[str], known: list[str],
+                          top_level) -> str:
+    """The `expected` of an unknown key: a "did you mean" among the table's `known` keys
+    (sorted), else the list of them; a textbook link name's key; a top-level key written
+    under a [table] header."""
+    hint = difflib.get_close_matches(key, known, n=1, cutoff=0.6)
+    expected = "a known key" + (f' (did you mean "{hint[0]}"?)' if hint
+                                else f" (one of: {', '.join(known)})" if known else "")
+    expected = link_name_hint(key, allowed) or expected
+    return top_level_hint(path, key, top_level) or expected
 
 
 class Table:

@@ -20,6 +20,41 @@ from linkcli.io.export import rounded
 from linkcli.io.terminal_text import terminal_safe
 
 MAX_TABLE_WIDTH = 400  # columns a table may take when printed to a file or a pipe
+MAX_ROWS = 100  # a row table longer than this shows its first HEAD_ROWS and last TAIL_ROWS
+HEAD_ROWS, TAIL_ROWS = 40, 10
+
+
+class Elided(list):
+    """The rows of a long row table that the table view shows (the first HEAD_ROWS and the
+    last TAIL_ROWS), with how many the table has (`total`) and its name for `--table`
+    (`name`, as csv_tables.row_tables names it). `like(rows)` carries both over to rows
+    made from these (rounded, escaped, laid out by a type)."""
+
+    def __init__(self, rows, total: int, name: str | None) -> None:
+        super().__init__(rows)
+        self.total = total
+        self.name = name
+
+    def like(self, rows) -> "Elided":
+        return Elided(rows, self.total, self.name)
+
+
+def elided(report: dict) -> dict:
+    """The report with every row table longer than MAX_ROWS cut to its first and last rows
+    (an Elided list), so that the table view's cost stays bounded however many rows a
+    report holds; the other sections are shared, not copied."""
+    from linkcli.io.csv_tables import row_tables
+    out = dict(report)
+    for name, rows in row_tables(report).items():
+        if len(rows) <= MAX_ROWS:
+            continue
+        cut = Elided(rows[:HEAD_ROWS] + rows[-TAIL_ROWS:], len(rows), name)
+        section, _, sub = name.partition(".")
+        if sub:
+            out[section] = {**out[section], sub: cut}
+        else:
+            out[section] = cut
+    return out
 STATUS_STYLE = {"ok": "bold green", "infeasible": "bold yellow", "not-converged": "bold red"}
 KNOWN = ("file", "title", "type", "status", "message", "units", "linkage", "grashof",
          "transmission", "motion", "kinematics", "positions", "error", "solver", "notes", "forces", "loads", "masses", "strength")
@@ -47,7 +82,8 @@ def fmt(v, digits: int = 6) -> str:
 
 
 def _kv(title: str, rows: list[tuple[str, object]], digits: int) -> Table:
-    t = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, show_header=False, pad_edge=False, show_edge=False)
+    t = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, show_header=False, pad_edge=False,
+              show_edge=False, min_width=cell_len(title))  # a title wider than its rows stays on one line
     t.add_column("key", style="bold")
     t.add_column("value")
     for k, v in rows:
@@ -70,13 +106,24 @@ def _flat(row: dict, prefix: str = "") -> dict:
 
 def _rows(title: str, rows: list[dict], digits: int, headers: dict | None = None,
           no_wrap: bool = False) -> Table:
+    """A row table; a long one (more than MAX_ROWS, or Elided already) shows its first
+    and last rows with a "..." row between and a caption saying how to get them all. Rows
+    with nested objects (a drawn linkage's) are flattened, one column per leaf."""
+    if not isinstance(rows, Elided) and len(rows) > MAX_ROWS:
+        rows = Elided(rows[:HEAD_ROWS] + rows[-TAIL_ROWS:], len(rows), None)
     if any(isinstance(v, dict) for r in rows for v in r.values()):
-        rows = [_flat(r) for r in rows]
+        flat = [_flat(r) for r in rows]
+        rows = rows.like(flat) if isinstance(rows, Elided) else flat
     cols = list(dict.fromkeys(k for r in rows for k in r))
     t = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
+    if isinstance(rows, Elided):  # printed under the table by _emit, one line however narrow the table
+        where = (f"--format csv --table {rows.name}" if rows.name else "--format csv") + " or --format json"
+        t.note = f"{len(rows)} of {rows.total} rows shown; {where} gives them all"
     for c in cols:
         t.add_column((headers or {}).get(c, c.replace("_", " ")), justify="right", no_wrap=no_wrap)
-    for r in rows:
+    for i, r in enumerate(rows):
+        if isinstance(rows, Elided) and i == len(rows) - TAIL_ROWS:
+            t.add_row(*("..." for _ in cols))
         t.add_row(*(fmt(r.get(c), digits) for c in cols))
     return t
 
@@ -122,21 +169,39 @@ def _type_tables(kind: str, name: str, section, digits: int, lu: str, au: str) -
     if kind not in PACKAGES:
         return []
     blocks = problem_type(kind).module("sections").report_tables(name, section, lu, au)
+    cut = [section] if isinstance(section, Elided) else [v for v in section.values()
+                                                          if isinstance(v, Elided)] if isinstance(section, dict) else []
     return [_kv(b.title, b.rows, digits) if isinstance(b, KeyValues)
-            else _rows(b.title, b.rows, digits, b.headers, no_wrap=b.no_wrap) for b in blocks]
+            else _rows(b.title, _as_cut(b.rows, cut), digits, b.headers, no_wrap=b.no_wrap) for b in blocks]
+
+
+def _as_cut(rows: list, cut: list) -> list:
+    """Rows a type laid out one for one from an Elided list of its section (same length)
+    are cut the same way: they say so."""
+    if isinstance(rows, Elided):
+        return rows
+    source = next((c for c in cut if len(c) == len(rows)), None)
+    return source.like(rows) if source is not None else rows
 
 
 def render(report: dict, digits: int = 6) -> Group:
     """One problem's block."""
-    r = terminal_safe(rounded(report, digits))
+    r = terminal_safe(rounded(elided(report), digits))
     lu, au = r["units"]["length"], r["units"]["angle"]
     parts: list = []
-    head = Text()
-    head.append(r.get("title") or r["file"], style="bold")
+    name = Text()
+    name.append(r.get("title") or r["file"], style="bold")
     if r.get("title"):
-        head.append(f"  ({r['file']})")
-    head.append(f"  {r['type']}  ")
-    head.append(r["status"], style=STATUS_STYLE.get(r["status"], "bold"))
+        name.append(f"  ({r['file']})")
+    status = Text(f"{r['type']}  ")
+    status.append(r["status"], style=STATUS_STYLE.get(r["status"], "bold"))
+    # one line when it fits; else the title wraps in its column and the type and status
+    # stay on the first line (_emit prints it as it is)
+    head = Table.grid(padding=(0, 2))
+    head.add_column(overflow="fold")  # a long file name folds, never cut with an ellipsis
+    head.add_column(no_wrap=True)
+    head.add_row(name, status)
+    head.is_head = True
     parts.append(head)
     parts.append(Text(r["message"]))
     if "linkage" in r:
@@ -303,7 +368,8 @@ def _forces(forces: dict, digits: int, au: str) -> list:
             heads[name] = f"|{name}| (N)"
         line["mechanical_advantage"] = row["mechanical_advantage"]
         table.append(line)
-    parts.append(_rows("Forces", table, digits, heads))
+    parts.append(_rows("Forces", _as_cut(table, [forces["rows"]] if isinstance(forces["rows"], Elided) else []),
+                       digits, heads))
     return parts
 
 
@@ -353,9 +419,9 @@ def _strength(strength: dict, digits: int, lu: str, au: str) -> list:
 
 def _compact(table: Table) -> None:
     """Fix each column at its longest cell or header word (headers wrap at words, cells
-    never)."""
+    never; a no_wrap column's header stays whole)."""
     for column in table.columns:
-        words = str(column.header).split() or [""]
+        words = ([str(column.header)] if column.no_wrap else str(column.header).split()) or [""]
         column.width = max([cell_len(str(c)) for c in column.cells] + [cell_len(w) for w in words])
 
 
@@ -364,26 +430,77 @@ def _width(con: Console, table: Table) -> int:
     return Measurement.get(con, con.options.update_width(MAX_TABLE_WIDTH), table).maximum
 
 
+def _blocks(con: Console, table: Table) -> list[Table]:
+    """A row table too wide for the terminal as several tables of its columns, each as wide
+    as fits, the first column (the row's key: input angle, parameter, problem) repeated
+    in each, as wide tables are printed in blocks; no number is cut or folded. A single
+    column wider than the terminal still folds."""
+    def block(columns, title) -> Table:
+        t = Table(title=title, title_justify="left", box=table.box, pad_edge=False, show_edge=False,
+                  min_width=min(cell_len(title), con.width))  # the title on one line when it fits
+        for c in columns:
+            t.add_column(c.header, justify=c.justify, no_wrap=c.no_wrap, width=c.width)
+        for cells in zip(*(list(c.cells) for c in columns)):
+            t.add_row(*cells)
+        return t
+
+    key, rest = table.columns[0], table.columns[1:]
+    title = str(table.title or "")
+    out: list[Table] = []
+    group: list = []
+    for column in rest:
+        trial = block([key] + group + [column], title)
+        if group and _width(con, trial) > con.width:
+            out.append(block([key] + group, title if not out else f"{title} (continued)"))
+            group = []
+        group.append(column)
+    out.append(block([key] + group, title if not out else f"{title} (continued)"))
+    for t in out:
+        if _width(con, t) > con.width:  # one column alone is too wide: fold its cells
+            for column in t.columns:
+                column.width, column.overflow = None, "fold"
+    return out
+
+
+def print_table(con: Console, part) -> None:
+    """Print one part of a report (or any rich table, e.g. bench's). A table never shows a
+    truncated number: one wider than the console is laid out compactly (headers wrap at
+    words, cells never); if it still does not fit it is printed wider (a file or a pipe:
+    one row per line, every digit) or, on a terminal, a row table in blocks of columns
+    (_blocks) and a key/value table with its cells folded onto a second line."""
+    if isinstance(part, Table) and not getattr(part, "is_head", False) and _width(con, part) > con.width:
+        _compact(part)
+        need = _width(con, part)
+        if need > con.width:
+            if not con.is_terminal:
+                width, con.width = con.width, need
+                con.print(part)
+                con.width = width
+                _note(con, part)
+                return
+            if part.show_header and len(part.columns) > 2:
+                for piece in _blocks(con, part):
+                    con.print(piece)
+                _note(con, part)
+                return
+            for column in part.columns:
+                column.width, column.overflow = None, "fold"
+    con.print(part)
+    _note(con, part)
+
+
 def _emit(con: Console, group: Group) -> None:
-    """Print a report part by part. A table never shows a truncated number: one wider than
-    the console is laid out compactly (headers wrap at words, cells never), and if it still
-    does not fit it is printed wider (a file or a pipe: one row per line, every digit) or,
-    on a terminal, folds its cells onto a second line."""
+    """Print a report part by part (print_table)."""
     for part in group.renderables:
-        if isinstance(part, Table):
-            if _width(con, part) > con.width:
-                _compact(part)
-                need = _width(con, part)
-                if need > con.width:
-                    if con.is_terminal:
-                        for column in part.columns:
-                            column.width, column.overflow = None, "fold"
-                    else:
-                        width, con.width = con.width, need
-                        con.print(part)
-                        con.width = width
-                        continue
-        con.print(part)
+        print_table(con, part)
+
+
+def _note(con: Console, part) -> None:
+    """The line a table carries under it (an elided row table's "50 of N rows shown"), on
+    one line of its own."""
+    note = getattr(part, "note", None)
+    if note:
+        con.print(Text(note, no_wrap=True, overflow="ignore"), crop=False)
 
 
 def print_reports(reports: list[dict], digits: int, file=None) -> None:

@@ -37,6 +37,8 @@ def _check(path: str, info: os.stat_result) -> None:
 
 def read_problem_bytes(path: str) -> bytes:
     """The bytes of a regular file of at most MAX_FILE_BYTES; InputError (exit 2) otherwise."""
+    if not path:  # `linkcli synth ""`: not the current folder
+        raise InputError("a problem file name", "an empty argument", path='""')
     try:
         _check(path, os.stat(path))
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))

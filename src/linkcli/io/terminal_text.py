@@ -33,5 +33,6 @@ def terminal_safe(node):
     if isinstance(node, dict):
         return {one_line(k) if isinstance(k, str) else k: terminal_safe(v) for k, v in node.items()}
     if isinstance(node, list):
-        return [terminal_safe(v) for v in node]
+        items = [terminal_safe(v) for v in node]
+        return node.like(items) if hasattr(node, "like") else items  # report.Elided keeps its class
     return node

@@ -6,6 +6,8 @@ drawings live in its home (`mechanisms/<name>/plot.py`, the four-bar's `drawing.
 from __future__ import annotations
 
 import math
+import textwrap
+from contextvars import ContextVar
 
 import numpy as np
 
@@ -117,17 +119,42 @@ def drawn(result) -> dict:
     return result.drawing if result.drawing is not None else result.report
 
 
-def header(fig, report: dict) -> None:
-    """Figure title: the problem's title (or file), its type and status."""
+TITLE_DIGITS: ContextVar[int] = ContextVar("TITLE_DIGITS", default=6)  # --precision, set by plot.render
+TITLE_CHARACTERS = 110  # a line of the figure title at its size, within the figure's width
+TITLE_LINES, MESSAGE_LINES = 2, 3  # at most, then cut with "..."
+
+
+def header_text(report: dict, digits: int | None = None) -> str:
+    """The figure title: the problem's title (or file), its type and status, and the
+    message of a result that is not ok; numbers in the message rounded like the report's
+    (textnum.render at --precision), every line escaped as on a terminal, `$` kept literal
+    (matplotlib would read mathematics), each part wrapped to the figure's width."""
+    from linkcli.io.terminal_text import one_line
+    from linkcli.textnum import render
+    digits = TITLE_DIGITS.get() if digits is None else digits
+
+    def lines(text: str, most: int) -> list[str]:
+        text = one_line(render(str(text), digits)).replace("$", r"\$")
+        wrapped = textwrap.wrap(text, TITLE_CHARACTERS, break_long_words=True) or [""]
+        if len(wrapped) > most:
+            wrapped = wrapped[:most]
+            wrapped[-1] = wrapped[-1][:TITLE_CHARACTERS - 3].rstrip() + "..."
+        return wrapped
+
     title = report.get("title") or report.get("file") or "linkage"
     status = report.get("status", "ok")
     line2 = f"{report.get('type', '')}, status {status}"
     if report.get("file") and report.get("title"):
         line2 += f"  ({report['file']})"
-    text = f"{title}\n{line2}"
+    parts = lines(title, TITLE_LINES) + lines(line2, 1)
     if status != "ok" and report.get("message"):
-        text += f"\n{report['message']}"
-    fig.suptitle(text, fontsize=13)
+        parts += lines(report["message"], MESSAGE_LINES)
+    return "\n".join(parts)
+
+
+def header(fig, report: dict) -> None:
+    """Figure title (header_text)."""
+    fig.suptitle(header_text(report), fontsize=13)
 
 
 def panels(fig, result, right: int, width_ratios, height_ratios=None):

@@ -3,7 +3,8 @@ its very end on a name it could have refused at once.
 
 The same rules as the plot itself (plot.output_paths: one file -> PATH.png|PATH.svg, several
 -> a folder), and the folder that will hold the picture must be creatable: its nearest
-existing ancestor must be a folder (`afile/x.png` is refused). Nothing is created here.
+existing ancestor must be a folder (`afile/x.png` is refused) that takes a file (a probe
+file is made there and removed). Nothing else is created here.
 """
 
 from __future__ import annotations
@@ -27,4 +28,9 @@ def plot_path_problem(plot: Path, names: list[str], **rules) -> str | None:
         probe = probe.parent
     if probe.exists() and not probe.is_dir():
         return f"{plot}: expected {noun} inside a folder, found {probe} is a file"
+    if probe.is_dir():  # the folder that will hold the picture (or be made in) must take a file
+        from linkcli.io.output_guard import refuses_files
+        why = refuses_files(probe)
+        if why:
+            return f"{plot}: expected {noun} in a folder that can be written, found {probe}: {why}"
     return None

@@ -2,12 +2,18 @@
 
 One objective evaluation of one candidate costs one unit. `spend` raises `BudgetSpent`
 beyond the current cap (the strategy that set the cap catches it); `add` counts work the
-caller has already fitted within `left`. `limit(k)` lowers the cap for one stage.
+caller has already fitted within `left`. `limit(k)` lowers the cap for one stage. `watch`,
+when set, sees every count (the command line's progress display on a terminal).
 """
 
 from __future__ import annotations
 
 from contextlib import contextmanager
+from typing import Callable
+
+# Told of every count (n evaluations), for a progress display: set by the command line
+# only while stderr is a terminal, else None (no cost beyond this test).
+watch: Callable[[int], None] | None = None
 
 
 class BudgetSpent(Exception):
@@ -32,10 +38,14 @@ class Budget:
         if self.used + n > self.cap:
             raise BudgetSpent
         self.used += int(n)
+        if watch is not None:
+            watch(int(n))
 
     def add(self, n: int) -> None:
         """Count n evaluations the caller has fitted within `left`."""
         self.used += int(n)
+        if watch is not None:
+            watch(int(n))
 
     @contextmanager
     def limit(self, k: int):

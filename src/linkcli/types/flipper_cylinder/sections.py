@@ -91,9 +91,20 @@ def full_angles(problem, statics: Statics) -> np.ndarray:
     return out
 
 
-def shown_point(problem, x, y) -> list[float]:
-    """A pivot [x, y] in the file's frame (a clockwise sweep is solved mirrored in x)."""
-    return [float(problem.shown_x(float(x))) + 0.0, float(y)]
+def shown_point(problem, x, y, scale: float) -> list[float]:
+    """A pivot [x, y] in the file's frame (a clockwise sweep is solved mirrored in x); a
+    coordinate that is round-off against `scale` (the design's largest coordinate) is 0
+    (linkcli.noise: a pivot on a bound at 0 printed -2.13e-14)."""
+    return [snap(float(problem.shown_x(float(x))), scale), snap(float(y), scale)]
+
+
+def shown_angle(problem, tau: float) -> float:
+    """A platform angle of the sweep in the file's unit; round-off of 0 (against 1 rad) is 0."""
+    return float(problem.meta.units.from_rad(snap(problem.shown_angle(problem.start + tau), 1.0))) + 0.0
+
+
+def _scale(design) -> float:
+    return float(np.max(np.abs(np.asarray(design, dtype=float))))
 
 
 def cylinder_section(problem, statics: Statics, f: dict) -> dict:
@@ -102,10 +113,11 @@ def cylinder_section(problem, statics: Statics, f: dict) -> dict:
     p = f["design"]
 
     def ang(tau):
-        return float(u.from_rad(problem.shown_angle(problem.start + tau))) + 0.0
+        return shown_angle(problem, tau)
 
     kind = "unbounded" if f["crosses"] else ("push" if f["is_push"] else "pull")
-    sec = {"rod_pivot": shown_point(problem, p[0], p[1]), "base_pivot": shown_point(problem, p[2], p[3]),
+    size = _scale(p)
+    sec = {"rod_pivot": shown_point(problem, p[0], p[1], size), "base_pivot": shown_point(problem, p[2], p[3], size),
            "peak_force": f["peak"], "peak_angle": ang(f["peak_at"]), "peak_kind": kind,
            "push_force": f["push"], "push_angle": ang(f["push_at"]) if f["push"] > 0 else None,
            "pull_force": f["pull"], "pull_angle": ang(f["pull_at"]) if f["pull"] > 0 else None,
@@ -134,15 +146,15 @@ def cylinder_section(problem, statics: Statics, f: dict) -> dict:
 
 
 def pareto_rows(problem, statics: Statics, designs) -> list[dict]:
-    u = problem.meta.units
     rows = []
     for design in designs:
         f = facts(problem, statics, design)
+        size = _scale(design)
         rows.append({"closed_length": f["min_length"], "peak_force": f["peak"],
-                     "peak_angle": float(u.from_rad(problem.shown_angle(problem.start + f["peak_at"]))) + 0.0,
+                     "peak_angle": shown_angle(problem, f["peak_at"]),
                      "peak_kind": "push" if f["is_push"] else "pull", "stroke": f["stroke"],
-                     "max_length": f["max_length"], "rod_pivot": shown_point(problem, design[0], design[1]),
-                     "base_pivot": shown_point(problem, design[2], design[3])})
+                     "max_length": f["max_length"], "rod_pivot": shown_point(problem, design[0], design[1], size),
+                     "base_pivot": shown_point(problem, design[2], design[3], size)})
     return rows
 
 
@@ -183,7 +195,8 @@ def report_tables(name: str, section, length_unit: str, angle_unit: str) -> list
                   "arm": r.get("arm"), "length": r.get("length")} for r in forces]
         heads = {"angle": f"platform angle ({au})", "force": "force (N)", "arm": f"moment arm ({lu})",
                  "length": f"length C-A ({lu})"}
-        full = len(section.get("forces_full") or [])
+        full = section.get("forces_full") or []
+        full = getattr(full, "total", len(full))  # the table view may hold it cut (io.report.Elided)
         note = f" ({full} angles in JSON/TOML: forces_full)" if full else ""
         blocks.append(Rows(f"Cylinder force over the sweep{note}", table, heads))
     return blocks

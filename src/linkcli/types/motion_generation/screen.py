@@ -15,7 +15,8 @@ phi (K, n) in rad and its branch sign at each pose (K, n) (-1 open, +1 crossed).
 * grashof: not the class the file asks for; transmission: mu leaves the window over the
   working span (the input's travel from the first pose to the last) or, for a class whose
   input must turn fully (crank-rocker, double-crank), over the full turn, as path-generation;
-* bounds: a length, the ground pivot A0 or the ground angle outside a bound the file gives;
+* bounds: a length, the ground pivot A0 or the ground angle outside a bound the file gives,
+  or a length or coordinate beyond the sizes any file accepts (io.meta.MAX_LENGTH);
   branch_choice: not on the branch the file asks for.
 
 `quality` is the worst transmission deviation from 90 deg over the working span (rad,
@@ -26,6 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from linkcli.io.meta import MAX_LENGTH
 from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.types.path_generation.model import FULL_TURN, rho2_extremes
 
@@ -147,8 +149,10 @@ def screen(problem, poses, params, phi, signs, scale: float, exact: bool) -> dic
 
 
 def out_of_bounds(problem, params) -> np.ndarray:
-    """(K,) True where a length, A0 or the ground angle is outside a bound the file gives."""
-    out = np.zeros(len(params), bool)
+    """(K,) True where a length, A0 or the ground angle is outside a bound the file gives,
+    or a length or coordinate (A0, the body origin on the coupler) beyond the sizes any
+    file accepts (MAX_LENGTH): a result must be read again by `analyze`."""
+    out = np.any(np.abs(params[:, [0, 1, 3, 4, 5, 6, 7, 8]]) > MAX_LENGTH, axis=1)
     for k, name in ((3, "ground"), (4, "input"), (5, "coupler"), (6, "output")):
         r = problem.lengths.get(name)
         if r is not None:

@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from linkcli.io.tables import Rows
+from linkcli.io.tables import KeyValues, Rows
 from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.noise import NOISE_FLOOR, snap
 from linkcli.analysis.sections import gap
@@ -26,6 +26,8 @@ def report_tables(name: str, section, length_unit: str, angle_unit: str) -> list
     if name == "candidates" and isinstance(section, list):
         return [Rows(f"Candidates ({length_unit}, {angle_unit})", section)]
     if name == "burmester" and isinstance(section, dict):
+        if not section["dyads"]:
+            return [KeyValues("Burmester dyads", [("real dyads", section["real_dyads"])])]
         return [Rows(f"Burmester dyads ({length_unit}): {section['real_dyads']} real", section["dyads"])]
     return []
 
@@ -105,13 +107,11 @@ def defect_counts(res) -> dict:
     return out
 
 
-def burmester_section(g1, m1, g2, m2, u) -> dict:
-    """The real Burmester dyads (ground pivot, global; moving pivot, body frame)."""
-    i, _ = _dyad_numbers(g1, m1)
-    n = int(i.max()) + 1 if len(i) else 0
-    ground = np.zeros((n, 2))
-    moving = np.zeros((n, 2))
-    ground[i], moving[i] = g1, m1
+def burmester_section(ground, moving, u) -> dict:
+    """The real Burmester dyads (ground pivot, global; moving pivot, body frame), numbered
+    in the order found; `real_dyads` may be 0."""
+    n = len(ground)
+    ground, moving = np.asarray(ground, float).reshape(n, 2), np.asarray(moving, float).reshape(n, 2)
     size = float(np.max(np.abs(np.concatenate([ground, moving])))) if n else 1.0
     return {"real_dyads": n, "dyads": [{"dyad": k + 1, "ground": _pt(ground[k], size),
                                         "moving": _pt(moving[k], size)} for k in range(n)]}

@@ -30,6 +30,7 @@ import math
 
 import numpy as np
 
+from linkcli.io.meta import MAX_LENGTH
 from linkcli.model import FourBar
 from linkcli.noise import first_min
 from linkcli.search.budget import Budget
@@ -37,7 +38,7 @@ from linkcli.search.sampling import latin_hypercube
 from linkcli.solution import Solution, SolverRecord, Status
 from linkcli.textnum import num
 
-from . import assemble, burmester, dyads, least_squares, sections
+from . import assemble, burmester, dyads, least_squares, no_candidates, sections
 from .poses import as_poses, characteristic_length
 from .schema import EXACT_POSES
 from .screen import DEFECTS, screen
@@ -63,8 +64,9 @@ def solve(problem) -> Solution:
     with np.errstate(all="ignore"):
         if problem.timing == "prescribed" or n > EXACT_POSES:
             return _least_squares(problem, poses, scale)
-        method, family, g1, m1, g2, m2, notes = _exact_candidates(problem, poses, scale)
-        return _choose_exact(problem, poses, scale, method, family, g1, m1, g2, m2, notes)
+        method, family, g1, m1, g2, m2, notes, *dyads_found = _exact_candidates(problem, poses, scale)
+        return _choose_exact(problem, poses, scale, method, family, g1, m1, g2, m2, notes,
+                             dyads_found[0] if dyads_found else None)
 
 
 # ---------------------------------------------------------------- exact synthesis
@@ -78,15 +80,26 @@ def _exact_candidates(problem, poses, scale):
         return _two_poses(problem, poses, scale, rng)
     if n == 3:
         return _three_poses(problem, poses, scale, rng)
+    translation = no_candidates.translation_reason(poses, problem.meta.units)
     if n == 4:
-        curve = burmester.centre_point_curve(poses, samples=CURVE_SAMPLES)
+        # the curve is drawn as a pencil of lines through the pole of the first two poses:
+        # start from a pair that turns the body (a translation's pole is at infinity); the
+        # centre points and the moving pivots (body frame) do not depend on the order
+        pair = no_candidates.rotating_pair(poses)
+        if pair is None:
+            return "centre-point curve", "curve", *(np.zeros((0, 2)),) * 4, [translation]
+        first = list(pair) + [k for k in range(n) if k not in pair]
+        curve = burmester.centre_point_curve(poses[first], samples=CURVE_SAMPLES)
         g, m = curve.pairs()
         i, j = np.nonzero(~np.eye(len(g), dtype=bool))
-        return "centre-point curve", "curve", g[i], m[i], g[j], m[j], []
+        notes = [] if len(g) else [translation or no_candidates.curve_reason()]
+        return "centre-point curve", "curve", g[i], m[i], g[j], m[j], notes
     res = burmester.burmester_dyads(poses)
     k = len(res.ground)
     i, j = np.nonzero(~np.eye(k, dtype=bool))
-    return "burmester", "burmester", res.ground[i], res.moving[i], res.ground[j], res.moving[j], []
+    notes = [] if k >= 2 else [translation or no_candidates.burmester_reason(k)]
+    return ("burmester", "burmester", res.ground[i], res.moving[i], res.ground[j], res.moving[j], notes,
+            res)
 
 
 def _pivot_box(problem, poses, scale, rng, count):
@@ -99,6 +112,7 @@ def _pivot_box(problem, poses, scale, rng, count):
     ga = problem.ground_angle or (-math.pi, math.pi)
     lo = np.array([gp[0][0], gp[1][0], max(d[0], LENGTH_FLOOR * scale * 1e-3), ga[0]])
     hi = np.array([gp[0][1], gp[1][1], d[1], ga[1]])
+    lo[:3], hi[:3] = np.maximum(lo[:3], [-MAX_LENGTH, -MAX_LENGTH, 0.0]), np.minimum(hi[:3], MAX_LENGTH)  # sizes a file accepts
     unit = latin_hypercube(rng, count, 4)
     x = lo + unit * (hi - lo)
     a0 = x[:, :2]
@@ -173,26 +187,33 @@ def _three_poses(problem, poses, scale, rng):
     m1, s1 = dyads.moving_pivots_for_ground(poses, a0)
     m2, s2 = dyads.moving_pivots_for_ground(poses, b0)
     ok = ~s1 & ~s2
-    return "inversion, search within bounds", "search", a0[ok], m1[ok], b0[ok], m2[ok], []
+    notes = [] if ok.any() else [no_candidates.translation_reason(poses, problem.meta.units)
+                                 or no_candidates.search_reason(len(ok))]
+    return "inversion, search within bounds", "search", a0[ok], m1[ok], b0[ok], m2[ok], notes
 
 
-def _choose_exact(problem, poses, scale, method, family, g1, m1, g2, m2, notes) -> Solution:
+def _choose_exact(problem, poses, scale, method, family, g1, m1, g2, m2, notes, burmester_dyads=None) -> Solution:
+    """The best defect-free candidate (module docstring); `burmester_dyads`: five poses'
+    BurmesterResult, reported as the `burmester` section (its real_dyads may be 0 or 1,
+    when no candidate is left: the message says why). An exact family's search is
+    complete: `converged` is true also when it proves that nothing fits."""
     u = problem.meta.units
     solver = SolverRecord(method, problem.meta.solver.seed, int(len(g1)), True)
+    extra = {}
+    if burmester_dyads is not None:
+        extra["burmester"] = sections.burmester_section(burmester_dyads.ground, burmester_dyads.moving, u)
     if len(g1) == 0:
         return Solution(status=Status.INFEASIBLE, message="no candidate linkage: " + "; ".join(notes),
-                        solver=solver)
+                        solver=solver, sections=extra)
     params, phi, signs = assemble.dyad_pair_params(poses, g1, m1, g2, m2)
     res = screen(problem, poses, params, phi, signs, scale, exact=True)
     k = _best(res["count"], res["quality"])
     feasible = res["count"][k] == 0
     order = _listing_order(res, family)
     rows = sections.candidate_rows(res, params, g1, m1, g2, m2, order, u, family)
-    extra = {"candidates": rows}
+    extra = {"candidates": rows, **extra}
     if family in ("search", "curve"):
         extra["candidate_counts"] = sections.defect_counts(res)
-    if family == "burmester":
-        extra["burmester"] = sections.burmester_section(g1, m1, g2, m2, u)
     return _solution(problem, poses, scale, params[k], phi[k], signs[k], res, k, feasible, solver, extra,
                      notes, objective=None)
 
@@ -221,6 +242,7 @@ def _bounds(problem, poses, scale):
     distance from the poses' centroid to the farthest ground pivot allowed; given ground
     pivots are fixed."""
     lo, hi = least_squares.default_bounds(poses)
+    lo, hi = np.maximum(lo, -MAX_LENGTH), np.minimum(hi, MAX_LENGTH)  # within the sizes any file accepts
     reach = 0.0  # a missing length bound must reach the poses from the farthest ground pivot allowed
     cen = poses[:, :2].mean(0)
     corners = ([p for p in problem.ground_pivots] if problem.ground_pivots is not None else []) + (
@@ -233,7 +255,7 @@ def _bounds(problem, poses, scale):
         if r is not None:
             lo[k], hi[k] = max(r[0], 1e-6 * r[1]), r[1]
         else:
-            hi[k] = max(hi[k], reach)
+            hi[k] = min(max(hi[k], reach), MAX_LENGTH)
     if problem.ground_pivot is not None:
         (lo[0], hi[0]), (lo[1], hi[1]) = problem.ground_pivot
     if problem.ground_angle is not None:

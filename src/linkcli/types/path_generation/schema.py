@@ -207,12 +207,16 @@ def parse(root: Table, meta: Meta) -> PathGenerationProblem | None:
         xs, ys = [p[0] for p in points], [p[1] for p in points]
         extent = max(max(xs) - min(xs), max(ys) - min(ys))
         cx, cy = 0.5 * (max(xs) + min(xs)), 0.5 * (max(ys) + min(ys))
-        span = DEFAULT_SPAN * extent
+        span = min(DEFAULT_SPAN * extent, MAX_LENGTH)  # defaults within the sizes any file accepts
     else:
         extent, cx, cy, span = 1.0, 0.0, 0.0, 1.0
+
+    def within(lo: float, hi: float) -> tuple[float, float]:  # a result `analyze` reads again
+        return max(lo, -MAX_LENGTH), min(hi, MAX_LENGTH)
+
     lengths = {k: length_bound(bnd, k, (0.0, span)) for k in LINKS}
     cp = point_range(bnd, "coupler_point", ((-span, span), (-span, span)))
-    gp = point_range(bnd, "ground_pivot", ((cx - span, cx + span), (cy - span, cy + span)))
+    gp = point_range(bnd, "ground_pivot", (within(cx - span, cx + span), within(cy - span, cy + span)))
     ga = angle_range(bnd, "ground_angle", (0.0, 2 * math.pi), u)
     offset = None
     if bnd is not None and "input_offset" in bnd:
