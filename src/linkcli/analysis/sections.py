@@ -83,7 +83,7 @@ def _linkage_sections(rep, problem, solution, mech, want, notes) -> None:
     speed, steps = motion_study(problem, u)
     if study is not None and "kinematics" in want:
         rep["kinematics"] = mech.kinematics_rows(study, speed, steps, u)
-        rep.setdefault("motion", {}).update(input_speed=_dang(u, speed), steps=steps)  # to reproduce it
+        rep.setdefault("motion", {}).update(mech.motion_echo(speed, steps, u))  # to reproduce it
     if "forces" in want and problem.meta.loads is not None:
         from linkcli.analysis import forces
         if study is None and not want & {"transmission", "motion", "kinematics"}:
@@ -92,7 +92,7 @@ def _linkage_sections(rep, problem, solution, mech, want, notes) -> None:
             rep.update(forces.echo(problem.meta.loads))  # the load case as given: a result file round-trips
             rep["forces"] = forces.section(mech, study, speed, steps, problem.meta.loads, u, notes)
             if "motion" in rep:
-                rep["motion"].update(input_speed=_dang(u, speed), steps=steps)
+                rep["motion"].update(mech.motion_echo(speed, steps, u))
 
 
 def linkage_scale(linkage) -> float:

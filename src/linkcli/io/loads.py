@@ -52,7 +52,15 @@ def read_loads(root: Table, kind: str) -> LoadCase | None:
     from linkcli.mechanisms import NAMES, module
     mechanism = mechanism_of(root)
     own = module(mechanism, "schema")
-    others = {name: module(name, "schema") for name in NAMES if name != mechanism}
+    if own.MASSES is None:  # a mechanism whose loads are not modelled: one line per table
+        for name in ("loads", "masses"):
+            if name in root:
+                root.raw(name)
+                root.error(name, f"no [{name}] for a {mechanism} (its loads are not modelled)",
+                           raw_got=f"a [{name}] table")
+        return None
+    others = {name: module(name, "schema") for name in NAMES
+              if name != mechanism and module(name, "schema").MASSES is not None}
     errors = len(root.reader.errors)
     given: dict = {}
     loads = Loads()

@@ -159,6 +159,7 @@ def _line_map(text: str) -> dict[tuple[str, ...], int]:
 
     table: tuple[str, ...] = ()
     depth = 0  # open brackets of a multi-line array: keys inside belong to its key
+    elements: dict[tuple[str, ...], int] = {}  # [[array]] headers met so far
     raw_lines = text.split("\n")
     for n, line in enumerate(masked.split("\n"), start=1):
         raw = raw_lines[n - 1]
@@ -167,6 +168,10 @@ def _line_map(text: str) -> dict[tuple[str, ...], int]:
             if m:
                 table = tuple(_split_key(raw[m.start(1):m.end(1)]))
                 put(table, n)
+                if line.lstrip().startswith("[["):  # an element of an array of tables: its keys
+                    k = elements[table] = elements.get(table, -1) + 1  # also as "name[k]"
+                    table = table[:-1] + (f"{table[-1]}[{k}]",)
+                    put(table, n)
                 continue
             m = _KEY.match(line)
             if m:
@@ -262,6 +267,9 @@ class Reader:
 
     # -- errors ---------------------------------------------------------------
     def line_of(self, path: tuple[str, ...]) -> int | None:
+        for n in range(len(path), 0, -1):  # in an element of an array of tables: `name[k]` (_line_map)
+            if path[:n] in self.lines and any(re.search(r"\[\d+\]$", p) for p in path[:n]):
+                return self.lines[path[:n]]
         path = tuple(re.sub(r"\[\d+\]$", "", p) for p in path)
         for n in range(len(path), 0, -1):
             if path[:n] in self.lines:

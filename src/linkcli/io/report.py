@@ -92,10 +92,11 @@ def _generic(name: str, section, digits: int, units: dict[str, str] | None = Non
 
 def _tolerance_units(section: dict, lu: str, au: str) -> dict[str, str]:
     measure = str(section.get("measure", ""))
-    err = lu if ("coupler point" in measure or "slider" in measure) else au  # a length error
+    err = lu if ("coupler point" in measure or "slider" in measure or "of P" in measure) else au  # a length error
     keys = ("nominal_error", "error_mean", "error_p95", "error_max", "allowed_error")
     out = {k: err for k in keys}
-    out.update({"lengths": lu, "clearance": lu, "clearance_slider": lu, "largest_tolerance": lu, "sensitivity": f"{err}/{lu}"})
+    out.update({"lengths": lu, "clearance": lu, "clearance_slider": lu, "largest_tolerance": lu, "sensitivity": f"{err}/{lu}",
+                "lock_play": au})
     return out
 
 
@@ -128,7 +129,9 @@ def render(report: dict, digits: int = 6) -> Group:
         parts.append(_kv("Link lengths", _linkage_rows(r["linkage"], lu, au), digits))
     if "grashof" in r:
         parts.append(_class_table(r["grashof"], digits))
-    if "transmission" in r:
+    if "transmission" in r and "input_at_min" not in r["transmission"]:  # over rows (a five-bar's)
+        parts.extend(_generic("transmission", r["transmission"], digits, _angle_units(r["transmission"], au)))
+    elif "transmission" in r:
         tr = r["transmission"]
         t = Table(title=f"Transmission angle ({au})", title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
         for c in ("over", "min", "at input", "max", "at input"):
@@ -142,8 +145,11 @@ def render(report: dict, digits: int = 6) -> Group:
         parts.append(t)
     if "motion" in r:
         units = _motion_units(lu, au)
-        parts.append(_kv("Motion", [(k.replace("_", " ") + (f" ({units[k]})" if k in units else ""), v)
-                                    for k, v in r["motion"].items()], digits))
+        rows = {k: v for k, v in r["motion"].items() if _row_list(v)}  # tables of their own
+        parts.append(_kv("Motion", [(k.replace("_", " ") + (f" ({units[k]})" if k in units else ""),
+                                     f"{len(v)} rows in JSON/TOML output" if _pair_rows(v) else v)
+                                    for k, v in r["motion"].items() if k not in rows], digits))
+        parts.extend(_rows(f"Motion: {k.replace('_', ' ')}", v, digits) for k, v in rows.items())
     if "positions" in r:
         parts.append(_rows("Positions", r["positions"], digits, _position_heads(r, lu, au)))
     if "error" in r:
@@ -157,7 +163,11 @@ def render(report: dict, digits: int = 6) -> Group:
                  "slider_acceleration": f"a slider ({lu}/s2)",
                  "coupler_point_x": f"P x ({lu})", "coupler_point_y": f"P y ({lu})",
                  "coupler_point_vx": f"P vx ({lu}/s)", "coupler_point_vy": f"P vy ({lu}/s)",
-                 "coupler_point_ax": f"P ax ({lu}/s2)", "coupler_point_ay": f"P ay ({lu}/s2)"}
+                 "coupler_point_ax": f"P ax ({lu}/s2)", "coupler_point_ay": f"P ay ({lu}/s2)",
+                 "input2": f"input2 ({au})", "point": f"P ({lu})", "dpoint_dinput": f"dP/d input ({lu}/{au})",
+                 "dpoint_dinput2": f"dP/d input2 ({lu}/{au})", "velocity": f"v P ({lu}/s)",
+                 "acceleration": f"a P ({lu}/s2)", "transmission_left": f"mu A ({au})",
+                 "transmission_right": f"mu B ({au})", "margin": f"margin ({au})"}
         parts.append(_rows("Kinematics", r["kinematics"], digits, heads))
     if "loads" in r:
         units = {"coupler_force": "N", "output_torque": "N m", "output_force": "N", "gravity": "m/s2"}
@@ -206,7 +216,25 @@ def _class_table(g: dict, digits: int) -> Table:
 def _motion_units(lu: str, au: str) -> dict[str, str]:
     """The unit of each Motion row that has one (time ratio, steps and yes/no have none)."""
     return {"input_range": au, "output_range": au, "output_swing": au, "slider_range": lu,
-            "stroke": lu, "input_speed": f"{au}/s"}
+            "stroke": lu, "input_speed": f"{au}/s", "input2_range": au, "x_range": lu, "y_range": lu,
+            "input_speeds": f"{au}/s", "input_accelerations": f"{au}/s2"}
+
+
+def _row_list(v) -> bool:
+    """A list of row dicts (a table of its own)."""
+    return isinstance(v, list) and bool(v) and all(isinstance(x, dict) for x in v)
+
+
+def _pair_rows(v) -> bool:
+    """A list of rows of numbers (a five-bar's echoed inputs): counted, not printed."""
+    return isinstance(v, list) and bool(v) and all(isinstance(x, list) for x in v)
+
+
+def _angle_units(section: dict, au: str) -> dict[str, str]:
+    """Units of a transmission section over rows: its angles; row numbers and the condition
+    number have none."""
+    return {k: au for k, v in section.items()
+            if isinstance(v, float) and not k.startswith("row") and not k.startswith("condition")}
 
 
 def _position_heads(r: dict, lu: str, au: str) -> dict[str, str]:

@@ -158,6 +158,20 @@ class Mechanism(ABC):
     def kinematics_rows(self, study: Study, speed: float, steps: int, units) -> list[dict]:
         """The `kinematics` rows at `study.rows(steps)` for a constant drive `speed` rad/s."""
 
+    def motion_echo(self, speed: float, steps: int, units) -> dict:
+        """What the `motion` section adds of the study's own settings beside the kinematics
+        or forces rows, so that `analyze` of a result reproduces them: the constant drive
+        speed (angle unit per s) and the steps. A mechanism whose motion section already
+        echoes its own [motion] returns {}."""
+        from linkcli.mechanisms.columns import turn_out
+        return {"input_speed": turn_out(units, speed), "steps": steps}
+
+    def infeasible(self) -> str | None:
+        """Why a given linkage cannot go through the motion its file asks for (rows it
+        cannot reach: exit 1), or None. A linkage studied over its drive's own range of
+        motion has none (it never assembles: `study` is None)."""
+        return None
+
     # ------------------------------------------------------------ loads
     @abstractmethod
     def load_rows(self, phi, speed: float, case, metres: float) -> LoadRows:
