@@ -206,7 +206,7 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
                                     what="a radial play of the slider in its guide >= 0 (length unit)")
     lock_play = 0.0
     if "lock_play" in own.PLAYS:
-        lock_play = t.number("lock_play", 0.0, nonnegative=True, hi=units.from_rad(math.pi / 2),
+        lock_play = t.number("lock_play", 0.0, lo=0.0, hi=units.from_rad(math.pi / 2),
                              what="an angular play of a held drive's lock (angle unit)")
     for name in NAMES:
         for key, what in module(name, "schema").PLAYS.items():

@@ -187,6 +187,7 @@ def read_motion(root: Table, meta, linkage: FiveBar | None):
     has_inputs, has_path = "inputs" in t, "path" in t
     inputs = path = None
     if has_inputs and has_path:
+        t.raw("inputs")
         t.raw("path")
         t.error("path", "either inputs (forward kinematics) or path (inverse kinematics), not both",
                 raw_got="both")
