@@ -86,7 +86,7 @@ def _floor(con: Table | None, maximize: str, units):
     if key not in con:
         return None, True
     if key == "max_condition":
-        v = con.number(key, lo=1.0, hi=1e12, what="a condition number >= 1")
+        v = con.number(key, lo=1.0, hi=1e12, what="a condition number")
         return (None, False) if v is None else (1.0 / v, True)
     top = units.from_rad(math.pi / 2)
     v = con.number(key, what=f"an angle in (0, {top:g}] ({units.angle})")

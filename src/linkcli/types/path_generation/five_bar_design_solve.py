@@ -295,8 +295,10 @@ def _design_section(problem, linkage, usable, pick, chosen="quality") -> dict:
     out = {"maximize": problem.maximize, "chosen_by": chosen,
            "modes": list(linkage.motion.modes), "worst_condition": float(kappa[k]), "row_at_worst_condition": k,
            "worst_transmission": float(u.from_rad(margin[j])), "row_at_worst_transmission": j}
-    if problem.floor is not None:
-        out["quality_floor"] = problem.floor
+    if problem.floor is not None and problem.maximize == "conditioning":
+        out["max_condition"] = 1.0 / problem.floor
+    elif problem.floor is not None:
+        out["min_transmission"] = float(u.from_rad(math.asin(min(problem.floor, 1.0))))
     if len(usable) > 1 or len(problem.modes) > 1:
         out["mode_pairs"] = [{"modes": m[0] + m[1], "worst_quality": f[1]} for m, f in usable]
     return out
