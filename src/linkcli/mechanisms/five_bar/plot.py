@@ -99,13 +99,15 @@ def _workspace(ax, track, modes) -> None:
 
 
 def _rows_panels(ax_k, ax_mu, track, u) -> None:
-    """Condition number (log scale) and transmission angles per row."""
+    """Condition number (log scale over a wide range) and transmission angles per row."""
     p, ok = track.pose, track.valid
     rows = np.arange(track.rows)
     kappa = np.where(ok, kin.condition(p), np.nan)
     kappa = np.where(np.isfinite(kappa), kappa, np.nan)
-    ax_k.semilogy(rows, kappa, color="#9467bd", marker="o", ms=3, lw=1.6)
     worst = np.nanmax(kappa) if np.isfinite(kappa).any() else float("nan")
+    ax_k.plot(rows, kappa, color="#9467bd", marker="o", ms=3, lw=1.6)
+    if worst > 10.0 * np.nanmin(kappa):  # a wide range (near a singularity): log scale
+        ax_k.set_yscale("log")
     ax_k.set_ylabel("condition number of J")
     ax_k.set_title(f"Condition number per row (worst {num(float(worst))}; 1 is isotropic)")
     ax_k.tick_params(labelbottom=False)
