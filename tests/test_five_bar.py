@@ -419,3 +419,15 @@ def test_worst_row_and_wilson_per_row():
         k = round(r["failure_probability"] * n)
         assert r["failure_probability_ci95"] == pytest.approx(list(wilson(k, n)))
     assert max(probs) <= tol["failure_probability"] <= sum(probs)
+
+
+def test_keys_in_an_array_of_tables_have_their_own_lines():
+    """io.reader: each [[motion.phases]] element's keys are located on their own line."""
+    from linkcli.io.reader import Reader
+    text = ('type = "linkage"\n[motion]\ninputs = [[1, 2]]\n[[motion.phases]]\nrows = [0, 0]\n'
+            'locked = "input"\n[[motion.phases]]\nrows = [0, 0]\nlocked = "input2"\n')
+    r = Reader("x.toml", text)
+    assert r.line_of(("motion", "phases[0]", "locked")) == 6
+    assert r.line_of(("motion", "phases[1]", "rows")) == 8
+    assert r.line_of(("motion", "phases[1]")) == 7
+    assert r.line_of(("motion", "inputs[0]")) == 3  # an index into an array keeps its key's line

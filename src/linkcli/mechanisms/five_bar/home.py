@@ -7,6 +7,16 @@ gives a `RowStudy` whose `rows(steps)` are the row numbers 0 .. M-1 whatever `st
 has one row per row of [motion]. Frames (model.py): local A0 = (0, 0), B0 = (ground, 0),
 A = input e^{i phi1}, B = B0 + input2 e^{i phi2}, P where the distal links meet; global:
 A0 at `ground_pivot`, the ground line at `ground_angle`.
+
+The numbers' conventions, for a five-bar given another way (a drawing with two drives) to
+print the same: joints A0, B0 (ground), A, B, P; links input A0-A, input2 B0-B, coupler A-P,
+coupler2 B-P; drives input and input2. Drive angles are the cranks' directions from the
+ground line A0 -> B0, counter-clockwise, shown wrapped to (-180, 180]; P, its velocity (at
+the rows' drive speeds, 0 for a held drive) and acceleration are global; the Jacobian's
+columns are per unit of the file's angle unit; the transmission angles are the triangles'
+unoriented angles in [0, 180] (at P between P->A and P->B, at A between A->A0 and A->P, at B
+between B->B0 and B->P); the condition number is that of dP/d(phi1, phi2) with the angles
+in radians (the unit does not change it).
 """
 
 from __future__ import annotations
@@ -78,8 +88,10 @@ class FiveBarMechanism(Mechanism):
         return sections.motion_section(study.detail, units)
 
     def motion_echo(self, speed, steps, units) -> dict:
-        """Nothing: the motion section already echoes the five-bar's own [motion]."""
-        return {}
+        """The five-bar's own [motion] (its rows, the drives' rates, its phases), not a
+        single drive's speed and steps."""
+        track = self.track()
+        return {} if track is None else sections.motion_echo(track, units)
 
     def kinematics_rows(self, study, speed, steps, units) -> list[dict]:
         """One row per row of [motion], at its own input_speeds (not `speed`, `steps`)."""

@@ -150,7 +150,6 @@ def motion_section(track: Track, u) -> dict:
     """rows; the drives' ranges and P's over the rows reached; the task echoed as a problem
     file writes it (inputs as reached, input_speeds, input_accelerations, phases)."""
     fb, ok = track.fb, track.valid
-    mo = fb.motion
     p = track.pose
     out: dict = {"rows": track.rows}
     if ok.any():
@@ -161,7 +160,17 @@ def motion_section(track: Track, u) -> dict:
         scale = size(fb) + math.hypot(*fb.ground_pivot)
         out["x_range"] = [snap(float(x.min()), scale), snap(float(x.max()), scale)]
         out["y_range"] = [snap(float(y.min()), scale), snap(float(y.max()), scale)]
-    if ok.all():
+    out.update(motion_echo(track, u))
+    return out
+
+
+def motion_echo(track: Track, u) -> dict:
+    """The task as a problem file writes it (so that `analyze` of a result reproduces it):
+    inputs (the drive angles of every row, when all are reached), input_speeds,
+    input_accelerations, phases."""
+    mo, p = track.fb.motion, track.pose
+    out: dict = {}
+    if track.valid.all():
         out["inputs"] = [[_ang(u, a), _ang(u, b)] for a, b in zip(p.phi1.tolist(), p.phi2.tolist())]
     out["input_speeds"] = [_dang(u, w) for w in mo.speeds]
     out["input_accelerations"] = [_dang(u, a) for a in mo.accelerations]
