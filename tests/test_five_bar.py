@@ -47,6 +47,18 @@ def numeric_jacobian(lengths, phi1, phi2, h=1e-6):
     return np.array([[c1.real, c2.real], [c1.imag, c2.imag]])
 
 
+def length_slopes(phi, h=1e-5):
+    """dP/dl (complex, per row) of each link of L at drive angles phi (rows of [phi1, phi2])
+    by central differences of ref_forward."""
+    out = []
+    for i in range(5):
+        up, down = list(L), list(L)
+        up[i] += h
+        down[i] -= h
+        out.append((ref_forward(up, phi[:, 0], phi[:, 1]) - ref_forward(down, phi[:, 0], phi[:, 1])) / (2 * h))
+    return out
+
+
 def report(*args):
     code, out, err = run_cli(*args, "--format", "json", "--precision", "15")
     assert "Traceback" not in err
@@ -330,13 +342,7 @@ def test_monte_carlo_rows_are_first_order_for_tiny_tolerances():
     dev, ok, _ = model.row_errors(u * t, None, None)
     assert ok.all()
     phi = np.radians([[r["input"], r["input2"]] for r in report("synth", "problems/five_bar_line.toml")[1]["kinematics"]])
-    h = 1e-5
-    sens = []
-    for i in range(5):
-        up, down = list(L), list(L)
-        up[i] += h
-        down[i] -= h
-        sens.append((ref_forward(up, phi[:, 0], phi[:, 1]) - ref_forward(down, phi[:, 0], phi[:, 1])) / (2 * h))
+    sens = length_slopes(phi)
     want = np.abs(u @ np.array(sens) * t)
     np.testing.assert_allclose(dev, want, rtol=2e-4)
     got = model.sensitivity()
@@ -350,13 +356,7 @@ def test_reported_row_errors_against_first_order_statistics():
     code, rep, err = report("synth", "problems/five_bar_line.toml")
     rows = rep["kinematics"]
     phi = np.radians([[r["input"], r["input2"]] for r in rows])
-    h = 1e-5
-    sens = []
-    for i in range(5):
-        up, down = list(L), list(L)
-        up[i] += h
-        down[i] -= h
-        sens.append((ref_forward(up, phi[:, 0], phi[:, 1]) - ref_forward(down, phi[:, 0], phi[:, 1])) / (2 * h))
+    sens = length_slopes(phi)
     draws = np.random.default_rng(20240611).uniform(-0.02, 0.02, (400_000, 5))
     first = np.abs(draws @ np.array(sens))
     text = open("problems/five_bar_line.toml").read().replace("clearance = 0.01", "clearance = 0")
