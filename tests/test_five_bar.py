@@ -228,6 +228,21 @@ def test_a_phase_is_the_four_bar_left_and_p_runs_on_its_coupler_curve():
         np.testing.assert_allclose(r["velocity"], np.array(r["dpoint_dinput"]) * -20.0, rtol=1e-12, atol=1e-12)
 
 
+def test_a_path_on_the_phase_circle_gives_the_phase_its_four_bar(tmp_path):
+    """The metamorphic example's P at its rows, as a path with the same phase: the inverse
+    kinematics finds the same drive angles (the held one constant) and the same four-bar."""
+    code, rep, err = report("synth", "problems/five_bar_metamorphic.toml")
+    path = [r["point"] for r in rep["kinematics"]]
+    text = HEAD + (f'[motion]\npath = {path}\ninput_speeds = [-20, -20]\n[[motion.phases]]\nrows = [0, 10]\n'
+                   'locked = "input2"\n')
+    code, again, err = report("synth", write(tmp_path, text))
+    assert code == 0, err
+    for a, b in zip(again["kinematics"], rep["kinematics"]):
+        assert (a["input"], a["input2"]) == pytest.approx((b["input"], b["input2"]), abs=1e-9)
+    assert again["grashof"]["phases"] == rep["grashof"]["phases"]
+    assert again["linkage"]["branch"] == "left"
+
+
 def test_a_path_off_the_phase_circle_is_infeasible(tmp_path):
     path = [[22.7632, 71.6368], [24.0941, 73.2759], [26.0, 75.0], [28.0, 76.5]]
     text = HEAD + f'[motion]\npath = {path}\n[[motion.phases]]\nrows = [0, 3]\nlocked = "input2"\n'

@@ -114,7 +114,8 @@ def transmission_section(track: Track, u, notes: list) -> dict:
     out["nearest_singularity"] = names[r]
     out["singularity_margin"] = _dang(u, least[r])
     out["row_at_singularity"] = r
-    out["phases"] = [_phase_transmission(bar, u) for bar in track.phases if bar is not None]
+    if track.phases:
+        out["phases"] = [_phase_transmission(bar, u) for bar in track.phases if bar is not None]
     band = TRANSMISSION_BAND
     if math.degrees(mn) < band[0] * (1 - 1e-9) or math.degrees(mx) > band[1] * (1 + 1e-9):
         notes.append(f"transmission angle at P leaves the recommended {band[0]:g}..{band[1]:g} deg band "
