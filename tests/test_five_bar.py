@@ -446,3 +446,31 @@ def test_keys_in_an_array_of_tables_have_their_own_lines():
     assert r.line_of(("motion", "phases[1]", "rows")) == 8
     assert r.line_of(("motion", "phases[1]")) == 7
     assert r.line_of(("motion", "inputs[0]")) == 3  # an index into an array keeps its key's line
+
+
+def test_a_five_bar_drawn_with_two_drives_prints_the_same_numbers(tmp_path):
+    """The same five-bar as a drawing (mechanism = "drawn", two drives: issue 29's solver)
+    and as the five-bar home, at the drawing's rows: P, its velocity and acceleration at the
+    drives' speeds, and the transmission angle at P agree."""
+    phi1, phi2 = math.radians(115.0), math.radians(60.0)
+    p = complex(ref_forward(L, phi1, phi2))
+    a, b = complex(L[1] * np.exp(1j * phi1)), complex(L[0] + L[2] * np.exp(1j * phi2))
+    drawn = ('type = "linkage"\n[linkage]\nmechanism = "drawn"\n[joints]\n'
+             f'A0 = {{ at = [0, 0], ground = true }}\nB0 = {{ at = [{L[0]!r}, 0], ground = true }}\n'
+             f'A = {{ at = [{a.real!r}, {a.imag!r}] }}\nB = {{ at = [{b.real!r}, {b.imag!r}] }}\n'
+             f'P = {{ at = [{p.real!r}, {p.imag!r}] }}\n[links]\nleft = ["A0", "A"]\nright = ["B0", "B"]\n'
+             'left_distal = ["A", "P"]\nright_distal = ["B", "P"]\n[drive]\nleft = { speed = 20 }\n'
+             'right = { speed = -10 }\n[motion]\nsteps = 9\nspan = [-20, 20]\npoints = ["P"]\n')
+    code, one, err = report("synth", write(tmp_path, drawn, "drawn.toml"))
+    assert code == 0, err
+    rows = one["kinematics"]
+    inputs = [[r["input"], r["drives"]["right"]] for r in rows]
+    five = HEAD + f"[motion]\ninputs = {inputs}\ninput_speeds = [20, -10]\n"
+    code, two, err = report("synth", write(tmp_path, five, "five.toml"))
+    assert code == 0, err
+    for r, s in zip(rows, two["kinematics"]):
+        pt = r["points"]["P"]
+        assert s["point"] == pytest.approx([pt["x"], pt["y"]], abs=1e-9)
+        assert s["velocity"] == pytest.approx([pt["vx"], pt["vy"]], abs=1e-9)
+        assert s["acceleration"] == pytest.approx([pt["ax"], pt["ay"]], abs=1e-9)
+        assert s["transmission"] == pytest.approx(r["transmission"]["P"], abs=1e-9)

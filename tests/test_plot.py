@@ -376,11 +376,15 @@ def test_missing_matplotlib_is_bad_input_with_the_install_hint(monkeypatch, tmp_
 
 
 def test_plot_module_and_check_do_not_import_matplotlib():
+    """Nor the animation's and the CAD export's libraries (Pillow, imageio-ffmpeg, ezdxf),
+    for check and for --help."""
     code = ("import sys; import linkcli.plot, linkcli.plots, linkcli.plots.angle_function, linkcli.types.path_generation.plot, linkcli.types.precision_position.plot, "
-            "linkcli.types.flipper_cylinder.plot, linkcli.types.linkage.plot\n"
+            "linkcli.types.flipper_cylinder.plot, linkcli.types.linkage.plot, linkcli.exports, linkcli.animate, linkcli.cad\n"
             "from linkcli.cli import app\n"
-            "try:\n    app(['check', 'problems/firedoor.toml'], prog_name='linkcli')\nexcept SystemExit:\n    pass\n"
-            "assert 'matplotlib' not in sys.modules")
+            "for args in (['check', 'problems/firedoor.toml'], ['synth', '--help'], ['analyze', '--help']):\n"
+            "    try:\n        app(args, prog_name='linkcli')\n    except SystemExit:\n        pass\n"
+            "heavy = {'matplotlib', 'PIL', 'ezdxf', 'imageio_ffmpeg'} & set(sys.modules)\n"
+            "assert not heavy, heavy")
     subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, cwd=ROOT)
 
 

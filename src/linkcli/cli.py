@@ -133,7 +133,7 @@ def _interruptible():
 
 def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path], precision: int,
                    jobs: int, plot: Optional[Path], table: Optional[str] = None,
-                   cluster: Optional[str] = None) -> int:
+                   cluster: Optional[str] = None, exports: tuple = (None, None)) -> int:
     """synth and analyze: run the pipeline over the files (`request`: mode, seed, debug,
     timing) with the executor the options ask for (serial, --jobs, --cluster), print or
     write the reports, draw them; the worst exit code. An error of the executor itself
@@ -153,6 +153,8 @@ def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path],
     if out is not None and not _prepare_out(out):
         return 2
     if plot is not None and _plot_problem(plot, names):
+        return 2
+    if any(exports) and _exports_problem(exports, names):  # --animate, --dxf
         return 2
     worst = 0
     counts = {0: 0, 1: 0, 2: 0}
@@ -212,6 +214,9 @@ def _solve_command(files: list[Path], request, fmt: Format, out: Optional[Path],
     reports = [r for r in reports if "type" in r]
     if plot is not None and results:
         worst = max(worst, _plot(results, len(names), plot, debug))
+    if any(exports) and results:
+        from linkcli import exports as export_files
+        worst = max(worst, export_files.write(results, len(names), *exports, debug))
     if len(names) > 1:
         _err(f"{len(names)} files: {counts[0]} solved, {counts[1]} infeasible or not converged, "
              f"{counts[2]} bad input")
@@ -234,6 +239,14 @@ def _plot_problem(plot: Path, names: list[str]) -> bool:
     if line:
         _err(line)
     return bool(line)
+
+
+def _exports_problem(exports: tuple, names: list[str]) -> bool:
+    from linkcli.exports import problems
+    lines = problems(*exports, names)
+    for line in lines:
+        _err(line)
+    return bool(lines)
 
 
 def _prepare_out(out: Path) -> bool:
@@ -334,6 +347,10 @@ JOBS = typer.Option(1, "--jobs", "-j", metavar="N",
                     help="Solve files in N processes (output keeps argument order).", min=1)
 PLOT = typer.Option(None, "--plot", metavar="FILE",
                     help="Draw the result to FILE.png|FILE.svg (a folder with several files).")
+ANIMATE = typer.Option(None, "--animate", metavar="FILE",
+                       help="Animate the linkage's motion to FILE.gif|FILE.mp4|FILE.svg (a folder with several files).")
+DXF = typer.Option(None, "--dxf", metavar="FILE",
+                   help="Write the design for CAD to FILE.dxf (a folder with several files).")
 DEBUG = typer.Option(False, "--debug", help="Show Python tracebacks.")
 TIMING = typer.Option(False, "--timing", help="Add the solver's wall-clock seconds to the report.")
 CLUSTER = typer.Option(None, "--cluster", metavar="ADDRESS",
@@ -345,24 +362,28 @@ CLUSTER = typer.Option(None, "--cluster", metavar="ADDRESS",
 def synth(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
           seed: Optional[int] = SEED, precision: int = PRECISION, jobs: int = JOBS,
           plot: Optional[Path] = PLOT, debug: bool = DEBUG, timing: bool = TIMING,
-          table: Optional[str] = TABLE, cluster: Optional[str] = CLUSTER) -> None:
+          table: Optional[str] = TABLE, cluster: Optional[str] = CLUSTER,
+          animate: Optional[Path] = ANIMATE, dxf: Optional[Path] = DXF) -> None:
     """Solve each problem file and print its report."""
     from linkcli.pipeline import Request
-    request = Request(mode="synth", seed=seed, debug=debug, timing=timing, plot=plot is not None)
+    request = Request(mode="synth", seed=seed, debug=debug, timing=timing,
+                      plot=plot is not None or animate is not None or dxf is not None)
     with _interruptible():
-        code = _solve_command(files, request, format, out, precision, jobs, plot, table, cluster)
+        code = _solve_command(files, request, format, out, precision, jobs, plot, table, cluster, (animate, dxf))
     raise typer.Exit(code)
 
 
 @app.command(cls=PlainUsage)
 def analyze(files: List[Path] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
             precision: int = PRECISION, jobs: int = JOBS, plot: Optional[Path] = PLOT,
-            debug: bool = DEBUG, table: Optional[str] = TABLE) -> None:
+            debug: bool = DEBUG, table: Optional[str] = TABLE,
+            animate: Optional[Path] = ANIMATE, dxf: Optional[Path] = DXF) -> None:
     """Analyse given linkages: `type = "linkage"` files or results of `synth --format toml`."""
     from linkcli.pipeline import Request
-    request = Request(mode="analyze", debug=debug, plot=plot is not None)
+    request = Request(mode="analyze", debug=debug,
+                      plot=plot is not None or animate is not None or dxf is not None)
     with _interruptible():
-        code = _solve_command(files, request, format, out, precision, jobs, plot, table)
+        code = _solve_command(files, request, format, out, precision, jobs, plot, table, None, (animate, dxf))
     raise typer.Exit(code)
 
 

@@ -78,11 +78,18 @@ class LinkMass:
 
 @dataclass(frozen=True)
 class Masses:
-    """Mass properties per link; None is massless. Slider-crank: `output` is the slider."""
+    """Mass properties per link; None is massless. Slider-crank: `output` is the slider.
+    A drawn linkage names its own bodies: `named` holds (link or slider joint, LinkMass)
+    pairs in file order (the three fields stay None)."""
 
     input: LinkMass | None = None
     coupler: LinkMass | None = None
     output: LinkMass | None = None
+    named: tuple[tuple[str, LinkMass], ...] = ()
+
+    def of(self, name: str) -> LinkMass | None:
+        """The named body's mass (a drawn linkage's link or slider block), None if massless."""
+        return dict(self.named).get(name)
 
 
 @dataclass(frozen=True)
@@ -91,13 +98,16 @@ class Loads:
 
     coupler_force: (Fx, Fy) N at the coupler point; output_torque: N m on the output link
     (four-bar, CCW +); output_force: N on the slider along +x (slider-crank);
-    gravity: (gx, gy) m/s^2 acting on the masses.
+    gravity: (gx, gy) m/s^2 acting on the masses. A drawn linkage names where its loads act:
+    torques ((link, N m CCW +), ...) and forces ((joint, (Fx, Fy) N), ...), in file order.
     """
 
     coupler_force: tuple[float, float] = (0.0, 0.0)
     output_torque: float = 0.0
     output_force: float = 0.0
     gravity: tuple[float, float] = (0.0, 0.0)
+    torques: tuple[tuple[str, float], ...] = ()
+    forces: tuple[tuple[str, tuple[float, float]], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -109,6 +119,45 @@ class LoadCase:
     loads: Loads = field(default_factory=Loads)
     masses: Masses = field(default_factory=Masses)
     given: dict = field(default_factory=dict, compare=False)
+
+
+@dataclass(frozen=True)
+class LinkSection:
+    """A link's cross-section ([sections], docs/strength.md), length unit: a `rectangle`
+    (`width` in the plane of motion, `thickness` normal to it), a `round` bar (`diameter`) or
+    a `tube` (outer `diameter`, `wall`)."""
+
+    shape: str
+    width: float | None = None
+    thickness: float | None = None
+    diameter: float | None = None
+    wall: float | None = None
+    line: int | None = None
+
+    @property
+    def plane_width(self) -> float | None:
+        """The width in the plane of motion: a rectangle's `width`, a round bar's or tube's
+        outer `diameter` (what a drawing's outline shows)."""
+        return self.width if self.shape == "rectangle" else self.diameter
+
+
+@dataclass(frozen=True)
+class StrengthSpec:
+    """[material] and [strength] (docs/strength.md): the strengths in MPa (`yield_`: the
+    tensile yield strength; `endurance`: fully reversed; `modulus`: Young's), the material's
+    listed `name` and `source` when named, `endurance_listed` when the endurance is the list's
+    uncorrected specimen value; the `required` safety factor and the fatigue `criterion`."""
+
+    ultimate: float
+    yield_: float
+    endurance: float
+    modulus: float
+    name: str | None = None
+    source: str | None = None
+    endurance_listed: bool = False
+    required: float = 1.0
+    criterion: str = "goodman"
+    lines: dict = field(default_factory=dict, compare=False)  # table name -> line, for messages
 
 
 @dataclass(frozen=True)
@@ -126,6 +175,8 @@ class Meta:
     notes: tuple[str, ...] = ()  # notes on the file itself (angles that look like the other unit)
     loads: LoadCase | None = None  # [loads] / [masses]: the forces section
     joints: tuple = ()  # [joints]: io.joints.JointSpec per joint (part sizes, a drawing)
+    link_sections: dict = field(default_factory=dict)  # [sections]: link -> LinkSection
+    strength: StrengthSpec | None = None  # [material] / [strength]: the strength section
 
 
 @dataclass(frozen=True)

@@ -49,7 +49,7 @@ class Result(NamedTuple):
 
     @property
     def exit_code(self) -> int:
-        return self.solution.status.exit_code
+        return report_exit_code(self.report)
 
 
 class Outcome(NamedTuple):
@@ -106,7 +106,7 @@ def run(path: str, request: Request, source: bytes | InputError | None = None) -
         if request.timing and "solver" in report:
             report["solver"]["seconds"] = seconds
         drawing = drawing_report(problem, report) if request.plot else None
-        return Outcome(path, solution.status.exit_code, Result(problem, solution, report, drawing))
+        return Outcome(path, report_exit_code(report), Result(problem, solution, report, drawing))
     except LinkcliError as exc:
         if request.debug:
             raise
@@ -116,6 +116,12 @@ def run(path: str, request: Request, source: bytes | InputError | None = None) -
             raise
         return Outcome(path, 1, errors=(f"{path}: internal error: {type(exc).__name__}: {exc} "
                                         "(run with --debug for the traceback)",))
+
+
+def report_exit_code(report: dict) -> int:
+    """0 for a report whose status is ok, else 1: the solver's status, or the analysis's
+    verdict on it (a part whose strength falls short makes an ok solution infeasible)."""
+    return 0 if report["status"] == "ok" else 1
 
 
 def drawing_report(problem, report: dict) -> dict:

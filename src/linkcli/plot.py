@@ -35,10 +35,16 @@ def plot_command(results: list, files: int, plot_path, debug: bool) -> int:
     except PlotError as exc:
         _err(str(exc))
         return exc.exit_code
+    return write_each(results, targets, write, debug, "plotting")
+
+
+def write_each(results: list, targets: list[Path], write_one, debug: bool, doing: str) -> int:
+    """`write_one(result, target)` for each Result; the worst exit code: 2 for a PlotError
+    (bad input: its line), a LinkcliError's own, 1 for a bug (one line; --debug raises)."""
     worst = 0
     for result, target in zip(results, targets):
         try:
-            write(result, target)
+            write_one(result, target)
         except PlotError as exc:
             _err(str(exc))
             worst = max(worst, exc.exit_code)
@@ -51,30 +57,33 @@ def plot_command(results: list, files: int, plot_path, debug: bool) -> int:
         except Exception as exc:  # a bug: one line, not a traceback
             if debug:
                 raise
-            _err(f"{target}: internal error while plotting {result.report.get('file')}: "
+            _err(f"{target}: internal error while {doing} {result.report.get('file')}: "
                  f"{type(exc).__name__}: {exc} (run with --debug for the traceback)")
             worst = max(worst, 1)
     return worst
 
 
-def output_paths(reports: list[dict], files: int, plot_path: Path) -> list[Path]:
-    """One file: PATH itself, which must end in .png or .svg. Several files: PATH is a
-    folder (created) and each plot is `<stem>.png` (`<stem>_2.png` for a repeated stem)."""
+def output_paths(reports: list[dict], files: int, plot_path: Path, formats: tuple[str, ...] = FORMATS,
+                 folder_format: str = FOLDER_FORMAT, what: str = "plots") -> list[Path]:
+    """One file: PATH itself, which must end in one of `formats` (.png or .svg). Several
+    files: PATH is a folder (created) and each picture is `<stem>.png` (`folder_format`;
+    `<stem>_2.png` for a repeated stem). `what` names the pictures in the error line."""
+    names = " or ".join([", ".join(formats[:-1]), formats[-1]] if len(formats) > 1 else formats)
     if files <= 1:
         suffix = plot_path.suffix.lower()
-        if suffix not in FORMATS:
+        if suffix not in formats:
             found = f'"{plot_path.suffix}"' if plot_path.suffix else "no extension"
-            raise PlotError(f"{plot_path}: expected a .png or .svg file name, found {found}")
+            raise PlotError(f"{plot_path}: expected a {names} file name, found {found}")
         if plot_path.is_dir():
-            raise PlotError(f"{plot_path}: expected a .png or .svg file name, found a folder")
+            raise PlotError(f"{plot_path}: expected a {names} file name, found a folder")
         return [plot_path]
-    if plot_path.suffix.lower() in FORMATS or (plot_path.exists() and not plot_path.is_dir()):
-        what = "a file" if plot_path.exists() and not plot_path.is_dir() else f'a "{plot_path.suffix}" file name'
-        raise PlotError(f"{plot_path}: expected a folder for the plots of {files} files "
-                        f"(each written as <problem>{FOLDER_FORMAT}), found {what}")
+    if plot_path.suffix.lower() in formats or (plot_path.exists() and not plot_path.is_dir()):
+        found = "a file" if plot_path.exists() and not plot_path.is_dir() else f'a "{plot_path.suffix}" file name'
+        raise PlotError(f"{plot_path}: expected a folder for the {what} of {files} files "
+                        f"(each written as <problem>{folder_format}), found {found}")
     from linkcli.io.export import result_stems
     stems = result_stems([report.get("file") or "plot" for report in reports])
-    return [plot_path / f"{stem}{FOLDER_FORMAT}" for stem in stems]
+    return [plot_path / f"{stem}{folder_format}" for stem in stems]
 
 
 def require_matplotlib(plot_path: Path) -> None:
@@ -96,12 +105,20 @@ def figure(result):
     from linkcli.registry import problem_type
     report = drawn(result)
     with matplotlib.rc_context(STYLE):
+        panels = []  # any type's result with a forces (strength) section: panels under its figure
         if "forces" in report and report["forces"].get("rows"):
             from linkcli.plots import forces
-            fig = Figure(figsize=(FIGSIZE[0], FIGSIZE[1] + forces.HEIGHT), layout="constrained")
-            top, bottom = fig.subfigures(2, 1, height_ratios=[FIGSIZE[1], forces.HEIGHT])
+            panels.append(forces)
+        if "strength" in report and report["strength"].get("rows"):
+            from linkcli.plots import strength
+            panels.append(strength)
+        if panels:
+            heights = [FIGSIZE[1]] + [panel.HEIGHT for panel in panels]
+            fig = Figure(figsize=(FIGSIZE[0], sum(heights)), layout="constrained")
+            top, *below = fig.subfigures(len(heights), 1, height_ratios=heights)
             problem_type(report["type"]).module("plot").draw(top, result)
-            forces.draw(bottom, result)  # any type's result with a forces section
+            for panel, sub in zip(panels, below):
+                panel.draw(sub, result)
             return fig
         fig = Figure(figsize=FIGSIZE, layout="constrained")
         problem_type(report["type"]).module("plot").draw(fig, result)
@@ -129,7 +146,11 @@ def render(result, fmt: str) -> bytes:
 
 def write(result, target: Path) -> None:
     """Render and write one plot; a path that cannot be written is bad input (exit 2)."""
-    data = render(result, target.suffix.lower().lstrip(".") or "png")
+    write_bytes(target, render(result, target.suffix.lower().lstrip(".") or "png"))
+
+
+def write_bytes(target: Path, data: bytes) -> None:
+    """Write a picture (its folder created); a path that cannot be written is bad input."""
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
         target.write_bytes(data)

@@ -31,22 +31,31 @@ def echo(case) -> dict:
     return dict(case.given)
 
 
-def section(mech, study, speed: float, steps: int, case, units, notes: list) -> dict:
+def study_rows(mech, study, speed: float, steps: int, case, units):
+    """(phi, inputs, LoadRows): the drive angles (rad) of the motion study's rows, the same as
+    printed (the file's angle unit) and the home's inverse dynamics there -- what the
+    `forces` and `strength` sections share."""
+    phi, shown = study.rows(steps)
+    inputs = study.printed(shown, units)
+    return phi, inputs, mech.load_rows(phi, speed, case, metres_per_unit(units))
+
+
+def section(mech, study, speed: float, steps: int, case, units, notes: list,
+            computed=None) -> dict:
     """The `forces` section: input_torque {peak, at_input, rms}, pins {name: {max, min, mean,
     amplitude, x: {...}, y: {...}}}, rows [{input, input_torque, pins {name: {x, y,
     magnitude}}, mechanical_advantage}], at the rows of the motion study `study` = (full
-    turn, arc). Notes name the toggles (infinite mechanical advantage) and dead points
-    (unbounded forces, left out of the load cycle)."""
-    phi, shown = study.rows(steps)
-    inputs = units.from_rad(np.asarray(shown, dtype=float))
-    rows = mech.load_rows(phi, speed, case, metres_per_unit(units))
+    turn, arc); `computed`: its `study_rows` when already solved. Notes name the toggles
+    (infinite mechanical advantage) and dead points (unbounded forces, left out of the load
+    cycle)."""
+    _, inputs, rows = computed or study_rows(mech, study, speed, steps, case, units)
     rows = replace(rows, mechanical_advantage=snap_series(rows.mechanical_advantage))
     cycle = load_cycle(rows, inputs)
     out = {"input_torque": cycle["input_torque"], "pins": cycle["pins"]}
     if cycle["singular_rows"]:
         out["dead_points"] = cycle["singular_rows"]
     out["rows"] = forces_rows(rows, inputs)
-    _notes(rows, inputs, units, mech.DEAD_POINT, notes)
+    _notes(rows, inputs, study.unit(units), mech.DEAD_POINT, notes)
     return out
 
 
@@ -56,8 +65,7 @@ def _listed(values, unit: str) -> str:
     return f"{shown}{more} {unit}"
 
 
-def _notes(rows: LoadRows, inputs, units, dead_point: str, notes: list) -> None:
-    unit = units.angle
+def _notes(rows: LoadRows, inputs, unit: str, dead_point: str, notes: list) -> None:
     dead = inputs[rows.singular]
     toggle = inputs[~rows.singular & ~np.isfinite(rows.mechanical_advantage)]
     if toggle.size:

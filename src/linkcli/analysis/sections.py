@@ -41,6 +41,13 @@ def _build(problem, solution: Solution) -> dict:
     mech = None if solution.linkage is None else mechanisms.of(solution.linkage)
     if mech is not None:
         _linkage_sections(rep, problem, solution, mech, want, notes)
+    if "strength" in rep:
+        from linkcli.analysis.strength import shortfall
+        below = shortfall(rep["strength"], u.angle)
+        if below and rep["status"] == "ok":
+            rep["status"], rep["message"] = "infeasible", below
+        elif below:
+            notes.append(below)
     if solution.positions is not None and "positions" in want:
         rep["positions"] = position_rows(solution.positions, u, linkage_scale(solution.linkage))
     if solution.positions is not None and "error" in want:
@@ -83,16 +90,21 @@ def _linkage_sections(rep, problem, solution, mech, want, notes) -> None:
     speed, steps = motion_study(problem, u)
     if study is not None and "kinematics" in want:
         rep["kinematics"] = mech.kinematics_rows(study, speed, steps, u)
-        rep.setdefault("motion", {}).update(mech.motion_echo(speed, steps, u))  # to reproduce it
+        rep.setdefault("motion", {}).update(mech.study_keys(speed, steps, u))  # to reproduce it
     if "forces" in want and problem.meta.loads is not None:
         from linkcli.analysis import forces
         if study is None and not want & {"transmission", "motion", "kinematics"}:
             study = mech.study(near)
         if study is not None:
+            computed = forces.study_rows(mech, study, speed, steps, problem.meta.loads, u)
             rep.update(forces.echo(problem.meta.loads))  # the load case as given: a result file round-trips
-            rep["forces"] = forces.section(mech, study, speed, steps, problem.meta.loads, u, notes)
+            rep["forces"] = forces.section(mech, study, speed, steps, problem.meta.loads, u, notes,
+                                           computed)
             if "motion" in rep:
-                rep["motion"].update(mech.motion_echo(speed, steps, u))
+                rep["motion"].update(mech.study_keys(speed, steps, u))
+            if "strength" in want and problem.meta.strength is not None:
+                from linkcli.analysis import strength
+                rep["strength"] = strength.section(mech, computed, speed, problem.meta, notes)
 
 
 def linkage_scale(linkage) -> float:

@@ -81,6 +81,10 @@ class Model(Protocol):
     def sensitivity(self) -> dict:
         """Per toleranced dimension, the first-order error change per unit (None: infinite)."""
 
+    def column_scale(self, lengths: dict) -> np.ndarray:
+        """(columns,) the tolerance of each column from [tolerance] lengths (link -> +- t, or
+        column -> +- t: a home whose links hold several dimensions maps them)."""
+
     # A model with `per_row` True (the five-bar: its error at every row of a motion) also has
     # `rows` (M,) the row numbers of its targets, `row_errors(dl, pins, plays)` -> (dev (n, M),
     # ok (n, M), events {i: (n,) error added at event i}) with `errors` its reduction (the
@@ -301,13 +305,13 @@ def _analyse(problem, model: Model) -> dict:
         return out
     play = model.play_size(tol)
     if level is not None:
-        given = max((lengths.get(k, 0.0) for k in model.inverse), default=0.0)
+        given = float(np.max(model.column_scale(lengths), initial=0.0))
         t, p_t = largest_tolerance(model, tol, seed, level, given)
         if not tol.lengths_given:  # no tolerance written: report the study at the one found
             # (a written 0, exact parts, is a study of its own and is reported as 0)
             lengths = {k: t for k in model.inverse}
             out["lengths"] = dict(lengths)
-    scale = np.array([float(lengths.get(k, 0.0)) for k in model.columns])
+    scale = model.column_scale(lengths)
     draws = None
     if model.per_row:
         draws = monte_carlo_rows(model, scale, tol.clearance, play, tol.samples, seed, tol.distribution)

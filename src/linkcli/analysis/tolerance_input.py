@@ -20,16 +20,14 @@ def check_lengths(meta, lengths: dict[str, float], complete: bool) -> None:
         return
     lines = tol.lines
     same = len(set(tol.lengths.values())) == 1
-    order = LINKS + tuple(k for k in lengths if k not in LINKS)  # a mechanism's own links after
+    order = [k for k in LINKS if k in lengths] + [k for k in lengths if k not in LINKS]  # a drawing's own links last
     for link in order:
-        if link not in lengths:
-            continue
         t, length = tol.lengths.get(link, 0.0), lengths[link]
         if t >= length:
             key = "lengths" + ("" if same else f".{link}")
             raise SolveInputError(f"a tolerance smaller than the {link} length ({length:.6g})", f"{t:g}",
                                   path=meta.path, line=lines.get(key), key=f"tolerance.{key}")
-    shortest = min(lengths, key=lambda k: (lengths[k], order.index(k)))
+    shortest = min(order, key=lambda k: (lengths[k], order.index(k)))
     if tol.clearance >= lengths[shortest]:
         expected = (f"a clearance smaller than the shortest link ({lengths[shortest]:.6g})" if complete
                     else f"a clearance smaller than every link (the {shortest} is {lengths[shortest]:.6g})")

@@ -11,13 +11,17 @@ Part sizes (any mechanism; the names are the mechanism's joints, `JOINTS` in its
 "H7/g6"; its limits are looked up where the fit is used). The drawing (a mechanism whose
 schema has `JOINTS = None`: any names, the drawing's own): `at` (the joint's place in the
 drawn assembly, [x, y] length unit), `ground` (fixed to the ground), `slider` (a slider on
-a ground guide through `at`, at this angle, the file's angle unit). Pure Python (`check`
-reads it without numpy); the mechanism's schema checks what the names mean.
+a ground guide through `at`, at this angle, the file's angle unit), `guide` (the link whose
+guide the slider runs on, when not the ground's). Pure Python (`check` reads it without
+numpy); the mechanism's schema checks what the names mean. A file's [joints] is read once:
+a second reader (the drawn linkage's schema, after the file's meta) gets the same joints
+and no second set of errors.
 """
 
 from __future__ import annotations
 
 import difflib
+import weakref
 from dataclasses import dataclass
 
 from linkcli.io.meta import MAX_LENGTH, bounded_point
@@ -25,7 +29,7 @@ from linkcli.io.reader import Table, describe
 
 MAX_JOINTS = 1000
 SIZE_KEYS = ("diameter", "width", "shear", "fit")
-DRAWING_KEYS = ("at", "ground", "slider")
+DRAWING_KEYS = ("at", "ground", "slider", "guide")
 SHEAR = ("single", "double")
 
 
@@ -37,6 +41,7 @@ class JointSpec:
     at: tuple[float, float] | None = None
     ground: bool = False
     slider: float | None = None
+    guide: str | None = None
     diameter: float | None = None
     width: float | None = None
     shear: str = "single"
@@ -48,18 +53,43 @@ class JointSpec:
         return 2 if self.shear == "double" else 1
 
 
+_READ: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()  # reader -> {mechanism: joints}
+
+
 def read_joints(root: Table, mechanism: str, units) -> tuple[JointSpec, ...] | None:
     """Every joint of [joints] (in file order), () without the table, None when in error
-    (errors recorded). `mechanism` names the [linkage] mechanism whose joints they are."""
+    (errors recorded). `mechanism` names the [linkage] mechanism whose joints they are.
+    Read once per file and mechanism (module docstring)."""
+    done = _READ.setdefault(root.reader, {})
+    if mechanism not in done:
+        done[mechanism] = _read_joints(root, mechanism, units)
+    return done[mechanism]
+
+
+def _read_joints(root: Table, mechanism: str, units) -> tuple[JointSpec, ...] | None:
     from linkcli.mechanisms import module
     t = root.table("joints")
     if t is None:
         return ()
     names = module(mechanism, "schema").JOINTS  # None: the drawing names its own joints
     errors = len(root.reader.errors)
+    entries = named_tables(t, names, "joint", mechanism, "{ diameter = 8, width = 10 }")
+    if entries is None:
+        return None
+    out = [_joint(joint, name, drawing=names is None, mechanism=mechanism, units=units,
+                  line=root.reader.line_of(("joints", name))) for name, joint in entries]
+    if len(root.reader.errors) > errors:
+        return None
+    return tuple(out)
+
+
+def named_tables(t: Table, names, kind: str, mechanism: str, example: str):
+    """(name, inline table) of each entry of `t` named by one of `names` (None: any name, the
+    drawing's own), in file order; a name not among them or an entry that is not a table is
+    a located error (with "did you mean"). None when there are over MAX_JOINTS entries."""
     keys = list(t.keys())
     if len(keys) > MAX_JOINTS:
-        t.error(None, f"at most {MAX_JOINTS} joints", raw_got=f"{len(keys)} joints")
+        t.error(None, f"at most {MAX_JOINTS} {kind}s", raw_got=f"{len(keys)} {kind}s")
         return None
     out = []
     for name in keys:
@@ -67,24 +97,20 @@ def read_joints(root: Table, mechanism: str, units) -> tuple[JointSpec, ...] | N
             hint = difflib.get_close_matches(name, names, n=1, cutoff=0.5)
             extra = f' (did you mean "{hint[0]}"?)' if hint else ""
             t.raw(name)
-            t.error(name, f"a joint of the {mechanism}: one of {', '.join(names)}{extra}",
-                    raw_got=f'joint "{name}"')
+            t.error(name, f"a {kind} of the {mechanism}: one of {', '.join(names)}{extra}",
+                    raw_got=f'{kind} "{name}"')
             continue
-        joint = t.table(name)
-        if joint is None:
-            t.error(name, "an inline table of the joint's keys, e.g. { diameter = 8, width = 10 }",
-                    t.raw(name))
+        entry = t.table(name)
+        if entry is None:
+            t.error(name, f"an inline table of the {kind}'s keys, e.g. {example}", t.raw(name))
             continue
-        out.append(_joint(joint, name, drawing=names is None, mechanism=mechanism, units=units,
-                          line=root.reader.line_of(("joints", name))))
-    if len(root.reader.errors) > errors:
-        return None
-    return tuple(out)
+        out.append((name, entry))
+    return out
 
 
 def _joint(t: Table, name: str, *, drawing: bool, mechanism: str, units, line) -> JointSpec:
     """One joint's keys; the drawing's keys only for a drawn linkage."""
-    at, ground, slider = None, False, None
+    at, ground, slider, guide = None, False, None, None
     if drawing:
         at = bounded_point(t, "at", None)
         ground = t.boolean("ground", False)
@@ -92,6 +118,7 @@ def _joint(t: Table, name: str, *, drawing: bool, mechanism: str, units, line) -
                           what="the angle of the slider's ground guide (angle unit)")
         if slider is not None:
             slider = units.to_rad(slider)
+        guide = t.string("guide", None, max_len=200)
     else:
         for key in DRAWING_KEYS:
             if key in t:
@@ -103,7 +130,7 @@ def _joint(t: Table, name: str, *, drawing: bool, mechanism: str, units, line) -
     width = _size(t, "width", "a bearing width > 0 (length unit)")
     shear = t.string("shear", "single", choices=SHEAR)
     fit = t.string("fit", None, max_len=40)
-    return JointSpec(name=name, at=tuple(at) if at else None, ground=bool(ground), slider=slider,
+    return JointSpec(name=name, at=tuple(at) if at else None, ground=bool(ground), slider=slider, guide=guide,
                      diameter=diameter, width=width, shear=shear or "single", fit=fit, line=line)
 
 

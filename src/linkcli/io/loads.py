@@ -20,12 +20,12 @@ SOLVES_COUPLER_POINT = ("path-generation",)  # types whose result always has a c
 
 
 def mechanism_of(root: Table) -> str:
-    """The mechanism [linkage] names (`mechanism`, default four-bar; the [linkage] reader
-    checks the key itself: an unknown one is taken as the four-bar here)."""
-    from linkcli.mechanisms import NAMES
+    """The mechanism [linkage] names (`mechanism`, default mechanisms.DEFAULT; the [linkage]
+    reader checks the key itself: an unknown one is taken as the default here)."""
+    from linkcli.mechanisms import DEFAULT, NAMES
     link = root.data.get("linkage")
     mechanism = link.get("mechanism") if isinstance(link, dict) else None
-    return mechanism if mechanism in NAMES else "four-bar"
+    return mechanism if mechanism in NAMES else DEFAULT
 
 
 def has_coupler_point(root: Table, kind: str) -> bool:
@@ -52,25 +52,19 @@ def read_loads(root: Table, kind: str) -> LoadCase | None:
     from linkcli.mechanisms import NAMES, module
     mechanism = mechanism_of(root)
     own = module(mechanism, "schema")
-    if own.MASSES is None:  # a mechanism whose loads are not modelled: one line per table
-        for name in ("loads", "masses"):
-            if name in root:
-                root.raw(name)
-                root.error(name, f"no [{name}] for a {mechanism} (its loads are not modelled)",
-                           raw_got=f"a [{name}] table")
-        return None
-    others = {name: module(name, "schema") for name in NAMES
-              if name != mechanism and module(name, "schema").MASSES is not None}
+    if own.MASSES is None:  # a home whose loads are named by its own drawing reads them itself
+        return own.read_load_case(root, kind)
+    others = {name: module(name, "schema") for name in NAMES if name != mechanism}
     errors = len(root.reader.errors)
     given: dict = {}
     loads = Loads()
     t = root.table("loads")
     if t is not None:
-        force = _pair(t, "coupler_force", "a force [Fx, Fy] of two finite numbers (N)")
-        gravity = _pair(t, "gravity", "an acceleration [gx, gy] of two finite numbers (m/s^2)")
+        force = pair(t, "coupler_force", "a force [Fx, Fy] of two finite numbers (N)")
+        gravity = pair(t, "gravity", "an acceleration [gx, gy] of two finite numbers (m/s^2)")
         right, what = own.OUTPUT_LOAD
         for name, other in others.items():
-            wrong = other.OUTPUT_LOAD[0]
+            wrong = other.OUTPUT_LOAD[0] if other.OUTPUT_LOAD else right
             if wrong != right and wrong in t:
                 t.raw(wrong)
                 t.error(wrong, f"{right} ({what}) on a {mechanism}; {wrong} is a {name}'s",
@@ -94,13 +88,13 @@ def read_loads(root: Table, kind: str) -> LoadCase | None:
     m = root.table("masses")
     if m is not None:
         links = tuple(own.MASSES)
-        foreign = [k for other in others.values() for k in other.MASSES if k not in links]
+        foreign = [k for other in others.values() for k in (other.MASSES or ()) if k not in links]
         for other in dict.fromkeys(foreign):
             if other in m:
                 m.raw(other)
                 m.error(other, f"masses of {', '.join(links)} on a {mechanism}", raw_got=f"a mass for {other}")
         point = own.POINT_MASSES
-        read = {link: _link_mass(m, link, link in point) for link in links if link in m}
+        read = {link: link_mass(m, link, link in point) for link in links if link in m}
         masses = Masses(**{own.MASSES[link]: v for link, v in read.items()})
         given["masses"] = {link: {"mass": v.mass, "center": list(v.center), "inertia": v.inertia}
                            if link not in point else {"mass": v.mass}
@@ -110,7 +104,7 @@ def read_loads(root: Table, kind: str) -> LoadCase | None:
     return LoadCase(loads=loads, masses=masses, given=given)
 
 
-def _pair(t: Table, key: str, expected: str):
+def pair(t: Table, key: str, expected: str):
     """Two finite numbers [x, y], each within MAX_LOAD; None when absent or bad."""
     value = t.raw(key)
     if value is MISSING:
@@ -133,7 +127,7 @@ def _amount(t: Table, key: str, default, what: str):
     return value
 
 
-def _link_mass(masses: Table, link: str, point_mass: bool) -> LinkMass | None:
+def link_mass(masses: Table, link: str, point_mass: bool) -> LinkMass | None:
     """{ mass, center, inertia } of one link (a body that only translates, a slider: { mass } only)."""
     t = masses.table(link)
     if t is None:

@@ -11,7 +11,7 @@ from linkcli.registry import ProblemType
 from linkcli.units import ANGLE_UNITS, LENGTH_TO_MM, Units
 
 ALL_SECTIONS = ("lengths", "grashof", "transmission", "motion", "kinematics", "positions",
-                "error", "cylinder", "family", "solver", "tolerance", "forces")
+                "error", "cylinder", "family", "solver", "tolerance", "forces", "strength")
 MAX_BUDGET = 10**9
 MAX_SAMPLES = 1_000_000  # a tolerance study: more gains nothing but minutes
 MIN_FAILURES = 10  # inverse mode: expected failures at the level, for a stable bisection
@@ -73,8 +73,11 @@ def read_meta(root: Table, kind: str, spec: ProblemType) -> Meta:
     sections = read_sections(root, spec.default_sections, spec.sections)
     loads = read_load_case(root, kind, spec, sections)
     joints = read_joint_table(root, kind, spec, units)
+    link_sections, strength = read_strength_tables(root, kind, spec, sections, loads, joints)
     if loads is not None and "forces" not in sections:
         sections = sections + ("forces",)  # on when [loads] or [masses] is given (as tolerance)
+    if strength is not None and "strength" not in sections:
+        sections = sections + ("strength",)  # on when [material] is given
     report = root.data.get("report")
     asked = report.get("sections") if isinstance(report, dict) else None
     if (isinstance(asked, list) and "tolerance" in asked and "tolerance" in sections
@@ -86,7 +89,7 @@ def read_meta(root: Table, kind: str, spec: ProblemType) -> Meta:
         sections = sections + ("tolerance",)
     return Meta(path=root.reader.path, type=kind, title=title, units=units, solver=solver,
                 sections=sections, reference=reference, tolerance=tolerance, loads=loads,
-                joints=joints or ())
+                joints=joints or (), link_sections=link_sections, strength=strength)
 
 
 def read_load_case(root: Table, kind: str, spec: ProblemType, sections: tuple[str, ...]):
@@ -119,6 +122,16 @@ def read_joint_table(root: Table, kind: str, spec: ProblemType, units: Units):
                        raw_got=f'type = "{kind}", which has no linkage')
         return ()
     return read_joints(root, mechanism_of(root), units)
+
+
+def read_strength_tables(root: Table, kind: str, spec: ProblemType, sections: tuple[str, ...],
+                         loads, joints):
+    """[sections], [material], [strength] (linkcli.io.strength): (link sections, the strength
+    spec or None)."""
+    from linkcli.io.loads import mechanism_of
+    from linkcli.io.strength import read_parts
+    has_loads = loads is not None or "loads" in root or "masses" in root
+    return read_parts(root, kind, spec.sections, sections, has_loads, mechanism_of(root), joints)
 
 
 def read_units(root: Table) -> Units:
@@ -182,7 +195,7 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     path_type = root.raw("type") == "path-generation"
     mechanism = mechanism_of(root)
     own = module(mechanism, "schema")
-    links = own.TOLERANCED
+    links = own.TOLERANCED if own.TOLERANCED is not None else own.toleranced(root)  # None: the drawing's links
     per_link = links + (("coupler_point",) if path_type and "coupler_point" in own.KEYS else ())
     raw = t.raw("lengths", None)
     lengths = {k: 0.0 for k in links}
@@ -208,9 +221,11 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     if "lock_play" in own.PLAYS:
         lock_play = t.number("lock_play", 0.0, lo=0.0, hi=units.from_rad(math.pi / 2),
                              what="an angular play of a held drive's lock (angle unit)")
+    refused = set()
     for name in NAMES:
         for key, what in module(name, "schema").PLAYS.items():
-            if key not in own.PLAYS and key in t:
+            if key not in own.PLAYS and key in t and key not in refused:  # once, naming the first home
+                refused.add(key)
                 t.allow(key)
                 t.error(key, f'no {key} for a {mechanism} ({what}: only with [linkage] mechanism = "{name}")',
                         t.data[key])

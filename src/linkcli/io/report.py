@@ -22,7 +22,7 @@ from linkcli.io.terminal_text import terminal_safe
 MAX_TABLE_WIDTH = 400  # columns a table may take when printed to a file or a pipe
 STATUS_STYLE = {"ok": "bold green", "infeasible": "bold yellow", "not-converged": "bold red"}
 KNOWN = ("file", "title", "type", "status", "message", "units", "linkage", "grashof",
-         "transmission", "motion", "kinematics", "positions", "error", "solver", "notes", "forces", "loads", "masses")
+         "transmission", "motion", "kinematics", "positions", "error", "solver", "notes", "forces", "loads", "masses", "strength")
 
 
 def console(file=None, width: int | None = None) -> Console:
@@ -55,8 +55,23 @@ def _kv(title: str, rows: list[tuple[str, object]], digits: int) -> Table:
     return t
 
 
+def _flat(row: dict, prefix: str = "") -> dict:
+    """A row with nested objects flattened: {"links": {"crank": {"angle": 1}}} ->
+    {"links crank angle": 1} (a drawn linkage's kinematics rows)."""
+    out = {}
+    for k, v in row.items():
+        key = f"{prefix} {k}" if prefix else str(k)
+        if isinstance(v, dict):
+            out.update(_flat(v, key))
+        else:
+            out[key] = v
+    return out
+
+
 def _rows(title: str, rows: list[dict], digits: int, headers: dict | None = None,
           no_wrap: bool = False) -> Table:
+    if any(isinstance(v, dict) for r in rows for v in r.values()):
+        rows = [_flat(r) for r in rows]
     cols = list(dict.fromkeys(k for r in rows for k in r))
     t = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
     for c in cols:
@@ -92,7 +107,7 @@ def _generic(name: str, section, digits: int, units: dict[str, str] | None = Non
 
 def _tolerance_units(section: dict, lu: str, au: str) -> dict[str, str]:
     measure = str(section.get("measure", ""))
-    err = lu if ("coupler point" in measure or "slider" in measure or "of P" in measure) else au  # a length error
+    err = lu if ("coupler point" in measure or "slider" in measure or "distance" in measure) else au  # a length error
     keys = ("nominal_error", "error_mean", "error_p95", "error_max", "allowed_error")
     out = {k: err for k in keys}
     out.update({"lengths": lu, "clearance": lu, "clearance_slider": lu, "largest_tolerance": lu, "sensitivity": f"{err}/{lu}",
@@ -129,9 +144,9 @@ def render(report: dict, digits: int = 6) -> Group:
         parts.append(_kv("Link lengths", _linkage_rows(r["linkage"], lu, au), digits))
     if "grashof" in r:
         parts.append(_class_table(r["grashof"], digits))
-    if "transmission" in r and "input_at_min" not in r["transmission"]:  # over rows (a five-bar's)
+    if "transmission" in r and r["transmission"] and "input_at_min" not in r["transmission"]:  # over rows (a five-bar's)
         parts.extend(_generic("transmission", r["transmission"], digits, _angle_units(r["transmission"], au)))
-    elif "transmission" in r:
+    elif "transmission" in r and r["transmission"]:
         tr = r["transmission"]
         t = Table(title=f"Transmission angle ({au})", title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
         for c in ("over", "min", "at input", "max", "at input"):
@@ -142,14 +157,22 @@ def render(report: dict, digits: int = 6) -> Group:
             t.add_row("working range (targets)", fmt(tr["working_min"], digits),
                       fmt(tr["working_input_at_min"], digits), fmt(tr["working_max"], digits),
                       fmt(tr["working_input_at_max"], digits))
+        for joint, c in tr.get("closures", {}).items():  # a drawn linkage: every closure
+            t.add_row(f"closure at {joint} ({', '.join(c['links'])})", fmt(c["min"], digits),
+                      fmt(c["input_at_min"], digits), fmt(c["max"], digits), fmt(c["input_at_max"], digits))
         parts.append(t)
     if "motion" in r:
         units = _motion_units(lu, au)
-        rows = {k: v for k, v in r["motion"].items() if _row_list(v)}  # tables of their own
-        parts.append(_kv("Motion", [(k.replace("_", " ") + (f" ({units[k]})" if k in units else ""),
-                                     f"{len(v)} rows in JSON/TOML output" if _pair_rows(v) else v)
-                                    for k, v in r["motion"].items() if k not in rows], digits))
-        parts.extend(_rows(f"Motion: {k.replace('_', ' ')}", v, digits) for k, v in rows.items())
+        motion = r["motion"]
+        flat = {k: v for k, v in motion.items() if not isinstance(v, (dict, list)) or k in units}
+        parts.append(_kv("Motion", [(k.replace("_", " ") + (f" ({units[k]})" if k in units else ""), v)
+                                    for k, v in flat.items()], digits))
+        for k, v in motion.items():  # a drawn linkage's ranges per link, slider and drive
+            if k in flat:
+                continue
+            table = [{"name": name, **inner} for name, inner in v.items()] if isinstance(v, dict) else v
+            if table and all(isinstance(x, dict) for x in table):
+                parts.append(_rows(f"Motion: {k.replace('_', ' ')}", table, digits))
     if "positions" in r:
         parts.append(_rows("Positions", r["positions"], digits, _position_heads(r, lu, au)))
     if "error" in r:
@@ -168,17 +191,23 @@ def render(report: dict, digits: int = 6) -> Group:
                  "dpoint_dinput2": f"dP/d input2 ({lu}/{au})", "velocity": f"v P ({lu}/s)",
                  "acceleration": f"a P ({lu}/s2)", "transmission_left": f"mu A ({au})",
                  "transmission_right": f"mu B ({au})", "margin": f"margin ({au})"}
+        heads.update(_drawn_heads(r["kinematics"], lu, au))
         parts.append(_rows("Kinematics", r["kinematics"], digits, heads))
     if "loads" in r:
-        units = {"coupler_force": "N", "output_torque": "N m", "output_force": "N", "gravity": "m/s2"}
-        parts.append(_kv("Loads", [(f"{k.replace('_', ' ')} ({units[k]})", v) for k, v in r["loads"].items()],
-                         digits))
+        units = {"coupler_force": "N", "output_torque": "N m", "output_force": "N", "gravity": "m/s2",
+                 "torques": "N m", "forces": "N"}
+        parts.append(_kv("Loads", [(f"{k.replace('_', ' ')} {name} ({units[k]})", x) for k, v in r["loads"].items()
+                                   if isinstance(v, dict) for name, x in v.items()]
+                         + [(f"{k.replace('_', ' ')} ({units[k]})", v) for k, v in r["loads"].items()
+                            if not isinstance(v, dict)], digits))
     if "masses" in r:
         units = {"mass": "kg", "center": lu, "inertia": "kg m2"}
         parts.append(_kv("Masses", [(f"{link} {k} ({units[k]})", v) for link, props in r["masses"].items()
                                     for k, v in props.items()], digits))
     if "forces" in r:
         parts.extend(_forces(r["forces"], digits, au))
+    if "strength" in r:
+        parts.extend(_strength(r["strength"], digits, lu, au))
     for name, section in r.items():
         if name not in KNOWN:
             units = _tolerance_units(section, lu, au) if name == "tolerance" else None
@@ -189,6 +218,29 @@ def render(report: dict, digits: int = 6) -> Group:
     for note in r.get("notes", []):
         parts.append(Text(f"warning: {note}", style="yellow"))
     return Group(*parts)
+
+
+def _drawn_heads(rows: list[dict], lu: str, au: str) -> dict[str, str]:
+    """Headings of a drawn linkage's nested kinematics columns (flattened by `_rows`): a link's
+    angle and rates, a slider's place and rates, a closure's transmission angle, a point's
+    coordinates and rates, another drive's value."""
+    heads = {}
+    units = {("links", "angle"): ("", au), ("links", "velocity"): (" w", f"{au}/s"),
+             ("links", "acceleration"): (" a", f"{au}/s2"), ("sliders", "position"): ("", lu),
+             ("sliders", "velocity"): (" v", f"{lu}/s"), ("sliders", "acceleration"): (" a", f"{lu}/s2")}
+    for row in rows[:1]:
+        for group, inner in row.items():
+            if not isinstance(inner, dict):
+                continue
+            for name, value in inner.items():
+                if not isinstance(value, dict):
+                    heads[f"{group} {name}"] = f"mu {name} ({au})" if group == "transmission" else f"{name}"
+                    continue
+                for part in value:
+                    mark, unit = units.get((group, part), (f" {part}", lu if part in ("x", "y") else
+                                           f"{lu}/s" if part.startswith("v") else f"{lu}/s2"))
+                    heads[f"{group} {name} {part}"] = f"{name}{mark} ({unit})"
+    return heads
 
 
 def _linkage_rows(lk: dict, lu: str, au: str) -> list[tuple[str, object]]:
@@ -220,16 +272,6 @@ def _motion_units(lu: str, au: str) -> dict[str, str]:
             "input_speeds": f"{au}/s", "input_accelerations": f"{au}/s2"}
 
 
-def _row_list(v) -> bool:
-    """A list of row dicts (a table of its own)."""
-    return isinstance(v, list) and bool(v) and all(isinstance(x, dict) for x in v)
-
-
-def _pair_rows(v) -> bool:
-    """A list of rows of numbers (a five-bar's echoed inputs): counted, not printed."""
-    return isinstance(v, list) and bool(v) and all(isinstance(x, list) for x in v)
-
-
 def _angle_units(section: dict, au: str) -> dict[str, str]:
     """Units of a transmission section over rows: its angles; row numbers and the condition
     number have none."""
@@ -242,8 +284,8 @@ def _position_heads(r: dict, lu: str, au: str) -> dict[str, str]:
     error are points or slider positions (length) for path generation and a slider-crank,
     output angles for a four-bar's function, poses (x, y, angle) for motion generation,
     with a position error (length) and an angle error."""
-    from linkcli.mechanisms import module
-    mechanism = r.get("linkage", {}).get("mechanism", "four-bar")
+    from linkcli.mechanisms import DEFAULT, module
+    mechanism = r.get("linkage", {}).get("mechanism", DEFAULT)
     length_output = module(mechanism, "schema").OUTPUT == "length"  # a slider's position
     unit = lu if r["type"] == "path-generation" or length_output else au
     heads = {"input": f"input ({au})", "position_error": f"position error ({lu})",
@@ -277,6 +319,50 @@ def _forces(forces: dict, digits: int, au: str) -> list:
         line["mechanical_advantage"] = row["mechanical_advantage"]
         table.append(line)
     parts.append(_rows("Forces", table, digits, heads))
+    return parts
+
+
+def _strength(strength: dict, digits: int, lu: str, au: str) -> list:
+    """The strength section: material and the weakest part, one row per pin and per link
+    (factors, stresses in MPa), and the stresses over the cycle."""
+    material = strength["material"]
+    rows = [("material", material["name"])] if "name" in material else []
+    rows += [(f"{k.replace('_', ' ')} (MPa)", material[k])
+             for k in ("ultimate", "yield_strength", "endurance", "modulus")]
+    rows += [("fatigue criterion", strength["criterion"]), ("required factor", strength["required"])]
+    critical = strength.get("critical")
+    if critical:
+        rows += [("weakest part", critical["part"]), ("its factor", critical["factor"]),
+                 ("failure mode", critical["mode"]), (f"at input ({au})", critical["at_input"])]
+    if strength.get("unchecked"):
+        rows.append(("not checked", ", ".join(strength["unchecked"])))
+    parts: list = [_kv("Strength", rows, digits)]
+    heads = {"diameter": f"d ({lu})", "width": f"w ({lu})", "force_max": "|F| max (N)",
+             "force_min": "|F| min (N)", "shear_max": "tau max (MPa)",
+             "bearing_max": "bearing (MPa)", "at_input": f"at input ({au})",
+             "shear_alternating": "tau a (MPa)", "shear_mean": "tau m (MPa)",
+             "static_factor": "static n", "bearing_factor": "bearing n",
+             "fatigue_factor": "fatigue n", "factor": "n", "length": f"length ({lu})",
+             "tension": "tension (N)", "tension_at": f"at ({au})", "compression": "compression (N)",
+             "compression_at": f"at ({au})", "bending": "M max (N m)", "bending_at": f"at ({au})",
+             "stress_max": "sigma max (MPa)", "alternating": "sigma a (MPa)", "mean": "sigma m (MPa)",
+             "buckling_load": "P cr (N)", "buckling_factor": "buckling n"}
+    if strength["pins"]:
+        parts.append(_rows("Pins: shear and bearing", strength["pins"], digits, heads))
+    if strength["links"]:
+        parts.append(_rows("Links: axial, bending, buckling", strength["links"], digits, heads))
+    table, cycle_heads = [], {"input": f"input ({au})"}
+    for row in strength["rows"]:
+        line = {"input": row["input"]}
+        for name, value in row.get("pins", {}).items():
+            line[f"pin {name}"] = value
+            cycle_heads[f"pin {name}"] = f"tau {name} (MPa)"
+        for name, value in row.get("links", {}).items():
+            line[f"link {name}"] = value
+            cycle_heads[f"link {name}"] = f"sigma {name} (MPa)"
+        table.append(line)
+    parts.append(_rows("Stress over the cycle (pin shear, link's largest fibre stress)", table,
+                       digits, cycle_heads))
     return parts
 
 

@@ -14,8 +14,10 @@ PACKAGES = {  # the `[linkage] mechanism` value -> its package under linkcli.mec
     "four-bar": "four_bar",
     "slider-crank": "slider_crank",
     "five-bar": "five_bar",
+    "drawn": "drawn",
 }
 NAMES = tuple(PACKAGES)
+DEFAULT = "four-bar"  # a [linkage] without `mechanism`
 
 
 def module(name: str, part: str):

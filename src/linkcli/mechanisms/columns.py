@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkcli.mechanisms.four_bar.kinematics import wrap
+from linkcli.angles import wrap
 from linkcli.noise import snap
 
 TRANSMISSION_BAND = (40.0, 140.0)  # deg: the usual recommendation (Norton, ch. 3)

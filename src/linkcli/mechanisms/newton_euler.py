@@ -176,4 +176,54 @@ def in_metres(masses, scale: float):
     from dataclasses import fields, replace
     def one(m: LinkMass | None):
         return None if m is None else LinkMass(m.mass, (m.center[0] * scale, m.center[1] * scale), m.inertia)
-    return replace(masses, **{f.name: one(getattr(masses, f.name)) for f in fields(masses)})
+    return replace(masses, **{f.name: one(getattr(masses, f.name)) for f in fields(masses) if f.name != "named"},
+                   named=tuple((name, one(m)) for name, m in masses.named))
+
+
+# ---------------------------------------------------------------- loads on each link (strength)
+def link_load(name: str, at, force=None, couple=None):
+    """A protocol.LinkLoad at the (n, 2) points `at` (m): `force` (n, 2) N (default 0) and
+    `couple` (n,) N m (default 0), broadcast to the rows."""
+    from linkcli.mechanisms.protocol import LinkLoad
+    at = np.asarray(at, dtype=float)
+    n = len(at)
+    force = np.zeros((n, 2)) if force is None else np.broadcast_to(np.asarray(force, dtype=float), (n, 2))
+    couple = np.zeros(n) if couple is None else np.broadcast_to(np.asarray(couple, dtype=float), (n,))
+    return LinkLoad(name, at, force, couple)
+
+
+def inertia_loads(mass: LinkMass | None, origin, x_towards, origin_acceleration, omega, alpha,
+                  gravity) -> tuple:
+    """The weight and d'Alembert inertia of a link's mass as one load at its centre G:
+    force m (g - a_G), couple -I_G alpha (Norton, Design of Machinery, ch. 11); () for a
+    massless link. Its frame runs from `origin` towards `x_towards`, whose acceleration is
+    `origin_acceleration` ((n, 2) m/s^2, 0 for a ground pivot)."""
+    if mass is None or (mass.mass == 0 and mass.inertia == 0):
+        return ()
+    m, i, g = body(mass, origin, x_towards)
+    acc = point_acceleration(np.broadcast_to(np.asarray(origin_acceleration, dtype=float), g.shape),
+                             g - origin, omega, alpha)
+    force = m * (np.asarray(gravity, dtype=float) - acc)
+    return (link_load("inertia", g, force, -i * np.asarray(alpha, dtype=float)),)
+
+
+def input_and_coupler_members(state, loads: Loads, masses, rows) -> tuple[tuple, tuple]:
+    """The loads on the first two links of a chain A0 - A - B (the links of
+    `fill_input_and_coupler`), from the pin forces of `rows`: the input A0 -> A (pin A0, the
+    coupler's -A, the drive's torque at A0, its mass) and the coupler A -> B (pin A, the
+    output's -B, the coupler force at P, its mass)."""
+    pins, n = rows.pins, state.rows
+    acc_a = point_acceleration(np.zeros((n, 2)), state.A - state.A0, state.omega_input,
+                               state.alpha_input)
+    coupler_force = ()
+    if any(loads.coupler_force):
+        coupler_force = (link_load("coupler_force", state.A if state.P is None else state.P,
+                                   loads.coupler_force),)
+    input_link = (link_load("A0", state.A0, pins["A0"]), link_load("A", state.A, -pins["A"]),
+                  link_load("drive", state.A0, couple=rows.input_torque),
+                  *inertia_loads(masses.input, state.A0, state.A, 0.0, state.omega_input,
+                                 state.alpha_input, loads.gravity))
+    coupler = (link_load("A", state.A, pins["A"]), link_load("B", state.B, -pins["B"]), *coupler_force,
+               *inertia_loads(masses.coupler, state.A, state.B, acc_a, state.omega_coupler,
+                              state.alpha_coupler, loads.gravity))
+    return input_link, coupler

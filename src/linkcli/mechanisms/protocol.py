@@ -20,7 +20,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from linkcli.mechanisms.four_bar.kinematics import wrap  # the one wrap
+from linkcli.angles import wrap  # the one wrap
 
 TWO_PI = 2.0 * np.pi
 
@@ -34,6 +34,7 @@ class Study:
     full_turn: bool
     arc: tuple[float, float]
     detail: Any = None
+    shortfall: str | None = None  # why the asked motion stops short of what was asked (exit 1)
 
     def rows(self, steps: int) -> tuple[np.ndarray, np.ndarray]:
         """(phi, shown): the drive angles (rad) of the study's rows and as printed. A full
@@ -47,6 +48,15 @@ class Study:
         lo, hi = self.arc
         phi = lo + (np.arange(steps) + 0.5) * ((hi - lo) / steps)
         return phi, wrap(phi)
+
+    def printed(self, shown, units) -> np.ndarray:
+        """The rows' drive values as the report prints them (the file's angle unit; a home
+        whose drive slides prints lengths)."""
+        return units.from_rad(np.asarray(shown, dtype=float))
+
+    def unit(self, units) -> str:
+        """The unit of the printed drive values."""
+        return units.angle
 
 
 @dataclass(frozen=True)
@@ -109,6 +119,38 @@ class LoadRows:
         return np.hypot(self.pins[pin][:, 0], self.pins[pin][:, 1])
 
 
+@dataclass(frozen=True)
+class LinkLoad:
+    """One load on one link at every row (n rows), SI, global frame: `force` (n, 2) N acting
+    ON the link at the point `at` (n, 2) m, and a `couple` (n,) N m on it (counter-clockwise
+    positive). `name`: the joint it acts through (a pin force) or what it is (a home's word:
+    "drive", "coupler_force", "output_torque", "inertia" -- weight and d'Alembert inertia of
+    the link's mass at its centre, -m a_G + m g and -I_G alpha)."""
+
+    name: str
+    at: np.ndarray
+    force: np.ndarray
+    couple: np.ndarray
+
+
+@dataclass(frozen=True)
+class MemberForces:
+    """What the strength section needs of a mechanism at the rows of a load study.
+
+    links: link name (as [sections] names it) -> the joints at its ends, in order (a binary
+    link: two joints; its axis runs from the first to the second). loads: link name -> every
+    load on it, its joints' forces first (in the order of `links`, named by the joint), then
+    what acts between or beside them (a coupler force, a drive or load torque, its mass's
+    weight and inertia); together they are in equilibrium at every valid row (sum of forces
+    and of moments 0: d'Alembert). pins: joint name (as [joints] names it) -> (n, 2) N, the
+    shear force the pin carries (for two links joined, the force one exerts on the other);
+    only revolute pins (a slider's guide is not one)."""
+
+    links: dict[str, tuple[str, ...]]
+    loads: dict[str, tuple[LinkLoad, ...]]
+    pins: dict[str, np.ndarray]
+
+
 class Mechanism(ABC):
     """One linkage of one mechanism, and everything shared code may ask of it.
 
@@ -158,25 +200,28 @@ class Mechanism(ABC):
     def kinematics_rows(self, study: Study, speed: float, steps: int, units) -> list[dict]:
         """The `kinematics` rows at `study.rows(steps)` for a constant drive `speed` rad/s."""
 
-    def motion_echo(self, speed: float, steps: int, units) -> dict:
-        """What the `motion` section adds of the study's own settings beside the kinematics
-        or forces rows, so that `analyze` of a result reproduces them: the constant drive
-        speed (angle unit per s) and the steps. A mechanism whose motion section already
-        echoes its own [motion] returns {}."""
-        from linkcli.mechanisms.columns import turn_out
-        return {"input_speed": turn_out(units, speed), "steps": steps}
-
-    def infeasible(self) -> str | None:
-        """Why a given linkage cannot go through the motion its file asks for (rows it
-        cannot reach: exit 1), or None. A linkage studied over its drive's own range of
-        motion has none (it never assembles: `study` is None)."""
-        return None
+    def study_keys(self, speed: float, steps: int, units) -> dict:
+        """What the `motion` section records to reproduce the study: the [motion] input speed
+        (angle unit per s) and steps (a home whose drives carry their own speeds: steps)."""
+        return {"input_speed": float(units.from_rad(float(speed))), "steps": steps}
 
     # ------------------------------------------------------------ loads
     @abstractmethod
     def load_rows(self, phi, speed: float, case, metres: float) -> LoadRows:
         """Inverse dynamics at drive angles phi turning at `speed` rad/s (constant) under the
         load case (model.LoadCase); lengths times `metres` are metres."""
+
+    def member_forces(self, phi, speed: float, case, metres: float,
+                      rows: LoadRows) -> MemberForces | None:
+        """The loads on every moving link and the force through every revolute pin at drive
+        angles phi (the rows of `rows`, this home's `load_rows(phi, speed, case, metres)`),
+        for the strength section (analysis.strength). Contract (MemberForces): forces ON
+        each link in N at points in m, global frame; each link's loads in equilibrium with
+        its own mass's weight and d'Alembert inertia included; NaN at the rows `rows`
+        marks singular. Links are named as the home's schema `LINKS`, joints as `JOINTS`.
+        None (this default): the home does not give them, and a file asking for the
+        strength section is told so (exit 2)."""
+        return None
 
     # ------------------------------------------------------------ tolerance
     @abstractmethod

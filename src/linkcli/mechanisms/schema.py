@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from linkcli.io.meta import MAX_RATIO, over_ratio
 from linkcli.io.reader import Table, describe
-from linkcli.mechanisms import NAMES, module
+from linkcli.mechanisms import DEFAULT, NAMES, module
 
 ASSEMBLY_RTOL = 1e-12  # relative: ranges that only touch close at one position and cannot move
 
@@ -26,8 +26,8 @@ def refuse_ratio(t, lengths: dict) -> bool:
 
 
 def read_mechanism(t: Table, choices: tuple[str, ...] = NAMES) -> str | None:
-    """`mechanism`: one of `choices`, default four-bar; None when bad (error recorded)."""
-    return t.string("mechanism", "four-bar", choices=choices)
+    """`mechanism`: one of `choices`, default mechanisms.DEFAULT; None when bad (error recorded)."""
+    return t.string("mechanism", DEFAULT, choices=choices)
 
 
 def refuse_foreign(t: Table, mechanism: str) -> bool:
@@ -40,7 +40,8 @@ def refuse_foreign(t: Table, mechanism: str) -> bool:
     for key in dict.fromkeys(foreign):
         if key in t:
             t.allow(key)  # one message, not a second "unknown key" for the same line
-            t.error(key, f"no {key} in a {mechanism} [linkage] (its keys: {', '.join(own)})",
+            keys = f"its keys: {', '.join(own)}" if own else "its only key is mechanism"
+            t.error(key, f"no {key} in a {mechanism} [linkage] ({keys})",
                     raw_got=f"{key} = {describe(t.data[key])}")
             found = True
     return found

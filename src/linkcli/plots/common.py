@@ -39,6 +39,18 @@ MORE_COLORS = ("#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#8c564b", "#e377c2",
 TARGET_COLOR = "#111111"
 CURVE_COLOR = "#9467bd"
 BAND_COLOR = "#2ca02c"
+SLIDER_COLOR = "#ff7f0e"
+# a skeleton's marks (draw_skeleton, and the animations that move them): line widths in
+# points, marker areas in points^2, the slider block's width as a share of the drawing
+LINK_WIDTH = 3.2
+GHOST_WIDTH = 1.6
+GHOST_ALPHA = 0.28
+PLATE_ALPHA = 0.18
+JOINT_SIZE = 42
+GHOST_JOINT_SIZE = 22
+PIVOT_SIZE = 70
+SLIDER_SHARE = 0.12
+SLIDER_ALPHA = 0.7
 
 
 def num(v: float, digits: int = 4) -> str:
@@ -77,6 +89,14 @@ def ground_mark(ax, x, y, s, color):
     tri = [(x, y), (x - 0.6 * s, y - s), (x + 0.6 * s, y - s)]
     ax.add_patch(Polygon(tri, closed=True, facecolor="white", edgecolor=color, hatch="///",
                          lw=1.0, zorder=1))
+
+
+def body_frames(ax, poses, arm, **style) -> None:
+    """Body frames at poses (n, 3) (angles rad): an L, the x axis `arm` long and a y axis
+    half as long."""
+    for x, y, t in poses:
+        c, s = np.cos(t), np.sin(t)
+        ax.plot([x + 0.5 * arm * -s, x, x + arm * c], [y + 0.5 * arm * c, y, y + arm * s], **style)
 
 
 def frame_drawing(ax, length_unit: str, title: str) -> None:
@@ -142,49 +162,87 @@ def link_color(name: str, index: int) -> str:
     return LINK_COLORS.get(name, MORE_COLORS[index % len(MORE_COLORS)])
 
 
+def joint_places(sk, k: int) -> dict[str, tuple[float, float]]:
+    """Row k of a Skeleton: joint name -> (x, y)."""
+    return {name: tuple(float(v) for v in np.asarray(xy)[k]) for name, xy in sk.joints.items()}
+
+
+def guide_ends(sk, guide, margin: float = 0.15) -> np.ndarray:
+    """(2, 2) ends of a slider guide drawn over the travel of its joint in the Skeleton's
+    rows, `margin` x the drawing's size beyond it at each end."""
+    track = np.asarray(sk.joints[guide.joint], dtype=float).reshape(-1, 2)
+    track = track[np.all(np.isfinite(track), axis=1)]
+    u = np.array([math.cos(guide.angle), math.sin(guide.angle)])
+    s = (track - np.asarray(guide.point)) @ u if len(track) else np.zeros(1)
+    pad = margin * sk.size()
+    return np.asarray(guide.point) + np.outer([float(s.min()) - pad, float(s.max()) + pad], u)
+
+
+def draw_ground(ax, sk, k: int = 0, *, labels: bool = True) -> None:
+    """The fixed parts of a Skeleton (row k for the pivots' places): guides dashed over the
+    travel of their joints in the rows given, hatched marks and black discs at the ground
+    pivots, their names unless `labels` is False."""
+    size = sk.size()
+    at = joint_places(sk, k)
+    for guide in sk.guides:
+        ends = guide_ends(sk, guide)
+        ax.plot(ends[:, 0], ends[:, 1], color=LINK_COLORS["ground"], lw=1.2, ls=(0, (6, 3)), zorder=1)
+    for name in sk.ground:
+        ground_mark(ax, *at[name], 0.06 * size, LINK_COLORS["ground"])
+    fixed = [at[name] for name in sk.ground]
+    ax.scatter([p[0] for p in fixed], [p[1] for p in fixed], s=PIVOT_SIZE, zorder=4, facecolor="black", edgecolor="black")
+    if labels:
+        for name in sk.ground:
+            joint_label(ax, name, at[name])
+
+
+def plate(pts, color: str, alpha: float = 1.0, lw: float = LINK_WIDTH):
+    """A link carrying three or more joints: a translucent polygon (PLATE_ALPHA) edged in
+    its colour, 0.6 lw wide; `alpha` fades both (a ghost)."""
+    from matplotlib.colors import to_rgba
+    from matplotlib.patches import Polygon
+    return Polygon(pts, closed=True, zorder=2, facecolor=to_rgba(color, PLATE_ALPHA * alpha),
+                   edgecolor=to_rgba(color, alpha), lw=lw * 0.6)
+
+
+def slider_block(xy, size: float, alpha: float = 1.0):
+    """A slider's block centred on xy: SLIDER_SHARE x `size` wide, two thirds as tall."""
+    from matplotlib.patches import Rectangle
+    w = SLIDER_SHARE * size
+    return Rectangle((xy[0] - w / 2, xy[1] - w / 3), w, 2 * w / 3, facecolor=SLIDER_COLOR, edgecolor="black",
+                     alpha=SLIDER_ALPHA * alpha, lw=1.0, zorder=3)
+
+
+def joint_label(ax, name: str, xy):
+    """A joint's name beside it (bold, 7 pt right and 6 pt up)."""
+    return ax.annotate(name, xy, xytext=(7, 6), textcoords="offset points", fontsize=10, fontweight="bold", zorder=5)
+
+
 def draw_skeleton(ax, sk, k: int, *, ghost: bool = False, labels: bool = True) -> None:
     """Row k of a mechanism's Skeleton to scale: guides (dashed), ground pivots (hatched),
     each link as a bar (two joints) or a translucent plate (three or more), slider blocks,
     joints as rings; names beside the joints unless `labels` is False."""
-    from matplotlib.patches import Polygon, Rectangle
     if not bool(np.asarray(sk.valid)[k]):
         return
-    alpha = 0.28 if ghost else 1.0
-    lw = 1.6 if ghost else 3.2
+    alpha = GHOST_ALPHA if ghost else 1.0
+    lw = GHOST_WIDTH if ghost else LINK_WIDTH
     size = sk.size()
-    at = {name: tuple(float(v) for v in np.asarray(xy)[k]) for name, xy in sk.joints.items()}
+    at = joint_places(sk, k)
     if not ghost:
-        for guide in sk.guides:
-            track = np.asarray(sk.joints[guide.joint], dtype=float)
-            track = track[np.all(np.isfinite(track), axis=1)]
-            u = np.array([math.cos(guide.angle), math.sin(guide.angle)])
-            s = (track - np.asarray(guide.point)) @ u if len(track) else np.zeros(1)
-            lo, hi = float(s.min()) - 0.15 * size, float(s.max()) + 0.15 * size
-            ends = np.asarray(guide.point) + np.outer([lo, hi], u)
-            ax.plot(ends[:, 0], ends[:, 1], color=LINK_COLORS["ground"], lw=1.2, ls=(0, (6, 3)), zorder=1)
-        for name in sk.ground:
-            ground_mark(ax, *at[name], 0.06 * size, LINK_COLORS["ground"])
+        draw_ground(ax, sk, k, labels=labels)
     for index, (name, joints) in enumerate(sk.links.items()):
         color = link_color(name, index)
         pts = [at[j] for j in joints]
         if len(pts) > 2:
-            ax.add_patch(Polygon(pts, closed=True, zorder=2, facecolor=color, alpha=0.18 * alpha,
-                                 edgecolor=color, lw=lw * 0.6))
+            ax.add_patch(plate(pts, color, alpha, lw))
         else:
             ax.plot([p[0] for p in pts], [p[1] for p in pts], color=color, lw=lw, alpha=alpha, zorder=3)
     for name in sk.sliders:
-        x, y = at[name]
-        w = 0.12 * size
-        ax.add_patch(Rectangle((x - w / 2, y - w / 3), w, 2 * w / 3, facecolor="#ff7f0e", edgecolor="black",
-                               alpha=0.7 * alpha, lw=1.0, zorder=3))
+        ax.add_patch(slider_block(at[name], size, alpha))
     moving = [p for name, p in at.items() if name not in sk.ground]
-    ax.scatter([p[0] for p in moving], [p[1] for p in moving], s=22 if ghost else 42, zorder=4,
+    ax.scatter([p[0] for p in moving], [p[1] for p in moving], s=GHOST_JOINT_SIZE if ghost else JOINT_SIZE, zorder=4,
                facecolor="white", edgecolor="black", linewidths=1.0, alpha=alpha)
-    if ghost:
-        return
-    fixed = [at[name] for name in sk.ground]
-    ax.scatter([p[0] for p in fixed], [p[1] for p in fixed], s=70, zorder=4, facecolor="black", edgecolor="black")
-    if labels:
-        for name, (x, y) in at.items():
-            ax.annotate(name, (x, y), xytext=(7, 6), textcoords="offset points", fontsize=10,
-                        fontweight="bold", zorder=5)
+    if labels and not ghost:
+        for name, xy in at.items():
+            if name not in sk.ground:
+                joint_label(ax, name, xy)

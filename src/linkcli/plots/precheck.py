@@ -11,11 +11,14 @@ from __future__ import annotations
 from pathlib import Path
 
 
-def plot_path_problem(plot: Path, names: list[str]) -> str | None:
-    """The error line for a --plot PATH that cannot work, or None."""
+def plot_path_problem(plot: Path, names: list[str], **rules) -> str | None:
+    """The error line for a --plot PATH that cannot work, or None. `rules`: another
+    option's formats, folder_format and what (plot.output_paths), and `noun` (the line's
+    "a plot path")."""
     from linkcli.plot import PlotError, output_paths
+    noun = rules.pop("noun", "a plot path")
     try:
-        output_paths([], len(names), plot)
+        output_paths([], len(names), plot, **rules)
     except PlotError as exc:
         return str(exc)
     folder = plot.parent if len(names) <= 1 else plot
@@ -23,5 +26,5 @@ def plot_path_problem(plot: Path, names: list[str]) -> str | None:
     while not probe.exists() and probe != probe.parent:
         probe = probe.parent
     if probe.exists() and not probe.is_dir():
-        return f"{plot}: expected a plot path inside a folder, found {probe} is a file"
+        return f"{plot}: expected {noun} inside a folder, found {probe} is a file"
     return None

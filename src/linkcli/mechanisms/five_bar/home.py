@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from linkcli.mechanisms.four_bar.kinematics import wrap
+from linkcli.angles import wrap
 from linkcli.mechanisms.five_bar import sections
 from linkcli.mechanisms.five_bar import track as tracking
 from linkcli.mechanisms.protocol import LoadRows, Mechanism, Skeleton, Study
@@ -58,13 +58,6 @@ class FiveBarMechanism(Mechanism):
             self._track = tracking.solve(self.linkage)
         return self._track
 
-    def infeasible(self) -> str | None:
-        """Why the rows are not all reached (exit 1), or None."""
-        track = self.track()
-        if track is None:
-            return "no [motion] rows to study"
-        return "; ".join(track.defects) or None
-
     def size(self) -> float:
         return tracking.size(self.linkage)
 
@@ -75,11 +68,13 @@ class FiveBarMechanism(Mechanism):
         return sections.class_section(self.linkage, self.track())
 
     def study(self, near=None) -> Study | None:
+        """The rows of [motion]; its `shortfall` names the rows not reached (exit 1); None
+        without a motion or when no row is reached."""
         track = self.track()
         if track is None or not track.valid.any():
             return None
         phi = np.unwrap(track.pose.phi1[track.valid])
-        return RowStudy(False, (float(phi.min()), float(phi.max())), track)
+        return RowStudy(False, (float(phi.min()), float(phi.max())), track, "; ".join(track.defects) or None)
 
     def transmission_section(self, study, span, units, notes) -> dict:
         return sections.transmission_section(study.detail, units, notes)
@@ -87,7 +82,7 @@ class FiveBarMechanism(Mechanism):
     def motion_section(self, study, units) -> dict:
         return sections.motion_section(study.detail, units)
 
-    def motion_echo(self, speed, steps, units) -> dict:
+    def study_keys(self, speed, steps, units) -> dict:
         """The five-bar's own [motion] (its rows, the drives' rates, its phases), not a
         single drive's speed and steps."""
         track = self.track()

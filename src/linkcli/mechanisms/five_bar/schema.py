@@ -24,15 +24,26 @@ JOINTS = ("A0", "A", "P", "B", "B0")  # its pins, as [joints] names them
 TOLERANCED = ("ground", "input", "input2", "coupler", "coupler2")  # [tolerance] lengths, table keys
 PLAYS = {"lock_play": "the angular play of a held drive's lock, taken up when its phase ends"}
 OUTPUT = "length"  # what its output is: an allowed_error is a distance of P
-MASSES = None  # its loads are not modelled: [loads] and [masses] are refused (io.loads)
+MASSES = None  # its loads are not modelled: [loads] and [masses] are refused (read_load_case)
 POINT_MASSES: tuple[str, ...] = ()
 OUTPUT_LOAD = None
+LINKS = ("input", "input2", "coupler", "coupler2")  # its moving links, as [sections] would name them
 MOTION_KEYS = ("inputs", "path", "modes", "input_speeds", "input_accelerations", "phases")
 REPORTED_MOTION = ("rows", "input_range", "input2_range", "x_range", "y_range")  # its output in [motion]
 MAX_ROWS = MAX_ARRAY
 MIN_PATH = 2  # points of a path
 ROW_ELEMENTS = 2**23  # tolerance samples x rows: per-row statistics keep every sample's error
 TURN_RTOL = 1e-9  # a held drive's angle: equal within this share of a turn
+
+
+def read_load_case(root: Table, kind: str):
+    """[loads] and [masses] of a five-bar: refused, one located line each (its inverse
+    dynamics is not modelled); None."""
+    for name in ("loads", "masses"):
+        if name in root:
+            root.raw(name)
+            root.error(name, f"no [{name}] for a five-bar (its loads are not modelled)", raw_got=f"a [{name}] table")
+    return None
 
 
 def known_lengths(linkage) -> dict[str, float]:

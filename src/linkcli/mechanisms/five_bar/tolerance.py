@@ -90,6 +90,10 @@ class Model:
                     self.events.append(({"rows": [ph.first, ph.last], "locked": ph.locked, "at": at, "row": row},
                                         len(self.locks) - 1, position[row]))
 
+    def column_scale(self, lengths: dict) -> np.ndarray:
+        """Each length's tolerance from [tolerance] lengths (keyed by link)."""
+        return np.array([float(lengths.get(k, 0.0)) for k in self.columns])
+
     def given(self, tol) -> dict:
         play = tol.lock_play if self.units is None else float(self.units.from_rad(tol.lock_play))
         return {"lock_play": play} if self.plays else {}

@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from linkcli.angles import wrap
 from linkcli.mechanisms.five_bar import kinematics as kin
 from linkcli.mechanisms.five_bar.model import DRIVES, FiveBar, Phase
 from linkcli.mechanisms.four_bar import kinematics as four
@@ -250,6 +251,6 @@ def phase_bar(track: Track, ph: Phase) -> PhaseBar | None:
     deviation = float(dev[ok].max()) if ok.any() else 0.0
     # its branch: the one whose output angle puts its output pin where P is at the first row
     psi = math.atan2(float(p.py[k]) - ey, float(p.px[k]) - ex) - beta
-    branch = min(("open", "crossed"), key=lambda br: abs(float(four.wrap(
+    branch = min(("open", "crossed"), key=lambda br: abs(float(wrap(
         four.pose(a, b, c, ground, phi[0], br).psi - psi))))
     return PhaseBar(ph, a, b, c, ground, branch, phi, (ox, oy), beta, held, deviation)

@@ -55,20 +55,32 @@ class FourBarMechanism(Mechanism):
     def load_rows(self, phi, speed, case, metres) -> LoadRows:
         """Pins A0 (ground -> input), A (input -> coupler), B (coupler -> output), B0
         (ground -> output) at input angles phi (local frame), constant input speed."""
-        from linkcli.mechanisms.four_bar.loads import FourBarState, four_bar_loads
+        from linkcli.mechanisms.four_bar.loads import four_bar_loads
         from linkcli.mechanisms.newton_euler import in_metres
+        return four_bar_loads(self._state(phi, speed, metres), case.loads, in_metres(case.masses, metres))
+
+    def member_forces(self, phi, speed, case, metres, rows):
+        """Links input (A0, A), coupler (A, B), output (B0, B); the drive's torque acts on the
+        input at A0, `output_torque` on the output at B0, the coupler force at P."""
+        from linkcli.mechanisms.four_bar.loads import four_bar_members
+        from linkcli.mechanisms.newton_euler import in_metres
+        return four_bar_members(self._state(phi, speed, metres), case.loads,
+                                in_metres(case.masses, metres), rows)
+
+    def _state(self, phi, speed, metres):
+        """The loads' kinematic state (mechanisms.four_bar.loads.FourBarState) in metres."""
+        from linkcli.mechanisms.four_bar.loads import FourBarState
         fb = self.linkage
         a, b, c, d = fb.abcd
         p = kin.pose(a, b, c, d, phi, fb.branch)
         w3, w4 = kin.velocities(a, b, c, p, speed)
         a3, a4 = kin.accelerations(a, b, c, p, speed)
         point = None if fb.coupler_point is None else tuple(v * metres for v in fb.coupler_point)
-        state = FourBarState.from_angles(
+        return FourBarState.from_angles(
             ground_length=d * metres, input_length=a * metres, coupler_length=b * metres,
             output_length=c * metres, phi=phi, psi=p.psi, omega_input=speed, omega_coupler=w3,
             omega_output=w4, alpha_input=0.0, alpha_coupler=a3, alpha_output=a4, coupler_point=point,
             ground_pivot=tuple(v * metres for v in fb.ground_pivot), ground_angle=fb.ground_angle)
-        return four_bar_loads(state, case.loads, in_metres(case.masses, metres))
 
     def tolerance_model(self, problem, solution):
         from linkcli.mechanisms.four_bar.tolerance import Model, targets

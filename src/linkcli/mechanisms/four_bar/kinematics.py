@@ -22,7 +22,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-TWO_PI = 2.0 * np.pi
+from linkcli.angles import TWO_PI, WRAP_SNAP, wrap  # noqa: F401  (the one wrap, kin.wrap to its users)
+
 # |cos alpha| up to 1 + ASSEMBLY_SLACK still assembles (clipped): round-off at a toggle.
 ASSEMBLY_SLACK = 1e-12
 TOGGLE_RTOL = 64 * 2.0**-52  # relative: rho this close to b + c or |b - c| is a toggle
@@ -80,16 +81,6 @@ def ground_distance(a, d, phi):
     without the cancellation of a^2 + d^2 - 2 a d cos(phi) when a ~ d and phi ~ 0."""
     s = np.sin(np.asarray(phi, dtype=float) / 2.0)
     return np.sqrt((a - d) ** 2 + 4.0 * a * d * s * s)
-
-
-WRAP_SNAP = 1e-12  # rad: an angle within round-off of -pi is taken as +pi
-
-
-def wrap(angle):
-    """Angles in (-pi, pi]; one within WRAP_SNAP of -pi (round-off of a position at
-    180 deg) becomes +pi, so that a report never alternates between -180 and 180."""
-    out = np.mod(np.asarray(angle, dtype=float) + np.pi, TWO_PI) - np.pi
-    return np.where(out <= -np.pi + WRAP_SNAP, out + TWO_PI, out)
 
 
 def branch_sign(branch) -> float:

@@ -116,3 +116,23 @@ def four_bar_loads(state: FourBarState, loads: Loads = Loads(),
         return LoadRows(solution[:, 8], pins, singular, mechanical_advantage(state, cross(state.B - state.B0, state.B - state.A)),
                         force_scale, torque_scale, ("A0", "A", "B", "B0"))
 
+
+
+def four_bar_members(state: FourBarState, loads: Loads, masses: Masses, rows: LoadRows):
+    """The loads on each link (protocol.MemberForces) from the pin forces of `rows`
+    (four_bar_loads of the same state): input A0 -> A with the drive's torque at A0; coupler
+    A -> B with the coupler force at P; output B0 -> B with `output_torque` at B0; each with
+    its mass's weight and inertia (newton_euler.inertia_loads). The same equations as
+    four_bar_loads, so each link is in equilibrium."""
+    from linkcli.mechanisms.newton_euler import inertia_loads, input_and_coupler_members, link_load
+    from linkcli.mechanisms.protocol import MemberForces
+    pins = rows.pins
+    input_link, coupler = input_and_coupler_members(state, loads, masses, rows)
+    output = (link_load("B0", state.B0, pins["B0"]), link_load("B", state.B, pins["B"]),
+              *((link_load("output_torque", state.B0, couple=loads.output_torque),)
+                if loads.output_torque else ()),
+              *inertia_loads(masses.output, state.B0, state.B, 0.0, state.omega_output,
+                             state.alpha_output, loads.gravity))
+    return MemberForces(links={"input": ("A0", "A"), "coupler": ("A", "B"), "output": ("B0", "B")},
+                        loads={"input": input_link, "coupler": coupler, "output": output},
+                        pins={name: pins[name] for name in ("A0", "A", "B", "B0")})

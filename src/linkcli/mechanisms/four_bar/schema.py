@@ -11,6 +11,7 @@ from linkcli.model import BRANCHES, FourBar
 
 KEYS = ("ground", "input", "coupler", "output", "branch", "coupler_point", "ground_pivot", "ground_angle")
 JOINTS = ("A0", "A", "B", "B0")  # its pins, as [joints] names them
+LINKS = ("input", "coupler", "output")  # its moving links, as [sections] names them (the strength section)
 TOLERANCED = ("ground", "input", "coupler", "output")  # [tolerance] lengths, table keys
 PLAYS: dict[str, str] = {}  # [tolerance] keys of other plays than the pins' clearance
 REPORTED_MOTION: tuple[str, ...] = ()  # its own output keys a result's [motion] may hold

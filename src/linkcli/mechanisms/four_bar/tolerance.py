@@ -212,6 +212,10 @@ class Model:
     def play_size(self, tol) -> float:
         return 0.0
 
+    def column_scale(self, lengths: dict) -> np.ndarray:
+        """Each column's tolerance from [tolerance] lengths (keyed by column)."""
+        return np.array([float(lengths.get(k, 0.0)) for k in self.columns])
+
     def errors(self, dl, pins, plays):
         return sample_errors(self.fb, self.tg, dl, pins)
 

@@ -52,17 +52,29 @@ class SliderCrankMechanism(Mechanism):
         """Pins A0 (ground -> crank), A (crank -> rod), B (rod -> slider) and the guide's
         normal force on the slider, at crank angles phi, constant crank speed."""
         from linkcli.mechanisms.newton_euler import in_metres
-        from linkcli.mechanisms.slider_crank.loads import SliderCrankState, slider_crank_loads
+        from linkcli.mechanisms.slider_crank.loads import slider_crank_loads
+        return slider_crank_loads(self._state(phi, speed, metres), case.loads, in_metres(case.masses, metres))
+
+    def member_forces(self, phi, speed, case, metres, rows):
+        """Links input (A0, A) and coupler (A, B); the drive's torque acts on the crank at
+        A0, the coupler force at P. Pins A0, A, B (the guide is no pin; the slider no link)."""
+        from linkcli.mechanisms.newton_euler import in_metres
+        from linkcli.mechanisms.slider_crank.loads import slider_crank_members
+        return slider_crank_members(self._state(phi, speed, metres), case.loads,
+                                    in_metres(case.masses, metres), rows)
+
+    def _state(self, phi, speed, metres):
+        """The loads' kinematic state (mechanisms.slider_crank.loads.SliderCrankState), metres."""
+        from linkcli.mechanisms.slider_crank.loads import SliderCrankState
         sl = self.linkage
         a, b, e = sl.abe
         p = sc.pose(a, b, e, phi, sl.branch)
         _, w3 = sc.velocities(a, b, p, speed)
         _, a3 = sc.accelerations(a, b, p, speed)
         point = None if sl.coupler_point is None else tuple(v * metres for v in sl.coupler_point)
-        state = SliderCrankState.from_angles(
+        return SliderCrankState.from_angles(
             input_length=a * metres, coupler_length=b * metres, phi=phi, theta=p.theta,
             omega_input=speed, omega_coupler=w3, alpha_input=0.0, alpha_coupler=a3, coupler_point=point)
-        return slider_crank_loads(state, case.loads, in_metres(case.masses, metres))
 
     def tolerance_model(self, problem, solution):
         from linkcli.mechanisms.slider_crank.tolerance import model

@@ -36,7 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from linkcli.mechanisms.four_bar.kinematics import wrap  # the one wrap: angles in (-pi, pi]
+from linkcli.angles import wrap  # the one wrap: angles in (-pi, pi]
 from linkcli.model import SliderCrank  # the dataclass lives with FourBar (no numpy: `check` reads it)
 
 TWO_PI = 2.0 * math.pi

@@ -99,3 +99,17 @@ def slider_crank_loads(state: SliderCrankState, loads: Loads = Loads(),
         return LoadRows(solution[:, 7], pins, singular, mechanical_advantage(state, state.B[:, 0] - state.A[:, 0]),
                         force_scale, torque_scale, ("A0", "A", "B", "guide"))
 
+
+
+def slider_crank_members(state: SliderCrankState, loads: Loads, masses: Masses, rows: LoadRows):
+    """The loads on crank and rod (protocol.MemberForces) from the pin forces of `rows`
+    (slider_crank_loads of the same state): input A0 -> A with the drive's torque at A0;
+    coupler A -> B with the coupler force at P; each with its mass's weight and inertia
+    (newton_euler.input_and_coupler_members). The slider only translates (no link to size)
+    and the guide is no pin."""
+    from linkcli.mechanisms.newton_euler import input_and_coupler_members
+    from linkcli.mechanisms.protocol import MemberForces
+    input_link, coupler = input_and_coupler_members(state, loads, masses, rows)
+    return MemberForces(links={"input": ("A0", "A"), "coupler": ("A", "B")},
+                        loads={"input": input_link, "coupler": coupler},
+                        pins={name: rows.pins[name] for name in ("A0", "A", "B")})

@@ -11,6 +11,7 @@ from linkcli.model import BRANCHES, SliderCrank
 
 KEYS = ("input", "coupler", "offset", "branch", "coupler_point")
 JOINTS = ("A0", "A", "B", "guide")  # its pins and the slider's guide, as [joints] names them
+LINKS = ("input", "coupler")  # its moving links, as [sections] names them (the strength section)
 TOLERANCED = ("input", "coupler", "offset")  # [tolerance] lengths, table keys
 PLAYS = {"clearance_slider": "the play of a slider in its guide"}  # [tolerance] keys of other plays
 REPORTED_MOTION: tuple[str, ...] = ()  # its own output keys a result's [motion] may hold

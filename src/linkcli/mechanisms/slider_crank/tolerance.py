@@ -180,6 +180,10 @@ class Model:
     def play_size(self, tol) -> float:
         return float(tol.clearance_slider)
 
+    def column_scale(self, lengths: dict) -> np.ndarray:
+        """Each column's tolerance from [tolerance] lengths (keyed by column)."""
+        return np.array([float(lengths.get(k, 0.0)) for k in self.columns])
+
     def errors(self, dl, pins, plays):
         return sample_errors(self.linkage, self.tg, dl, pins, None if plays is None else plays[..., 0])
 

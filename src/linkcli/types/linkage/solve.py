@@ -9,10 +9,11 @@ from linkcli.solution import Solution, SolverRecord, Status
 def solve(problem) -> Solution:
     linkage = problem.linkage
     mech = mechanisms.of(linkage)
-    record = SolverRecord("analysis", problem.meta.solver.seed, 0, True)
-    why = mech.infeasible()  # rows of its motion it cannot reach (a five-bar's), named
-    if why is not None:
-        return Solution(status=Status.INFEASIBLE, linkage=linkage, message=why, solver=record)
-    if mech.study() is None:  # the schemas refuse such linkages; a hand-made problem may not
+    study = mech.study()
+    if study is None:  # the schemas refuse such linkages; a hand-made problem may not
         return Solution(status=Status.INFEASIBLE, linkage=linkage, message=mech.NO_ASSEMBLY)
-    return Solution(status=Status.OK, linkage=linkage, message="given linkage", solver=record)
+    if study.shortfall:  # the asked motion stops at a dead point: the rows reached are reported
+        return Solution(status=Status.INFEASIBLE, linkage=linkage, message=study.shortfall,
+                        solver=SolverRecord("analysis", problem.meta.solver.seed, 0, True))
+    return Solution(status=Status.OK, linkage=linkage, message="given linkage",
+                    solver=SolverRecord("analysis", problem.meta.solver.seed, 0, True))

@@ -11,17 +11,10 @@ from __future__ import annotations
 import numpy as np
 
 from linkcli.mechanisms.four_bar.drawing import Geometry, draw_linkage, input_grid, joint_paths, link_legend
-from linkcli.plots.common import CURVE_COLOR, TARGET_COLOR, drawn, frame_drawing, num, panels
+from linkcli.plots.common import CURVE_COLOR, TARGET_COLOR, body_frames, drawn, frame_drawing, num, panels
 
 NEEDS = ("linkage", "positions")
 BODY = 0.12  # the body marker's arm, as a share of the longest link (or of the poses' spread)
-
-
-def _body(ax, poses, arm, **style):
-    """Body frames at poses (n, 3) (angles rad): the x axis (arm long) and a shorter y axis."""
-    for x, y, t in poses:
-        c, s = np.cos(t), np.sin(t)
-        ax.plot([x + 0.5 * arm * -s, x, x + arm * c], [y + 0.5 * arm * c, y, y + arm * s], **style)
 
 
 def draw(fig, result) -> None:
@@ -63,8 +56,8 @@ def draw(fig, result) -> None:
                         label=name if branch == 0 else None, zorder=1)
         ax.plot(curve.poles[:, 0], curve.poles[:, 1], "D", ms=4, color="#8c564b", zorder=2, label="poles")
     if len(rows):
-        _body(ax, target, arm, color=TARGET_COLOR, lw=2.2, zorder=6)
-        _body(ax, achieved, arm, color="#d62728", lw=1.4, ls=(0, (3, 2)), zorder=7)
+        body_frames(ax, target, arm, color=TARGET_COLOR, lw=2.2, zorder=6)
+        body_frames(ax, achieved, arm, color="#d62728", lw=1.4, ls=(0, (3, 2)), zorder=7)
         ax.plot([], [], color=TARGET_COLOR, lw=2.2, label=f"target poses ({len(rows)})")
         ax.plot([], [], color="#d62728", lw=1.4, ls=(0, (3, 2)), label="achieved poses")
         for k in range(len(rows)):

@@ -357,7 +357,7 @@ def tradeoff(problem, space, budget, path, modes, x_best, quality, linkage):
         if track.defects:
             continue
         model = Model(track, u)
-        scale = np.array([float(tol.lengths.get(k, 0.0)) for k in model.columns])
+        scale = model.column_scale(tol.lengths)
         draws = monte_carlo_rows(model, scale, tol.clearance, 0.0, tol.samples, problem.meta.solver.seed,
                                  tol.distribution)
         bad = ~draws.row_ok | (draws.dev > tol.allowed_error)

@@ -1,0 +1,1 @@
+"""Any planar linkage, drawn (`[linkage] mechanism = "drawn"`): docs/drawn.md."""

@@ -1,0 +1,418 @@
+"""The drawn linkage's tables (docs/drawn.md): `[linkage] mechanism = "drawn"` (no other key),
+the drawing in `[joints]` (read by io.joints: `at`, `ground`, `slider`, `guide`), `[links]`,
+`[drive]`, and its study in `[motion]` (`steps` as any linkage; `span`, `points`, `output`);
+`[loads]`/`[masses]` by link and joint name. Every structural error names its joints
+(structure.analyse). Pure Python (`check` reads it without numpy).
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+
+from linkcli.io.meta import MAX_LENGTH
+from linkcli.io.reader import MISSING, Table, describe
+from linkcli.mechanisms.drawn.model import SLIDE, TURN, Drawn, DrawnJoint, DrawnLink, Drive
+from linkcli.mechanisms.schema import drive_motion as read_motion  # noqa: F401 ([motion] steps: the linkage type's)
+
+KEYS: tuple[str, ...] = ()  # [linkage] holds only `mechanism`: the drawing is in its own tables
+JOINTS = None  # [joints] names are the drawing's own
+LINKS = None  # [sections] names are the drawing's links (checked when the strength section runs)
+TOLERANCED = None  # [tolerance] lengths per link of the drawing: `toleranced(root)`
+PLAYS = {"clearance_slider": "radial play of each slider block in its guide (length unit)"}
+OUTPUT = "length"  # a tolerance error is a point's deviation
+MASSES = None  # [masses] per link (and slider block) of the drawing: `read_load_case`
+POINT_MASSES: tuple[str, ...] = ()
+OUTPUT_LOAD = None  # [loads] by name: `read_load_case`
+REPORTED_MOTION: tuple[str, ...] = ()  # (analyze refuses a drawn result)
+MAX_LINKS = 1000
+MAX_SPAN_TURNS = 2.0  # a turning drive's span: at most two turns either way
+MAX_SPEED = 1e9
+
+
+def known_lengths(linkage) -> dict[str, float]:
+    """Link (and "ground") -> its shortest distance between two joints, for the tolerance
+    checks (a tolerance must stay below it)."""
+    at = {j.name: j.at for j in linkage.joints}
+    out = {}
+    ground = [j.name for j in linkage.joints if j.ground]
+    for name, joints in [("ground", ground)] + [(k.name, k.joints) for k in linkage.links]:
+        pairs = [math.dist(at[a], at[b]) for i, a in enumerate(joints) for b in joints[i + 1:]]
+        if pairs:
+            out[name] = min(pairs)
+    return out
+
+
+def toleranced(root: Table) -> tuple[str, ...]:
+    """The [tolerance] lengths keys of this file: "ground" (with two ground joints or more)
+    and its links, from the raw tables (unchecked names are checked where they are read)."""
+    joints = root.data.get("joints")
+    links = root.data.get("links")
+    grounded = sum(1 for v in joints.values() if isinstance(v, dict) and v.get("ground") is True) \
+        if isinstance(joints, dict) else 0
+    names = [k for k in links if k] if isinstance(links, dict) else []
+    return (("ground",) if grounded >= 2 else ()) + tuple(n for n in names if n != "ground")
+
+
+def read(t: Table, units) -> Drawn | None:
+    """The drawing ([joints], [links], [drive], [motion]) of a `mechanism = "drawn"` [linkage];
+    None when in error (every error recorded, structural ones naming the joints)."""
+    from linkcli.io.joints import read_joints
+    root = t.reader.root()
+    errors = len(root.reader.errors)
+    if "status" in root.data and "joints" not in root.data:  # a result file keeps no drawing
+        t.error("mechanism", "a drawing to analyse: `analyze` reads a drawn linkage from its problem "
+                "file (with [joints], [links] and [drive]), not from a result file",
+                raw_got='a result file of a drawn linkage')
+        _skip(root)
+        return None
+    specs = read_joints(root, "drawn", units)
+    joint_table = root.table("joints", required=True)
+    if specs is None or joint_table is None:
+        _skip(root)
+        return None
+    joints = _drawn_joints(joint_table, specs)
+    links = _links(root, joints)
+    drives = _drives(root, joints, links, units)
+    motion = _motion(root, joints, links or (), drives, units)
+    if len(root.reader.errors) > errors or joints is None or links is None or drives is None or motion is None:
+        return None
+    span, points, output = motion
+    drawing = Drawn(joints=joints, links=links, drives=drives, points=points, span=span, output=output)
+    from linkcli.mechanisms.drawn.structure import analyse
+    structure = analyse(drawing)
+    for problem in structure.problems:
+        root.reader.error(problem.where, problem.expected, raw_got=problem.found)
+    return None if structure.problems else drawing
+
+
+def _skip(root: Table) -> None:
+    """Without a usable [joints], the other tables of the drawing are not read: known keys."""
+    for name in ("links", "drive"):
+        if name in root:
+            root.raw(name)
+    motion = root.data.get("motion")
+    if isinstance(motion, dict):
+        root.reader.allow(("motion",), ("span", "points", "output", "input_speed"))
+
+
+def _drawn_joints(t: Table, specs) -> tuple[DrawnJoint, ...] | None:
+    """The drawing's joints: each with `at`; `slider` and `ground` exclusive; `guide` only
+    with `slider`."""
+    out, ok = [], True
+    for spec in specs:
+        if not spec.name:
+            t.error(spec.name, "a joint name of at least one character", raw_got='an empty name ""')
+            ok = False
+            continue
+        if spec.at is None:
+            t.error(spec.name, f"at = [x, y]: joint {spec.name}'s place in the drawing (length unit)",
+                    raw_got="no at")
+            ok = False
+            continue
+        guide = spec.guide
+        if spec.slider is not None and spec.ground:
+            t.error(spec.name, f"joint {spec.name} either a ground pivot (ground = true) or a slider on a "
+                    "guide (slider = angle)", raw_got="both")
+            ok = False
+        if guide is not None and spec.slider is None:
+            t.error(spec.name, f"slider = angle with guide (joint {spec.name} slides on the guide of "
+                    f'link "{guide}" at that angle)', raw_got="a guide without slider")
+            ok = False
+        out.append(DrawnJoint(spec.name, tuple(spec.at), spec.ground, spec.slider, guide))
+    return tuple(out) if ok else None
+
+
+def _links(root: Table, joints) -> tuple[DrawnLink, ...] | None:
+    """[links]: name = [joints it carries] (2 or more, each once, at distinct places)."""
+    t = root.table("links", required=True)
+    if t is None:
+        return None
+    names = {j.name: j for j in joints or ()}
+    keys = list(t.keys())
+    if len(keys) > MAX_LINKS:
+        t.error(None, f"at most {MAX_LINKS} links", raw_got=f"{len(keys)} links")
+        return None
+    if not keys:
+        t.error(None, "at least one link = [its joints]", raw_got="an empty table")
+        return None
+    out, ok = [], True
+    for name in keys:
+        value = t.raw(name)
+        where = f"link {name}" if name else "a link"
+        if not name:
+            t.error(name, "a link name of at least one character", raw_got='an empty name ""')
+            ok = False
+            continue
+        if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+            t.error(name, f"an array of the joint names {where} carries, e.g. [\"A\", \"B\"]", value)
+            ok = False
+            continue
+        if len(value) < 2:
+            t.error(name, f"{where} carrying two joints or more", raw_got=f"{len(value)} joint"
+                    + ("" if len(value) == 1 else "s") + (f" ({value[0]})" if value else ""))
+            ok = False
+            continue
+        if len(value) > len(names) or len(value) > 10_000:
+            t.error(name, f"{where} carrying at most the {len(names)} joints of the drawing",
+                    raw_got=f"{len(value)} joints")
+            ok = False
+            continue
+        unknown = [v for v in value if v not in names]
+        if joints is not None and unknown:
+            hint = difflib.get_close_matches(unknown[0], list(names), n=1, cutoff=0.5)
+            extra = f' (did you mean "{hint[0]}"?)' if hint else ""
+            t.error(name, f"joints of [joints]{extra}", raw_got=f'"{unknown[0]}", which [joints] does not have')
+            ok = False
+            continue
+        twice = [v for i, v in enumerate(value) if v in value[:i]]
+        if twice:
+            t.error(name, f"each joint once in {where}", raw_got=f"{twice[0]} twice")
+            ok = False
+            continue
+        if joints is None:
+            continue
+        same = _same_place(value, names)
+        if same:
+            t.error(name, f"the joints of {where} at distinct places (a link has length)",
+                    raw_got=f"{same[0]} and {same[1]} both at {list(names[same[0]].at)}")
+            ok = False
+            continue
+        grounded = [v for v in value if names[v].ground]
+        if len(grounded) > 1:
+            t.error(name, f"{where} with one ground joint at most (the ground is implicit)",
+                    raw_got=f"ground joints {', '.join(grounded)}: {where} is part of the ground")
+            ok = False
+            continue
+        out.append(DrawnLink(name, tuple(value)))
+    if not ok or joints is None:
+        return None
+    return _carried(root, t, joints, tuple(out))
+
+
+def _same_place(value, names) -> tuple[str, str] | None:
+    seen: dict[tuple[float, float], str] = {}
+    for v in value:
+        at = tuple(names[v].at)
+        if at in seen:
+            return seen[at], v
+        seen[at] = v
+    return None
+
+
+def _carried(root: Table, t: Table, joints, links) -> tuple[DrawnLink, ...] | None:
+    """Every joint on a link; a slider's guide link lists it and the block is pinned to
+    another link."""
+    jt = root.table("joints")
+    on = {j.name: [k.name for k in links if j.name in k.joints] for j in joints}
+    ok = True
+    for joint in joints:
+        if not on[joint.name]:
+            jt.error(joint.name, f"joint {joint.name} on a link (listed in [links])", raw_got="a joint on no link")
+            ok = False
+        elif joint.guide is not None:
+            if joint.guide not in {k.name for k in links}:
+                hint = difflib.get_close_matches(joint.guide, [k.name for k in links], n=1, cutoff=0.5)
+                extra = f' (did you mean "{hint[0]}"?)' if hint else ""
+                jt.error(joint.name, f"guide = a link of [links]{extra}", raw_got=f'guide = "{joint.guide}"')
+                ok = False
+            elif joint.guide not in on[joint.name]:
+                jt.error(joint.name, f"link {joint.guide} listing {joint.name} (the link whose guide it "
+                         "slides on carries it)", raw_got=f"{joint.guide} without {joint.name}")
+                ok = False
+            elif on[joint.name] == [joint.guide]:
+                jt.error(joint.name, f"slider {joint.name} pinned to a link besides its guide's {joint.guide}",
+                         raw_got=f"only {joint.guide} lists {joint.name}")
+                ok = False
+    return links if ok else None
+
+
+def _drives(root: Table, joints, links, units) -> tuple[Drive, ...] | None:
+    """[drive]: one entry per degree of freedom, a link turning about its ground joint
+    (speed: angle unit/s) or a slider joint moved along its guide (length unit/s)."""
+    t = root.table("drive", required=True)
+    if t is None or joints is None:
+        return None
+    named = links is not None  # without valid links, only the speeds are checked here
+    link_names = {k.name: k for k in links or ()}
+    sliders = {j.name for j in joints if j.slider is not None}
+    grounded = {j.name for j in joints if j.ground}
+    keys = list(t.keys())
+    if not keys:
+        t.error(None, "at least one drive: a link = { speed = ... } or a slider joint = { speed = ... }",
+                raw_got="an empty table")
+        return None
+    out, ok = [], True
+    for name in keys:
+        is_link, is_slider = name in link_names, name in sliders
+        sub = t.table(name)
+        if sub is None:
+            ok = False
+            continue
+        speed = sub.number("speed", 1.0, lo=-MAX_SPEED, hi=MAX_SPEED,
+                           what="a non-zero number (angle unit/s for a link, length unit/s for a slider)")
+        if speed == 0.0:
+            sub.error("speed", "a non-zero number (angle unit/s for a link, length unit/s for a slider)", 0.0)
+            speed = None
+        if not named:
+            continue
+        if is_link and is_slider:
+            t.error(name, f'a drive naming one link or one slider joint ("{name}" is both)',
+                    raw_got=f'"{name}", a link and a slider joint')
+            ok = False
+            continue
+        if not (is_link or is_slider):
+            choices = list(link_names) + sorted(sliders)
+            hint = difflib.get_close_matches(name, choices, n=1, cutoff=0.5)
+            extra = f' (did you mean "{hint[0]}"?)' if hint else ""
+            what = ("a link of [links] turning about its ground joint, or a slider joint moved along "
+                    f"its guide{extra}")
+            t.error(name, what, raw_got=f'"{name}", neither' + (
+                " (a joint, but not a slider)" if name in {j.name for j in joints} else ""))
+            ok = False
+            continue
+        if is_link:
+            pivots = [j for j in link_names[name].joints if j in grounded]
+            if not pivots:
+                t.error(name, f"a driven link with a ground pivot (link {name} turns about it)",
+                        raw_got=f"link {name} on joints {', '.join(link_names[name].joints)}, none on the ground")
+                ok = False
+                continue
+        if speed is None:
+            ok = False
+            continue
+        if is_link:
+            out.append(Drive(name, TURN, units.to_rad(speed)))
+        else:
+            out.append(Drive(name, SLIDE, speed))
+    return tuple(out) if ok else None
+
+
+def _motion(root: Table, joints, links, drives, units):
+    """[motion] of a drawn linkage: span, points, output (steps is read with every linkage);
+    (span, points, output), or None when in error."""
+    t = root.table("motion")
+    if t is None:
+        return None, (), None
+    if "input_speed" in t:
+        t.raw("input_speed")
+        t.error("input_speed", "the drives' speeds in [drive] (a drawn linkage: link = { speed = ... })",
+                raw_got=f"input_speed = {describe(t.data['input_speed'])} in [motion]")
+    names = {j.name for j in joints or ()}
+    span = None
+    if "span" in t:
+        lead = drives[0] if drives else None
+        turning = lead is not None and lead.kind == TURN
+        limit = units.from_rad(MAX_SPAN_TURNS * 2 * math.pi) if turning else MAX_LENGTH
+        unit = "angle unit" if turning else "length unit"
+        value = t.number_list("span", length=2, what=f"numbers [lo, hi] ({unit}, from the drawn position)")
+        if value is not None:
+            lo, hi = value
+            if not lo < hi:
+                t.error("span", "[lo, hi] with lo < hi", raw_got=str(value))
+            elif max(abs(lo), abs(hi)) > limit:
+                t.error("span", f"offsets of at most {limit:g} {unit} from the drawing", raw_got=str(value))
+            elif lead is not None:
+                span = (units.to_rad(lo), units.to_rad(hi)) if turning else (float(lo), float(hi))
+    points = ()
+    raw = t.raw("points", MISSING)
+    if raw is not MISSING:
+        if not isinstance(raw, list) or not all(isinstance(v, str) for v in raw) or len(raw) > len(names) + 1:
+            t.error("points", "an array of joint names (the joints whose paths are reported)", raw)
+        else:
+            bad = [v for v in raw if v not in names]
+            if bad and joints is not None:
+                hint = difflib.get_close_matches(bad[0], sorted(names), n=1, cutoff=0.5)
+                extra = f' (did you mean "{hint[0]}"?)' if hint else ""
+                t.error("points", f"joints of [joints]{extra}", raw_got=f'"{bad[0]}", which [joints] does not have')
+            else:
+                points = tuple(dict.fromkeys(raw))
+    output = None
+    value = t.raw("output", MISSING)
+    if value is not MISSING:
+        choices = [k.name for k in links] + [j.name for j in joints or () if j.slider is not None]
+        if not isinstance(value, str) or value not in choices:
+            hint = difflib.get_close_matches(value, choices, n=1, cutoff=0.5) if isinstance(value, str) else []
+            extra = f' (did you mean "{hint[0]}"?)' if hint else ""
+            t.error("output", f"a link or a slider joint (whose motion the mechanical advantage is "
+                    f"measured on){extra}", value)
+        else:
+            output = value
+    return span, points, output
+
+
+def read_load_case(root: Table, kind: str):
+    """[loads] (gravity, torques by link, forces by joint) and [masses] (by link; a slider
+    joint's block: mass only) of a drawn linkage: a model.LoadCase, or None when absent or
+    in error (errors recorded)."""
+    from linkcli.io.loads import MAX_LOAD, link_mass, pair
+    from linkcli.model import LoadCase, Loads, Masses
+    if "loads" not in root and "masses" not in root:
+        return None
+    raw_links = root.data.get("links")
+    raw_joints = root.data.get("joints")
+    links = [k for k in raw_links] if isinstance(raw_links, dict) else []
+    joints = [k for k in raw_joints] if isinstance(raw_joints, dict) else []
+    sliders = [k for k, v in raw_joints.items() if isinstance(v, dict) and "slider" in v] \
+        if isinstance(raw_joints, dict) else []
+    errors = len(root.reader.errors)
+    given: dict = {}
+    loads = Loads()
+    t = root.table("loads")
+    if t is not None:
+        gravity = pair(t, "gravity", "an acceleration [gx, gy] of two finite numbers (m/s^2)")
+        torques = _named(t, "torques", links, "link", lambda sub, k: sub.number(
+            k, lo=-MAX_LOAD, hi=MAX_LOAD, what="a torque (N m, counter-clockwise positive)"))
+        forces = _named(t, "forces", joints, "joint", lambda sub, k: pair(
+            sub, k, "a force [Fx, Fy] of two finite numbers (N, global frame)"))
+        loads = Loads(gravity=tuple(gravity or (0.0, 0.0)), torques=tuple(torques.items()),
+                      forces=tuple(forces.items()))
+        given["loads"] = {"gravity": list(loads.gravity)}
+        if torques:
+            given["loads"]["torques"] = dict(torques)
+        if forces:
+            given["loads"]["forces"] = {k: list(v) for k, v in forces.items()}
+    masses = Masses()
+    m = root.table("masses")
+    if m is not None:
+        named = {}
+        for key in m.keys():
+            if key in links:
+                value = link_mass(m, key, False)
+            elif key in sliders:
+                value = link_mass(m, key, True)
+            else:
+                hint = difflib.get_close_matches(key, links + sliders, n=1, cutoff=0.5)
+                extra = f' (did you mean "{hint[0]}"?)' if hint else ""
+                m.raw(key)
+                m.error(key, f"a link of [links] or a slider joint (its block){extra}",
+                        raw_got=f'"{key}", neither')
+                continue
+            if value is not None:
+                named[key] = value
+        masses = Masses(named=tuple(named.items()))
+        given["masses"] = {k: ({"mass": v.mass} if k in sliders and k not in links
+                               else {"mass": v.mass, "center": list(v.center), "inertia": v.inertia})
+                           for k, v in named.items()}
+    if len(root.reader.errors) > errors:
+        return None
+    return LoadCase(loads=loads, masses=masses, given=given)
+
+
+def _named(t: Table, key: str, names: list[str], what: str, read_one) -> dict:
+    """A table of `key` by name (links or joints): name -> value; bad entries recorded."""
+    sub = t.table(key)
+    if sub is None:
+        return {}
+    out = {}
+    for name in list(sub.keys()):
+        if name not in names:
+            hint = difflib.get_close_matches(name, names, n=1, cutoff=0.5)
+            extra = f' (did you mean "{hint[0]}"?)' if hint else ""
+            sub.raw(name)
+            sub.error(name, f"a {what} of the drawing{extra}", raw_got=f'"{name}", which the drawing does not have')
+            continue
+        value = read_one(sub, name)
+        if value is not None:
+            out[name] = value
+    return out
