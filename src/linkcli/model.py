@@ -54,6 +54,7 @@ class Tolerance:
     distribution: str = "uniform"  # or "normal" (tolerance = 3 sigma)
     clearance: float = 0.0  # radial joint clearance, length unit
     clearance_slider: float = 0.0  # slider-crank: radial play of the slider in its guide, length unit
+    lock_play: float = 0.0  # five-bar: +- angular play of a held drive's lock, rad
     samples: int = 20000
     allowed_error: float | None = None  # radians for angle errors, length unit for paths
     lines: dict = field(default_factory=dict, compare=False)  # key ("lengths.input") -> line, for messages
@@ -240,6 +241,7 @@ class PathGenerationProblem:
     length's lo may be 0: the solver keeps it strictly positive), angles in radians.
     `input_angles` (prescribed timing) are measured in the local frame from A0 -> B0."""
 
+    mechanism: ClassVar[str] = "four-bar"  # the mechanism designed (types.path_generation.schema.DESIGNS)
     meta: Meta
     points: tuple[tuple[float, float], ...]  # targets, global frame
     timing: str  # "prescribed" or "free"

@@ -34,7 +34,7 @@ from typing import Protocol
 import numpy as np
 
 from linkcli.model import InverseTolerance, Tolerance
-from linkcli.noise import snap
+from linkcli.noise import first_max, snap
 
 CHUNK_ELEMENTS = 2**17  # samples x targets assembled at once
 BISECTION_RTOL = 1e-4
@@ -85,6 +85,12 @@ class Model(Protocol):
         """(columns,) the tolerance of each column from [tolerance] lengths (link -> +- t, or
         column -> +- t: a home whose links hold several dimensions maps them)."""
 
+    # A model with `per_row` True (the five-bar: its error at every row of a motion) also has
+    # `rows` (M,) the row numbers of its targets, `row_errors(dl, pins, plays)` -> (dev (n, M),
+    # ok (n, M), events {i: (n,) error added at event i}) with `errors` its reduction (the
+    # largest dev, inf where a row fails), and `event_labels()` (one dict per event).
+    per_row: bool
+
 
 # ---------------------------------------------------------------- random draws
 
@@ -124,6 +130,91 @@ def monte_carlo(model: Model, scale: np.ndarray, clearance: float, play: float, 
         errs.append(err)
         oks.append(ok)
     return np.concatenate(errs), np.concatenate(oks)
+
+
+class RowDraws:
+    """What monte_carlo_rows keeps: the samples' largest error and whether they hold (n,),
+    each row's error and assembly (n, M), and each event's added error (n,) per event."""
+
+    def __init__(self, err, ok, dev, row_ok, events) -> None:
+        self.err, self.ok, self.dev, self.row_ok, self.events = err, ok, dev, row_ok, events
+
+
+def monte_carlo_rows(model: Model, scale: np.ndarray, clearance: float, play: float, n: int,
+                     seed: int, distribution: str) -> RowDraws:
+    """monte_carlo (the same draws, chunk by chunk) keeping every row's error and every
+    event's (a per-row model's `row_errors`): samples x rows floats, which the model's
+    schema bounds."""
+    parts: list = []
+    pins = model.pins if clearance > 0 else 0
+    plays = model.plays if play > 0 else 0
+    for u, e, g in unit_draws(seed, n, len(model.inputs), len(model.columns), distribution, pins, plays):
+        dev, ok, events = model.row_errors(u * scale[None, :], None if e is None else e * clearance,
+                                           None if g is None else g * play)
+        parts.append((dev, ok, events))
+    dev = np.concatenate([p[0] for p in parts])
+    row_ok = np.concatenate([p[1] for p in parts])
+    events = {i: np.concatenate([p[2][i] for p in parts]) for i in parts[0][2]}
+    ok = np.all(row_ok, axis=1)
+    err = np.where(ok, np.max(dev, axis=1, initial=0.0), np.inf)
+    return RowDraws(err, ok, dev, row_ok, events)
+
+
+def column_percentile(values: np.ndarray, keep: np.ndarray, q: float) -> np.ndarray:
+    """The q-th percentile of each column over its kept entries (numpy's default "linear"
+    method, as np.percentile of each column's kept values), NaN for a column with none;
+    vectorized: one sort of the columns."""
+    v = np.sort(np.where(keep, values, np.inf), axis=0)
+    count = np.sum(keep, axis=0)
+    pos = q / 100.0 * np.maximum(count - 1, 0)
+    lo = np.floor(pos).astype(int)
+    hi = np.minimum(lo + 1, np.maximum(count - 1, 0))
+    below = np.take_along_axis(v, lo[None, :], axis=0)[0]
+    above = np.take_along_axis(v, hi[None, :], axis=0)[0]
+    with np.errstate(invalid="ignore"):
+        out = below + (above - below) * (pos - lo)
+    return np.where(count > 0, np.where(hi == lo, below, out), np.nan)
+
+
+def row_section(model: Model, draws: RowDraws, allowed: float | None, n: int, conv) -> dict:
+    """Per row: error mean, p95, max over the samples that assemble there, the failure
+    probability (error above `allowed`, or no assembly) with its Wilson 95 % interval; the
+    worst row (the highest failure probability, then the highest p95, then the first);
+    each event's added error (mean, p95, max over the samples that assemble there)."""
+    keep = draws.row_ok
+    dev = snap(np.where(keep, draws.dev, 0.0), model.scale)
+    count = np.sum(keep, axis=0)
+    with np.errstate(invalid="ignore"):
+        mean = np.where(count > 0, np.sum(dev, axis=0) / np.maximum(count, 1), np.nan)
+    p95 = column_percentile(dev, keep, 95.0)
+    top = np.where(count > 0, np.max(np.where(keep, dev, -np.inf), axis=0), np.nan)
+    bad = ~keep if allowed is None else (~keep | (draws.dev > allowed))
+    fails = np.sum(bad, axis=0)
+    opt = (lambda x: None if not math.isfinite(x) else conv(x))
+    rows = []
+    for i, r in enumerate(np.asarray(model.rows).tolist()):
+        k = int(fails[i])
+        rows.append({"row": int(r), "error_mean": opt(float(mean[i])), "error_p95": opt(float(p95[i])),
+                     "error_max": opt(float(top[i])), "failure_probability": k / n,
+                     "failure_probability_ci95": list(wilson(k, n))})
+    out: dict = {"rows": rows}
+    if rows:
+        most = fails == fails.max()
+        j = int(first_max(np.where(most, np.nan_to_num(p95, nan=-1.0), -np.inf)))
+        out["worst_row"] = dict(rows[j])
+    events = []
+    for i, label in enumerate(model.event_labels()):
+        added = draws.events.get(i)
+        if added is None:  # no play drawn: the change adds nothing
+            events.append({**label, "added_mean": 0.0, "added_p95": 0.0, "added_max": 0.0})
+            continue
+        good = snap(added[np.isfinite(added)], model.scale)
+        events.append({**label, "added_mean": opt(float(good.mean())) if good.size else None,
+                       "added_p95": opt(float(np.percentile(good, 95))) if good.size else None,
+                       "added_max": opt(float(good.max())) if good.size else None})
+    if events:
+        out["phase_changes"] = events
+    return out
 
 
 def failures(err: np.ndarray, ok: np.ndarray, allowed: float | None) -> int:
@@ -221,7 +312,12 @@ def _analyse(problem, model: Model) -> dict:
             lengths = {k: t for k in model.inverse}
             out["lengths"] = dict(lengths)
     scale = model.column_scale(lengths)
-    err, ok = monte_carlo(model, scale, tol.clearance, play, tol.samples, seed, tol.distribution)
+    draws = None
+    if model.per_row:
+        draws = monte_carlo_rows(model, scale, tol.clearance, play, tol.samples, seed, tol.distribution)
+        err, ok = draws.err, draws.ok
+    else:
+        err, ok = monte_carlo(model, scale, tol.clearance, play, tol.samples, seed, tol.distribution)
     nominal, _ = model.errors(np.zeros((1, len(model.columns))), None, None)
     good = snap(err[ok], model.scale)  # round-off of an exact design (exact parts) is 0
     n = tol.samples
@@ -248,4 +344,6 @@ def _analyse(problem, model: Model) -> dict:
         out["max_failure_probability"] = float(level)
         out["largest_tolerance"] = float(t)
         out["failure_probability_at_largest"] = float(p_t)
+    if draws is not None:
+        out.update(row_section(model, draws, tol.allowed_error, n, conv))
     return out

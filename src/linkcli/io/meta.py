@@ -222,7 +222,7 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     mechanism = mechanism_of(root)
     own = module(mechanism, "schema")
     links = own.TOLERANCED if own.TOLERANCED is not None else own.toleranced(root)  # None: the drawing's links
-    per_link = links + (("coupler_point",) if path_type else ())
+    per_link = links + (("coupler_point",) if path_type and "coupler_point" in own.KEYS else ())
     raw = t.raw("lengths", None)
     lengths = {k: 0.0 for k in links}
     if isinstance(raw, dict):
@@ -243,6 +243,10 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     if "clearance_slider" in own.PLAYS:
         clearance_slider = t.number("clearance_slider", 0.0, nonnegative=True,
                                     what="a radial play of the slider in its guide >= 0 (length unit)")
+    lock_play = 0.0
+    if "lock_play" in own.PLAYS:
+        lock_play = t.number("lock_play", 0.0, lo=0.0, hi=units.from_rad(math.pi / 2),
+                             what="an angular play of a held drive's lock (angle unit)")
     refused = set()
     for name in NAMES:
         for key, what in module(name, "schema").PLAYS.items():
@@ -271,10 +275,10 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
                 f"({MIN_FAILURES} expected failures)", samples)
     line_of = root.reader.line_of
     lines = {".".join(k): line_of(("tolerance",) + k)
-             for k in [("lengths",), ("clearance",), ("clearance_slider",)]
+             for k in [("lengths",), ("clearance",), ("clearance_slider",), ("lock_play",)]
              + [("lengths", link) for link in per_link]}
     base = dict(lengths=lengths, distribution=distribution or "uniform", clearance=clearance or 0.0,
-                clearance_slider=clearance_slider or 0.0,
+                clearance_slider=clearance_slider or 0.0, lock_play=units.to_rad(lock_play or 0.0),
                 samples=samples or 20000, allowed_error=allowed, lines=lines)
     if level is not None:
         return InverseTolerance(max_failure_probability=level, lengths_given=raw is not None, **base)

@@ -182,6 +182,7 @@ def _line_map(text: str, masked: tuple[str, set[int]] | None = None) -> dict[tup
 
     table: tuple[str, ...] = ()
     depth = 0  # open brackets of a multi-line array: keys inside belong to its key
+    elements: dict[tuple[str, ...], int] = {}  # [[array]] headers met so far
     raw_lines = text.split("\n")
     for n, line in enumerate(masked.split("\n"), start=1):
         raw = raw_lines[n - 1]
@@ -190,6 +191,10 @@ def _line_map(text: str, masked: tuple[str, set[int]] | None = None) -> dict[tup
             if m:
                 table = tuple(_split_key(raw[m.start(1):m.end(1)]))
                 put(table, n)
+                if line.lstrip().startswith("[["):  # an element of an array of tables: its keys
+                    k = elements[table] = elements.get(table, -1) + 1  # also as "name[k]"
+                    table = table[:-1] + (f"{table[-1]}[{k}]",)
+                    put(table, n)
                 continue
             m = _KEY.match(line)
             if m:
@@ -317,8 +322,11 @@ class Reader:
         line = self.lines.get(path)
         if line is not None:  # a key on a line of its own (the usual case)
             return line
-        if any("[" in p for p in path):  # an array item `key[i]`: the line of its key
-            path = tuple(re.sub(r"\[\d+\]$", "", p) for p in path)
+        if any("[" in p for p in path):
+            for n in range(len(path), 0, -1):  # in an element of an array of tables: `name[k]` (_line_map)
+                if path[:n] in self.lines and any(re.search(r"\[\d+\]$", p) for p in path[:n]):
+                    return self.lines[path[:n]]
+            path = tuple(re.sub(r"\[\d+\]$", "", p) for p in path)  # an array item `key[i]`: its key's line
         for n in range(len(path), 0, -1):
             if path[:n] in self.lines:
                 return self.lines[path[:n]]

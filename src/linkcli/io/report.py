@@ -157,7 +157,8 @@ def _tolerance_units(section: dict, lu: str, au: str) -> dict[str, str]:
     err = lu if ("coupler point" in measure or "slider" in measure or "distance" in measure) else au  # a length error
     keys = ("nominal_error", "error_mean", "error_p95", "error_max", "allowed_error")
     out = {k: err for k in keys}
-    out.update({"lengths": lu, "clearance": lu, "clearance_slider": lu, "largest_tolerance": lu, "sensitivity": f"{err}/{lu}"})
+    out.update({"lengths": lu, "clearance": lu, "clearance_slider": lu, "largest_tolerance": lu, "sensitivity": f"{err}/{lu}",
+                "lock_play": au})
     return out
 
 
@@ -208,7 +209,9 @@ def render(report: dict, digits: int = 6) -> Group:
         parts.append(_kv("Link lengths", _linkage_rows(r["linkage"], lu, au), digits))
     if "grashof" in r:
         parts.append(_class_table(r["grashof"], digits))
-    if "transmission" in r and r["transmission"]:
+    if "transmission" in r and r["transmission"] and "input_at_min" not in r["transmission"]:  # over rows (a five-bar's)
+        parts.extend(_generic("transmission", r["transmission"], digits, _angle_units(r["transmission"], au)))
+    elif "transmission" in r and r["transmission"]:
         tr = r["transmission"]
         t = Table(title=f"Transmission angle ({au})", title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
         for c in ("over", "min", "at input", "max", "at input"):
@@ -248,7 +251,11 @@ def render(report: dict, digits: int = 6) -> Group:
                  "slider_acceleration": f"a slider ({lu}/s2)",
                  "coupler_point_x": f"P x ({lu})", "coupler_point_y": f"P y ({lu})",
                  "coupler_point_vx": f"P vx ({lu}/s)", "coupler_point_vy": f"P vy ({lu}/s)",
-                 "coupler_point_ax": f"P ax ({lu}/s2)", "coupler_point_ay": f"P ay ({lu}/s2)"}
+                 "coupler_point_ax": f"P ax ({lu}/s2)", "coupler_point_ay": f"P ay ({lu}/s2)",
+                 "input2": f"input2 ({au})", "point": f"P ({lu})", "dpoint_dinput": f"dP/d input ({lu}/{au})",
+                 "dpoint_dinput2": f"dP/d input2 ({lu}/{au})", "velocity": f"v P ({lu}/s)",
+                 "acceleration": f"a P ({lu}/s2)", "transmission_left": f"mu A ({au})",
+                 "transmission_right": f"mu B ({au})", "margin": f"margin ({au})"}
         heads.update(_drawn_heads(r["kinematics"], lu, au))
         parts.append(_rows("Kinematics", r["kinematics"], digits, heads))
     if "loads" in r:
@@ -326,7 +333,15 @@ def _class_table(g: dict, digits: int) -> Table:
 def _motion_units(lu: str, au: str) -> dict[str, str]:
     """The unit of each Motion row that has one (time ratio, steps and yes/no have none)."""
     return {"input_range": au, "output_range": au, "output_swing": au, "slider_range": lu,
-            "stroke": lu, "input_speed": f"{au}/s"}
+            "stroke": lu, "input_speed": f"{au}/s", "input2_range": au, "x_range": lu, "y_range": lu,
+            "input_speeds": f"{au}/s", "input_accelerations": f"{au}/s2"}
+
+
+def _angle_units(section: dict, au: str) -> dict[str, str]:
+    """Units of a transmission section over rows: its angles; row numbers and the condition
+    number have none."""
+    return {k: au for k, v in section.items()
+            if isinstance(v, float) and not k.startswith("row") and not k.startswith("condition")}
 
 
 def _position_heads(r: dict, lu: str, au: str) -> dict[str, str]:

@@ -10,20 +10,22 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from linkcli.types.linkage.schema import read_motion
+from linkcli.mechanisms import module
 
 REPORTED = ("input_full_turn", "input_range", "output_full_turn", "output_range",
             "output_swing", "time_ratio")  # linkcli's own output in [motion]: not read back
 
 
 def motion_study(root, problem):
-    """`problem` with input_speed (rad/s) and steps from the result's [motion] table, or
+    """`problem` with input_speed (rad/s) and steps from the result's [motion] table (and,
+    for a mechanism with its own [motion], its rows: the mechanism's `read_motion`), or
     None when they are bad (errors recorded on the reader)."""
+    own = module(problem.linkage.mechanism, "schema")
     mot = root.table("motion")
-    if mot is None:
-        return problem
-    mot.allow(*REPORTED)
-    speed, steps = read_motion(root)
-    if speed is None or steps is None:
+    if mot is not None:
+        mot.allow(*REPORTED, *own.REPORTED_MOTION)
+    study = own.read_motion(root, problem.meta, problem.linkage)
+    if study is None:
         return None
-    return replace(problem, input_speed=problem.meta.units.to_rad(speed), steps=steps)
+    linkage, speed, steps = study
+    return replace(problem, linkage=linkage, input_speed=speed, steps=steps)

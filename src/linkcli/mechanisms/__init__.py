@@ -13,6 +13,7 @@ import importlib
 PACKAGES = {  # the `[linkage] mechanism` value -> its package under linkcli.mechanisms
     "four-bar": "four_bar",
     "slider-crank": "slider_crank",
+    "five-bar": "five_bar",
     "drawn": "drawn",
 }
 NAMES = tuple(PACKAGES)

@@ -56,3 +56,15 @@ def read_linkage(t: Table, units, choices: tuple[str, ...] = NAMES):
     foreign = refuse_foreign(t, mechanism)
     linkage = module(mechanism, "schema").read(t, units)
     return None if foreign else linkage
+
+
+def drive_motion(root: Table, meta, linkage):
+    """[motion] of a linkage file whose one drive turns at a constant speed (the four-bar's,
+    the slider-crank's `read_motion`): (linkage, input_speed rad/s, steps), or None when a
+    value is bad (errors recorded). A home whose motion is something else (the five-bar's
+    rows) has its own `read_motion(root, meta, linkage)`."""
+    from linkcli.types.linkage.schema import read_motion
+    speed, steps = read_motion(root)
+    if speed is None or steps is None:
+        return None
+    return linkage, meta.units.to_rad(speed), steps

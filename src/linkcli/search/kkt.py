@@ -77,13 +77,18 @@ class Settled:
 
 
 def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e-6,
-           active_tol: float = ACTIVE) -> Settled:
+           active_tol: float = ACTIVE, multipliers: bool = False, step_tol: float = STEP_TOL) -> Settled:
     """Newton-KKT from u0 on the active set found there (constraints within `active_tol`
     of 0: above the margin a search keeps from its limits; see the module docstring).
     A round that ends with a multiplier of the wrong sign (or fails on it) releases the
     most negative one, a round that breaks an inactive constraint adds it, and the next
     round starts again from u0. `evaluate` may raise to stop (a spent budget): the
-    exception passes through."""
+    exception passes through. `multipliers`: each round's first Hessian of the Lagrangian
+    at least-squares multipliers (g = A^T lambda) instead of 0: a linear objective (an
+    epigraph's, maximize t) has no curvature of its own, and with fewer binding constraints
+    than free variables its first Newton system would be singular. `step_tol`: the Newton
+    step (unit box) that counts as converged (slopes taken with a small step, against a
+    sharp bend, leave a round-off jitter above STEP_TOL)."""
     start = np.clip(np.asarray(u0, dtype=float), 0.0, 1.0)
     p = evaluate(start)
     active = p.c <= active_tol
@@ -91,7 +96,8 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
     here = start
     for _ in range(ROUNDS):
         u = np.where(lower, 0.0, np.where(upper, 1.0, here))
-        u, p, lam, ok = _newton(evaluate, u, evaluate(u), active, lower | upper, hessian_step)
+        u, p, lam, ok = _newton(evaluate, u, evaluate(u), active, lower | upper, hessian_step, multipliers,
+                                step_tol)
         here = u if ok else start  # a round that failed leaves no point to go on from
         # multipliers of the bounds: the gradient of the Lagrangian pushing outwards
         grad_l = p.g - linalg.matvec(p.a[active].T, lam) if active.any() else p.g
@@ -120,7 +126,8 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
     return Settled(u, float(p.f), worst, False)
 
 
-def _newton(evaluate, u, p: Point, active, fixed, hessian_step):
+def _newton(evaluate, u, p: Point, active, fixed, hessian_step, multipliers: bool = False,
+            step_tol: float = STEP_TOL):
     """Newton steps on the KKT system with `active` constraints as equalities and the
     `fixed` variables held; a step is halved until the merit f + rho |c_A|_1 falls (rho
     above every multiplier). Returns (u, point, multipliers, ok)."""
@@ -129,6 +136,10 @@ def _newton(evaluate, u, p: Point, active, fixed, hessian_step):
     lam = np.zeros(len(rows))
     if len(free) == 0:
         return u, p, lam, True
+    if multipliers and len(rows):  # least squares g = A^T lambda over the free variables
+        af = p.a[rows][:, free]
+        lam = linalg.solve(linalg.gram(af.T), linalg.matvec(af, p.g[free]))
+        lam = np.where(np.isfinite(lam), lam, 0.0)
     for _ in range(ITERATIONS):
         h = p.h if p.h is not None else _lagrangian_hessian(evaluate, u, rows, lam, hessian_step)
         step, lam_new = _kkt_step(h, p.g, p.a[rows], p.c[rows], free)
@@ -139,7 +150,7 @@ def _newton(evaluate, u, p: Point, active, fixed, hessian_step):
         if size <= NEAR:  # Newton's own region: the step is taken whole
             u = np.clip(u + step, 0.0, 1.0)
             p = evaluate(u)
-            if size <= STEP_TOL:  # the root to round-off
+            if size <= step_tol:  # the root to round-off
                 break
             continue
         rho = 2.0 * float(np.max(np.abs(lam), initial=0.0)) + 1e-300

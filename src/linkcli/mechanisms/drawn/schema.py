@@ -13,6 +13,7 @@ import math
 from linkcli.io.meta import MAX_LENGTH
 from linkcli.io.reader import MISSING, Table, describe
 from linkcli.mechanisms.drawn.model import SLIDE, TURN, Drawn, DrawnJoint, DrawnLink, Drive
+from linkcli.mechanisms.schema import drive_motion as read_motion  # noqa: F401 ([motion] steps: the linkage type's)
 
 KEYS: tuple[str, ...] = ()  # [linkage] holds only `mechanism`: the drawing is in its own tables
 JOINTS = None  # [joints] names are the drawing's own
@@ -23,6 +24,7 @@ OUTPUT = "length"  # a tolerance error is a point's deviation
 MASSES = None  # [masses] per link (and slider block) of the drawing: `read_load_case`
 POINT_MASSES: tuple[str, ...] = ()
 OUTPUT_LOAD = None  # [loads] by name: `read_load_case`
+REPORTED_MOTION: tuple[str, ...] = ()  # (analyze refuses a drawn result)
 MAX_LINKS = 1000
 MAX_SPAN_TURNS = 2.0  # a turning drive's span: at most two turns either way
 MAX_SPEED = 1e9

@@ -65,6 +65,7 @@ class Model:
     """The drawn linkage's made parts (analysis.tolerance.Model)."""
 
     kind = "length"
+    per_row = False  # the report gives the largest error over the steps only
     no_assembly = "the drawing does not close"
     no_allowed_error = NO_ALLOWED_ERROR
 

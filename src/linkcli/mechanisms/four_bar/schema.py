@@ -6,6 +6,7 @@ from __future__ import annotations
 from linkcli.io.meta import MAX_LENGTH, bounded_length, bounded_point
 from linkcli.io.reader import Table
 from linkcli.mechanisms.schema import ASSEMBLY_RTOL, refuse_ratio
+from linkcli.mechanisms.schema import drive_motion as read_motion  # noqa: F401 ([motion]: one drive)
 from linkcli.model import BRANCHES, FourBar
 
 KEYS = ("ground", "input", "coupler", "output", "branch", "coupler_point", "ground_pivot", "ground_angle")
@@ -13,6 +14,7 @@ JOINTS = ("A0", "A", "B", "B0")  # its pins, as [joints] names them
 LINKS = ("input", "coupler", "output")  # its moving links, as [sections] names them (the strength section)
 TOLERANCED = ("ground", "input", "coupler", "output")  # [tolerance] lengths, table keys
 PLAYS: dict[str, str] = {}  # [tolerance] keys of other plays than the pins' clearance
+REPORTED_MOTION: tuple[str, ...] = ()  # its own output keys a result's [motion] may hold
 OUTPUT = "angle"  # what its output is: an allowed_error is an angle
 MASSES = {"input": "input", "coupler": "coupler", "output": "output"}  # [masses] key -> model.Masses field
 POINT_MASSES: tuple[str, ...] = ()  # bodies that only translate: a mass, no centre or inertia

@@ -193,6 +193,7 @@ class Model:
     inverse = LINKS
     pins = 4  # A0, A, B, B0
     plays = 0
+    per_row = False  # the report gives the largest error over the targets only
     no_assembly = "the nominal linkage cannot assemble at any input angle"
     no_allowed_error = NO_ALLOWED_ERROR
 

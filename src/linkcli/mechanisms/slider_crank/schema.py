@@ -6,6 +6,7 @@ from __future__ import annotations
 from linkcli.io.meta import MAX_LENGTH, bounded_length, bounded_point
 from linkcli.io.reader import Table
 from linkcli.mechanisms.schema import ASSEMBLY_RTOL, refuse_ratio
+from linkcli.mechanisms.schema import drive_motion as read_motion  # noqa: F401 ([motion]: one drive)
 from linkcli.model import BRANCHES, SliderCrank
 
 KEYS = ("input", "coupler", "offset", "branch", "coupler_point")
@@ -13,6 +14,7 @@ JOINTS = ("A0", "A", "B", "guide")  # its pins and the slider's guide, as [joint
 LINKS = ("input", "coupler")  # its moving links, as [sections] names them (the strength section)
 TOLERANCED = ("input", "coupler", "offset")  # [tolerance] lengths, table keys
 PLAYS = {"clearance_slider": "the play of a slider in its guide"}  # [tolerance] keys of other plays
+REPORTED_MOTION: tuple[str, ...] = ()  # its own output keys a result's [motion] may hold
 OUTPUT = "length"  # what its output is: an allowed_error is a slider position error (length)
 MASSES = {"input": "input", "coupler": "coupler", "slider": "output"}  # [masses] key -> model.Masses field
 POINT_MASSES = ("slider",)  # bodies that only translate: a mass, no centre or inertia

@@ -161,6 +161,7 @@ class Model:
     columns = inverse = LENGTH_KEYS
     pins = PINS
     plays = 1  # the slider's play normal to its guide
+    per_row = False  # the report gives the largest error over the targets only
     kind = "length"
     no_assembly = "the nominal slider-crank cannot assemble at any crank angle"
     no_allowed_error = NO_ALLOWED_ERROR

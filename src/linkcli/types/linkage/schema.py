@@ -1,13 +1,16 @@
-"""Schema of `type = "linkage"`: a given four-bar or slider-crank to analyse.
+"""Schema of `type = "linkage"`: a given four-bar, slider-crank or five-bar to analyse.
 
-`[linkage] mechanism = "four-bar"` (the default) or `"slider-crank"` (SPEC, "Slider-crank —
-the second mechanism"); `read_linkage` dispatches on it for linkage files, precision-position
-files and result files alike."""
+`[linkage] mechanism = "four-bar"` (the default), `"slider-crank"` (SPEC, "Slider-crank —
+the second mechanism") or `"five-bar"`; `read_linkage` dispatches on it for linkage files,
+precision-position files and result files alike, and the mechanism's `read_motion` reads
+[motion] (one drive at a constant speed, or the five-bar's rows)."""
 
 from __future__ import annotations
 
 from linkcli.io.meta import MAX_LENGTH
 from linkcli.io.reader import Table
+from linkcli.io.loads import mechanism_of
+from linkcli.mechanisms import module
 from linkcli.mechanisms.schema import read_linkage
 from linkcli.model import LinkageProblem, Meta
 
@@ -31,8 +34,9 @@ def read_motion(root: Table) -> tuple[float | None, int | None]:
 
 def parse(root: Table, meta: Meta) -> LinkageProblem | None:
     link = root.table("linkage", required=True)
-    fourbar = read_linkage(link, meta.units) if link else None
-    speed, steps = read_motion(root)
-    if fourbar is None or speed is None or steps is None:
+    linkage = read_linkage(link, meta.units) if link else None
+    study = module(mechanism_of(root), "schema").read_motion(root, meta, linkage)  # its [motion]
+    if linkage is None or study is None:
         return None
-    return LinkageProblem(meta=meta, linkage=fourbar, input_speed=meta.units.to_rad(speed), steps=steps)
+    linkage, speed, steps = study
+    return LinkageProblem(meta=meta, linkage=linkage, input_speed=speed, steps=steps)

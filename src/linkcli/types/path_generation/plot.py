@@ -17,6 +17,10 @@ LABEL_ALL = 12  # up to this many targets each one is numbered; beyond, every k-
 
 
 def draw(fig, result) -> None:
+    linkage = result.solution.linkage
+    if linkage is not None and linkage.mechanism != "four-bar":  # another mechanism's design: its study
+        from linkcli import mechanisms
+        return mechanisms.module(linkage.mechanism, "plot").draw(fig, result)
     report = drawn(result)
     u, ax, (ax_err, ax_in) = panels(fig, result, 2, [1.45, 1.0])
     au, lu = u.angle, u.length

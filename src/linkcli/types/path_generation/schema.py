@@ -16,6 +16,7 @@ import math
 
 from linkcli.model import LINKS, Meta, PathGenerationProblem
 from linkcli.io.meta import MAX_LENGTH, MIN_LENGTH, in_motion_order
+from linkcli.io.loads import mechanism_of
 from linkcli.io.reader import MISSING, Table, describe
 
 GRASHOF = ("any", "crank-rocker", "double-crank", "rocker-crank", "double-rocker", "triple-rocker")
@@ -177,7 +178,14 @@ def transmission_window(t: Table, units):
     return (units.to_rad(w[0]), units.to_rad(w[1])), True
 
 
+DESIGNS = {"five-bar": "five_bar_design"}  # [linkage] mechanism -> its own path design (schema, solve)
+
+
 def parse(root: Table, meta: Meta) -> PathGenerationProblem | None:
+    design = DESIGNS.get(mechanism_of(root)) if "linkage" in root else None
+    if design is not None:
+        from importlib import import_module
+        return import_module(f"linkcli.types.path_generation.{design}").parse(root, meta)
     u = meta.units
     tgt = root.table("target", required=True)
     if tgt is None:

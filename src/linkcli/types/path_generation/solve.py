@@ -36,6 +36,7 @@ from linkcli.model import FourBar
 from linkcli.search.budget import Budget, BudgetSpent
 from linkcli.solution import Positions, Solution, SolverRecord, Status
 from linkcli.types.path_generation import starts
+from linkcli.types.path_generation.schema import DESIGNS
 from linkcli.types.path_generation.model import N_LINK, SHORTEST, Design, build, rho2_extremes
 from linkcli.types.path_generation.search import (POLISH_ITERATIONS, Space, batch_lm, differential_evolution,
                                                  distinct, polish, settle)
@@ -83,6 +84,9 @@ class Candidate:
 
 
 def solve(problem) -> Solution:
+    if problem.mechanism in DESIGNS:  # another mechanism's path design: its own solve module
+        from importlib import import_module
+        return import_module(f"linkcli.types.path_generation.{DESIGNS[problem.mechanism]}_solve").solve(problem)
     design = build(problem)
     opts = problem.meta.solver
     method = "multistart" if opts.method == "auto" else opts.method

@@ -1,0 +1,234 @@
+"""The five-bar's `[linkage]` and `[motion]` keys (docs/format.md, docs/five_bar.md). Pure
+Python (`check` reads it without numpy).
+
+    [linkage]  ground, input, input2, coupler, coupler2 (lengths), branch ("left" |
+               "right"), ground_pivot [x, y], ground_angle
+    [motion]   inputs = [[phi1, phi2], ...] (angle unit)  or  path = [[x, y], ...] with
+               modes = ["+" | "-", "+" | "-"]; input_speeds = [w1, w2] (angle unit per s,
+               default [1, 1]); input_accelerations = [a1, a2] (angle unit per s^2,
+               default [0, 0]);
+    [[motion.phases]]  rows = [first, last] (0-based, inclusive), locked = "input" | "input2"
+"""
+
+from __future__ import annotations
+
+import math
+
+from linkcli.io.meta import MAX_LENGTH, bounded_length, bounded_point
+from linkcli.io.reader import MISSING, MAX_ARRAY, Table, describe
+from linkcli.mechanisms.five_bar.model import DEFAULT_MODES, DRIVES, MODES, SIDES, FiveBar, FiveBarMotion, Phase
+from linkcli.mechanisms.schema import ASSEMBLY_RTOL, refuse_ratio
+
+KEYS = ("ground", "input", "input2", "coupler", "coupler2", "branch", "ground_pivot", "ground_angle")
+JOINTS = ("A0", "A", "P", "B", "B0")  # its pins, as [joints] names them
+TOLERANCED = ("ground", "input", "input2", "coupler", "coupler2")  # [tolerance] lengths, table keys
+PLAYS = {"lock_play": "the angular play of a held drive's lock, taken up when its phase ends"}
+OUTPUT = "length"  # what its output is: an allowed_error is a distance of P
+MASSES = None  # its loads are not modelled: [loads] and [masses] are refused (read_load_case)
+POINT_MASSES: tuple[str, ...] = ()
+OUTPUT_LOAD = None
+LINKS = ("input", "input2", "coupler", "coupler2")  # its moving links, as [sections] would name them
+MOTION_KEYS = ("inputs", "path", "modes", "input_speeds", "input_accelerations", "phases")
+REPORTED_MOTION = ("rows", "input_range", "input2_range", "x_range", "y_range")  # its output in [motion]
+MAX_ROWS = MAX_ARRAY
+MIN_PATH = 2  # points of a path
+ROW_ELEMENTS = 2**23  # tolerance samples x rows: per-row statistics keep every sample's error
+TURN_RTOL = 1e-9  # a held drive's angle: equal within this share of a turn
+
+
+def read_load_case(root: Table, kind: str):
+    """[loads] and [masses] of a five-bar: refused, one located line each (its inverse
+    dynamics is not modelled); None."""
+    for name in ("loads", "masses"):
+        if name in root:
+            root.raw(name)
+            root.error(name, f"no [{name}] for a five-bar (its loads are not modelled)", raw_got=f"a [{name}] table")
+    return None
+
+
+def known_lengths(linkage) -> dict[str, float]:
+    """Link -> length the tolerance checks compare against."""
+    return {k: getattr(linkage, k) for k in TOLERANCED}
+
+
+def read(t: Table, units) -> FiveBar | None:
+    """[linkage] of a five-bar: five lengths, an optional branch (without one: "left" for
+    inputs, the path's own for a path), the global placement. It must assemble somewhere:
+    |A B| ranges over [max(0, ground - input - input2, |input - input2| - ground), ground +
+    input + input2] and must overlap [|coupler - coupler2|, coupler + coupler2] over more
+    than one value."""
+    lengths = {k: bounded_length(t, k) for k in TOLERANCED}
+    branch = t.string("branch", None, choices=SIDES)
+    gp = bounded_point(t, "ground_pivot", [0.0, 0.0])
+    ga = t.number("ground_angle", 0.0, lo=-MAX_LENGTH, hi=MAX_LENGTH)
+    if None in lengths.values() or ("branch" in t and branch is None) or gp is None or ga is None:
+        return None
+    if refuse_ratio(t, lengths):
+        return None
+    d, a1, a2, b1, b2 = (lengths[k] for k in TOLERANCED)
+    lo, hi = max(0.0, d - a1 - a2, abs(a1 - a2) - d), d + a1 + a2
+    reach_lo, reach_hi = abs(b1 - b2), b1 + b2
+    gap = min(hi, reach_hi) - max(lo, reach_lo)
+    if gap <= ASSEMBLY_RTOL * reach_hi:
+        touch = ", which touch at one position only (a structure)" if gap > -ASSEMBLY_RTOL * reach_hi else ""
+        t.error(max(lengths, key=lengths.get), "a five-bar that assembles over a range of inputs (|A B|, "
+                "from max(0, ground - input - input2, |input - input2| - ground) to ground + input + "
+                "input2, meeting |coupler - coupler2| .. coupler + coupler2)",
+                raw_got=f"|A B| in [{lo:g}, {hi:g}] and the distal links spanning [{reach_lo:g}, {reach_hi:g}]{touch}")
+        return None
+    return FiveBar(branch=branch, ground_pivot=tuple(gp), ground_angle=units.to_rad(ga), **lengths)
+
+
+def pairs(t: Table, key: str, what: str, min_len: int, limit: float):
+    """[[p, q], ...]: min_len .. MAX_ROWS pairs of finite numbers of magnitude <= limit; None
+    when missing or bad (one located error)."""
+    value = t.raw(key)
+    want = f"an array of {min_len} to {MAX_ROWS} {what}"
+    if value is MISSING or not isinstance(value, list) or not min_len <= len(value) <= MAX_ROWS:
+        t.error(key, want, value)
+        return None
+    out = []
+    for i, item in enumerate(value):
+        ok = (isinstance(item, list) and len(item) == 2
+              and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in item))
+        if ok and all(math.isfinite(v) and abs(v) <= limit for v in item):
+            out.append((float(item[0]), float(item[1])))
+            continue
+        got = ("[" + ", ".join(describe(v) for v in item) + "]"
+               if isinstance(item, list) and 0 < len(item) <= 4 else describe(item))
+        t.error(f"{key}[{i}]", f"a pair of two finite numbers (at most {limit:g} in magnitude)", raw_got=got)
+        return None
+    return out
+
+
+def _modes(t: Table, has_path: bool):
+    """modes = ["+"|"-", "+"|"-"] with a path (default ["+", "-"]); refused with inputs."""
+    if "modes" not in t:
+        return DEFAULT_MODES
+    value = t.raw("modes")
+    if not has_path:
+        t.error("modes", 'no modes with inputs (the drive angles decide the elbows; modes choose them for '
+                "a path)", raw_got=f"modes = {describe(value)}")
+        return None
+    if (not isinstance(value, list) or len(value) != 2
+            or not all(isinstance(v, str) and v in MODES for v in value)):
+        shown = ("[" + ", ".join(describe(v) for v in value) + "]" if isinstance(value, list) and len(value) <= 4
+                 else describe(value))
+        t.error("modes", 'each chain\'s working mode, two of "+" and "-" (the left chain\'s first): ["+", "-"]',
+                raw_got=shown)
+        return None
+    return (value[0], value[1])
+
+
+def _rates(t: Table, key: str, default: list[float], unit: str, units):
+    """[r1, r2] in the angle unit per s (or s^2), finite: radians out."""
+    value = t.number_list(key, default, length=2, what=f"numbers [input, input2] ({unit})")
+    if value is None:
+        return None
+    if max(abs(v) for v in value) > MAX_LENGTH:
+        t.error(key, f"numbers of magnitude at most {MAX_LENGTH:g}", raw_got=str(value))
+        return None
+    return (units.to_rad(value[0]), units.to_rad(value[1]))
+
+
+def _phases(t: Table, rows: int | None) -> tuple[Phase, ...] | None:
+    """[[motion.phases]]: each { rows = [first, last], locked = "input" | "input2" }, within
+    the rows, not overlapping; in row order."""
+    value = t.raw("phases")
+    if value is MISSING:
+        return ()
+    if not isinstance(value, list) or not all(isinstance(v, dict) for v in value) or len(value) > MAX_ROWS:
+        t.error("phases", "an array of tables [[motion.phases]], each { rows = [first, last], locked = "
+                '"input" or "input2" }', value)
+        return None
+    out, bad = [], False
+    for i, item in enumerate(value):
+        sub = Table(t.reader, t.path + (f"phases[{i}]",), item)
+        span = sub.number_list("rows", length=2, what="row numbers [first, last]")
+        locked = sub.string("locked", choices=DRIVES)
+        if span is not None and not all(float(v).is_integer() for v in span):
+            sub.error("rows", "whole row numbers [first, last]", raw_got=str(span))
+            span = None
+        if span is not None and rows is not None and not 0 <= span[0] <= span[1] <= rows - 1:
+            sub.error("rows", f"rows [first, last] with 0 <= first <= last <= {rows - 1} (the {rows} rows of "
+                      "[motion], numbered from 0)", raw_got=f"[{span[0]:g}, {span[1]:g}]")
+            span = None
+        if span is None or locked is None:
+            bad = True
+            continue
+        out.append((Phase(int(span[0]), int(span[1]), locked), i))
+    if bad:
+        return None
+    out.sort(key=lambda p: p[0].first)
+    for (a, _), (b, j) in zip(out, out[1:]):
+        if b.first <= a.last:
+            t.error(f"phases[{j}]", "phases that do not overlap (one drive held at a time)",
+                    raw_got=f"rows [{b.first}, {b.last}] and [{a.first}, {a.last}]")
+            return None
+    return tuple(p for p, _ in out)
+
+
+def _held(t: Table, inputs, phases, units) -> bool:
+    """Forward rows hold a phase's locked drive at its first row's angle (within TURN_RTOL
+    of a turn): else one located error, False."""
+    turn = units.from_rad(2.0 * math.pi)
+    for ph in phases:
+        k = DRIVES.index(ph.locked)
+        held = inputs[ph.first][k]
+        for r in range(ph.first + 1, ph.last + 1):
+            gap = abs(inputs[r][k] - held) % turn
+            if min(gap, turn - gap) > TURN_RTOL * turn:
+                t.error(f"inputs[{r}]", f"{ph.locked} held at {held:g} {units.angle} over the phase of rows "
+                        f"{ph.first}..{ph.last} (locked = \"{ph.locked}\")",
+                        raw_got=f"{ph.locked} = {inputs[r][k]:g} {units.angle} at row {r}")
+                return False
+    return True
+
+
+def read_motion(root: Table, meta, linkage: FiveBar | None):
+    """[motion] of a five-bar (module docstring): (the linkage with its motion, the left
+    drive's speed rad/s, the rows) or None (errors recorded)."""
+    units = meta.units
+    t = root.table("motion")
+    if t is None:
+        if "motion" not in root:
+            root.error("motion", "a [motion] table with inputs = [[phi1, phi2], ...] or path = [[x, y], ...] "
+                       "(the rows the five-bar goes through)")
+        return None
+    has_inputs, has_path = "inputs" in t, "path" in t
+    inputs = path = None
+    if has_inputs and has_path:
+        t.raw("inputs")
+        t.raw("path")
+        t.error("path", "either inputs (forward kinematics) or path (inverse kinematics), not both",
+                raw_got="both")
+    elif has_inputs:
+        inputs = pairs(t, "inputs", "drive angles [input, input2] (angle unit)", 1, MAX_LENGTH)
+    elif has_path:
+        path = pairs(t, "path", "points [x, y] of P (length unit)", MIN_PATH, MAX_LENGTH)
+    else:
+        t.error("inputs", "inputs = [[phi1, phi2], ...] (drive angles) or path = [[x, y], ...] (points of P)")
+    modes = _modes(t, has_path)
+    speeds = _rates(t, "input_speeds", [1.0, 1.0], f"{units.angle}/s", units)
+    accelerations = _rates(t, "input_accelerations", [0.0, 0.0], f"{units.angle}/s^2", units)
+    rows = len(inputs) if inputs is not None else (len(path) if path is not None else None)
+    phases = _phases(t, rows)
+    if inputs is not None and phases and not _held(t, inputs, phases, units):
+        return None
+    if None in (modes, speeds, accelerations, phases) or (inputs is None and path is None):
+        return None
+    tol = meta.tolerance
+    if tol is not None and tol.samples * rows > ROW_ELEMENTS:
+        root.reader.error(("tolerance", "samples"), f"at most {ROW_ELEMENTS // rows} samples with {rows} rows "
+                          f"(samples x rows <= {ROW_ELEMENTS}: the per-row statistics keep every sample's "
+                          "error at every row)", tol.samples)
+        return None
+    if linkage is None:
+        return None
+    motion = FiveBarMotion(
+        inputs=None if inputs is None else tuple((units.to_rad(a), units.to_rad(b)) for a, b in inputs),
+        path=None if path is None else tuple(path), modes=modes, speeds=speeds,
+        accelerations=accelerations, phases=phases)
+    branch = linkage.branch if linkage.branch is not None or path is not None else "left"
+    from dataclasses import replace
+    return replace(linkage, branch=branch, motion=motion), speeds[0], rows
