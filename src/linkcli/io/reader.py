@@ -158,6 +158,8 @@ def _line_map(text: str) -> dict[tuple[str, ...], int]:
             twice.add(path)
 
     table: tuple[str, ...] = ()
+    element: tuple[str, ...] | None = None  # [[a.b]]: ("a", "b[i]"), the i-th element's own path
+    elements: dict[tuple[str, ...], int] = {}
     depth = 0  # open brackets of a multi-line array: keys inside belong to its key
     raw_lines = text.split("\n")
     for n, line in enumerate(masked.split("\n"), start=1):
@@ -167,14 +169,22 @@ def _line_map(text: str) -> dict[tuple[str, ...], int]:
             if m:
                 table = tuple(_split_key(raw[m.start(1):m.end(1)]))
                 put(table, n)
+                element = None
+                if line.lstrip().startswith("[["):
+                    index = elements[table] = elements.get(table, -1) + 1
+                    element = table[:-1] + (f"{table[-1]}[{index}]",)
+                    put(element, n)
                 continue
             m = _KEY.match(line)
             if m:
-                path = table + tuple(_split_key(raw[m.start(1):m.end(1)]))
+                key = tuple(_split_key(raw[m.start(1):m.end(1)]))
+                path = table + key
                 put(path, n)
                 rest = line[m.end():]
                 for k in _INLINE_KEY.finditer(rest):
                     put(path + tuple(_split_key(raw[m.end() + k.start(1):m.end() + k.end(1)])), n)
+                if element is not None:
+                    put(element + key, n)
                 depth = max(0, rest.count("[") - rest.count("]"))
                 continue
         else:
@@ -262,10 +272,14 @@ class Reader:
 
     # -- errors ---------------------------------------------------------------
     def line_of(self, path: tuple[str, ...]) -> int | None:
+        """The line of a key path, or of its nearest parent found; "name[i]" is the i-th
+        element of an array of tables ([[name]]), else an item of an array (its key's line)."""
+        exact = tuple(path)
         path = tuple(re.sub(r"\[\d+\]$", "", p) for p in path)
         for n in range(len(path), 0, -1):
-            if path[:n] in self.lines:
-                return self.lines[path[:n]]
+            for candidate in (exact[:n], path[:n]):
+                if candidate in self.lines:
+                    return self.lines[candidate]
         return None
 
     def error(self, path: tuple[str, ...], expected: str, got=MISSING, *, raw_got: str | None = None) -> None:

@@ -193,6 +193,9 @@ class Model:
     inverse = LINKS
     pins = 4  # A0, A, B, B0
     plays = 0
+    pin_names = ("A0", "A", "B", "B0")  # as [joints] names them, in the order of the offsets
+    play_names = ()
+    keys = {"coupler_point_x": "coupler_point", "coupler_point_y": "coupler_point"}  # [tolerance] lengths keys
     no_assembly = "the nominal linkage cannot assemble at any input angle"
     no_allowed_error = NO_ALLOWED_ERROR
 
@@ -204,6 +207,8 @@ class Model:
         self.scale = 1.0 if tg.kind == "angle" else max(fb.abcd)
         self.cap = min(fb.abcd)
         self.known = {k: getattr(fb, k) for k in LINKS}
+        px, py = fb.coupler_point or (0.0, 0.0)
+        self.nominal = {**self.known, "coupler_point_x": px, "coupler_point_y": py}  # sizes (ISO 2768)
 
     def given(self, tol) -> dict:
         return {}

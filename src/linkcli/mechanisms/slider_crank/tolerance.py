@@ -161,6 +161,9 @@ class Model:
     columns = inverse = LENGTH_KEYS
     pins = PINS
     plays = 1  # the slider's play normal to its guide
+    pin_names = ("A0", "A", "B")  # as [joints] names them, in the order of the offsets
+    play_names = ("guide",)  # a fit of the guide gives the slider's play
+    keys: dict = {}
     kind = "length"
     no_assembly = "the nominal slider-crank cannot assemble at any crank angle"
     no_allowed_error = NO_ALLOWED_ERROR
@@ -172,6 +175,7 @@ class Model:
         self.scale = max(linkage.input, linkage.coupler, abs(linkage.offset))
         self.cap = min(linkage.input, linkage.coupler)
         self.known = {"input": linkage.input, "coupler": linkage.coupler}  # the offset may be 0
+        self.nominal = {**self.known, "offset": linkage.offset}  # sizes (ISO 2768)
 
     def given(self, tol) -> dict:
         return {"clearance_slider": float(tol.clearance_slider)}
