@@ -125,12 +125,12 @@ def parts(model, problem, *, lengths: dict | None = None, general: dict | None =
     general = tol.general if general is None else general
     where = where or ("tolerance.lengths", tol.lines.get("lengths"))
     scale = scales(model, problem, lengths, general, where)
-    use_fits = tol.clearance_fits or fits is not None
+    scheme = fits is not None
     fits = fits or {}
     clearance: float | FitZones = float(tol.clearance)
     play: float | FitZones = float(model.play_size(tol))
-    if use_fits:
-        at = where if fits else ("tolerance.clearance", tol.lines.get("clearance"))
+    if tol.clearance_fits or scheme:
+        at = where if scheme else ("tolerance.clearance", tol.lines.get("clearance"))
         pins = getattr(model, "pin_names", None)
         if pins is None:
             raise SolveInputError("a mechanism whose tolerance model names its pins, for fits",

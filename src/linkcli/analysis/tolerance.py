@@ -182,24 +182,35 @@ class Draws:
         per_sample = (plan.columns + plan.m * (2 * plan.pins + plan.plays)
                       + 2 * (plan.fit_pins + plan.fit_plays))
         self._kept = [] if keep and plan.n * per_sample <= KEEP_ELEMENTS else None
+        self._complete = False
+        self.terms: dict = {}  # (chunk start, clearance, play) -> (clearance terms, the plays) (run)
+
+    @property
+    def kept(self) -> bool:
+        """Every chunk is in memory (after one full pass)."""
+        return self._complete
 
     def __iter__(self):
-        if self._kept:
+        if self.kept:
             yield from self._kept
             return
+        fresh = [] if self._kept is not None else None
         for item in chunks(self.seed, self.plan, self.stream):
-            if self._kept is not None:
-                self._kept.append(item)
+            if fresh is not None:
+                fresh.append(item)
             yield item
+        if fresh is not None:
+            self._kept, self._complete = fresh, True
 
 
 # ---------------------------------------------------------------- passes
 
-def chunk_errors(model: Model, ch: Chunk, parts: Parts):
-    """(err, ok) of one chunk's made parts: deviations u * scale, pin offsets e times the
-    radial clearance (one, or each joint's from its fit), plays g times their size; a
-    fitted joint whose shaft comes out larger than its hole cannot run: a failure."""
-    dl = ch.u * parts.scale[None, :]
+def clearance_terms(model: Model, ch: Chunk, parts: Parts):
+    """(terms, jammed) of one chunk: what its pins and plays add whatever the lengths (the
+    Model's `clearance_terms` of the offsets e times the radial clearance, one or each
+    joint's from its fit, and the plays g times their size; Models without it: the offsets
+    themselves), and the samples whose fitted shaft comes out larger than its hole (None:
+    no fits): those cannot run, a failure."""
     jammed = None
     pins = plays = None
     if ch.e is not None:
@@ -217,7 +228,17 @@ def chunk_errors(model: Model, ch: Chunk, parts: Parts):
             plays = ch.g * np.maximum(r, 0.0)[:, None, :]
         else:
             plays = ch.g * parts.play
-    err, ok = model.errors(dl, pins, plays)
+    make = getattr(model, "clearance_terms", None)  # optional: older Models take the offsets
+    return (make(pins, plays) if make is not None else (pins, plays)), jammed
+
+
+def chunk_errors(model: Model, ch: Chunk, parts: Parts, terms=None):
+    """(err, ok) of one chunk's made parts: deviations u * scale, and the clearance terms
+    (given, or computed here)."""
+    dl = ch.u * parts.scale[None, :]
+    terms, jammed = terms if terms is not None else clearance_terms(model, ch, parts)
+    use = getattr(model, "errors_from_terms", None)
+    err, ok = use(dl, terms) if use is not None else model.errors(dl, *terms)
     if jammed is not None and jammed.any():
         ok = ok & ~jammed
         err = np.where(ok, err, np.inf)
@@ -225,13 +246,25 @@ def chunk_errors(model: Model, ch: Chunk, parts: Parts):
 
 
 def run(model: Model, draws, parts: Parts):
-    """(err (n,), ok (n,)) over every chunk of `draws` (an iterable of (start, Chunk))."""
+    """(err (n,), ok (n,)) over every chunk of `draws` (an iterable of (start, Chunk); kept
+    Draws also keep each chunk's clearance terms for the next pass with the same plays)."""
     errs, oks = [], []
-    for _, ch in draws:
-        err, ok = chunk_errors(model, ch, parts)
+    cache = draws.terms if isinstance(draws, Draws) and draws.kept else None
+    for start, ch in draws:
+        terms = None
+        if cache is not None:
+            key = (start, _play_key(parts.clearance), _play_key(parts.play))
+            if key not in cache:  # the plays kept with their terms: their ids stay theirs
+                cache[key] = (clearance_terms(model, ch, parts), parts.clearance, parts.play)
+            terms = cache[key][0]
+        err, ok = chunk_errors(model, ch, parts, terms)
         errs.append(err)
         oks.append(ok)
     return np.concatenate(errs), np.concatenate(oks)
+
+
+def _play_key(play):
+    return id(play) if isinstance(play, FitZones) else float(play)
 
 
 def monte_carlo(model: Model, scale: np.ndarray, clearance: float, play: float, n: int,
@@ -294,6 +327,10 @@ def _analyse(problem, model: Model) -> dict:
         return out
     plan = plan_of(model, parts, tol.samples, tol.distribution)
     passes: dict = {}
+    allocation = None
+    if tol.cost is not None and level is not None:
+        from linkcli.analysis.allocation import allocation_section
+        allocation = allocation_section(problem, model, parts, level)
     if level is not None:
         from linkcli.analysis.inverse_search import Search, largest_tolerance
         search = Search(model, parts, plan, seed, tol.allowed_error)
@@ -301,10 +338,13 @@ def _analyse(problem, model: Model) -> dict:
         t, p_t = largest_tolerance(search, level, given, model.cap)
         passes = {tuple(search.unit * x): v for x, v in search.passes.items()}
         if not tol.lengths_given:  # no tolerance written: report the study at the one found
-            # (a written 0, exact parts, is a study of its own and is reported as 0)
-            lengths = {k: t for k in model.inverse}
+            # (a written 0, exact parts, is a study of its own and is reported as 0), or at
+            # the least-cost ones
+            found = {row["link"]: row["tolerance"] for row in allocation["links"]} if allocation else {}
+            lengths = {k: found.get(k, t) for k in model.inverse}
             out["lengths"] = dict(lengths)
-            parts = parts.with_scale(search.unit * t)
+            parts = parts.with_scale(np.where(search.unit > 0, [lengths.get(c, 0.0) for c in model.columns],
+                                              parts.scale))
     err, ok = passes.get(tuple(parts.scale)) or run(model, chunks(seed, plan), parts)
     out.update(study(model, err, ok, tol.samples, tol.allowed_error, opt,
                      model.no_allowed_error if tol.allowed_error is None else None))
@@ -313,9 +353,8 @@ def _analyse(problem, model: Model) -> dict:
         out["max_failure_probability"] = float(level)
         out["largest_tolerance"] = float(t)
         out["failure_probability_at_largest"] = float(p_t)
-    if tol.cost is not None and level is not None:
-        from linkcli.analysis.allocation import allocation_section
-        out["allocation"] = allocation_section(problem, model, parts, level, float(t))
+    if allocation is not None:
+        out["allocation"] = allocation
     if tol.schemes:
         from linkcli.analysis.schemes import schemes_section
         out["schemes"] = schemes_section(problem, model, level, opt)

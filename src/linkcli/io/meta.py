@@ -235,7 +235,7 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     line_of = root.reader.line_of
     lines = {".".join(k): line_of(("tolerance",) + k)
              for k in [("lengths",), ("clearance",), ("clearance_slider",)]
-             + [("lengths", link) for link in per_link]}
+             + [("lengths", link) for link in per_link] + [(f"schemes[{i}]",) for i in range(len(schemes))]}
     base = dict(lengths=lengths, distribution=distribution or "uniform", clearance=clearance or 0.0,
                 clearance_slider=clearance_slider or 0.0,
                 samples=samples or 20000, allowed_error=allowed, lines=lines, general=general or {},

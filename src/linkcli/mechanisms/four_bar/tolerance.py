@@ -94,13 +94,23 @@ def targets(problem, solution) -> Targets:
 
 # ---------------------------------------------------------------- one batch of samples
 
-def sample_outputs(fb: FourBar, tg: Targets, dl: np.ndarray, off: np.ndarray | None):
+def offsets(off: np.ndarray | None):
+    """The clearance offsets (n, M, 4, 2) as complex e1..e4 (A0, A, B, B0), or None."""
+    if off is None:
+        return None
+    return tuple(off[:, :, j, 0] + 1j * off[:, :, j, 1] for j in range(4))
+
+
+def sample_outputs(fb: FourBar, tg: Targets, dl: np.ndarray, off):
     """Outputs of manufactured linkages at the targets.
 
     dl (n, 6): deviations of ground, input, coupler, output, px, py; off (n, M, 4, 2):
-    clearance offsets at A0, A, B, B0, or None. Returns (out, ok): out (n, M) output angles
-    (rad) or (n, M, 2) global coupler points; ok (n, M) where the sample assembles.
+    clearance offsets at A0, A, B, B0 (or `offsets` of them), or None. Returns (out, ok): out
+    (n, M) output angles (rad) or (n, M, 2) global coupler points; ok (n, M) where the sample
+    assembles.
     """
+    if isinstance(off, np.ndarray):
+        off = offsets(off)
     d = fb.ground + dl[:, 0:1]
     a = fb.input + dl[:, 1:2]
     b = fb.coupler + dl[:, 2:3]
@@ -113,7 +123,7 @@ def sample_outputs(fb: FourBar, tg: Targets, dl: np.ndarray, off: np.ndarray | N
         p = kin.pose(a, b, c, d, phi, fb.branch)
         psi, theta = p.psi, p.theta
     else:
-        e1, e2, e3, e4 = (off[:, :, j, 0] + 1j * off[:, :, j, 1] for j in range(4))
+        e1, e2, e3, e4 = off
         big_d = d + e4 - e1 - e2 - e3
         gamma = np.angle(big_d)
         p = kin.pose(a, b, c, np.abs(big_d), phi - gamma, fb.branch)
@@ -125,7 +135,7 @@ def sample_outputs(fb: FourBar, tg: Targets, dl: np.ndarray, off: np.ndarray | N
     cp = (px + dl[:, 4:5]) + 1j * (py + dl[:, 5:6])
     local = a * np.exp(1j * phi) + cp * np.exp(1j * theta)
     if off is not None:
-        local = local + off[:, :, 0, 0] + 1j * off[:, :, 0, 1] + off[:, :, 1, 0] + 1j * off[:, :, 1, 1]
+        local = local + off[0] + off[1]  # the coupler's bore at A moves with both pins
     glob = complex(*fb.ground_pivot) + np.exp(1j * fb.ground_angle) * local
     return np.stack([glob.real, glob.imag], axis=-1), ok
 
@@ -218,6 +228,13 @@ class Model:
 
     def errors(self, dl, pins, plays):
         return sample_errors(self.fb, self.tg, dl, pins)
+
+    def clearance_terms(self, pins, plays):
+        """What the pins add, whatever the lengths: the offsets as complex numbers."""
+        return offsets(pins)
+
+    def errors_from_terms(self, dl, terms):
+        return sample_errors(self.fb, self.tg, dl, terms)
 
     def sensitivity(self) -> dict:
         return sensitivity(self.fb, self.tg)
