@@ -5,7 +5,7 @@ checks of ISO 286 fits that need the [joints] sizes. Pure Python (`check` runs t
 
 from __future__ import annotations
 
-from linkcli.io.reader import MISSING, Table, describe
+from linkcli.io.reader import MISSING, Table
 from linkcli.model import CostModel, CostSpec, Scheme
 from linkcli.standards import iso286, iso2768
 
@@ -114,7 +114,7 @@ def _cost_keys(t: Table, seen: set) -> dict:
     if "bounds" in t:
         b = t.number_list("bounds", length=2, positive=True, what="tolerances [lo, hi] (length unit)")
         if b is not None and not b[0] < b[1]:
-            t.error("bounds", "tolerances [lo, hi] with 0 < lo < hi (length unit)", raw_got=describe(t.raw("bounds")))
+            t.error("bounds", "tolerances [lo, hi] with 0 < lo < hi (length unit)", raw_got=f"[{b[0]:g}, {b[1]:g}]")
             b = None
         if b is not None:
             out["bounds"] = ((float(b[0]), float(b[1])), t)
@@ -215,9 +215,9 @@ def read_schemes(t: Table, links: tuple[str, ...], per_link: tuple[str, ...],
                 if text is not None:
                     fits[joint] = text
         lengths = read_lengths(s, "lengths", links, per_link)
-        if lengths is None:
+        if lengths is None or lengths[0] is None:  # none, or in error (recorded): its fits still checked
             lengths = ({k: 0.0 for k in links}, {})
-        if name is not None and lengths[0] is not None:
+        if name is not None:
             out.append(Scheme(name=name, fits=fits, lengths=lengths[0], general=lengths[1]))
     return tuple(out)
 
