@@ -339,3 +339,54 @@ def test_inverse_search_equals_a_plain_bisection_on_the_same_draws():
         assert got == (lo, prob(lo))
         if clearance == 0.02:  # the work: two passes over every sample, the bisection on a few
             assert search.full_passes == 2 and search.partial_samples < 0.1 * 8000 * 14
+
+
+# ---------------------------------------------------------------- designs that minimize failure
+
+def quadratic_law_errors(a, b, c, d, t, u, allowed_deg):
+    """Per target, the share of four-bars made with (a, b, c, d) + t * u (u unit draws,
+    columns input, coupler, output, ground) missing psi0 + 2/(3 pi) (phi - phi0)^2 at 31
+    points over 90 deg from the extended dead-centre (open branch, docs/format.md: phi0 and
+    psi0 from the triangle A0 B0 B with |A0 B| = a + b) by more than `allowed_deg`; and the
+    share assembling at every point."""
+    ab = a + b
+    phi0 = math.acos((ab * ab + d * d - c * c) / (2 * ab * d))
+    psi0 = math.acos((ab * ab - c * c - d * d) / (2 * c * d))
+    phi = phi0 + np.linspace(0.0, math.pi / 2, 31)
+    target = psi0 + 2 / (3 * math.pi) * (phi - phi0) ** 2
+    am, bm, cm, dm = (x + t * u[:, j:j + 1] for j, x in enumerate((a, b, c, d)))
+    rx, ry = am * np.cos(phi) - dm, am * np.sin(phi)
+    rho = np.hypot(rx, ry)
+    cos_alpha = (rho * rho + cm * cm - bm * bm) / (2 * rho * cm)
+    with np.errstate(invalid="ignore"):
+        psi = np.arctan2(ry, rx) - np.arccos(cos_alpha)
+    assembles = np.abs(cos_alpha) <= 1
+    dev = np.degrees(np.abs((psi - target + np.pi) % (2 * np.pi) - np.pi))
+    fails = ~assembles | (dev > allowed_deg)
+    return fails.mean(axis=0), float(np.mean(np.all(assembles, axis=1)))
+
+
+def test_robust_function_generation_against_a_separate_monte_carlo(tmp_path):
+    text = (ROOT / "problems" / "robust_function.toml").read_text()
+    text = text.replace("clearance = 0.1 ", "clearance = 0.0 ")  # lengths only: the reference below
+    path = tmp_path / "robust.toml"
+    path.write_text(text)
+    code, rep, err = synth_json(path)
+    assert code == 0, err
+    designs = {row["design"]: row for row in rep["robust"]["designs"]}
+    lsq, rob = designs["least squares"], designs["robust"]
+    assert (rep["linkage"]["coupler"], rep["linkage"]["output"]) == (rob["coupler"], rob["output"])
+    u = np.random.default_rng(77).uniform(-1, 1, (40000, 4))
+    for row in (lsq, rob):
+        per, defect_free = quadratic_law_errors(row["input"], row["coupler"], row["output"], row["ground"],
+                                                0.5, u, 1.8)
+        p = float(per.max())
+        se = math.sqrt(max(p * (1 - p), 1e-4) * (1 / 40000 + 1 / 20000))
+        assert row["largest_failure_probability"] == pytest.approx(p, abs=5 * se)
+        assert row["at_target"] == int(np.argmax(per)) + 1 or abs(per[row["at_target"] - 1] - p) < 5 * se
+        assert row["defect_free"] == pytest.approx(defect_free, abs=0.002)
+    assert lsq["largest_failure_probability"] > 0.9 > 0.05 > rob["largest_failure_probability"]
+    assert rob["defect_free"] >= 0.99
+    # the least-squares design's error is the smaller in squares, the robust one's at its worst
+    assert rob["error_max"] < lsq["error_max"]
+    assert rep["error"]["objective"] > 0.0075924  # the least-squares optimum (problems/crank_rocker.toml)

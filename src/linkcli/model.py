@@ -244,6 +244,8 @@ class PathGenerationProblem:
     transmission: tuple[float, float] | None = None  # window on mu, rad
     branch: str = "either"  # "open", "crossed" or "either"
     lines: dict = field(default_factory=dict)  # key -> line of the file, for messages
+    objective: str = "error"  # [objective] minimize: "error" or "failure-probability" (robust design)
+    defect_free: float = 0.99  # [constraints] defect_free: least share of made linkages that assemble
 
 
 @dataclass(frozen=True)
@@ -299,6 +301,8 @@ class FunctionGenerationProblem:
     grashof: str = "any"  # a class of mechanisms.four_bar.kinematics.GRASHOF_CLASSES (not change-point) or "any"
     branch: str = "either"  # "open", "crossed" or "either"
     lines: dict = field(default_factory=dict)  # key -> line of the file, for messages
+    objective: str = "error"  # [objective] minimize: "error" or "failure-probability" (robust design)
+    defect_free: float = 0.99  # [constraints] defect_free: least share of made linkages that assemble
 
 
 @dataclass(frozen=True)

@@ -351,7 +351,6 @@ def allocation_section(problem, model, parts: Parts, level: float) -> dict:
         "design_failure_probability": res["k"] / n,
         "max_failure_probability": float(level),
         "meets": bool(meets),
-        "corrections": res["rounds"],
         "checks": res["checks"],
     }
     if not meets:

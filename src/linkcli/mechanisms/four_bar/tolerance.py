@@ -159,6 +159,17 @@ def travel_ok(fb: FourBar, dl: np.ndarray, span) -> np.ndarray:
     return np.all((rho2 >= lo2 - slack) & (rho2 <= hi2 + slack), axis=1)
 
 
+def target_deviations(fb: FourBar, tg: Targets, dl: np.ndarray, off) -> np.ndarray:
+    """(n, M) each made linkage's deviation at each target (rad or length): inf at a target
+    where it cannot assemble, and at every target when it cannot be made or travel."""
+    out, ok = sample_outputs(fb, tg, dl, off)
+    if tg.kind == "angle":
+        dev = np.abs(kin.wrap(out - tg.value[None, :]))
+    else:
+        dev = np.hypot(out[..., 0] - tg.value[None, :, 0], out[..., 1] - tg.value[None, :, 1])
+    return np.where(ok & travel_ok(fb, dl, tg.span)[:, None], dev, np.inf)
+
+
 def sample_errors(fb: FourBar, tg: Targets, dl: np.ndarray, off: np.ndarray | None):
     """(err, ok), each (n,): largest deviation over the targets (rad or length; inf where
     the sample fails to assemble or to travel) and whether it assembles and travels."""
@@ -235,6 +246,10 @@ class Model:
 
     def errors_from_terms(self, dl, terms):
         return sample_errors(self.fb, self.tg, dl, terms)
+
+    def deviations(self, dl, terms):
+        """(n, M) deviation at each target (inf where it fails there): robust design."""
+        return target_deviations(self.fb, self.tg, dl, terms)
 
     def sensitivity(self) -> dict:
         return sensitivity(self.fb, self.tg)
