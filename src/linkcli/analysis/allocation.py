@@ -42,6 +42,7 @@ from statistics import NormalDist
 
 import numpy as np
 
+from linkcli.analysis.bisection import boundary
 from linkcli.analysis.cost_models import Costs
 from linkcli.analysis.made_parts import Parts, column_key
 from linkcli.analysis.tolerance import VERIFY_STREAM, Draws, chunks, plan_of, run, wilson
@@ -246,16 +247,16 @@ def exact_level(prob: Problem, w: np.ndarray, log_mu: float, k_target: int) -> t
                 good, k_good = y, k
                 break
             fail, step = y, 2 * step
-    while True:
-        t_good, t_fail = prob.path(good, w), prob.path(fail, w)
-        if np.all(np.abs(t_fail - t_good) <= BISECTION_RTOL * t_good):
-            return t_good, k_good
-        mid = 0.5 * (fail + good)
-        k = count(mid)
-        if k <= k_target:
-            good, k_good = mid, k
-        else:
-            fail = mid
+    def judge(x: float):
+        k = count(x)
+        return k <= k_target, k
+
+    def settled(a: float, b: float) -> bool:
+        t_a, t_b = prob.path(a, w), prob.path(b, w)
+        return bool(np.all(np.abs(t_b - t_a) <= BISECTION_RTOL * t_a))
+
+    good, k_good = boundary(judge, good, fail, k_good, settled)
+    return prob.path(good, w), k_good
 
 
 def uniform(prob: Problem, k_target: int) -> tuple[np.ndarray, float, int]:
@@ -269,14 +270,12 @@ def uniform(prob: Problem, k_target: int) -> tuple[np.ndarray, float, int]:
     k_hi = prob.count(clip(hi))
     if k_hi <= k_target:
         return clip(hi), hi, k_hi
-    a, b, k_a = lo, hi, k_lo
-    while b - a > BISECTION_RTOL * b:
-        mid = math.sqrt(a * b)
-        k = prob.count(clip(mid))
-        if k <= k_target:
-            a, k_a = mid, k
-        else:
-            b = mid
+    def judge(x: float):
+        k = prob.count(clip(x))
+        return k <= k_target, k
+
+    a, k_a = boundary(judge, lo, hi, k_lo, lambda a, b: b - a <= BISECTION_RTOL * b,
+                      middle=lambda a, b: math.sqrt(a * b))
     return clip(a), a, k_a
 
 

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from linkcli.analysis.bisection import boundary
 from linkcli.analysis.made_parts import Parts
 from linkcli.analysis.tolerance import Chunk, chunk_errors, chunks
 
@@ -167,12 +168,4 @@ def _verified(search: Search, lo: float, hi: float, level: float) -> tuple[float
     good = [t for t in known if p(t) <= level]
     a = max(good) if good else 0.0
     b = min([t for t in known if t > a and p(t) > level], default=hi)
-    p_a = p(a)
-    while b - a > BISECTION_RTOL * b:
-        mid = 0.5 * (a + b)
-        p_mid = p(mid)
-        if p_mid <= level:
-            a, p_a = mid, p_mid
-        else:
-            b = mid
-    return a, p_a
+    return boundary(lambda x: (p(x) <= level, p(x)), a, b, p(a), lambda a, b: b - a <= BISECTION_RTOL * b)
