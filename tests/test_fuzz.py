@@ -133,8 +133,9 @@ def test_every_number_set_to_an_integer_beyond_double_range_is_a_located_bad_inp
     _set(data, path, -(10 ** 400) if len(path) % 2 else 10 ** 400)
     p = tmp_path / example.name
     p.write_text(tomli_w.dumps(data))
-    key = ".".join(str(k) for k in path if not isinstance(k, int))
-    key += "".join(f"[{k}]" for k in path if isinstance(k, int))
+    key = ""  # an index follows the array it indexes: points[2], schemes[0].lengths
+    for k in path:
+        key += f"[{k}]" if isinstance(k, int) else (f".{k}" if key else str(k))
     for mode in ("check", "synth", "analyze"):
         outcome = run(str(p), Request(mode=mode))
         code, report, errors = outcome.exit_code, outcome.result, list(outcome.errors)

@@ -62,7 +62,11 @@ class Model(Protocol):
     pin_names and play_names, the [joints] names of the pins and plays in the order of
     their draws (fits need them); keys, column -> its [tolerance] lengths key where they
     differ (default: the column's name); nominal, column -> nominal size for general
-    tolerances (default: `known`)."""
+    tolerances (default: `known`); clearance_terms(pins, plays) -> terms and
+    errors_from_terms(dl, terms), what the plays add whatever the lengths, computed once
+    for many passes over the same draws (default: the offsets, and `errors`);
+    deviations(dl, terms) -> (n, M), each target's deviation (inf where it fails there),
+    for designs that minimize failure (analysis.robust_design)."""
 
     columns: tuple[str, ...]
     inverse: tuple[str, ...]
