@@ -58,7 +58,7 @@ VERIFY_ROUNDS = 3
 NORMAL = NormalDist()
 
 
-class Problem:
+class Allocation:
     """One allocation: the allocated columns of the model, their cost models, the common
     draws, the allowed error."""
 
@@ -124,7 +124,7 @@ class Problem:
         return float(np.min(loose[finite])) - 1.0, float(np.max(tight[finite])) + 1.0
 
 
-def linearized(prob: Problem, level: float) -> np.ndarray:
+def linearized(prob: Allocation, level: float) -> np.ndarray:
     """Step 1: the closed form on the linearized model (module docstring)."""
     s = np.where(np.isfinite(prob.sensitivity), prob.sensitivity, 1e300)
     w = s * s
@@ -142,7 +142,7 @@ def linearized(prob: Problem, level: float) -> np.ndarray:
     return prob.path(hi, w)
 
 
-def corrected(prob: Problem, t: np.ndarray, target: float) -> tuple[np.ndarray, np.ndarray, float, int]:
+def corrected(prob: Allocation, t: np.ndarray, target: float) -> tuple[np.ndarray, np.ndarray, float, int]:
     """Step 2: (t, w, log mu, rounds) after the Monte Carlo corrections (module docstring)."""
     w, log_mu, rounds = np.ones(len(t)), None, 0
     for rounds in range(1, MAX_ROUNDS + 1):
@@ -161,7 +161,7 @@ def corrected(prob: Problem, t: np.ndarray, target: float) -> tuple[np.ndarray, 
     return t, w, log_mu, rounds
 
 
-def _log_mu_of(prob: Problem, t: np.ndarray, w: np.ndarray) -> float:
+def _log_mu_of(prob: Allocation, t: np.ndarray, w: np.ndarray) -> float:
     """The log mu along w nearest to t: the mean of log m_i(t_i) - log w_i over the links
     inside their bounds."""
     with np.errstate(divide="ignore"):
@@ -170,7 +170,7 @@ def _log_mu_of(prob: Problem, t: np.ndarray, w: np.ndarray) -> float:
     return float(np.mean(each[inside])) if inside.any() else float(np.mean(each[np.isfinite(each)]))
 
 
-def smooth_level(prob: Problem, w: np.ndarray, target: float, guess: float) -> float:
+def smooth_level(prob: Allocation, w: np.ndarray, target: float, guess: float) -> float:
     """log mu where p_s(t(mu)) = target along the weights w: bracketed outwards from `guess`,
     then Illinois regula falsi on log p_s (p_s falls as mu grows); a bound of the range
     where the target is out of reach."""
@@ -212,7 +212,7 @@ def smooth_level(prob: Problem, w: np.ndarray, target: float, guess: float) -> f
     return x
 
 
-def exact_level(prob: Problem, w: np.ndarray, log_mu: float, k_target: int) -> tuple[np.ndarray, int]:
+def exact_level(prob: Allocation, w: np.ndarray, log_mu: float, k_target: int) -> tuple[np.ndarray, int]:
     """Step 3: (t, failures) at the smallest mu along w (the largest tolerances) whose common
     draws fail at most k_target times; the lower bounds (and their count) when even they
     fail more, the upper bounds when they do not. mu grows: tolerances shrink, failures fall."""
@@ -259,7 +259,7 @@ def exact_level(prob: Problem, w: np.ndarray, log_mu: float, k_target: int) -> t
     return prob.path(good, w), k_good
 
 
-def uniform(prob: Problem, k_target: int) -> tuple[np.ndarray, float, int]:
+def uniform(prob: Allocation, k_target: int) -> tuple[np.ndarray, float, int]:
     """(t per link, the common t, failures): the same tolerance on every link, within each
     link's bounds, largest with at most k_target failures on the common draws."""
     lo, hi = float(np.min(prob.costs.lo)), float(np.max(prob.costs.hi))
@@ -292,13 +292,13 @@ def largest_count(n: int, level: float) -> int:
     return lo
 
 
-def fresh_count(prob: Problem, t: np.ndarray) -> int:
+def fresh_count(prob: Allocation, t: np.ndarray) -> int:
     """Failures of the allocation on a fresh Monte Carlo (the VERIFY_STREAM draws)."""
     err, ok = run(prob.model, chunks(prob.seed, prob.plan, VERIFY_STREAM), prob.parts.with_scale(prob.scale(t)))
     return int(np.count_nonzero(~ok | (err > prob.allowed)))
 
 
-def allocate(prob: Problem, level: float) -> dict:
+def allocate(prob: Allocation, level: float) -> dict:
     """Steps 1-4 (module docstring): the allocation, its counts and how it was found."""
     n = prob.n
     k_max = largest_count(n, level)
@@ -323,7 +323,7 @@ def allocation_section(problem, model, parts: Parts, level: float) -> dict:
     (`total_cost`, as a scheme's); the fresh check (module docstring)."""
     from linkcli.analysis.schemes import scheme_cost
     tol = problem.meta.tolerance
-    prob = Problem(model, parts, tol.cost, int(problem.meta.solver.seed), tol.samples, tol.distribution,
+    prob = Allocation(model, parts, tol.cost, int(problem.meta.solver.seed), tol.samples, tol.distribution,
                    float(tol.allowed_error))
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         res = allocate(prob, level)
