@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from linkcli.analysis import tolerance as tolmod
+from linkcli.analysis import inverse_search, tolerance as tolmod
 from linkcli.mechanisms.four_bar import tolerance as fourbar_tolerance
 from linkcli.errors import InputErrors
 from linkcli.model import LINKS, FourBar, InverseTolerance, Meta, SolverOptions, Tolerance
@@ -177,7 +177,8 @@ def all_draws(problem, solution):
     t = problem.meta.tolerance
     tg = fourbar_tolerance.targets(problem, solution)
     dls, offs = [], []
-    scale = np.array([float(t.lengths.get(k, 0.0)) for k in fourbar_tolerance.COLUMNS])
+    key = {"coupler_point_x": "coupler_point", "coupler_point_y": "coupler_point"}  # +- on each coordinate
+    scale = np.array([float(t.lengths.get(key.get(k, k), 0.0)) for k in fourbar_tolerance.COLUMNS])
     for u, e, _ in tolmod.unit_draws(problem.meta.solver.seed, t.samples, len(tg.phi),
                                      len(fourbar_tolerance.COLUMNS), t.distribution,
                                      4 if t.clearance > 0 else 0):
@@ -446,7 +447,7 @@ def test_inverse_mode_finds_the_boundary_of_the_seeded_monte_carlo():
     # the study is reported at the tolerance found (no `lengths` given)
     assert rep["lengths"]["input"] == t_max and rep["failure_probability"] <= 0.02
     # an independent check: the forward study just above the tolerance found fails more
-    above = tol(t_max * (1 + 2 * tolmod.BISECTION_RTOL), clearance=0.01, samples=4000,
+    above = tol(t_max * (1 + 2 * inverse_search.BISECTION_RTOL), clearance=0.01, samples=4000,
                 allowed_error=0.2 * DEG)
     assert tolmod.analyse(*make(FIREDOOR, above, seed=1))["failure_probability"] > 0.02
 

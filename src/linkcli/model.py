@@ -47,6 +47,43 @@ class Reference:
 
 
 @dataclass(frozen=True)
+class CostModel:
+    """A cost-tolerance model c(t) of one toleranced dimension ([tolerance.cost];
+    analysis.cost_models): `model` reciprocal | reciprocal-power | exponential |
+    michael-siddall, its constants a, b, k, and the tolerances a process can hold
+    (`bounds`, length unit; None where the file gives none)."""
+
+    model: str
+    a: float
+    b: float
+    k: float
+    bounds: tuple[float, float] | None = None
+
+
+@dataclass(frozen=True)
+class CostSpec:
+    """[tolerance.cost]: one model for every dimension (`default`) and per-key ones (`own`:
+    a link, `coupler_point`, or a joint, whose fit's hole and shaft it prices)."""
+
+    default: CostModel | None
+    own: dict = field(default_factory=dict)
+
+    def of(self, key: str) -> CostModel | None:
+        return self.own.get(key, self.default)
+
+
+@dataclass(frozen=True)
+class Scheme:
+    """One of [[tolerance.schemes]]: a named set of fits (joint -> "H7/g6") and length
+    tolerances (key -> +- number, or `general`: key -> ISO 2768 class letter)."""
+
+    name: str
+    fits: dict
+    lengths: dict
+    general: dict = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
 class Tolerance:
     """[tolerance]: manufacturing tolerances for a Monte Carlo precision study."""
 
@@ -58,6 +95,10 @@ class Tolerance:
     samples: int = 20000
     allowed_error: float | None = None  # radians for angle errors, length unit for paths
     lines: dict = field(default_factory=dict, compare=False)  # key ("lengths.input") -> line, for messages
+    general: dict = field(default_factory=dict)  # key -> ISO 2768-1 class ("m"): its general tolerance
+    clearance_fits: bool = False  # clearance = "fits": each pin's play from its [joints] fit
+    cost: CostSpec | None = None  # [tolerance.cost]: least-cost allocation
+    schemes: tuple = ()  # [[tolerance.schemes]]: Scheme records to compare
 
 
 @dataclass(frozen=True)
@@ -256,6 +297,8 @@ class PathGenerationProblem:
     transmission: tuple[float, float] | None = None  # window on mu, rad
     branch: str = "either"  # "open", "crossed" or "either"
     lines: dict = field(default_factory=dict)  # key -> line of the file, for messages
+    objective: str = "error"  # [objective] minimize: "error" or "failure-probability" (robust design)
+    defect_free: float = 0.99  # [constraints] defect_free: least share of made linkages that assemble
 
 
 @dataclass(frozen=True)
@@ -311,6 +354,8 @@ class FunctionGenerationProblem:
     grashof: str = "any"  # a class of mechanisms.four_bar.kinematics.GRASHOF_CLASSES (not change-point) or "any"
     branch: str = "either"  # "open", "crossed" or "either"
     lines: dict = field(default_factory=dict)  # key -> line of the file, for messages
+    objective: str = "error"  # [objective] minimize: "error" or "failure-probability" (robust design)
+    defect_free: float = 0.99  # [constraints] defect_free: least share of made linkages that assemble
 
 
 @dataclass(frozen=True)

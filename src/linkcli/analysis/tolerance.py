@@ -13,7 +13,9 @@ toleranced dimension (uniform on [-1, 1], or normal with sigma 1/3: the toleranc
 (radius sqrt(U), angle 2 pi U': uniform over the disc's area; the effective-link model of
 Lee & Gilmore 1991 and Ting, Zhu & Watkins 2000: the load, and with it the contact point,
 changes between positions); with a play (a slider's guide), a uniform [-1, 1] draw per play
-and target.
+and target; with fits (analysis.made_parts), per sample and fitted joint a unit draw of its
+hole and of its shaft (the pins', then the plays'). A fresh check of a chosen design
+(allocation, schemes, robust designs) uses another stream, `default_rng([seed, k, 1])`.
 
 Report: error mean, 95th percentile and max over the samples that assemble (round-off of an
 exact design is 0 under the noise floor of the model's scale); the failure probability
@@ -21,23 +23,25 @@ p = k / N with its standard error sqrt(p (1 - p) / N) and the Wilson 95 % interv
 model's sensitivity per dimension.
 
 Inverse mode (`max_failure_probability`): the largest tolerance t, the same on every link,
-whose failure probability stays at or below the level, by bisection on the seeded Monte
-Carlo with common random numbers (the same unit draws scaled by t at every step).
-numpy only.
+whose failure probability stays at or below the level (analysis.inverse_search); with
+[tolerance.cost] the least-cost tolerances (analysis.allocation); [[tolerance.schemes]]
+compared (analysis.schemes). numpy only.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Protocol
+from typing import NamedTuple, Protocol
 
 import numpy as np
 
+from linkcli.analysis.made_parts import FitZones, Parts
 from linkcli.model import InverseTolerance, Tolerance
 from linkcli.noise import first_max, snap
 
 CHUNK_ELEMENTS = 2**17  # samples x targets assembled at once
-BISECTION_RTOL = 1e-4
+KEEP_ELEMENTS = 2**24  # unit draws kept in memory for common random numbers (128 MB)
+VERIFY_STREAM = (1,)  # the fresh Monte Carlo that checks a chosen design: default_rng([seed, k, 1])
 Z95 = 1.959963984540054  # two-sided 95 % normal quantile
 TWO_PI = 2.0 * math.pi
 
@@ -46,12 +50,23 @@ class Model(Protocol):
     """A mechanism's made parts (its home's tolerance module).
 
     columns: the toleranced dimensions, in draw order; inverse: those the inverse mode's
-    common tolerance applies to; pins: joints with radial clearance; plays: per-target
-    plays drawn after the pins (a slider in its guide); kind: "angle" (errors in rad) or
-    "length"; measure: what the error is, for the report; inputs: (M,) the targets' drive
-    angles (none: the nominal linkage never assembles, `no_assembly` says so); scale: the
-    errors' noise-floor scale; cap: the largest common tolerance (a larger one can make a
-    length <= 0); known: link -> length for the tolerance checks (tolerance_input)."""
+    common tolerance (and the least-cost allocation) applies to; pins: joints with radial
+    clearance; plays: per-target plays drawn after the pins (a slider in its guide); kind:
+    "angle" (errors in rad) or "length"; measure: what the error is, for the report;
+    inputs: (M,) the targets' drive angles (none: the nominal linkage never assembles,
+    `no_assembly` says so); scale: the errors' noise-floor scale; cap: the largest common
+    tolerance (a larger one can make a length <= 0); known: link -> length for the
+    tolerance checks (tolerance_input).
+
+    Optional (read with defaults, so that a Model written before them keeps working):
+    pin_names and play_names, the [joints] names of the pins and plays in the order of
+    their draws (fits need them); keys, column -> its [tolerance] lengths key where they
+    differ (default: the column's name); nominal, column -> nominal size for general
+    tolerances (default: `known`); clearance_terms(pins, plays) -> terms and
+    errors_from_terms(dl, terms), what the plays add whatever the lengths, computed once
+    for many passes over the same draws (default: the offsets, and `errors`);
+    deviations(dl, terms) -> (n, M), each target's deviation (inf where it fails there),
+    for designs that minimize failure (analysis.robust_design)."""
 
     columns: tuple[str, ...]
     inverse: tuple[str, ...]
@@ -81,83 +96,229 @@ class Model(Protocol):
     def sensitivity(self) -> dict:
         """Per toleranced dimension, the first-order error change per unit (None: infinite)."""
 
-    def column_scale(self, lengths: dict) -> np.ndarray:
-        """(columns,) the tolerance of each column from [tolerance] lengths (link -> +- t, or
-        column -> +- t: a home whose links hold several dimensions maps them)."""
-
-    # A model with `per_row` True (the five-bar: its error at every row of a motion) also has
-    # `rows` (M,) the row numbers of its targets, `row_errors(dl, pins, plays)` -> (dev (n, M),
-    # ok (n, M), events {i: (n,) error added at event i}) with `errors` its reduction (the
-    # largest dev, inf where a row fails), and `event_labels()` (one dict per event).
-    per_row: bool
+    # Also optional: column_scale(lengths) -> (columns,) each column's tolerance from the
+    # [tolerance] lengths where a home's links hold several dimensions (a drawn link: each
+    # distance between two of its joints; default: by `keys`, made_parts.scales); and
+    # `per_row` True (the five-bar: its error at every row of a motion) with `rows` (M,) the
+    # row numbers of its targets, `row_errors(dl, pins, plays)` -> (dev (n, M), ok (n, M),
+    # events {i: (n,) error added at event i}) whose reduction is `errors` (the largest dev,
+    # inf where a row fails), and `event_labels()` (one dict per event).
 
 
 # ---------------------------------------------------------------- random draws
+
+class Plan(NamedTuple):
+    """What each sample draws: n samples at m targets; `columns` unit deviations; `pins`
+    and `plays` the offsets drawn (0: none); `fit_pins`, `fit_plays` the joints whose hole
+    and shaft are drawn (0: none)."""
+
+    n: int
+    m: int
+    columns: int
+    distribution: str
+    pins: int = 0
+    plays: int = 0
+    fit_pins: int = 0
+    fit_plays: int = 0
+
+
+class Chunk(NamedTuple):
+    """One chunk's unit draws: u (rows, columns), e (rows, m, pins, 2) or None, g (rows, m,
+    plays) or None, vp (rows, fit_pins, 2) or None, vg (rows, fit_plays, 2) or None."""
+
+    u: np.ndarray
+    e: np.ndarray | None
+    g: np.ndarray | None
+    vp: np.ndarray | None = None
+    vg: np.ndarray | None = None
+
+    def rows(self, index) -> "Chunk":
+        """The chunk restricted to some rows (a boolean mask or indices)."""
+        return Chunk(*(None if a is None else a[index] for a in self))
+
+
+def _unit(rng, shape, distribution: str) -> np.ndarray:
+    if distribution == "normal":
+        return rng.standard_normal(shape) / 3.0
+    return rng.uniform(-1.0, 1.0, shape)
+
+
+def chunks(seed: int, plan: Plan, stream: tuple[int, ...] = ()):
+    """Yield (start, Chunk) per chunk of the seeded draws (module docstring: the order);
+    `stream` names another seed stream (a fresh check: VERIFY_STREAM)."""
+    m = plan.m
+    rows = max(1, CHUNK_ELEMENTS // max(m, 1))
+    for k, start in enumerate(range(0, plan.n, rows)):
+        size = min(rows, plan.n - start)
+        rng = np.random.default_rng([seed, k, *stream])
+        u = _unit(rng, (size, plan.columns), plan.distribution)
+        e = g = vp = vg = None
+        if plan.pins:
+            r = np.sqrt(rng.random((size, m, plan.pins)))
+            t = rng.random((size, m, plan.pins)) * TWO_PI
+            e = np.stack([r * np.cos(t), r * np.sin(t)], axis=-1)
+        if plan.plays:
+            g = rng.uniform(-1.0, 1.0, (size, m, plan.plays))
+        if plan.fit_pins:
+            vp = _unit(rng, (size, plan.fit_pins, 2), plan.distribution)
+        if plan.fit_plays:
+            vg = _unit(rng, (size, plan.fit_plays, 2), plan.distribution)
+        yield start, Chunk(u, e, g, vp, vg)
+
 
 def unit_draws(seed: int, n: int, m: int, columns: int, distribution: str, pins: int = 0,
                plays: int = 0):
     """Yield per chunk (u, e, g): u (rows, columns) unit deviations (uniform on [-1, 1], or
     normal with sigma 1/3), e (rows, m, pins, 2) offsets uniform over the unit disc or None,
     g (rows, m, plays) uniform on [-1, 1] or None (module docstring: the order of draws)."""
-    rows = max(1, CHUNK_ELEMENTS // max(m, 1))
-    for k, start in enumerate(range(0, n, rows)):
-        size = min(rows, n - start)
-        rng = np.random.default_rng([seed, k])
-        if distribution == "normal":
-            u = rng.standard_normal((size, columns)) / 3.0
+    for _, ch in chunks(seed, Plan(n, m, columns, distribution, pins, plays)):
+        yield ch.u, ch.e, ch.g
+
+
+def plan_of(model: Model, parts: Parts, n: int, distribution: str) -> Plan:
+    """The draws a study of `parts` needs."""
+    fit_pins = len(parts.clearance.names) if isinstance(parts.clearance, FitZones) else 0
+    fit_plays = len(parts.play.names) if isinstance(parts.play, FitZones) else 0
+    return Plan(n, len(model.inputs), len(model.columns), distribution,
+                model.pins if parts.pins_drawn else 0, model.plays if parts.plays_drawn else 0,
+                fit_pins, fit_plays)
+
+
+class Draws:
+    """The seeded unit draws of one study plan, regenerated on every pass, or kept in memory
+    (common random numbers for many passes) when `keep` and they hold at most
+    KEEP_ELEMENTS numbers."""
+
+    def __init__(self, seed: int, plan: Plan, stream: tuple[int, ...] = (), keep: bool = False):
+        self.seed, self.plan, self.stream = seed, plan, stream
+        per_sample = (plan.columns + plan.m * (2 * plan.pins + plan.plays)
+                      + 2 * (plan.fit_pins + plan.fit_plays))
+        self._kept = [] if keep and plan.n * per_sample <= KEEP_ELEMENTS else None
+        self._complete = False
+        self.terms: dict = {}  # (chunk start, clearance, play) -> (clearance terms, the plays) (run)
+
+    @property
+    def kept(self) -> bool:
+        """Every chunk is in memory (after one full pass)."""
+        return self._complete
+
+    def __iter__(self):
+        if self.kept:
+            yield from self._kept
+            return
+        fresh = [] if self._kept is not None else None
+        for item in chunks(self.seed, self.plan, self.stream):
+            if fresh is not None:
+                fresh.append(item)
+            yield item
+        if fresh is not None:
+            self._kept, self._complete = fresh, True
+
+
+# ---------------------------------------------------------------- passes
+
+def clearance_terms(model: Model, ch: Chunk, parts: Parts):
+    """(terms, jammed) of one chunk: what its pins and plays add whatever the lengths (the
+    Model's `clearance_terms` of the offsets e times the radial clearance, one or each
+    joint's from its fit, and the plays g times their size; Models without it: the offsets
+    themselves), and the samples whose fitted shaft comes out larger than its hole (None:
+    no fits): those cannot run, a failure."""
+    jammed = None
+    pins = plays = None
+    if ch.e is not None:
+        if isinstance(parts.clearance, FitZones):
+            r = parts.clearance.radii(ch.vp)
+            jammed = np.any(r < 0, axis=1)
+            pins = ch.e * np.maximum(r, 0.0)[:, None, :, None]
         else:
-            u = rng.uniform(-1.0, 1.0, (size, columns))
-        e = g = None
-        if pins:
-            r = np.sqrt(rng.random((size, m, pins)))
-            t = rng.random((size, m, pins)) * TWO_PI
-            e = np.stack([r * np.cos(t), r * np.sin(t)], axis=-1)
-        if plays:
-            g = rng.uniform(-1.0, 1.0, (size, m, plays))
-        yield u, e, g
+            pins = ch.e * parts.clearance
+    if ch.g is not None:
+        if isinstance(parts.play, FitZones):
+            r = parts.play.radii(ch.vg)
+            stuck = np.any(r < 0, axis=1)
+            jammed = stuck if jammed is None else jammed | stuck
+            plays = ch.g * np.maximum(r, 0.0)[:, None, :]
+        else:
+            plays = ch.g * parts.play
+    make = getattr(model, "clearance_terms", None)  # optional: older Models take the offsets
+    return (make(pins, plays) if make is not None else (pins, plays)), jammed
+
+
+def chunk_errors(model: Model, ch: Chunk, parts: Parts, terms=None):
+    """(err, ok) of one chunk's made parts: deviations u * scale, and the clearance terms
+    (given, or computed here)."""
+    dl = ch.u * parts.scale[None, :]
+    terms, jammed = terms if terms is not None else clearance_terms(model, ch, parts)
+    use = getattr(model, "errors_from_terms", None)
+    err, ok = use(dl, terms) if use is not None else model.errors(dl, *terms)
+    if jammed is not None and jammed.any():
+        ok = ok & ~jammed
+        err = np.where(ok, err, np.inf)
+    return err, ok
+
+
+def run(model: Model, draws, parts: Parts):
+    """(err (n,), ok (n,)) over every chunk of `draws` (an iterable of (start, Chunk); kept
+    Draws also keep each chunk's clearance terms for the next pass with the same plays)."""
+    errs, oks = [], []
+    cache = draws.terms if isinstance(draws, Draws) and draws.kept else None
+    for start, ch in draws:
+        terms = None
+        if cache is not None:
+            key = (start, _play_key(parts.clearance), _play_key(parts.play))
+            if key not in cache:  # the plays kept with their terms: their ids stay theirs
+                cache[key] = (clearance_terms(model, ch, parts), parts.clearance, parts.play)
+            terms = cache[key][0]
+        err, ok = chunk_errors(model, ch, parts, terms)
+        errs.append(err)
+        oks.append(ok)
+    return np.concatenate(errs), np.concatenate(oks)
+
+
+def _play_key(play):
+    return id(play) if isinstance(play, FitZones) else float(play)
 
 
 def monte_carlo(model: Model, scale: np.ndarray, clearance: float, play: float, n: int,
                 seed: int, distribution: str):
     """(err (n,), ok (n,)) over n seeded samples, in chunks: scale (columns,) the tolerances,
     `clearance` the pins' radial clearance, `play` the plays' size."""
-    errs, oks = [], []
-    pins = model.pins if clearance > 0 else 0
-    plays = model.plays if play > 0 else 0
-    for u, e, g in unit_draws(seed, n, len(model.inputs), len(model.columns), distribution, pins, plays):
-        err, ok = model.errors(u * scale[None, :], None if e is None else e * clearance,
-                               None if g is None else g * play)
-        errs.append(err)
-        oks.append(ok)
-    return np.concatenate(errs), np.concatenate(oks)
+    parts = Parts(np.asarray(scale, dtype=float), float(clearance), float(play))
+    return run(model, chunks(seed, plan_of(model, parts, n, distribution)), parts)
 
 
 class RowDraws:
-    """What monte_carlo_rows keeps: the samples' largest error and whether they hold (n,),
+    """What run_rows keeps: the samples' largest error and whether they hold (n,),
     each row's error and assembly (n, M), and each event's added error (n,) per event."""
 
     def __init__(self, err, ok, dev, row_ok, events) -> None:
         self.err, self.ok, self.dev, self.row_ok, self.events = err, ok, dev, row_ok, events
 
 
-def monte_carlo_rows(model: Model, scale: np.ndarray, clearance: float, play: float, n: int,
-                     seed: int, distribution: str) -> RowDraws:
-    """monte_carlo (the same draws, chunk by chunk) keeping every row's error and every
-    event's (a per-row model's `row_errors`): samples x rows floats, which the model's
-    schema bounds."""
-    parts: list = []
-    pins = model.pins if clearance > 0 else 0
-    plays = model.plays if play > 0 else 0
-    for u, e, g in unit_draws(seed, n, len(model.inputs), len(model.columns), distribution, pins, plays):
-        dev, ok, events = model.row_errors(u * scale[None, :], None if e is None else e * clearance,
-                                           None if g is None else g * play)
-        parts.append((dev, ok, events))
-    dev = np.concatenate([p[0] for p in parts])
-    row_ok = np.concatenate([p[1] for p in parts])
-    events = {i: np.concatenate([p[2][i] for p in parts]) for i in parts[0][2]}
+def run_rows(model: Model, draws, parts: Parts) -> RowDraws:
+    """`run` (the same draws, chunk by chunk) keeping every row's error and every event's (a
+    per-row model's `row_errors`): samples x rows floats, which the model's schema bounds."""
+    pieces: list = []
+    for _, ch in draws:
+        (pins, plays), jammed = clearance_terms(model, ch, parts)
+        dev, ok, events = model.row_errors(ch.u * parts.scale[None, :], pins, plays)
+        if jammed is not None:
+            ok = ok & ~jammed[:, None]
+        pieces.append((dev, ok, events))
+    dev = np.concatenate([p[0] for p in pieces])
+    row_ok = np.concatenate([p[1] for p in pieces])
+    events = {i: np.concatenate([p[2][i] for p in pieces]) for i in pieces[0][2]}
     ok = np.all(row_ok, axis=1)
     err = np.where(ok, np.max(dev, axis=1, initial=0.0), np.inf)
     return RowDraws(err, ok, dev, row_ok, events)
+
+
+def monte_carlo_rows(model: Model, scale: np.ndarray, clearance: float, play: float, n: int,
+                     seed: int, distribution: str) -> RowDraws:
+    """`monte_carlo` keeping every row (run_rows): scale (columns,) the tolerances,
+    `clearance` the pins' radial clearance, `play` the plays' size."""
+    parts = Parts(np.asarray(scale, dtype=float), float(clearance), float(play))
+    return run_rows(model, chunks(seed, plan_of(model, parts, n, distribution)), parts)
 
 
 def column_percentile(values: np.ndarray, keep: np.ndarray, q: float) -> np.ndarray:
@@ -222,50 +383,6 @@ def failures(err: np.ndarray, ok: np.ndarray, allowed: float | None) -> int:
     return int(np.count_nonzero(bad))
 
 
-# ---------------------------------------------------------------- inverse mode
-
-def largest_passing(prob, cap: float, level: float, start: float) -> tuple[float, float]:
-    """Largest t in [0, cap] with prob(t) <= level: (t, prob(t)); prob is a deterministic,
-    non-decreasing step function of t (common random numbers). Bracketed by doubling from
-    `start` (at least 1e-3 cap), then bisected to a relative BISECTION_RTOL; 0 when even
-    exact parts fail more often than `level`."""
-    p0 = prob(0.0)
-    if p0 > level:
-        return 0.0, p0
-    lo, p_lo = 0.0, p0
-    hi = min(max(start, 1e-3 * cap), cap)
-    p_hi = prob(hi)
-    while p_hi <= level and hi < cap:
-        lo, p_lo = hi, p_hi
-        hi = min(2.0 * hi, cap)
-        p_hi = prob(hi)
-    if p_hi <= level:
-        return hi, p_hi
-    while hi - lo > BISECTION_RTOL * hi:
-        mid = 0.5 * (lo + hi)
-        p_mid = prob(mid)
-        if p_mid <= level:
-            lo, p_lo = mid, p_mid
-        else:
-            hi = mid
-    return lo, p_lo
-
-
-def largest_tolerance(model: Model, tol: Tolerance, seed: int, level: float,
-                      start: float) -> tuple[float, float]:
-    """Largest t (every dimension of `model.inverse` +- t) with failure probability <= level:
-    (t, p(t)), common random numbers (largest_passing); the cap is `model.cap`."""
-    n = tol.samples
-    unit = np.array([1.0 if k in model.inverse else 0.0 for k in model.columns])
-    play = model.play_size(tol)
-
-    def prob(t: float) -> float:
-        err, ok = monte_carlo(model, unit * t, tol.clearance, play, n, seed, tol.distribution)
-        return failures(err, ok, tol.allowed_error) / n
-
-    return largest_passing(prob, model.cap, level, start)
-
-
 # ---------------------------------------------------------------- the report section
 
 def wilson(k: int, n: int, z: float = Z95) -> tuple[float, float]:
@@ -291,59 +408,115 @@ def analyse(problem, solution) -> dict:
 
 
 def _analyse(problem, model: Model) -> dict:
+    from linkcli.analysis.made_parts import parts as made_parts
     tol: Tolerance = problem.meta.tolerance
     units = problem.meta.units
     seed = int(problem.meta.solver.seed)
     conv = (lambda x: float(units.from_rad(x))) if model.kind == "angle" else float
     opt = (lambda x: None if x is None or not math.isfinite(x) else conv(x))
     level = tol.max_failure_probability if isinstance(tol, InverseTolerance) else None
+    parts = made_parts(model, problem)
     lengths = {k: float(v) for k, v in tol.lengths.items()}
+    lengths.update(resolved_general(model, parts, tol.general))
     out: dict = {"measure": model.measure, "samples": tol.samples, "distribution": tol.distribution,
-                 "lengths": dict(lengths), "clearance": float(tol.clearance), **model.given(tol)}
+                 "lengths": dict(lengths), "clearance": "fits" if tol.clearance_fits else float(tol.clearance),
+                 **model.given(tol)}
+    if tol.general:
+        out["general_tolerances"] = {k: f"ISO 2768-{c}" for k, c in tol.general.items()}
+    if isinstance(parts.clearance, FitZones) or isinstance(parts.play, FitZones):
+        out["fits"] = fit_rows(problem, parts)
     if len(model.inputs) == 0:
         out["message"] = model.no_assembly
         return out
-    play = model.play_size(tol)
+    plan = plan_of(model, parts, tol.samples, tol.distribution)
+    passes: dict = {}
+    allocation = None
+    if tol.cost is not None and level is not None:
+        from linkcli.analysis.allocation import allocation_section
+        allocation = allocation_section(problem, model, parts, level)
     if level is not None:
-        given = float(np.max(model.column_scale(lengths), initial=0.0))
-        t, p_t = largest_tolerance(model, tol, seed, level, given)
+        from linkcli.analysis.inverse_search import Search, largest_tolerance
+        search = Search(model, parts, plan, seed, tol.allowed_error)
+        given = max((float(x) for k, x in zip(model.columns, parts.scale) if k in model.inverse), default=0.0)
+        t, p_t = largest_tolerance(search, level, given, model.cap)
+        passes = {tuple(search.unit * x): v for x, v in search.passes.items()}
         if not tol.lengths_given:  # no tolerance written: report the study at the one found
-            # (a written 0, exact parts, is a study of its own and is reported as 0)
-            lengths = {k: t for k in model.inverse}
+            # (a written 0, exact parts, is a study of its own and is reported as 0), or at
+            # the least-cost ones
+            found = {row["link"]: row["tolerance"] for row in allocation["links"]} if allocation else {}
+            lengths = {k: found.get(k, t) for k in model.inverse}
             out["lengths"] = dict(lengths)
-    scale = model.column_scale(lengths)
+            parts = parts.with_scale(np.where(search.unit > 0, [lengths.get(c, 0.0) for c in model.columns],
+                                              parts.scale))
     draws = None
-    if model.per_row:
-        draws = monte_carlo_rows(model, scale, tol.clearance, play, tol.samples, seed, tol.distribution)
+    if getattr(model, "per_row", False):  # every row's error too (the five-bar's path)
+        draws = run_rows(model, chunks(seed, plan), parts)
         err, ok = draws.err, draws.ok
     else:
-        err, ok = monte_carlo(model, scale, tol.clearance, play, tol.samples, seed, tol.distribution)
-    nominal, _ = model.errors(np.zeros((1, len(model.columns))), None, None)
-    good = snap(err[ok], model.scale)  # round-off of an exact design (exact parts) is 0
-    n = tol.samples
-    k = failures(err, ok, tol.allowed_error)
-    p = k / n
-    lo, hi = wilson(k, n)
-    out.update({
-        "nominal_error": opt(snap(float(nominal[0]), model.scale)),
-        "error_mean": opt(float(good.mean())) if good.size else None,
-        "error_p95": opt(float(np.percentile(good, 95))) if good.size else None,
-        "error_max": opt(float(good.max())) if good.size else None,
-        "allowed_error": opt(tol.allowed_error),
-    })
-    if tol.allowed_error is None:
-        out["failure"] = model.no_allowed_error
-    out.update({
-        "assembly_failures": int(n - good.size),
-        "failure_probability": p,
-        "failure_probability_se": math.sqrt(p * (1.0 - p) / n),
-        "failure_probability_ci95": [lo, hi],
-        "sensitivity": {key: opt(s) for key, s in model.sensitivity().items()},
-    })
+        err, ok = passes.get(tuple(parts.scale)) or run(model, chunks(seed, plan), parts)
+    out.update(study(model, err, ok, tol.samples, tol.allowed_error, opt,
+                     model.no_allowed_error if tol.allowed_error is None else None))
+    out["sensitivity"] = {key: opt(s) for key, s in model.sensitivity().items()}
     if level is not None:
         out["max_failure_probability"] = float(level)
         out["largest_tolerance"] = float(t)
         out["failure_probability_at_largest"] = float(p_t)
     if draws is not None:
-        out.update(row_section(model, draws, tol.allowed_error, n, conv))
+        out.update(row_section(model, draws, tol.allowed_error, tol.samples, conv))
+    if allocation is not None:
+        out["allocation"] = allocation
+    if tol.schemes:
+        from linkcli.analysis.schemes import schemes_section
+        out["schemes"] = schemes_section(problem, model, level, opt)
     return out
+
+
+def study(model: Model, err: np.ndarray, ok: np.ndarray, n: int, allowed: float | None, opt,
+          failure: str | None = None) -> dict:
+    """The statistics of one study: nominal error, error mean, p95, max over the samples that
+    assemble, (`failure`: what a failure is without an allowed error), assembly failures,
+    failure probability with its standard error and Wilson interval."""
+    nominal, _ = model.errors(np.zeros((1, len(model.columns))), None, None)
+    good = snap(err[ok], model.scale)  # round-off of an exact design (exact parts) is 0
+    k = failures(err, ok, allowed)
+    p = k / n
+    lo, hi = wilson(k, n)
+    return {
+        "nominal_error": opt(snap(float(nominal[0]), model.scale)),
+        "error_mean": opt(float(good.mean())) if good.size else None,
+        "error_p95": opt(float(np.percentile(good, 95))) if good.size else None,
+        "error_max": opt(float(good.max())) if good.size else None,
+        "allowed_error": opt(allowed),
+        **({"failure": failure} if failure else {}),
+        "assembly_failures": int(n - good.size),
+        "failure_probability": p,
+        "failure_probability_se": math.sqrt(p * (1.0 - p) / n),
+        "failure_probability_ci95": [lo, hi],
+    }
+
+
+def resolved_general(model: Model, parts: Parts, general: dict) -> dict:
+    """key -> the +- tolerance its ISO 2768 class gave (length unit)."""
+    from linkcli.analysis.made_parts import column_key
+    return {column_key(model, c): float(v) for c, v in zip(model.columns, parts.scale)
+            if column_key(model, c) in general}
+
+
+def fit_rows(problem, parts: Parts) -> list[dict]:
+    """One row per fitted joint: fit, diameter (length unit), the hole's and the shaft's
+    deviations (um, ISO 286) and the radial clearance range (length unit)."""
+    from linkcli.standards import iso286
+    joints = {j.name: j for j in problem.meta.joints}
+    mm = problem.meta.units.mm_per_length
+    rows = []
+    for zones in (parts.clearance, parts.play):
+        if not isinstance(zones, FitZones):
+            continue
+        for name, text in zip(zones.names, zones.fits):
+            fit = iso286.limits(text, joints[name].diameter * mm)
+            least, largest = fit.clearance
+            rows.append({"joint": name, "fit": text, "diameter": joints[name].diameter,
+                         "hole_um": [fit.hole.lower, fit.hole.upper],
+                         "shaft_um": [fit.shaft.lower, fit.shaft.upper],
+                         "radial_clearance": [least / 2e3 / mm, largest / 2e3 / mm]})
+    return rows

@@ -8,7 +8,8 @@
 Part sizes (any mechanism; the names are the mechanism's joints, `JOINTS` in its schema):
 `diameter` (pin diameter, length unit), `width` (bearing width, length unit), `shear`
 ("single" or "double": the pin's shear planes), `fit` (an ISO 286 hole/shaft fit such as
-"H7/g6"; its limits are looked up where the fit is used). The drawing (a mechanism whose
+"H7/g6" at the joint's diameter: a clearance fit of ISO 286, standards.iso286; checked here,
+its limits drawn where the fit is used). The drawing (a mechanism whose
 schema has `JOINTS = None`: any names, the drawing's own): `at` (the joint's place in the
 drawn assembly, [x, y] length unit), `ground` (fixed to the ground), `slider` (a slider on
 a ground guide through `at`, at this angle, the file's angle unit), `guide` (the link whose
@@ -130,8 +131,25 @@ def _joint(t: Table, name: str, *, drawing: bool, mechanism: str, units, line) -
     width = _size(t, "width", "a bearing width > 0 (length unit)")
     shear = t.string("shear", "single", choices=SHEAR)
     fit = t.string("fit", None, max_len=40)
+    if fit is not None:
+        fit = _checked_fit(t, fit, diameter, units)
     return JointSpec(name=name, at=tuple(at) if at else None, ground=bool(ground), slider=slider, guide=guide,
                      diameter=diameter, width=width, shear=shear or "single", fit=fit, line=line)
+
+
+def _checked_fit(t: Table, fit: str, diameter, units):
+    """The fit when it is an ISO 286 clearance fit at the joint's diameter (a running joint
+    needs clearance); None after recording why not (io.tolerance_keys.fit_problem)."""
+    from linkcli.io.tolerance_keys import fit_problem
+    if diameter is None:
+        if "diameter" not in t:
+            t.error("diameter", "a pin diameter > 0 (length unit): the nominal size of the fit", raw_got=f'fit "{fit}" and no diameter')
+        return None
+    problem = fit_problem(fit, diameter * units.mm_per_length)
+    if problem is not None:
+        t.error("fit", problem[0], raw_got=problem[1])
+        return None
+    return fit
 
 
 def _size(t: Table, key: str, what: str):

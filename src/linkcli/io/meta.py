@@ -39,10 +39,8 @@ def refuse_oversized(problem, linkage) -> None:
     if linkage is None or not is_dataclass(linkage):
         return
     for f in fields(linkage):
-        value = getattr(linkage, f.name)
-        if f.name in ANGLE_FIELDS or isinstance(value, (str, bool)) or value is None:
-            continue
-        size = max(abs(float(v)) for v in value) if isinstance(value, tuple) else abs(float(value))
+        sizes = [] if f.name in ANGLE_FIELDS else _magnitudes(getattr(linkage, f.name))
+        size = max(sizes, default=0.0)
         if size > MAX_LENGTH:
             unit = problem.meta.units.length
             raise SolveInputError(
@@ -50,6 +48,18 @@ def refuse_oversized(problem, linkage) -> None:
                 f"{MAX_LENGTH:g} {unit}: give the problem in a larger length unit)",
                 f"a linkage with {f.name.replace('_', ' ')} {size:.6g} {unit}", path=problem.meta.path,
                 key="linkage")
+
+
+def _magnitudes(value) -> list[float]:
+    """|x| of a number or of a tuple of numbers; nothing for text, flags and nested records
+    (a drawing, a motion: what they hold was bounded where the file was read)."""
+    def number(x) -> bool:
+        return isinstance(x, (int, float)) and not isinstance(x, bool)
+    if number(value):
+        return [abs(float(value))]
+    if isinstance(value, tuple) and value and all(number(x) for x in value):
+        return [abs(float(x)) for x in value]
+    return []
 
 
 def in_motion_order(angles: list[float]) -> list[float]:
@@ -100,6 +110,9 @@ def read_meta(root: Table, kind: str, spec: ProblemType) -> Meta:
     loads = read_load_case(root, kind, spec, sections)
     joints = read_joint_table(root, kind, spec, units)
     link_sections, strength = read_strength_tables(root, kind, spec, sections, loads, joints)
+    if tolerance is not None and joints is not None:  # fits of schemes and clearance = "fits"
+        from linkcli.io.tolerance_keys import check_fits
+        check_fits(root, tolerance, joints, units)
     if loads is not None and "forces" not in sections:
         sections = sections + ("forces",)  # on when [loads] or [masses] is given (as tolerance)
     if strength is not None and "strength" not in sections:
@@ -209,14 +222,18 @@ def read_sections(root: Table, default: tuple[str, ...], allowed: tuple[str, ...
 
 
 def read_tolerance(root: Table, units: Units) -> Tolerance | None:
-    """[tolerance]: `lengths` (one +- tolerance for every link, or a table per link; a
-    path generator's table may add `coupler_point`, +- on each coordinate of P), `distribution`,
-    `clearance`, `samples`, `allowed_error` (angle unit, or length unit for a path) and the
-    inverse mode's `max_failure_probability` (which then wants a single tolerance or none)."""
+    """[tolerance]: `lengths` (one +- tolerance for every link, an ISO 2768 class, or a table
+    per link of either; a path generator's table may add `coupler_point`, +- on each
+    coordinate of P), `distribution`, `clearance` (a number or "fits"), `samples`,
+    `allowed_error` (angle unit, or length unit for a path), the inverse mode's
+    `max_failure_probability` (which then wants a single tolerance or none, unless
+    [tolerance.cost] allocates them), [tolerance.cost] and [[tolerance.schemes]]
+    (io.tolerance_keys)."""
     t = root.table("tolerance")
     if t is None:
         return None
     from linkcli.io.loads import mechanism_of
+    from linkcli.io.tolerance_keys import check_cost_bounds, read_clearance, read_cost, read_lengths, read_schemes
     from linkcli.mechanisms import NAMES, module
     path_type = root.raw("type") == "path-generation"
     mechanism = mechanism_of(root)
@@ -224,21 +241,10 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     links = own.TOLERANCED if own.TOLERANCED is not None else own.toleranced(root)  # None: the drawing's links
     per_link = links + (("coupler_point",) if path_type and "coupler_point" in own.KEYS else ())
     raw = t.raw("lengths", None)
-    lengths = {k: 0.0 for k in links}
-    if isinstance(raw, dict):
-        sub = t.table("lengths")
-        if not raw:
-            t.error("lengths", f"a tolerance for at least one of: {', '.join(per_link)}",
-                    raw_got="an empty table")
-        for link in per_link:
-            v = sub.number(link, 0.0, nonnegative=True, what="a tolerance >= 0")
-            if link in raw or link in links:
-                lengths[link] = v if v is not None else 0.0
-    elif raw is not None:
-        v = t.number("lengths", nonnegative=True, what="a tolerance >= 0 or a table of them per link")
-        lengths = {k: (v or 0.0) for k in links}
+    got = read_lengths(t, "lengths", links, per_link)
+    lengths, general = got if got is not None and got[0] is not None else ({k: 0.0 for k in links}, {})
     distribution = t.string("distribution", "uniform", choices=("uniform", "normal"))
-    clearance = t.number("clearance", 0.0, nonnegative=True, what="a radial clearance >= 0")
+    clearance, clearance_fits = read_clearance(t)
     clearance_slider = 0.0
     if "clearance_slider" in own.PLAYS:
         clearance_slider = t.number("clearance_slider", 0.0, nonnegative=True,
@@ -266,7 +272,15 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     if level is not None and allowed is None and "allowed_error" not in t:
         t.error("allowed_error", "a positive number (needed by max_failure_probability: a "
                 "sample fails when its error exceeds allowed_error)")
-    if level is not None and isinstance(raw, dict):
+    joint_names = own.JOINTS if own.JOINTS is not None else tuple(root.data.get("joints") or ())
+    cost = read_cost(t, per_link, joint_names)
+    schemes = read_schemes(t, links, per_link, own.JOINTS)
+    if cost is not None and level is None and "max_failure_probability" not in t:
+        t.error("max_failure_probability", "a probability strictly between 0 and 1 with [tolerance.cost] "
+                "(the limit the least-cost tolerances must meet)")
+    if cost is not None:
+        check_cost_bounds(t, cost, links)
+    if level is not None and isinstance(raw, dict) and cost is None:
         t.error("lengths", "a single tolerance (or none) with max_failure_probability: the search "
                 "applies one tolerance to every link", raw_got="a table")
     if level is not None and samples is not None and samples * level < MIN_FAILURES:
@@ -276,10 +290,11 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     line_of = root.reader.line_of
     lines = {".".join(k): line_of(("tolerance",) + k)
              for k in [("lengths",), ("clearance",), ("clearance_slider",), ("lock_play",)]
-             + [("lengths", link) for link in per_link]}
+             + [("lengths", link) for link in per_link] + [(f"schemes[{i}]",) for i in range(len(schemes))]}
     base = dict(lengths=lengths, distribution=distribution or "uniform", clearance=clearance or 0.0,
                 clearance_slider=clearance_slider or 0.0, lock_play=units.to_rad(lock_play or 0.0),
-                samples=samples or 20000, allowed_error=allowed, lines=lines)
+                samples=samples or 20000, allowed_error=allowed, lines=lines, general=general or {},
+                clearance_fits=clearance_fits, cost=cost, schemes=schemes)
     if level is not None:
         return InverseTolerance(max_failure_probability=level, lengths_given=raw is not None, **base)
     return Tolerance(**base)

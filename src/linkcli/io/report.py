@@ -142,7 +142,11 @@ def _generic(name: str, section, digits: int, units: dict[str, str] | None = Non
     for k, v in section.items():
         label = k.replace("_", " ") + (f" ({units[k]})" if k in units else "")
         if isinstance(v, dict):
-            flat += [(f"{label} {sub.replace('_', ' ')}", x) for sub, x in v.items()]
+            for sub, x in v.items():  # a list of row dicts inside is a table of its own
+                if isinstance(x, list) and x and all(isinstance(r, dict) for r in x):
+                    tables.append(_rows(f"{title}: {label} {sub.replace('_', ' ')}", x, digits))
+                else:
+                    flat.append((f"{label} {sub.replace('_', ' ')}", x))
         elif isinstance(v, list) and v and isinstance(v[0], dict) and k == "curve":
             flat.append((label, f"{len(v)} rows in JSON/TOML output"))  # plot data, not for reading
         elif isinstance(v, list) and v and isinstance(v[0], dict):

@@ -94,13 +94,23 @@ def targets(problem, solution) -> Targets:
 
 # ---------------------------------------------------------------- one batch of samples
 
-def sample_outputs(fb: FourBar, tg: Targets, dl: np.ndarray, off: np.ndarray | None):
+def offsets(off: np.ndarray | None):
+    """The clearance offsets (n, M, 4, 2) as complex e1..e4 (A0, A, B, B0), or None."""
+    if off is None:
+        return None
+    return tuple(off[:, :, j, 0] + 1j * off[:, :, j, 1] for j in range(4))
+
+
+def sample_outputs(fb: FourBar, tg: Targets, dl: np.ndarray, off):
     """Outputs of manufactured linkages at the targets.
 
     dl (n, 6): deviations of ground, input, coupler, output, px, py; off (n, M, 4, 2):
-    clearance offsets at A0, A, B, B0, or None. Returns (out, ok): out (n, M) output angles
-    (rad) or (n, M, 2) global coupler points; ok (n, M) where the sample assembles.
+    clearance offsets at A0, A, B, B0 (or `offsets` of them), or None. Returns (out, ok): out
+    (n, M) output angles (rad) or (n, M, 2) global coupler points; ok (n, M) where the sample
+    assembles.
     """
+    if isinstance(off, np.ndarray):
+        off = offsets(off)
     d = fb.ground + dl[:, 0:1]
     a = fb.input + dl[:, 1:2]
     b = fb.coupler + dl[:, 2:3]
@@ -113,7 +123,7 @@ def sample_outputs(fb: FourBar, tg: Targets, dl: np.ndarray, off: np.ndarray | N
         p = kin.pose(a, b, c, d, phi, fb.branch)
         psi, theta = p.psi, p.theta
     else:
-        e1, e2, e3, e4 = (off[:, :, j, 0] + 1j * off[:, :, j, 1] for j in range(4))
+        e1, e2, e3, e4 = off
         big_d = d + e4 - e1 - e2 - e3
         gamma = np.angle(big_d)
         p = kin.pose(a, b, c, np.abs(big_d), phi - gamma, fb.branch)
@@ -125,7 +135,7 @@ def sample_outputs(fb: FourBar, tg: Targets, dl: np.ndarray, off: np.ndarray | N
     cp = (px + dl[:, 4:5]) + 1j * (py + dl[:, 5:6])
     local = a * np.exp(1j * phi) + cp * np.exp(1j * theta)
     if off is not None:
-        local = local + off[:, :, 0, 0] + 1j * off[:, :, 0, 1] + off[:, :, 1, 0] + 1j * off[:, :, 1, 1]
+        local = local + off[0] + off[1]  # the coupler's bore at A moves with both pins
     glob = complex(*fb.ground_pivot) + np.exp(1j * fb.ground_angle) * local
     return np.stack([glob.real, glob.imag], axis=-1), ok
 
@@ -147,6 +157,17 @@ def travel_ok(fb: FourBar, dl: np.ndarray, span) -> np.ndarray:
     lo2, hi2 = (b - c) ** 2, (b + c) ** 2
     slack = TRAVEL_SLACK * hi2
     return np.all((rho2 >= lo2 - slack) & (rho2 <= hi2 + slack), axis=1)
+
+
+def target_deviations(fb: FourBar, tg: Targets, dl: np.ndarray, off) -> np.ndarray:
+    """(n, M) each made linkage's deviation at each target (rad or length): inf at a target
+    where it cannot assemble, and at every target when it cannot be made or travel."""
+    out, ok = sample_outputs(fb, tg, dl, off)
+    if tg.kind == "angle":
+        dev = np.abs(kin.wrap(out - tg.value[None, :]))
+    else:
+        dev = np.hypot(out[..., 0] - tg.value[None, :, 0], out[..., 1] - tg.value[None, :, 1])
+    return np.where(ok & travel_ok(fb, dl, tg.span)[:, None], dev, np.inf)
 
 
 def sample_errors(fb: FourBar, tg: Targets, dl: np.ndarray, off: np.ndarray | None):
@@ -194,6 +215,9 @@ class Model:
     pins = 4  # A0, A, B, B0
     plays = 0
     per_row = False  # the report gives the largest error over the targets only
+    pin_names = ("A0", "A", "B", "B0")  # as [joints] names them, in the order of the offsets
+    play_names = ()
+    keys = {"coupler_point_x": "coupler_point", "coupler_point_y": "coupler_point"}  # [tolerance] lengths keys
     no_assembly = "the nominal linkage cannot assemble at any input angle"
     no_allowed_error = NO_ALLOWED_ERROR
 
@@ -205,6 +229,8 @@ class Model:
         self.scale = 1.0 if tg.kind == "angle" else max(fb.abcd)
         self.cap = min(fb.abcd)
         self.known = {k: getattr(fb, k) for k in LINKS}
+        px, py = fb.coupler_point or (0.0, 0.0)
+        self.nominal = {**self.known, "coupler_point_x": px, "coupler_point_y": py}  # sizes (ISO 2768)
 
     def given(self, tol) -> dict:
         return {}
@@ -212,12 +238,19 @@ class Model:
     def play_size(self, tol) -> float:
         return 0.0
 
-    def column_scale(self, lengths: dict) -> np.ndarray:
-        """Each column's tolerance from [tolerance] lengths (keyed by column)."""
-        return np.array([float(lengths.get(k, 0.0)) for k in self.columns])
-
     def errors(self, dl, pins, plays):
         return sample_errors(self.fb, self.tg, dl, pins)
+
+    def clearance_terms(self, pins, plays):
+        """What the pins add, whatever the lengths: the offsets as complex numbers."""
+        return offsets(pins)
+
+    def errors_from_terms(self, dl, terms):
+        return sample_errors(self.fb, self.tg, dl, terms)
+
+    def deviations(self, dl, terms):
+        """(n, M) deviation at each target (inf where it fails there): robust design."""
+        return target_deviations(self.fb, self.tg, dl, terms)
 
     def sensitivity(self) -> dict:
         return sensitivity(self.fb, self.tg)

@@ -96,10 +96,21 @@ def targets_over_range(linkage: SliderCrank, near=None) -> SliderTargets:
 
 
 
-def sample_sliders(linkage: SliderCrank, tg: SliderTargets, dl, pins=None, guide=None):
+def pin_sum(pins):
+    """C = c1 + c2 + c3 (n, M, 2) of the pin offsets (n, M, 3, 2), or None."""
+    if pins is None:
+        return None
+    total = pins[:, :, 0]
+    for j in range(1, pins.shape[2]):
+        total = total + pins[:, :, j]  # in order: as numpy's sum over that axis, faster
+    return total
+
+
+def sample_sliders(linkage: SliderCrank, tg: SliderTargets, dl, pins=None, guide=None, total=None):
     """Slider positions of made slider-cranks at the targets: (s (n, M), ok (n, M)).
     dl (n, 3) deviations of crank, rod, offset; pins (n, M, 3, 2) clearance offsets at A0, A,
-    B (length) or None; guide (n, M) normal play of the slider (length) or None."""
+    B (length) or None (or their sum `total` (n, M, 2), pin_sum); guide (n, M) normal play
+    of the slider (length) or None."""
     a0, b0, e0 = linkage.abe
     a = a0 + dl[:, 0:1]
     b = b0 + dl[:, 1:2]
@@ -108,8 +119,9 @@ def sample_sliders(linkage: SliderCrank, tg: SliderTargets, dl, pins=None, guide
     shift = 0.0
     if guide is not None:
         e = e + guide
-    if pins is not None:
-        total = pins.sum(axis=2)  # C = c1 + c2 + c3, (n, M, 2)
+    if total is None:
+        total = pin_sum(pins)
+    if total is not None:
         e = e - total[..., 1]
         shift = total[..., 0]
     cos_phi, sin_phi = tg.trig
@@ -135,9 +147,9 @@ def travel_ok(linkage: SliderCrank, dl, span) -> np.ndarray:
     return np.all(np.abs(h) <= b * (1 + TRAVEL_SLACK), axis=1)
 
 
-def sample_errors(linkage: SliderCrank, tg: SliderTargets, dl, pins=None, guide=None):
+def sample_errors(linkage: SliderCrank, tg: SliderTargets, dl, pins=None, guide=None, total=None):
     """(err, ok), each (n,): max |s - s_target| over the targets (inf for a failed sample)."""
-    s, ok = sample_sliders(linkage, tg, dl, pins, guide)
+    s, ok = sample_sliders(linkage, tg, dl, pins, guide, total)
     with np.errstate(invalid="ignore"):
         dev = np.abs(s - tg.slider[None, :])
     ok_all = np.all(ok, axis=1) & travel_ok(linkage, dl, tg.span)
@@ -162,6 +174,9 @@ class Model:
     pins = PINS
     plays = 1  # the slider's play normal to its guide
     per_row = False  # the report gives the largest error over the targets only
+    pin_names = ("A0", "A", "B")  # as [joints] names them, in the order of the offsets
+    play_names = ("guide",)  # a fit of the guide gives the slider's play
+    keys: dict = {}
     kind = "length"
     no_assembly = "the nominal slider-crank cannot assemble at any crank angle"
     no_allowed_error = NO_ALLOWED_ERROR
@@ -173,6 +188,7 @@ class Model:
         self.scale = max(linkage.input, linkage.coupler, abs(linkage.offset))
         self.cap = min(linkage.input, linkage.coupler)
         self.known = {"input": linkage.input, "coupler": linkage.coupler}  # the offset may be 0
+        self.nominal = {**self.known, "offset": linkage.offset}  # sizes (ISO 2768)
 
     def given(self, tol) -> dict:
         return {"clearance_slider": float(tol.clearance_slider)}
@@ -180,12 +196,16 @@ class Model:
     def play_size(self, tol) -> float:
         return float(tol.clearance_slider)
 
-    def column_scale(self, lengths: dict) -> np.ndarray:
-        """Each column's tolerance from [tolerance] lengths (keyed by column)."""
-        return np.array([float(lengths.get(k, 0.0)) for k in self.columns])
-
     def errors(self, dl, pins, plays):
         return sample_errors(self.linkage, self.tg, dl, pins, None if plays is None else plays[..., 0])
+
+    def clearance_terms(self, pins, plays):
+        """What the pins and the guide add, whatever the lengths: (pin sum, guide play)."""
+        return pin_sum(pins), None if plays is None else plays[..., 0]
+
+    def errors_from_terms(self, dl, terms):
+        total, guide = terms
+        return sample_errors(self.linkage, self.tg, dl, None, guide, total)
 
     def sensitivity(self) -> dict:
         return sensitivity(self.linkage, self.tg)

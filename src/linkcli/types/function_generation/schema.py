@@ -7,7 +7,8 @@
                    input_sweep, points, spacing = "uniform" | "chebyshev"
     [bounds]       a range [lo, hi] for every length not fixed; input_start / output_start
                    ranges make the start angles free
-    [constraints]  transmission = [lo, hi], grashof, branch
+    [constraints]  transmission = [lo, hi], grashof, branch; defect_free (robust design)
+    [objective]    minimize = "error" | "failure-probability" (io.robust_keys)
 
 Choices where the format leaves a choice: a length (or start angle) is either fixed or bounded, never
 both (an error names both keys); a bound given as one number, or as [v, v], fixes the
@@ -25,6 +26,7 @@ from linkcli.expr import ExpressionError, compile_expression
 from linkcli.model import LINKS, FunctionGenerationProblem, Meta
 from linkcli.io.meta import MAX_LENGTH, MAX_RATIO, MIN_LENGTH, over_ratio
 from linkcli.io.reader import Table
+from linkcli.io.robust_keys import read_objective
 
 GRASHOF = ("any", "crank-rocker", "double-crank", "rocker-crank", "double-rocker", "triple-rocker")
 BRANCHES = ("either", "open", "crossed")
@@ -76,7 +78,8 @@ def parse(root: Table, meta: Meta) -> FunctionGenerationProblem | None:
     starts = read_starts(tgt, bnd, u, needs_psi0)
     function = read_function_keys(tgt, form_law[0] if form_law else None, u)
     constraints = read_constraints(root, u)
-    if None in (lengths, form_law, sweep, points, spacing, starts, function, constraints):
+    robust = read_objective(root, meta)  # [objective] minimize, [constraints] defect_free
+    if None in (lengths, form_law, sweep, points, spacing, starts, function, constraints, robust):
         return None
     fixed, bounds = lengths
     form, law = form_law
@@ -101,7 +104,8 @@ def parse(root: Table, meta: Meta) -> FunctionGenerationProblem | None:
         fractions=t, start=start, input_start=given.get("input_start"),
         output_start=given.get("output_start"), start_bounds=start_bounds,
         output_sweep=output_sweep, x_range=x_range, shape=shape, spacing=spacing,
-        transmission=transmission, grashof=grashof, branch=branch, lines=lines)
+        transmission=transmission, grashof=grashof, branch=branch, lines=lines,
+        objective=robust[0], defect_free=robust[1])
 
 
 # ---------------------------------------------------------------- lengths
@@ -352,7 +356,7 @@ def read_constraints(root: Table, u):
     con = root.table("constraints")
     if con is None:
         return None, "any", "either"
-    con.allow("transmission", "grashof", "branch")
+    con.allow("transmission", "grashof", "branch", "defect_free")  # defect_free: io.robust_keys
     window, ok = None, True
     if "transmission" in con:
         top = u.from_rad(math.pi)

@@ -577,6 +577,9 @@ def solve(problem: FunctionGenerationProblem) -> Solution:
     found_twice = search.confirmed(best_branch) if opts.method in SETTLED and n > 0 else True
     if polishes:
         done = settle(search, done)
+    if problem.objective == "failure-probability":  # the design that fails least (analysis.robust_design)
+        from linkcli.types.function_generation.robust import robust
+        return robust(problem, model, search, done and found_twice, found_twice)
     return build_solution(problem, model, search, done and found_twice, found_twice)
 
 

@@ -5,7 +5,8 @@
                    per point, local frame), direction (free: "ccw" | "cw" | "either")
     [bounds]       ground, input, coupler, output, ground_angle, input_offset: a number
                    (fixed) or [lo, hi]; coupler_point, ground_pivot: { x = ..., y = ... }
-    [constraints]  grashof, transmission = [lo, hi], branch
+    [constraints]  grashof, transmission = [lo, hi], branch; defect_free (robust design)
+    [objective]    minimize = "error" | "failure-probability" (io.robust_keys)
 
 A missing bound defaults to a box scaled on the targets (see DEFAULT_SPAN). No numerics.
 """
@@ -17,6 +18,7 @@ import math
 from linkcli.model import LINKS, Meta, PathGenerationProblem
 from linkcli.io.meta import MAX_LENGTH, MIN_LENGTH, in_motion_order
 from linkcli.io.loads import mechanism_of
+from linkcli.io.robust_keys import read_objective
 from linkcli.io.reader import MISSING, Table, describe
 
 GRASHOF = ("any", "crank-rocker", "double-crank", "rocker-crank", "double-rocker", "triple-rocker")
@@ -236,10 +238,11 @@ def parse(root: Table, meta: Meta) -> PathGenerationProblem | None:
             ok = ok and offset is not None
 
     grashof, branch, window, window_ok = read_constraints(root, u)
+    robust = read_objective(root, meta)  # [objective] minimize, [constraints] defect_free
 
     if (not ok or timing is None or direction is None or angles is None or None in lengths.values()
             or cp is None or gp is None or ga is None or grashof is None or branch is None
-            or not window_ok):
+            or not window_ok or robust is None):
         return None
     lines = {k: root.reader.line_of(k) for k in (("target", "points"), ("target", "input_angles"),
                                                  ("bounds",), ("constraints",))}
@@ -248,5 +251,5 @@ def parse(root: Table, meta: Meta) -> PathGenerationProblem | None:
         input_angles=angles if timing == "prescribed" else None, direction=direction,
         lengths=lengths, coupler_point=cp, ground_pivot=gp, ground_angle=ga, input_offset=offset,
         grashof=grashof, transmission=window, branch=branch,
-        lines={".".join(k): v for k, v in lines.items()},
+        lines={".".join(k): v for k, v in lines.items()}, objective=robust[0], defect_free=robust[1],
     )

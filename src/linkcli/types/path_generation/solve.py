@@ -111,6 +111,9 @@ def solve(problem) -> Solution:
         budget.cap = budget.total
         if not violations and polishes:
             best = settled(design, budget, best)
+        if problem.objective == "failure-probability":  # the design that fails least (analysis.robust_design)
+            from linkcli.types.path_generation.robust import robust
+            return robust(problem, design, best, method, budget, confirmed)
         return solution(problem, design, best, violations, method, budget, confirmed)
 
 

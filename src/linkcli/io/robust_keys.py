@@ -1,0 +1,46 @@
+"""[objective] minimize and [constraints] defect_free of a synthesis that can design for
+reliability (path and function generation; docs/tolerance.md, "Designs that minimize
+failure"). Pure Python (`check` reads them).
+
+    [objective]
+    minimize = "failure-probability"   # or "error" (the default: least squares)
+    [constraints]
+    defect_free = 0.99                 # made linkages that assemble on the design's branch
+                                       # at every target: at least this share
+"""
+
+from __future__ import annotations
+
+from linkcli.io.reader import Table
+
+OBJECTIVES = ("error", "failure-probability")
+DEFAULT_DEFECT_FREE = 0.99
+
+
+def read_objective(root: Table, meta) -> tuple[str, float] | None:
+    """(minimize, defect_free); None after an error (recorded). failure-probability needs a
+    [tolerance] table with allowed_error; defect_free belongs to it only."""
+    t = root.table("objective")
+    minimize = t.string("minimize", "error", choices=OBJECTIVES) if t is not None else "error"
+    con = root.table("constraints")
+    defect_free = DEFAULT_DEFECT_FREE
+    if con is not None and "defect_free" in con:
+        defect_free = con.number("defect_free", what="a share of made linkages in (0, 1]")
+        if defect_free is not None and not 0.0 < defect_free <= 1.0:
+            con.error("defect_free", "a share of made linkages in (0, 1]", defect_free)
+            defect_free = None
+        if minimize == "error":
+            con.error("defect_free", 'defect_free only with [objective] minimize = "failure-probability"',
+                      con.raw("defect_free"))
+            return None
+    if minimize is None or defect_free is None:
+        return None
+    if minimize == "failure-probability":
+        tol = meta.tolerance
+        if tol is None or tol.allowed_error is None:
+            where = ("tolerance", "allowed_error") if "tolerance" in root else ("objective", "minimize")
+            root.reader.error(where, 'a [tolerance] table with allowed_error for minimize = '
+                              '"failure-probability" (a made linkage fails beyond it)',
+                              raw_got="none" if tol is None else "no allowed_error")
+            return None
+    return minimize, defect_free
