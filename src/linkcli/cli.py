@@ -208,8 +208,8 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
                 _stop_if_interrupted()
                 code, errors = outcome.exit_code, outcome.errors
                 report = outcome.result.report if outcome.result is not None else None
-                if outcome.result is not None and plot is not None:
-                    results.append(outcome.result)  # kept for the plots only: a report may hold 100,000 rows
+                if outcome.result is not None and (plot is not None or any(exports)):
+                    results.append(outcome.result)  # kept for the drawings only: a report may hold 100,000 rows
                 if prog is not None:
                     prog.stop()  # the transient bar clears; output prints cleanly below
                 for line in errors:
