@@ -48,8 +48,9 @@ class Search:
         self.branches = branches
         self.feasible: dict[str, Best] = {}
         self.least: dict[str, Best] = {}
-        self.ends: dict[str, list[tuple[float, bool]]] = {}  # per branch, each polish: (its
-        # best feasible f, whether it converged)
+        self.ends: dict[str, list[tuple[float, bool, int]]] = {}  # per branch, each polish:
+        # (its best feasible f, whether it converged, the batch of starts it came from)
+        self.batch = 0  # the batch of starts the polishes come from (`new_batch`)
         self._session: float = math.nan  # best feasible f of the polish under way (nan: none)
 
     @property
@@ -98,45 +99,51 @@ class Search:
         unit = self.model.units(v[i:i + 1])[0] if u is None else u[i].copy()
         return Best(float(batch.f[i]), float(worst[i]), float(batch.penalized[i]), unit, branch, v[i].copy())
 
+    def new_batch(self) -> None:
+        """The polishes from here on start from a new, independent set of starts."""
+        self.batch += 1
+
     def begin_polish(self) -> None:
         self._session = math.inf
 
     def end_polish(self, branch: str, converged: bool) -> None:
         """Record where the polish just run ended (its best feasible f), if anywhere feasible."""
         if math.isfinite(self._session):
-            self.ends.setdefault(branch, []).append((self._session, bool(converged)))
+            self.ends.setdefault(branch, []).append((self._session, bool(converged), self.batch))
         self._session = math.nan
 
-    def _at_best(self, branch: str) -> list[bool]:
-        """The converged flags of the polishes that ended at the branch's best (within
-        CONFIRM, relative)."""
+    def _at_best(self, branch: str) -> list[tuple[float, bool, int]]:
+        """The polishes that ended at the branch's best (within CONFIRM, relative)."""
         best = self.feasible.get(branch)
         if best is None:
             return []
         tol = CONFIRM * abs(best.f) + 1e-20
-        return [done for f, done in self.ends.get(branch, []) if f <= best.f + tol]
+        return [end for end in self.ends.get(branch, []) if end[0] <= best.f + tol]
 
     def settled(self, branch: str) -> bool:
         """A polish that ended at the branch's best converged there."""
-        return any(self._at_best(branch))
+        return any(done for _, done, _ in self._at_best(branch))
 
     def confirmed(self, branch: str) -> bool:
-        """Two local searches from different starts ended at the branch's best (within
-        CONFIRM, relative, and round-off of an exact fit): the optimum found again; and
-        the searches have begun to repeat themselves: n searches ended in w distinct
-        minima with n - w >= REPEATS. (Boender & Rinnooy Kan, Bayesian stopping rules for
-        multistart global optimization, Math. Programming 37, 1987: the expected number of
-        minima w (n - 1) / (n - w - 2) exists only from n = w + 3; three searches that
-        found 0.2023 twice and 6.08 once have seen too little to rule out a lower basin,
-        as log_generator_grashof's 0.1072 on a small budget.)"""
+        """Local searches from two independent sets of starts (`new_batch`) ended at the
+        branch's best (within CONFIRM, relative, and round-off of an exact fit): the
+        optimum found again; and the searches have begun to repeat themselves: n searches
+        ended in w distinct minima with n - w >= REPEATS. (Boender & Rinnooy Kan, Bayesian
+        stopping rules for multistart global optimization, Math. Programming 37, 1987: the
+        expected number of minima w (n - 1) / (n - w - 2) exists only from n = w + 3; three
+        searches that found 0.2023 twice and 6.08 once have seen too little to rule out a
+        lower basin, as log_generator_grashof's 0.1072 on a small budget. Two polishes of
+        one batch of starts are not independent enough: the best ends of one batched
+        search can all lie in one basin, log_generator_grashof's 0.2023 on 1000
+        evaluations.)"""
         best = self.feasible.get(branch)
         if best is None:
             return False
         if best.f <= len(self.model.t) * EXACT_RMS ** 2:  # an exact fit: nothing lower to find
             return True
-        if len(self._at_best(branch)) < 2:
+        if len({batch for _, _, batch in self._at_best(branch)}) < 2:
             return False
-        ends = sorted(f for f, _ in self.ends.get(branch, []))
+        ends = sorted(f for f, _, _ in self.ends.get(branch, []))
         distinct = sum(1 for i, f in enumerate(ends) if i == 0 or f - ends[i - 1] > CONFIRM * abs(f) + 1e-20)
         return len(ends) - distinct >= REPEATS
 

@@ -138,6 +138,7 @@ def multistart(search: Search, branch: str, evaluations: int, seed: int) -> bool
         left = min(stop, search.evaluations.total) - search.evaluations.used
         if left <= 2 * n + 1:
             break
+        search.new_batch()  # each start drawn on its own: its search is independent
         polish(search, model.linear_units(model.values(s_))[0], branch, left // (len(starts) - k),
                gauss_newton_first=False)
     return search.settled(branch)
