@@ -20,7 +20,7 @@ from linkcli.search.budget import Budget, BudgetSpent
 from linkcli.types.function_generation.model import BRANCH_SIGN, Batch, Model
 
 CONFIRM = 1e-6  # relative: a second polish ending this close to the best has found it again
-REPEATS = 2  # local searches that ended in a minimum found before, at least (Search.confirmed)
+REPEATS = 3  # local searches that ended in a minimum found before, at least (Search.confirmed)
 EXACT_RMS = 1e-9  # rad: an rms error this small is an exact fit (round-off)
 STEP = 1e-7  # central-difference step in the unit box
 FEASIBLE = 1e-8  # largest violation (rad, or fraction of L) accepted as feasible
