@@ -96,3 +96,33 @@ def test_a_linear_constraint_and_a_bound_both_binding():
 def test_an_inactive_linear_constraint_changes_nothing():
     z, f, done = batch_lm(Plane([1, 2, 3, 4], 20.0, [-10] * 4, [10] * 4), PLANE_STARTS, 100)
     assert np.allclose(z, [1, 2, 3, 4], atol=1e-12) and np.all(f < 1e-24)
+
+
+class SteepRosenbrock(Rosenbrock):
+    """r = (1000 (y - x^2), 1 - x): the same minimum (1, 1) at the end of a valley a
+    hundred times narrower, where plain steps follow its tangent and crawl."""
+
+    def residuals(self, z, rows):
+        self.budget.add(len(z))
+        x, y = z[:, 0], z[:, 1]
+        return np.stack([1000.0 * (y - x * x), 1.0 - x], axis=1)
+
+    def jacobian(self, z, rows, r0):
+        jac = super().jacobian(z, rows, r0)
+        return jac * np.array([[100.0], [1.0]])  # the first row's slopes, 100 times steeper
+
+
+def test_geodesic_acceleration_follows_a_narrow_curved_valley():
+    """Transtrum & Sethna's acceleration bends the step along the valley: 150 steps reach
+    the minimum from three classic starts, where the plain steps are still on their way."""
+    starts = np.array([[-1.2, 1.0], [2.0, -1.0], [0.0, 0.0]])
+    z, f, done = batch_lm(SteepRosenbrock([-5, -5], [5, 5]), starts, 150, acceleration=True)
+    assert np.allclose(z, 1.0, atol=1e-8) and np.all(done)
+    plain, _, _ = batch_lm(SteepRosenbrock([-5, -5], [5, 5]), starts, 150)
+    assert np.all(np.abs(plain - 1.0).max(axis=1) > 1e-3)
+
+
+def test_geodesic_acceleration_keeps_the_box():
+    z, f, done = batch_lm(SteepRosenbrock([-5, -5], [0.5, 5]), STARTS, 300, acceleration=True)
+    assert np.allclose(z[:, 0], 0.5, atol=1e-12)
+    assert np.allclose(z[:, 1], 0.25, atol=1e-8)

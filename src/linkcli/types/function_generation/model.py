@@ -1,8 +1,9 @@
 """Function generation: the objective and the constraints, vectorized (numpy only).
 
 A candidate is a row of design values (the free lengths, then the free start angles);
-`Model.evaluate` takes N of them on one branch (sign -1 open, +1 crossed) with the lengths
-as (N, 1) columns against the M evaluation points, so one call scores a whole population.
+`Model.evaluate` takes N of them on one branch (sign -1 open, +1 crossed; or a sign per
+candidate, (N, 1)) with the lengths as (N, 1) columns against the M evaluation points, so
+one call scores a whole population.
 The evaluation points are phi_k = phi0 + t_k * input_sweep, and
 
     f = sum_k wrap(psi(phi_k) - psi_target_k)^2            (rad^2, the seed's objective)
@@ -40,6 +41,7 @@ import numpy as np
 
 from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.model import FunctionGenerationProblem
+from linkcli.search import linalg
 from linkcli.types.function_generation.schema import LAW_LIMIT
 
 GRASHOF_MARGIN = 1e-7  # relative: the Grashof inequalities hold strictly, not at a change-point
@@ -61,6 +63,10 @@ class Batch:
     err: np.ndarray  # (N, M) residuals psi - psi_target, rad (0 where the law is undefined)
     violation: np.ndarray  # (N, K) >= 0, one column per constraint of Model.names
     penalized: np.ndarray  # (N,) f + W * sum(violation)
+
+    def take(self, rows) -> "Batch":
+        """The candidates `rows` of the batch."""
+        return Batch(self.f[rows], self.err[rows], self.violation[rows], self.penalized[rows])
 
 
 class Model:
@@ -234,8 +240,8 @@ class Model:
             K1 cos(psi) - K2 cos(phi) + K3 = cos(phi - psi),
             K1 = d / a, K2 = d / c, K3 = (a^2 + c^2 + d^2 - b^2) / (2 a c),
 
-        linear in K: least squares over the points (exact through three), one small
-        system per pair, all pairs at once. A fit with K1 or K2 <= 0 or b^2 <= 0 gives no
+        linear in K: least squares over the points (exact through three; the normal
+        equations), one small system per pair, all pairs at once. A fit with K1 or K2 <= 0 or b^2 <= 0 gives no
         candidate (a link would point the other way; with free starts, another pair covers it).
         The shape is scaled to the first fixed length; other fixed lengths keep their
         values (the candidate is then only a start for the search). Only for given or
@@ -250,7 +256,9 @@ class Model:
             rhs = np.cos(phi - psi)[:, :, None]
             good = np.all(np.isfinite(rows), axis=(1, 2)) & np.all(np.isfinite(rhs), axis=(1, 2))
             rows, rhs = np.where(good[:, None, None], rows, 0.0), np.where(good[:, None, None], rhs, 0.0)
-            k = (np.linalg.pinv(rows) @ rhs)[:, :, 0]  # (P, 3)
+            # the normal equations by elimination (linkcli.search.linalg: no BLAS, so the
+            # designs, and the searches they start, are the same under every kernel)
+            k = linalg.solve(linalg.gram(rows), np.einsum("pmi,pm->pi", rows, rhs[:, :, 0], optimize=False))
             a, c = 1.0 / k[:, 0], 1.0 / k[:, 1]  # d = 1
             b2 = a * a + c * c + 1.0 - 2.0 * a * c * k[:, 2]
             shape = {"input": a, "coupler": np.sqrt(b2), "output": c, "ground": np.ones_like(a)}
