@@ -23,6 +23,7 @@ from typing import Any, Iterator, NamedTuple
 from linkcli.errors import InputError, LinkcliError
 
 MODES = ("synth", "analyze", "check")
+CHUNKS_PER_JOB = 4  # --jobs: files are sent in about this many chunks per process
 
 
 class Request(NamedTuple):
@@ -39,7 +40,8 @@ class Request(NamedTuple):
 
 class Result(NamedTuple):
     """One solved file: the frozen problem, the solver's Solution and the report built
-    from them. `drawing` is the report a plot draws from: the report itself, or, when
+    from them (problem and solution None in an outcome that crossed from a worker process
+    with what is printed only, `printed`). `drawing` is the report a plot draws from: the report itself, or, when
     `[report] sections` left out what the plot needs, a report with those sections."""
 
     problem: Any
@@ -144,12 +146,39 @@ def serial(files: list[str], request: Request) -> Iterator[Outcome]:
 
 
 def processes(jobs: int):
-    """An executor that runs files in `jobs` processes; outcomes keep argument order."""
+    """An executor that runs files in `jobs` processes; outcomes keep argument order.
+
+    The files go in chunks (about CHUNKS_PER_JOB per process, so that a small file's cost
+    is not dwarfed by one round trip per file, while the last chunks still balance the
+    processes), and each outcome comes back with what is printed only (`printed`). On
+    systems that fork, this process imports what `run` needs first (numpy included, with
+    the machine's BLAS threads): the forked workers share it instead of each importing it
+    again."""
     def execute(files: list[str], request: Request) -> Iterator[Outcome]:
+        import multiprocessing
         from concurrent.futures import ProcessPoolExecutor
-        with ProcessPoolExecutor(max_workers=jobs) as pool:
-            yield from pool.map(run, files, [request] * len(files))
+        context = None
+        if "fork" in multiprocessing.get_all_start_methods():
+            import linkcli.io.load  # noqa: F401  (numpy and the reader, shared by the forks)
+            context = multiprocessing.get_context("fork")
+        chunk = max(1, len(files) // (jobs * CHUNKS_PER_JOB))
+        with ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
+            yield from pool.map(run_printed, files, [request] * len(files), chunksize=chunk)
     return execute
+
+
+def run_printed(path: str, request: Request) -> Outcome:
+    """`run` in a worker process, its outcome trimmed to what is printed (`printed`)."""
+    return printed(run(path, request), request)
+
+
+def printed(outcome: Outcome, request: Request) -> Outcome:
+    """The outcome with only what the command prints: the report (a plot also needs the
+    problem and the solution, `request.plot`), not the problem and the solution, whose
+    arrays would cross the process boundary for nothing."""
+    if outcome.result is None or request.plot:
+        return outcome
+    return outcome._replace(result=Result(None, None, outcome.result.report))
 
 
 def read_source(path: str) -> bytes | InputError:
@@ -163,8 +192,9 @@ def read_source(path: str) -> bytes | InputError:
 
 
 def run_item(item: tuple[str, Request, bytes | InputError]) -> Outcome:
-    """`run(path, request, source)` of one cluster item (top-level: Dask pickles it by name)."""
-    return run(*item)
+    """`run(path, request, source)` of one cluster item (top-level: Dask pickles it by name),
+    trimmed to what is printed (`printed`)."""
+    return printed(run(*item), item[1])
 
 
 def item_failed(item: tuple, description: str) -> Outcome:
