@@ -18,6 +18,7 @@ from typing import Protocol
 import numpy as np
 
 from linkcli.search import linalg
+from linkcli.search.arrow import Arrow
 from linkcli.search.budget import Budget
 
 
@@ -36,11 +37,12 @@ class BoxedLeastSquares(Protocol):
     def jacobian(self, z: np.ndarray, rows, r0: np.ndarray) -> np.ndarray: ...
 
 
-def batch_lm(problem: BoxedLeastSquares, z, iterations: int, reserve: int = 0, enough: float = -1.0):
+def batch_lm(problem: BoxedLeastSquares, z, iterations: int, reserve: int = 0, enough: float = -1.0,
+             gain: float = 1e-12):
     """Levenberg-Marquardt on every row of z at once, leaving `reserve` evaluations of the
     budget unspent (a Jacobian costs 2k + 1 per row), and stopping every row once one
     costs `enough` or less; returns (z, cost, converged): a row has converged when a step
-    gains less than 1e-12 of its cost, when no step gains anything (damping above 1e10),
+    gains less than `gain` of its cost, when no step gains anything (damping above 1e10),
     or at an exact fit."""
     z = z.copy()
     k = z.shape[1]
@@ -49,7 +51,7 @@ def batch_lm(problem: BoxedLeastSquares, z, iterations: int, reserve: int = 0, e
     r = problem.residuals(z, slice(None))
     f = np.einsum("ij,ij->i", r, r)
     lam = np.full(len(z), 1e-3)
-    jac = None
+    jac = None  # each row's Jacobian at its point: (N, m, k), or an `Arrow`
     stale = np.ones(len(z), dtype=bool)  # Jacobian to (re)compute
     active = np.ones(len(z), dtype=bool)
     lo, hi = problem.lo, problem.hi
@@ -59,38 +61,36 @@ def batch_lm(problem: BoxedLeastSquares, z, iterations: int, reserve: int = 0, e
         if len(rows) == 0 or f.min() <= enough or problem.budget.left - reserve < len(rows) * (2 * k + 1):
             break
         need = rows[stale[rows]]
-        if jac is None:
-            jac = np.zeros((len(z), r.shape[1], k))
         if len(need):
-            jac[need] = problem.jacobian(z[need], need, r[need])
+            jac = _stored(jac, need, problem.jacobian(z[need], need, r[need]), len(z))
             stale[need] = False
-        j = jac[rows]
-        g = np.einsum("nmk,nm->nk", j, r[rows])
-        jt = np.ascontiguousarray(np.transpose(j, (0, 2, 1)))  # rows of J^T: einsum's fast loop
-        h = np.einsum("nkm,nlm->nkl", jt, jt)
         zr = z[rows]
-        frozen = (((zr <= lo + 1e-12 * (np.abs(lo) + 1)) & (g > 0))
-                  | ((zr >= hi - 1e-12 * (np.abs(hi) + 1)) & (g < 0)))
-        keep = ~frozen
-        h = h * keep[:, :, None] * keep[:, None, :]
-        g = g * keep
-        diag = np.einsum("nkk->nk", h)
-        damp = lam[rows, None] * (diag + 1e-12 * diag.max(axis=1, keepdims=True)) + frozen + 1e-300
-        a = h + np.einsum("nk,kl->nkl", damp, np.eye(k))
-        if linear is None:
-            step = -linalg.solve_spd(a, g)
-        else:  # the plane's normal as a second right-hand side (`_on_plane`)
-            both = linalg.solve_spd(a, np.stack([g, linear[0][None, :] * keep], axis=2))
-            step = -both[..., 0]
-        step = np.nan_to_num(step) * keep
-        if linear is not None:
-            step = _on_plane(linear, a, g, np.nan_to_num(both[..., 1]), zr, step, keep, lo, hi)
+        if isinstance(jac, Arrow):  # an arrow's normal equations, solved in O(n)
+            step = _arrow_step(jac.take(rows), r[rows], zr, lam[rows], lo, hi)
+        else:
+            j = jac[rows]
+            g = np.einsum("nmk,nm->nk", j, r[rows])
+            jt = np.ascontiguousarray(np.transpose(j, (0, 2, 1)))  # rows of J^T: einsum's fast loop
+            h = np.einsum("nkm,nlm->nkl", jt, jt)
+            frozen = _frozen(zr, g, lo, hi)
+            keep = ~frozen
+            h = h * keep[:, :, None] * keep[:, None, :]
+            g = g * keep
+            a = h + np.einsum("nk,kl->nkl", _damping(np.einsum("nkk->nk", h), lam[rows], frozen), np.eye(k))
+            if linear is None:
+                step = -linalg.solve_spd(a, g)
+            else:  # the plane's normal as a second right-hand side (`_on_plane`)
+                both = linalg.solve_spd(a, np.stack([g, linear[0][None, :] * keep], axis=2))
+                step = -both[..., 0]
+            step = np.nan_to_num(step) * keep
+            if linear is not None:
+                step = _on_plane(linear, a, g, np.nan_to_num(both[..., 1]), zr, step, keep, lo, hi)
         znew = np.clip(zr + step, lo, hi)
         rnew = problem.residuals(znew, rows)
         fnew = np.einsum("ij,ij->i", rnew, rnew)
         ok = fnew < f[rows]
         acc = rows[ok]
-        small = ok & (f[rows] - fnew <= 1e-12 * f[rows])
+        small = ok & (f[rows] - fnew <= gain * f[rows])
         z[acc], r[acc], stale[acc] = znew[ok], rnew[ok], True
         f_old = f[rows]
         f[acc] = fnew[ok]
@@ -98,6 +98,40 @@ def batch_lm(problem: BoxedLeastSquares, z, iterations: int, reserve: int = 0, e
         done = small | (lam[rows] > 1e10) | (f[rows] < 1e-30) | (~ok & (f_old < 1e-30))
         active[rows[done]] = False
     return z, f, ~active
+
+
+def _damping(diag, lam, frozen) -> np.ndarray:
+    """Marquardt's damping lambda D, D = diag(J^T J) (plus a trace of its largest entry, so
+    that a zero column is damped too); 1 on a frozen variable, which then stays put."""
+    return lam[:, None] * (diag + 1e-12 * diag.max(axis=1, keepdims=True)) + frozen + 1e-300
+
+
+def _arrow_step(j: Arrow, r, z, lam, lo, hi) -> np.ndarray:
+    """The damped Gauss-Newton steps of rows z with arrow Jacobians j (linkcli.search.arrow);
+    no linear constraint (no arrow problem has one)."""
+    g = j.gradient(r)
+    frozen = _frozen(z, g, lo, hi)
+    keep = ~frozen
+    normal = j.normal(keep)
+    return np.nan_to_num(-normal.solve(_damping(normal.diagonal(), lam, frozen), g * keep)) * keep
+
+
+def _frozen(z, g, lo, hi) -> np.ndarray:
+    """The variables at a bound whose gradient pushes out of the box."""
+    return (((z <= lo + 1e-12 * (np.abs(lo) + 1)) & (g > 0))
+            | ((z >= hi - 1e-12 * (np.abs(hi) + 1)) & (g < 0)))
+
+
+def _stored(jac, rows, new, size: int):
+    """The batch's Jacobians with those of `rows` replaced by `new` (dense (N, m, k) or an
+    `Arrow`), the store made on first use."""
+    if jac is None:
+        jac = Arrow.empty(size, new) if isinstance(new, Arrow) else np.zeros((size,) + new.shape[1:])
+    if isinstance(jac, Arrow):
+        jac.put(rows, new)
+    else:
+        jac[rows] = new
+    return jac
 
 
 def _on_plane(linear, m, g, u, z, step, keep, lo, hi) -> np.ndarray:
