@@ -118,3 +118,13 @@ def test_many_poses_are_scored_on_a_few_first_then_the_best_rows_on_all():
     np.testing.assert_array_equal(phi[scored], full_phi[scored])
     # the rows kept are the best on the few poses: their full scores hold the best rows'
     assert full[scored].min() == full[np.isfinite(full)].min()
+
+
+def test_many_poses_import_no_scipy():
+    """The least-squares search runs on the house Levenberg-Marquardt: scipy stays unloaded."""
+    import subprocess
+    import sys
+    code = ("import sys; from linkcli.pipeline import run, Request; "
+            "o = run('problems/motion_many.toml', Request()); "
+            "assert o.exit_code == 0, o.errors; assert 'scipy' not in sys.modules, 'scipy imported'")
+    subprocess.run([sys.executable, "-c", code], check=True)
