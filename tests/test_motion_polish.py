@@ -128,3 +128,24 @@ def test_many_poses_import_no_scipy():
             "o = run('problems/motion_many.toml', Request()); "
             "assert o.exit_code == 0, o.errors; assert 'scipy' not in sys.modules, 'scipy imported'")
     subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_a_best_is_confirmed_by_another_rounds_best_or_an_exact_fit():
+    """`Search.best_of`: the best over the rounds is confirmed when another round's best
+    ends within CONFIRM of it (feasible), or when it fits exactly; one round alone, or a
+    second round that ends elsewhere, or an infeasible best, is not."""
+    from types import SimpleNamespace
+
+    def res(objective, feasible=True):
+        return {"objective": objective, "feasible": feasible}
+
+    me = SimpleNamespace(exact=1e-20)
+    best_of = LS.Search.best_of
+    assert best_of(me, [[res(2.0), res(1.0)], [res(1.0 * (1 + 0.5 * LS.CONFIRM)), res(3.0)]]) == (res(1.0), True)
+    assert best_of(me, [[res(1.0)], [res(1.1)]])[1] is False
+    assert best_of(me, [[res(1.0)], [res(1.1)], [res(1.0)]])[1] is True
+    assert best_of(me, [[res(1.0)]])[1] is False
+    assert best_of(me, [[res(1e-21)], [res(5.0)]])[1] is True  # exact
+    assert best_of(me, [[res(1.0, False)], [res(1.0, False)]])[1] is False
+    # two starts of one round do not confirm each other
+    assert best_of(me, [[res(1.0), res(1.0)], [res(2.0)]])[1] is False

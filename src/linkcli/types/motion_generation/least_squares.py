@@ -44,6 +44,9 @@ SCREEN_ROWS = 256  # and the best this many scored on every pose
 SETTLE_STEP = 3e-5  # unit box: the final polish's difference step (kkt.slopes)
 SETTLE_GAIN = 1e-9  # relative: the polished design may be this much worse (round-off)
 SETTLES = 4  # distinct designs settled (and so listed) at most, the best first
+CONFIRM = 1e-7  # relative: another round's best this close confirms the best
+MAX_ROUNDS = 4  # rounds of starts at most (the first two side by side)
+EXACT_RMS = 1e-9  # rms error (relative to the characteristic length) of an exact fit
 SAME_DESIGN = 1e-6  # parameters this close (relative to the longest link) are one design
 ITERATIONS = 400  # Levenberg-Marquardt steps of a polish, at most
 PENALTY_ITERATIONS = 30  # ... of a penalty pass: it only has to find the constraints that bind,
@@ -149,12 +152,13 @@ def residuals(x_full, poses, sign, weight, timing_angles):
     return np.concatenate([dpos.reshape(lead + (-1,)), weight * dang, PENALTY * viol], -1)
 
 
-def _starts(poses, lo, hi, rng, population, signs):
-    """Population rows: LHS, Burmester linkages of 5-pose subsets, 3-pose inversions."""
+def _starts(poses, lo, hi, rng, population, signs, spread: bool = True):
+    """Population rows: LHS, Burmester linkages of 5-pose subsets (`spread`: the evenly
+    spread one among them; random ones always), 3-pose inversions."""
     n = len(poses)
     rows = [box_sample(rng, population, lo, hi)]
     if n >= 5:
-        subsets = [np.linspace(0, n - 1, 5).round().astype(int)]
+        subsets = [np.linspace(0, n - 1, 5).round().astype(int)] if spread else []
         subsets += [np.sort(rng.choice(n, 5, replace=False)) for _ in range(3)]
         for sub in subsets:
             res = burmester_dyads(poses[sub])
@@ -194,120 +198,204 @@ def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
     Returns dict: params (10,), branch, input_angles (n,), objective, achieved (n, 3),
     position_error (n,), angle_error (n,), checks (assemble.check_linkage), feasible,
     why (reason when not feasible), angle_weight, evaluations (objective evaluations),
-    converged (the polish of the best met its tolerances), candidates (every polished
-    design: params, branch, objective, defects). budget: a search.budget.Budget that counts
-    the evaluations (a fresh one without a cap when None); the polishes stop at its cap."""
+    converged (the polish of the best met its tolerances and two rounds found it),
+    confirmed (two rounds of starts found it), candidates (every polished design
+    settled: params, branch, objective, defects). budget: a search.budget.Budget that
+    counts the evaluations (a fresh one without a cap when None); the polishes stop at its cap.
+
+    Rounds (`Search.round`): each draws its own population (population / 2 rows of each
+    kind) and polishes its best polish / 2 distinct starts per branch; the first two run
+    side by side (one batched polish). The best is confirmed when another round's best
+    ends within CONFIRM of it (a second arrival from other starts; two starts of one
+    population can share a basin), or is an exact fit; otherwise rounds follow, at most
+    MAX_ROUNDS, while the budget lasts. An unconfirmed best is not `converged`."""
     from linkcli.search.budget import Budget
 
     counter = budget if budget is not None else Budget(2**62)
-    poses = as_poses(poses)
-    n = len(poses)
-    lo, hi = (np.asarray(v, float) for v in (bounds if bounds is not None else default_bounds(poses)))
-    weight = characteristic_length(poses) if angle_weight is None else float(angle_weight)
+    search = Search(as_poses(poses), bounds, branch, timing, input_angles, offset_bounds, angle_weight,
+                    grashof, transmission, grid, counter)
     rng = np.random.default_rng(seed)
-    prescribed = timing == "prescribed"
-    t_angles = np.asarray(input_angles, float) if prescribed else None
-    signs = {"open": [-1.0], "crossed": [1.0], "either": [-1.0, 1.0]}[branch]
-    starts = _starts(poses, lo, hi, rng, population, signs)
-    phi_grid = np.linspace(-np.pi, np.pi, grid, endpoint=False)
-    pool = []
-    for sign in signs:
-        if prescribed:
-            offs = np.linspace(offset_bounds[0], offset_bounds[1], 9 if offset_bounds[1] > offset_bounds[0] else 1)
-            best = None
-            for off in offs:
-                sc, ph = _scores(starts, poses, sign, None, weight, t_angles + off)
-                best = (sc, np.full(len(sc), off)) if best is None else (
-                    np.where(sc < best[0], sc, best[0]), np.where(sc < best[0], off, best[1]))
-                counter.add(len(starts))
-            score, extra = best[0], best[1][:, None]
+    size, picks = max(1, population // 2), max(1, polish // 2)
+    rounds = search.rounds([search.pool(rng, size, picks, spread=True), search.pool(rng, size, picks, False)])
+    best, confirmed = search.best_of(rounds)
+    while not confirmed and len(rounds) < MAX_ROUNDS and counter.left > 0:
+        rounds += search.rounds([search.pool(rng, size, picks, False)])
+        best, confirmed = search.best_of(rounds)
+    return search.outcome(rounds, best, confirmed)
+
+
+class Search:
+    """The many-pose least-squares search of one problem: its scoring, rounds of polished
+    starts and their settle (`solve_least_squares`)."""
+
+    def __init__(self, poses, bounds, branch, timing, input_angles, offset_bounds, angle_weight, grashof,
+                 transmission, grid, counter):
+        n = len(poses)
+        self.poses, self.counter, self.grashof, self.transmission = poses, counter, grashof, transmission
+        lo, hi = (np.asarray(v, float) for v in (bounds if bounds is not None else default_bounds(poses)))
+        self.lo, self.hi = lo, hi
+        self.weight = characteristic_length(poses) if angle_weight is None else float(angle_weight)
+        self.scale = characteristic_length(poses)
+        self.prescribed = timing == "prescribed"
+        self.t_angles = np.asarray(input_angles, float) if self.prescribed else None
+        self.offset_bounds = offset_bounds
+        self.signs = {"open": [-1.0], "crossed": [1.0], "either": [-1.0, 1.0]}[branch]
+        self.phi_grid = np.linspace(-np.pi, np.pi, grid, endpoint=False)
+        grashof_held = grashof if grashof not in (None, "any") else None
+        self.m_cons = design_constraints.count(grashof_held, transmission, n)
+        t_angles = self.t_angles
+
+        def constraint_values(x):  # (..., m) g <= 0 feasible, length unit
+            phi = x[..., 10:] if t_angles is None else t_angles + x[..., 10:11]
+            return design_constraints.values(x, phi, grashof_held, transmission, self.scale)
+
+        self.constraint_values = constraint_values
+        if self.prescribed:
+            tlo, thi = np.array([offset_bounds[0]]), np.array([offset_bounds[1]])
         else:
-            score, extra = _scores(starts, poses, sign, phi_grid, weight, None)
-            counter.add(len(starts) * grid)
-        order = np.argsort(score, kind="stable")[:polish * 4]
-        chosen = []
-        for k in order:  # pick distinct starts (a short loop over the best few)
-            if np.isfinite(score[k]) and all(np.linalg.norm((starts[k] - starts[c]) / (hi - lo + 1e-300)) > 1e-3 for c in chosen):
-                chosen.append(k)
-            if len(chosen) == polish:
-                break
-        for k in chosen:
-            pool.append((sign, np.concatenate([starts[k], extra[k]])))
-    free = hi > lo
-    scale = characteristic_length(poses)
-    grashof_held = grashof if grashof not in (None, "any") else None
-    m_cons = design_constraints.count(grashof_held, transmission, n)
+            tlo, thi = np.full(n, -4 * np.pi), np.full(n, 4 * np.pi)
+        self.lo_full, self.hi_full = np.concatenate([lo, tlo]), np.concatenate([hi, thi])
+        self.mask = np.concatenate([hi > lo, thi > tlo])
+        self.fit = PoseFit(poses, self.weight, t_angles, self.mask, self.lo_full, self.hi_full, counter,
+                           constraint_values, self.m_cons,
+                           transmission is not None and grashof_held not in design_constraints.FULL_TURN)
+        self.exact = n * (EXACT_RMS * self.scale) ** 2  # an objective this small fits exactly
+        self.settled_as = []  # (params before, settled result): designs settled so far
+        self.tries = 0
 
-    def constraint_values(x):  # (..., m) g <= 0 feasible, length unit
-        phi = x[..., 10:] if t_angles is None else t_angles + x[..., 10:11]
-        return design_constraints.values(x, phi, grashof_held, transmission, scale)
+    def pool(self, rng, population, polish, spread):
+        """A round's starts: (sign, x0) of the best `polish` distinct rows per branch of a
+        fresh population, scored."""
+        starts = _starts(self.poses, self.lo, self.hi, rng, population, self.signs, spread)
+        pool = []
+        for sign in self.signs:
+            if self.prescribed:
+                ob = self.offset_bounds
+                offs = np.linspace(ob[0], ob[1], 9 if ob[1] > ob[0] else 1)
+                best = None
+                for off in offs:
+                    sc, ph = _scores(starts, self.poses, sign, None, self.weight, self.t_angles + off)
+                    best = (sc, np.full(len(sc), off)) if best is None else (
+                        np.where(sc < best[0], sc, best[0]), np.where(sc < best[0], off, best[1]))
+                    self.counter.add(len(starts))
+                score, extra = best[0], best[1][:, None]
+            else:
+                score, extra = _scores(starts, self.poses, sign, self.phi_grid, self.weight, None)
+                self.counter.add(len(starts) * len(self.phi_grid))
+            order = np.argsort(score, kind="stable")[:polish * 4]
+            chosen = []
+            width = self.hi - self.lo + 1e-300
+            for k in order:  # pick distinct starts (a short loop over the best few)
+                if np.isfinite(score[k]) and all(np.linalg.norm((starts[k] - starts[c]) / width) > 1e-3
+                                                 for c in chosen):
+                    chosen.append(k)
+                if len(chosen) == polish:
+                    break
+            pool += [(sign, np.concatenate([starts[k], extra[k]])) for k in chosen]
+        return pool
 
-    if prescribed:
-        tlo, thi = np.array([offset_bounds[0]]), np.array([offset_bounds[1]])
-    else:
-        tlo, thi = np.full(n, -4 * np.pi), np.full(n, 4 * np.pi)
-    lo_full, hi_full = np.concatenate([lo, tlo]), np.concatenate([hi, thi])
-    mask = np.concatenate([free, thi > tlo])
-    fit = PoseFit(poses, weight, t_angles, mask, lo_full, hi_full, counter, constraint_values, m_cons,
-                  transmission is not None and grashof_held not in design_constraints.FULL_TURN)
-    signs = np.array([sign for sign, _ in pool])
-    x0 = np.clip(np.array([x for _, x in pool]), lo_full, hi_full)
-    x, converged, penalized = fit.polish(x0, signs)
-    results, setups = [], []
-    for i, sign in enumerate(signs):
-        def design(z, x0=x[i]):
+    def rounds(self, pools):
+        """Polish the pools' starts together (one batched polish), settle the designs they
+        reach; the results (dicts of `_evaluate`) of each pool."""
+        rows = [row for pool in pools for row in pool]
+        if not rows:
+            return [[] for _ in pools]
+        signs = np.array([sign for sign, _ in rows])
+        x0 = np.clip(np.array([x for _, x in rows]), self.lo_full, self.hi_full)
+        x, converged, penalized = self.fit.polish(x0, signs)
+        results = []
+        for i, sign in enumerate(signs):
+            results.append(_evaluate(x[i], self.poses, sign, self.weight, self.t_angles, self.grashof,
+                                     self.transmission))
+            results[-1].update(converged=bool(converged[i]), penalized=bool(penalized[i]), x=x[i], sign=sign)
+        self._settle_all(results)
+        bounds = np.cumsum([0] + [len(pool) for pool in pools])
+        return [results[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
+
+    def _settle_all(self, results):
+        """The best is settled; with constraints the best SETTLES distinct designs are (a
+        penalty polish ends at a point whose last digits follow round-off, and they are
+        listed). A start that reached a design settled already takes its settled result
+        (they are one design, listed once), not a settle again."""
+        order = sorted(range(len(results)), key=lambda i: _key(results[i]))
+        for i in (order if self.m_cons else order[:1]):
+            if not (results[i]["feasible"] or self.m_cons):
+                continue
+            p = results[i]["params"]
+            same = [out for q, out in self.settled_as
+                    if np.max(np.abs(p - q)) <= SAME_DESIGN * float(max(p[3:7]))]
+            if same:
+                results[i] = dict(same[0])
+                continue
+            if self.tries == SETTLES:
+                continue  # the worse designs stay unsettled, and unlisted
+            self.tries += 1
+            settled = _settle(self.counter, *self._setup(results[i]))
+            if settled is not None:
+                out = _evaluate(settled, self.poses, results[i]["sign"], self.weight, self.t_angles,
+                                self.grashof, self.transmission)
+                if out["feasible"] and (not results[i]["feasible"] or
+                                        out["objective"] <= results[i]["objective"] * (1.0 + SETTLE_GAIN)):
+                    out.update(converged=True, settled=True, sign=results[i]["sign"])
+                    results[i] = out
+                    self.settled_as.append((p, out))
+
+    def _setup(self, result):
+        """What `_settle` needs of a polished design: residuals and constraints of its
+        free variables, the full vector, the mask, the bounds, its sign and the scale."""
+        x0, sign, mask = result["x"], result["sign"], self.mask
+        poses, weight, t_angles, values = self.poses, self.weight, self.t_angles, self.constraint_values
+
+        def design(z):
             z = np.asarray(z, float)
             out = np.broadcast_to(x0, z.shape[:-1] + x0.shape).copy()
             out[..., mask] = z
             return out
 
-        def fun(z, sign=sign, design=design):
+        def fun(z):
             return residuals(design(z), poses, sign, weight, t_angles)
 
-        def cons(z, design=design):
-            return constraint_values(design(z))
+        def cons(z):
+            return values(design(z))
 
-        results.append(_evaluate(x[i], poses, sign, weight, t_angles, grashof, transmission))
-        results[-1]["converged"] = bool(converged[i])
-        results[-1]["penalized"] = bool(penalized[i])
-        setups.append((fun, cons if m_cons else None, x[i], mask, lo_full, hi_full, sign, scale))
-    order = sorted(range(len(results)), key=lambda i: (not results[i]["feasible"], results[i]["objective"]))
-    # the best is settled; with constraints the best SETTLES distinct designs are (a penalty
-    # polish ends at a point whose last digits follow round-off, and they are listed)
-    tries = 0
-    settled_as = []  # (params before, settled result): a start that reached a design settled
-    # already takes its settled result (they are one design, listed once), not a settle again
-    for i in (order if m_cons else order[:1]):
-        if not (results[i]["feasible"] or m_cons):
-            continue
-        p = results[i]["params"]
-        same = [out for q, out in settled_as if np.max(np.abs(p - q)) <= SAME_DESIGN * float(max(p[3:7]))]
-        if same:
-            results[i] = dict(same[0])
-            continue
-        if tries == SETTLES:
-            continue  # the worse designs stay unsettled, and unlisted
-        tries += 1
-        settled = _settle(counter, *setups[i])
-        if settled is not None:
-            out = _evaluate(settled, poses, setups[i][6], weight, t_angles, grashof, transmission)
-            if out["feasible"] and (not results[i]["feasible"] or
-                                    out["objective"] <= results[i]["objective"] * (1.0 + SETTLE_GAIN)):
-                out["converged"] = out["settled"] = True
-                results[i] = out
-                settled_as.append((p, out))
-    order = sorted(range(len(results)), key=lambda i: (not results[i]["feasible"], results[i]["objective"]))
-    if m_cons:  # listed: the best, and the others the final polish settled (an end point it
-        # did not settle has last digits that follow the search's path, along a penalty or a
-        # flat valley); a design reached from several starts is one entry (polished_rows)
-        order = order[:1] + [i for i in order[1:] if results[i].get("settled")]
-    ranked = [results[i] for i in order]
-    best = dict(ranked[0])
-    best["angle_weight"] = weight
-    best["evaluations"] = counter.used
-    best["candidates"] = [{k: r[k] for k in ("params", "branch", "objective", "feasible", "why")}
-                          for r in ranked]
-    return best
+        return fun, cons if self.m_cons else None, x0, mask, self.lo_full, self.hi_full, sign, self.scale
+
+    def best_of(self, rounds):
+        """(the best result over the rounds, whether another round's best ends within
+        CONFIRM of it, or it fits exactly)."""
+        bests = [min(r, key=_key) for r in rounds if r]
+        if not bests:
+            return None, False
+        best = min(bests, key=_key)
+        if not best["feasible"]:
+            return best, False
+        if best["objective"] <= self.exact:
+            return best, True
+        near = [b for b in bests if b["feasible"]
+                and b["objective"] - best["objective"] <= CONFIRM * best["objective"]]
+        return best, len(near) >= 2
+
+    def outcome(self, rounds, best, confirmed) -> dict:
+        results = [r for rs in rounds for r in rs]
+        order = sorted(range(len(results)), key=lambda i: _key(results[i]))
+        if self.m_cons:  # listed: the best, and the others the final polish settled (an end point it
+            # did not settle has last digits that follow the search's path, along a penalty or a
+            # flat valley); a design reached from several starts is one entry (polished_rows)
+            order = order[:1] + [i for i in order[1:] if results[i].get("settled")]
+        ranked = [results[i] for i in order]
+        out = dict(ranked[0])
+        out["confirmed"] = bool(confirmed)
+        out["converged"] = bool(out.get("converged")) and bool(confirmed)
+        out["angle_weight"] = self.weight
+        out["evaluations"] = self.counter.used
+        out["candidates"] = [{k: r[k] for k in ("params", "branch", "objective", "feasible", "why")}
+                             for r in ranked]
+        return out
+
+
+def _key(result):
+    """Feasible first, then the lower objective."""
+    return (not result["feasible"], result["objective"])
 
 
 class PoseFit:
