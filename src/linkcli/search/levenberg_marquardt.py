@@ -18,7 +18,6 @@ from typing import Protocol
 import numpy as np
 
 from linkcli.search import linalg
-from linkcli.search.arrow import Arrow
 from linkcli.search.budget import Budget
 
 
@@ -51,7 +50,7 @@ def batch_lm(problem: BoxedLeastSquares, z, iterations: int, reserve: int = 0, e
     r = problem.residuals(z, slice(None))
     f = np.einsum("ij,ij->i", r, r)
     lam = np.full(len(z), 1e-3)
-    jac = None  # each row's Jacobian at its point: (N, m, k), or an `Arrow`
+    jac = None  # each row's Jacobian at its point: (N, m, k), or structured (`_structured_step`)
     stale = np.ones(len(z), dtype=bool)  # Jacobian to (re)compute
     active = np.ones(len(z), dtype=bool)
     lo, hi = problem.lo, problem.hi
@@ -65,8 +64,8 @@ def batch_lm(problem: BoxedLeastSquares, z, iterations: int, reserve: int = 0, e
             jac = _stored(jac, need, problem.jacobian(z[need], need, r[need]), len(z))
             stale[need] = False
         zr = z[rows]
-        if isinstance(jac, Arrow):  # an arrow's normal equations, solved in O(n)
-            step = _arrow_step(jac.take(rows), r[rows], zr, lam[rows], lo, hi)
+        if not isinstance(jac, np.ndarray):  # structured: an arrow's normal equations, in O(n)
+            step = _structured_step(jac.take(rows), r[rows], zr, lam[rows], lo, hi, linear)
         else:
             j = jac[rows]
             g = np.einsum("nmk,nm->nk", j, r[rows])
@@ -84,7 +83,7 @@ def batch_lm(problem: BoxedLeastSquares, z, iterations: int, reserve: int = 0, e
                 step = -both[..., 0]
             step = np.nan_to_num(step) * keep
             if linear is not None:
-                step = _on_plane(linear, a, g, np.nan_to_num(both[..., 1]), zr, step, keep, lo, hi)
+                step = _on_plane(linear, Dense(a), g, np.nan_to_num(both[..., 1]), zr, step, keep, lo, hi)
         znew = np.clip(zr + step, lo, hi)
         rnew = problem.residuals(znew, rows)
         fnew = np.einsum("ij,ij->i", rnew, rnew)
@@ -106,14 +105,55 @@ def _damping(diag, lam, frozen) -> np.ndarray:
     return lam[:, None] * (diag + 1e-12 * diag.max(axis=1, keepdims=True)) + frozen + 1e-300
 
 
-def _arrow_step(j: Arrow, r, z, lam, lo, hi) -> np.ndarray:
-    """The damped Gauss-Newton steps of rows z with arrow Jacobians j (linkcli.search.arrow);
-    no linear constraint (no arrow problem has one)."""
+def _structured_step(j, r, z, lam, lo, hi, linear) -> np.ndarray:
+    """The damped Gauss-Newton steps of rows z whose Jacobians j have a structure of their
+    own (linkcli.search.arrow, linkcli.search.increments: their `normal` solves the damped
+    system in O(n)); with the plane of a linear constraint, as the dense steps."""
     g = j.gradient(r)
     frozen = _frozen(z, g, lo, hi)
     keep = ~frozen
+    g = g * keep
     normal = j.normal(keep)
-    return np.nan_to_num(-normal.solve(_damping(normal.diagonal(), lam, frozen), g * keep)) * keep
+    damp = _damping(normal.diagonal(), lam, frozen)
+    if linear is None:
+        return np.nan_to_num(-normal.solve(damp, g)) * keep
+    both = normal.solve(damp, np.stack([g, linear[0][None, :] * keep], axis=2))
+    step = np.nan_to_num(-both[..., 0]) * keep
+    return _on_plane(linear, Structured(j, keep, damp), g, np.nan_to_num(both[..., 1]), z, step, keep, lo, hi)
+
+
+class Dense:
+    """The damped normal matrices m (N, k, k) of `_on_plane`: restricted solves and products."""
+
+    def __init__(self, m: np.ndarray) -> None:
+        self.m = m
+
+    def take(self, rows) -> "Dense":
+        return Dense(self.m[rows])
+
+    def solve_held(self, free: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+        """The system with the unknowns not `free` held at their right-hand side."""
+        return linalg.solve_spd(linalg.restricted(self.m, free), rhs)
+
+    def times(self, x: np.ndarray) -> np.ndarray:
+        return np.einsum("nkl,nl->nk", self.m, x)
+
+
+class Structured:
+    """As `Dense` for Jacobians j with a structure of their own, the unknowns `keep` and
+    the damping `damp` of the step."""
+
+    def __init__(self, j, keep: np.ndarray, damp: np.ndarray) -> None:
+        self.j, self.keep, self.damp = j, keep, damp
+
+    def take(self, rows) -> "Structured":
+        return Structured(self.j.take(rows), self.keep[rows], self.damp[rows])
+
+    def solve_held(self, free: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+        return self.j.normal(free).solve(np.where(free, self.damp, 1.0), rhs)
+
+    def times(self, x: np.ndarray) -> np.ndarray:
+        return self.j.normal(self.keep).matvec(self.damp, x)
 
 
 def _frozen(z, g, lo, hi) -> np.ndarray:
@@ -123,22 +163,22 @@ def _frozen(z, g, lo, hi) -> np.ndarray:
 
 
 def _stored(jac, rows, new, size: int):
-    """The batch's Jacobians with those of `rows` replaced by `new` (dense (N, m, k) or an
-    `Arrow`), the store made on first use."""
+    """The batch's Jacobians with those of `rows` replaced by `new` (dense (N, m, k), or
+    structured: an `Arrow`, `Increments`), the store made on first use."""
     if jac is None:
-        jac = Arrow.empty(size, new) if isinstance(new, Arrow) else np.zeros((size,) + new.shape[1:])
-    if isinstance(jac, Arrow):
+        jac = np.zeros((size,) + new.shape[1:]) if isinstance(new, np.ndarray) else type(new).empty(size, new)
+    if not isinstance(jac, np.ndarray):
         jac.put(rows, new)
     else:
         jac[rows] = new
     return jac
 
 
-def _on_plane(linear, m, g, u, z, step, keep, lo, hi) -> np.ndarray:
+def _on_plane(linear, system, g, u, z, step, keep, lo, hi) -> np.ndarray:
     """Steps (N, k) from rows z that would cross the plane of the linear constraint
     c.z <= b (`linear` = (c, b)) replaced by the model's minimizer on it: with M the damped
-    normal matrix (N, k, k), g the gradient and u = M^-1 c (the frozen variables, not
-    `keep`, held), s' = s + u (b - c.z - c.s) / (c.u). Where that takes a variable of the
+    normal matrix (`system`: Dense or Structured), g the gradient and u = M^-1 c (the frozen
+    variables, not `keep`, held), s' = s + u (b - c.z - c.s) / (c.u). Where that takes a variable of the
     plane out of the box, the variable is held at its bound and the minimizer on the plane
     taken again among the others (an active set that only grows): the plane is met and
     the box kept."""
@@ -150,7 +190,7 @@ def _on_plane(linear, m, g, u, z, step, keep, lo, hi) -> np.ndarray:
     step = step.copy()
     held = ~keep[over]
     fixed = np.zeros((len(over), z.shape[1]))  # the held variables' steps
-    m, g, z_o, u = m[over], g[over], z[over], u[over]
+    system, g, z_o, u = system.take(over), g[over], z[over], u[over]
     s_o = step[over]
     for _ in range(z.shape[1]):
         cu = np.einsum("nk,nk->n", cm[over], u)
@@ -162,9 +202,8 @@ def _on_plane(linear, m, g, u, z, step, keep, lo, hi) -> np.ndarray:
         held |= out  # at the bound it crossed; the rest solved again with these held
         fixed = np.where(out, np.clip(z_o + s_o, lo, hi) - z_o, fixed)
         free = ~held
-        a = linalg.restricted(m, free)
-        rhs = np.where(free, -(g + np.einsum("nkl,nl->nk", m, fixed)), fixed)
-        both = np.nan_to_num(linalg.solve_spd(a, np.stack([rhs, c[None, :] * free], axis=2)))
+        rhs = np.where(free, -(g + system.times(fixed)), fixed)
+        both = np.nan_to_num(system.solve_held(free, np.stack([rhs, c[None, :] * free], axis=2)))
         s_o, u = both[..., 0], both[..., 1]
     step[over] = s_o
     return step
