@@ -51,9 +51,10 @@ SHRINK = 16  # is taken again with a step this much smaller,
 SHRINKS = 3  # at most this many times
 MIN_ROOM = 1e-3  # a central step shrunk below this share of the usual one is round-off
 ROUND_OFF = 1e-13  # dimensionless residual differences this small are round-off
-INCREMENTS_TARGETS = 24  # free timing with this many targets or more: the field's Jacobians as
-# linkcli.search.increments factors, O(n) a step (fewer: dense, O(n^3), the bits of before;
-# measured: equal speed near 20 targets)
+INCREMENTS_TARGETS = 40  # free timing with this many targets or more: the field's Jacobians as
+# linkcli.search.increments factors, O(n) a step (fewer: dense, O(n^3), the bits of before).
+# Measured, a step of 96 rows (Jacobian and solve): 32 targets dense 27 ms, factors 39 ms;
+# 48: 55 and 38 ms; 96: 311 and 106 ms; 192: 2252 and 114 ms
 CLOSED_FORM = 2  # evaluations a row's closed-form Jacobian counts (measured: 1.8 to 2.9 times a
 # residual evaluation's time for 4 to 15 variables, the penalties' slopes included)
 
