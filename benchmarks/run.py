@@ -24,8 +24,11 @@ import os
 import platform
 import sys
 
-import numpy
-import scipy
+from linkcli.pipeline import single_threaded_blas
+
+single_threaded_blas()  # the command line's BLAS threads, before numpy is imported
+import numpy  # noqa: E402
+import scipy  # noqa: E402
 
 from linkcli import __version__
 from linkcli.bench import SUMMARY_COLUMNS, markdown, outcomes, runs_of, summary

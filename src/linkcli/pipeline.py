@@ -24,6 +24,8 @@ from linkcli.errors import InputError, LinkcliError
 
 MODES = ("synth", "analyze", "check")
 CHUNKS_PER_JOB = 4  # --jobs: files are sent in about this many chunks per process
+BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS",
+                "VECLIB_MAXIMUM_THREADS")
 
 
 class Request(NamedTuple):
@@ -152,8 +154,8 @@ def processes(jobs: int):
     is not dwarfed by one round trip per file, while the last chunks still balance the
     processes), and each outcome comes back with what is printed only (`printed`). On
     systems that fork, this process imports what `run` needs first (numpy included, with
-    the machine's BLAS threads): the forked workers share it instead of each importing it
-    again."""
+    the BLAS threads `single_threaded_blas` set): the forked workers share it instead of
+    each importing it again."""
     def execute(files: list[str], request: Request) -> Iterator[Outcome]:
         import multiprocessing
         from concurrent.futures import ProcessPoolExecutor
@@ -179,6 +181,21 @@ def printed(outcome: Outcome, request: Request) -> Outcome:
     if outcome.result is None or request.plot:
         return outcome
     return outcome._replace(result=Result(None, None, outcome.result.report))
+
+
+def single_threaded_blas() -> None:
+    """One BLAS thread (OpenBLAS, MKL, BLIS, OpenMP, Accelerate) unless the environment
+    names a count of its own (any of BLAS_THREADS set: left as it is), before numpy is
+    imported (after, it can no longer change): the searches' matrices are small (tens of
+    rows), too small for threads to pay, and a thread per core fights every other
+    process for the cores (docs/cluster.md, "BLAS threads"). It also keeps the last bits
+    of a scipy solver's path from following the machine's core count."""
+    import os
+    import sys
+    if "numpy" in sys.modules or any(name in os.environ for name in BLAS_THREADS):
+        return
+    for name in BLAS_THREADS:
+        os.environ[name] = "1"
 
 
 def read_source(path: str) -> bytes | InputError:
@@ -223,8 +240,10 @@ def executor(jobs: int, files: list[str], debug: bool, cluster: str | None = Non
     """`--cluster ADDRESS`: the Dask cluster (InputError with `--jobs N > 1`: the
     cluster's workers are the processes); `--jobs N`: processes for a batch (not with
     --debug: tracebacks stay in this process), otherwise serial. More processes than
-    files or CPUs cannot help: `jobs` is silently limited to both."""
+    files or CPUs cannot help: `jobs` is silently limited to both. Sets the BLAS threads
+    (`single_threaded_blas`) before anything imports numpy."""
     import os
+    single_threaded_blas()
     if cluster is not None:
         if jobs > 1:
             raise InputError("either --cluster or --jobs N (a cluster's workers are its "
