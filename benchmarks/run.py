@@ -3,14 +3,16 @@ each method's seeds reach the best known.
 
 Usage (from the repository root):
 
-    python3 benchmarks/run.py [--seeds N] [--cluster local:2] [FILE...]
+    python3 benchmarks/run.py [--seeds N] [--cluster local:2] [--methods auto] [--merge] [FILE...]
 
 Default: every file of problems/bench, 10 seeds (0..9) per solver setting. RESULTS.md gets
 the reliability summary (per problem and method: seeds within 1e-6 of the best known, seeds
 ending `ok` outside it, not converged, infeasible, median and worst gap, median seconds),
 then every run. The script also prints the README's table: the default method (`auto`) per
-problem. `seconds` is the solve alone (scipy imported before timing); with --cluster the
-runs share the workers' cores, so keep it for the counts, not the times.
+problem. With --merge, only the rows run (FILEs, --methods) are replaced in RESULTS.md (a
+change that touches a few problems or one method need not rerun them all). `seconds` is the solve alone (scipy
+imported before timing); with --cluster the runs share the workers' cores, so keep it for
+the counts, not the times.
 """
 
 from __future__ import annotations
@@ -22,8 +24,11 @@ import os
 import platform
 import sys
 
-import numpy
-import scipy
+from linkcli.pipeline import single_threaded_blas
+
+single_threaded_blas()  # the command line's BLAS threads, before numpy is imported
+import numpy  # noqa: E402
+import scipy  # noqa: E402
 
 from linkcli import __version__
 from linkcli.bench import SUMMARY_COLUMNS, markdown, outcomes, runs_of, summary
@@ -64,9 +69,13 @@ def main() -> None:
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--cluster", default=None, help="a Dask scheduler address or local:N")
     ap.add_argument("--out", default="benchmarks/RESULTS.md")
+    ap.add_argument("--methods", default=None, help="comma-separated: only these settings' rows (e.g. auto)")
+    ap.add_argument("--merge", action="store_true",
+                    help="replace only these files' rows in --out (the others kept from an earlier run)")
     args = ap.parse_args()
     files = args.files or sorted(glob.glob("problems/bench/*.toml"))
-    runs = [run for path in files for run in runs_of(path, args.seeds)]
+    runs = [run for path in files for run in runs_of(path, args.seeds)
+            if args.methods is None or run.method in args.methods.split(",")]
     rows = []
     with contextlib.closing(outcomes(runs, args.cluster)) as done:
         for outcome in done:
@@ -87,9 +96,37 @@ def main() -> None:
             " method; a `-` budget is the file's own (or the method's default).\n\n"
             "## Reliability over the seeds\n\n" + markdown(table, 4, SUMMARY_COLUMNS)
             + "\n## Every run\n\n" + markdown(rows))
+    if args.merge:
+        text = merged(args.out, text, files)
     with open(args.out, "w", encoding="utf-8") as fh:
         fh.write(text)
     print(readme_table(table, types))
+
+
+def merged(path: str, fresh: str, files: list[str]) -> str:
+    """The results file at `path` with the rows of `fresh` (a run of some files or methods
+    alone) in place of the rows they replace (same problem, method, budget; and seed in the
+    table of every run), the others and the header kept."""
+    stems = {os.path.splitext(os.path.basename(f))[0] for f in files}
+
+    def split(text: str):
+        head, rest = text.split("## Reliability over the seeds\n\n", 1)
+        summary_part, runs_part = rest.split("## Every run\n\n", 1)
+        return head, summary_part.strip().splitlines(), runs_part.strip().splitlines()
+
+    with open(path, encoding="utf-8") as fh:
+        head, old_summary, old_runs = split(fh.read())
+    _, new_summary, new_runs = split(fresh)
+    tables = []
+    for old, new, cells in ((old_summary, new_summary, 3), (old_runs, new_runs, 4)):
+        def key(line: str) -> tuple:  # problem, method, budget (, seed)
+            return tuple(cell.strip() for cell in line.split("|")[1:1 + cells])
+        fresh_rows = {key(ln): ln for ln in new[2:]}
+        body = [fresh_rows.pop(key(ln), ln) for ln in old[2:]]
+        tables.append("\n".join(old[:2] + body + list(fresh_rows.values())) + "\n")
+    note = f"\nRows of {', '.join(sorted(stems))} run apart (`python3 benchmarks/run.py --merge`).\n"
+    return (head + "## Reliability over the seeds\n\n" + tables[0] + "\n## Every run\n\n" + tables[1]
+            + note)
 
 
 if __name__ == "__main__":

@@ -9,6 +9,10 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 
+from linkcli.pipeline import single_threaded_blas  # noqa: E402
+
+single_threaded_blas()  # the BLAS threads of the command line (before numpy is imported)
+
 try:  # property tests draw the same examples on every run and machine: CI's verdict is
     # the one a developer sees (a random draw found a subnormal input once, on one run)
     from hypothesis import settings as _hypothesis_settings

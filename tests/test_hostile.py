@@ -242,7 +242,7 @@ def test_jobs_is_clamped_to_the_files_and_the_cpus(monkeypatch):
     seen = []
 
     class Pool:
-        def __init__(self, max_workers):
+        def __init__(self, max_workers, mp_context=None):
             seen.append(max_workers)
 
         def __enter__(self):
@@ -251,7 +251,7 @@ def test_jobs_is_clamped_to_the_files_and_the_cpus(monkeypatch):
         def __exit__(self, *a):
             return False
 
-        def map(self, fn, *args):
+        def map(self, fn, *args, chunksize=1):
             return map(fn, *args)
 
     monkeypatch.setattr(concurrent.futures, "ProcessPoolExecutor", Pool)

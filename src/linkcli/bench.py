@@ -150,6 +150,8 @@ def command(files: list[str], fmt: str, seeds: int, precision: int, debug: bool,
     the reliability summary over the seeds (`summary`); JSON, CSV and TOML give the runs.
     `summary_only` (--summary): the summary alone, in any format. Without files, the
     packaged bench set (linkcli.bench_problems, named bench/<name>.toml)."""
+    from linkcli.pipeline import single_threaded_blas
+    single_threaded_blas()  # as synth: the same BLAS threads, the same bits
     if files:
         problems = [(path, None) for path in files]
     else:

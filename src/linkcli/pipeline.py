@@ -23,6 +23,9 @@ from typing import Any, Iterator, NamedTuple
 from linkcli.errors import InputError, LinkcliError
 
 MODES = ("synth", "analyze", "check")
+CHUNKS_PER_JOB = 4  # --jobs: files are sent in about this many chunks per process
+BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS",
+                "VECLIB_MAXIMUM_THREADS")
 
 
 class Request(NamedTuple):
@@ -39,7 +42,8 @@ class Request(NamedTuple):
 
 class Result(NamedTuple):
     """One solved file: the frozen problem, the solver's Solution and the report built
-    from them. `drawing` is the report a plot draws from: the report itself, or, when
+    from them (problem and solution None in an outcome that crossed from a worker process
+    with what is printed only, `printed`). `drawing` is the report a plot draws from: the report itself, or, when
     `[report] sections` left out what the plot needs, a report with those sections."""
 
     problem: Any
@@ -152,12 +156,54 @@ def serial(files: list[str], request: Request) -> Iterator[Outcome]:
 
 
 def processes(jobs: int):
-    """An executor that runs files in `jobs` processes; outcomes keep argument order."""
+    """An executor that runs files in `jobs` processes; outcomes keep argument order.
+
+    The files go in chunks (about CHUNKS_PER_JOB per process, so that a small file's cost
+    is not dwarfed by one round trip per file, while the last chunks still balance the
+    processes), and each outcome comes back with what is printed only (`printed`). On
+    systems that fork, this process imports what `run` needs first (numpy included, with
+    the BLAS threads `single_threaded_blas` set): the forked workers share it instead of
+    each importing it again."""
     def execute(files: list[str], request: Request) -> Iterator[Outcome]:
+        import multiprocessing
         from concurrent.futures import ProcessPoolExecutor
-        with ProcessPoolExecutor(max_workers=jobs) as pool:
-            yield from pool.map(run, files, [request] * len(files))
+        context = None
+        if "fork" in multiprocessing.get_all_start_methods():
+            import linkcli.io.load  # noqa: F401  (numpy and the reader, shared by the forks)
+            context = multiprocessing.get_context("fork")
+        chunk = max(1, len(files) // (jobs * CHUNKS_PER_JOB))
+        with ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
+            yield from pool.map(run_printed, files, [request] * len(files), chunksize=chunk)
     return execute
+
+
+def run_printed(path: str, request: Request) -> Outcome:
+    """`run` in a worker process, its outcome trimmed to what is printed (`printed`)."""
+    return printed(run(path, request), request)
+
+
+def printed(outcome: Outcome, request: Request) -> Outcome:
+    """The outcome with only what the command prints: the report (a plot also needs the
+    problem and the solution, `request.plot`), not the problem and the solution, whose
+    arrays would cross the process boundary for nothing."""
+    if outcome.result is None or request.plot:
+        return outcome
+    return outcome._replace(result=Result(None, None, outcome.result.report))
+
+
+def single_threaded_blas() -> None:
+    """One BLAS thread (OpenBLAS, MKL, BLIS, OpenMP, Accelerate) unless the environment
+    names a count of its own (any of BLAS_THREADS set: left as it is), before numpy is
+    imported (after, it can no longer change): the searches' matrices are small (tens of
+    rows), too small for threads to pay, and a thread per core fights every other
+    process for the cores (docs/cluster.md, "BLAS threads"). It also keeps the last bits
+    of a scipy solver's path from following the machine's core count."""
+    import os
+    import sys
+    if "numpy" in sys.modules or any(name in os.environ for name in BLAS_THREADS):
+        return
+    for name in BLAS_THREADS:
+        os.environ[name] = "1"
 
 
 def read_source(path: str) -> bytes | InputError:
@@ -171,8 +217,9 @@ def read_source(path: str) -> bytes | InputError:
 
 
 def run_item(item: tuple[str, Request, bytes | InputError]) -> Outcome:
-    """`run(path, request, source)` of one cluster item (top-level: Dask pickles it by name)."""
-    return run(*item)
+    """`run(path, request, source)` of one cluster item (top-level: Dask pickles it by name),
+    trimmed to what is printed (`printed`)."""
+    return printed(run(*item), item[1])
 
 
 def item_failed(item: tuple, description: str) -> Outcome:
@@ -201,8 +248,10 @@ def executor(jobs: int, files: list[str], debug: bool, cluster: str | None = Non
     """`--cluster ADDRESS`: the Dask cluster (InputError with `--jobs N > 1`: the
     cluster's workers are the processes); `--jobs N`: processes for a batch (not with
     --debug: tracebacks stay in this process), otherwise serial. More processes than
-    files or CPUs cannot help: `jobs` is silently limited to both."""
+    files or CPUs cannot help: `jobs` is silently limited to both. Sets the BLAS threads
+    (`single_threaded_blas`) before anything imports numpy."""
     import os
+    single_threaded_blas()
     if cluster is not None:
         if jobs > 1:
             raise InputError("either --cluster or --jobs N (a cluster's workers are its "

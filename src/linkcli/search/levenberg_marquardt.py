@@ -51,12 +51,12 @@ class BoxedLeastSquares(Protocol):
 
 
 def batch_lm(problem: BoxedLeastSquares, z, iterations: int, reserve: int = 0, enough: float = -1.0,
-             acceleration: bool = False):
+             gain: float = 1e-12, acceleration: bool = False):
     """Levenberg-Marquardt on every row of z at once, leaving `reserve` evaluations of the
     budget unspent (a Jacobian costs 2k + 1 per row), and stopping every row once one
-    costs `enough` or less; with geodesic `acceleration` (see the module docstring);
-    returns (z, cost, converged): a row has converged when a step
-    gains less than 1e-12 of its cost, when no step gains anything (damping above 1e10),
+    costs `enough` or less; with geodesic `acceleration` (dense Jacobians; see the module
+    docstring); returns (z, cost, converged): a row has converged when a step
+    gains less than `gain` of its cost, when no step gains anything (damping above 1e10),
     or at an exact fit."""
     z = z.copy()
     k = z.shape[1]
@@ -65,7 +65,7 @@ def batch_lm(problem: BoxedLeastSquares, z, iterations: int, reserve: int = 0, e
     r = problem.residuals(z, slice(None))
     f = np.einsum("ij,ij->i", r, r)
     lam = np.full(len(z), 1e-3)
-    jac = None
+    jac = None  # each row's Jacobian at its point: (N, m, k), or structured (`_structured_step`)
     stale = np.ones(len(z), dtype=bool)  # Jacobian to (re)compute
     active = np.ones(len(z), dtype=bool)
     lo, hi = problem.lo, problem.hi
@@ -75,40 +75,38 @@ def batch_lm(problem: BoxedLeastSquares, z, iterations: int, reserve: int = 0, e
         if len(rows) == 0 or f.min() <= enough or problem.budget.left - reserve < len(rows) * (2 * k + 1):
             break
         need = rows[stale[rows]]
-        if jac is None:
-            jac = np.zeros((len(z), r.shape[1], k))
         if len(need):
-            jac[need] = problem.jacobian(z[need], need, r[need])
+            jac = _stored(jac, need, problem.jacobian(z[need], need, r[need]), len(z))
             stale[need] = False
-        j = jac[rows]
-        g = np.einsum("nmk,nm->nk", j, r[rows])
-        jt = np.ascontiguousarray(np.transpose(j, (0, 2, 1)))  # rows of J^T: einsum's fast loop
-        h = np.einsum("nkm,nlm->nkl", jt, jt)
         zr = z[rows]
-        frozen = (((zr <= lo + 1e-12 * (np.abs(lo) + 1)) & (g > 0))
-                  | ((zr >= hi - 1e-12 * (np.abs(hi) + 1)) & (g < 0)))
-        keep = ~frozen
-        h = h * keep[:, :, None] * keep[:, None, :]
-        g = g * keep
-        diag = np.einsum("nkk->nk", h)
-        damp = lam[rows, None] * (diag + 1e-12 * diag.max(axis=1, keepdims=True)) + frozen + 1e-300
-        a = h + np.einsum("nk,kl->nkl", damp, np.eye(k))
-        if linear is None:
-            step = -linalg.solve_spd(a, g)
-        else:  # the plane's normal as a second right-hand side (`_on_plane`)
-            both = linalg.solve_spd(a, np.stack([g, linear[0][None, :] * keep], axis=2))
-            step = -both[..., 0]
-        step = np.nan_to_num(step) * keep
-        if linear is not None:
-            step = _on_plane(linear, a, g, np.nan_to_num(both[..., 1]), zr, step, keep, lo, hi)
-        if acceleration:
-            step = _accelerated(problem, rows, zr, r[rows], j, a, step, keep, lo, hi)
+        if not isinstance(jac, np.ndarray):  # structured: an arrow's normal equations, in O(n)
+            step = _structured_step(jac.take(rows), r[rows], zr, lam[rows], lo, hi, linear)
+        else:
+            j = jac[rows]
+            g = np.einsum("nmk,nm->nk", j, r[rows])
+            jt = np.ascontiguousarray(np.transpose(j, (0, 2, 1)))  # rows of J^T: einsum's fast loop
+            h = np.einsum("nkm,nlm->nkl", jt, jt)
+            frozen = _frozen(zr, g, lo, hi)
+            keep = ~frozen
+            h = h * keep[:, :, None] * keep[:, None, :]
+            g = g * keep
+            a = h + np.einsum("nk,kl->nkl", _damping(np.einsum("nkk->nk", h), lam[rows], frozen), np.eye(k))
+            if linear is None:
+                step = -linalg.solve_spd(a, g)
+            else:  # the plane's normal as a second right-hand side (`_on_plane`)
+                both = linalg.solve_spd(a, np.stack([g, linear[0][None, :] * keep], axis=2))
+                step = -both[..., 0]
+            step = np.nan_to_num(step) * keep
+            if linear is not None:
+                step = _on_plane(linear, Dense(a), g, np.nan_to_num(both[..., 1]), zr, step, keep, lo, hi)
+            if acceleration:
+                step = _accelerated(problem, rows, zr, r[rows], j, a, step, keep, lo, hi)
         znew = np.clip(zr + step, lo, hi)
         rnew = problem.residuals(znew, rows)
         fnew = np.einsum("ij,ij->i", rnew, rnew)
         ok = fnew < f[rows]
         acc = rows[ok]
-        small = ok & (f[rows] - fnew <= 1e-12 * f[rows])
+        small = ok & (f[rows] - fnew <= gain * f[rows])
         z[acc], r[acc], stale[acc] = znew[ok], rnew[ok], True
         f_old = f[rows]
         f[acc] = fnew[ok]
@@ -130,11 +128,86 @@ def _accelerated(problem, rows, z, r, j, a, step, keep, lo, hi):
     return step + 0.5 * acc * trusted[:, None]
 
 
-def _on_plane(linear, m, g, u, z, step, keep, lo, hi) -> np.ndarray:
+def _damping(diag, lam, frozen) -> np.ndarray:
+    """Marquardt's damping lambda D, D = diag(J^T J) (plus a trace of its largest entry, so
+    that a zero column is damped too); 1 on a frozen variable, which then stays put."""
+    return lam[:, None] * (diag + 1e-12 * diag.max(axis=1, keepdims=True)) + frozen + 1e-300
+
+
+def _structured_step(j, r, z, lam, lo, hi, linear) -> np.ndarray:
+    """The damped Gauss-Newton steps of rows z whose Jacobians j have a structure of their
+    own (linkcli.search.arrow, linkcli.search.increments: their `normal` solves the damped
+    system in O(n)); with the plane of a linear constraint, as the dense steps."""
+    g = j.gradient(r)
+    frozen = _frozen(z, g, lo, hi)
+    keep = ~frozen
+    g = g * keep
+    normal = j.normal(keep)
+    damp = _damping(normal.diagonal(), lam, frozen)
+    if linear is None:
+        return np.nan_to_num(-normal.solve(damp, g)) * keep
+    both = normal.solve(damp, np.stack([g, linear[0][None, :] * keep], axis=2))
+    step = np.nan_to_num(-both[..., 0]) * keep
+    return _on_plane(linear, Structured(j, keep, damp), g, np.nan_to_num(both[..., 1]), z, step, keep, lo, hi)
+
+
+class Dense:
+    """The damped normal matrices m (N, k, k) of `_on_plane`: restricted solves and products."""
+
+    def __init__(self, m: np.ndarray) -> None:
+        self.m = m
+
+    def take(self, rows) -> "Dense":
+        return Dense(self.m[rows])
+
+    def solve_held(self, free: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+        """The system with the unknowns not `free` held at their right-hand side."""
+        return linalg.solve_spd(linalg.restricted(self.m, free), rhs)
+
+    def times(self, x: np.ndarray) -> np.ndarray:
+        return np.einsum("nkl,nl->nk", self.m, x)
+
+
+class Structured:
+    """As `Dense` for Jacobians j with a structure of their own, the unknowns `keep` and
+    the damping `damp` of the step."""
+
+    def __init__(self, j, keep: np.ndarray, damp: np.ndarray) -> None:
+        self.j, self.keep, self.damp = j, keep, damp
+
+    def take(self, rows) -> "Structured":
+        return Structured(self.j.take(rows), self.keep[rows], self.damp[rows])
+
+    def solve_held(self, free: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+        return self.j.normal(free).solve(np.where(free, self.damp, 1.0), rhs)
+
+    def times(self, x: np.ndarray) -> np.ndarray:
+        return self.j.normal(self.keep).matvec(self.damp, x)
+
+
+def _frozen(z, g, lo, hi) -> np.ndarray:
+    """The variables at a bound whose gradient pushes out of the box."""
+    return (((z <= lo + 1e-12 * (np.abs(lo) + 1)) & (g > 0))
+            | ((z >= hi - 1e-12 * (np.abs(hi) + 1)) & (g < 0)))
+
+
+def _stored(jac, rows, new, size: int):
+    """The batch's Jacobians with those of `rows` replaced by `new` (dense (N, m, k), or
+    structured: an `Arrow`, `Increments`), the store made on first use."""
+    if jac is None:
+        jac = np.zeros((size,) + new.shape[1:]) if isinstance(new, np.ndarray) else type(new).empty(size, new)
+    if not isinstance(jac, np.ndarray):
+        jac.put(rows, new)
+    else:
+        jac[rows] = new
+    return jac
+
+
+def _on_plane(linear, system, g, u, z, step, keep, lo, hi) -> np.ndarray:
     """Steps (N, k) from rows z that would cross the plane of the linear constraint
     c.z <= b (`linear` = (c, b)) replaced by the model's minimizer on it: with M the damped
-    normal matrix (N, k, k), g the gradient and u = M^-1 c (the frozen variables, not
-    `keep`, held), s' = s + u (b - c.z - c.s) / (c.u). Where that takes a variable of the
+    normal matrix (`system`: Dense or Structured), g the gradient and u = M^-1 c (the frozen
+    variables, not `keep`, held), s' = s + u (b - c.z - c.s) / (c.u). Where that takes a variable of the
     plane out of the box, the variable is held at its bound and the minimizer on the plane
     taken again among the others (an active set that only grows): the plane is met and
     the box kept."""
@@ -146,7 +219,7 @@ def _on_plane(linear, m, g, u, z, step, keep, lo, hi) -> np.ndarray:
     step = step.copy()
     held = ~keep[over]
     fixed = np.zeros((len(over), z.shape[1]))  # the held variables' steps
-    m, g, z_o, u = m[over], g[over], z[over], u[over]
+    system, g, z_o, u = system.take(over), g[over], z[over], u[over]
     s_o = step[over]
     for _ in range(z.shape[1]):
         cu = np.einsum("nk,nk->n", cm[over], u)
@@ -158,9 +231,8 @@ def _on_plane(linear, m, g, u, z, step, keep, lo, hi) -> np.ndarray:
         held |= out  # at the bound it crossed; the rest solved again with these held
         fixed = np.where(out, np.clip(z_o + s_o, lo, hi) - z_o, fixed)
         free = ~held
-        a = linalg.restricted(m, free)
-        rhs = np.where(free, -(g + np.einsum("nkl,nl->nk", m, fixed)), fixed)
-        both = np.nan_to_num(linalg.solve_spd(a, np.stack([rhs, c[None, :] * free], axis=2)))
+        rhs = np.where(free, -(g + system.times(fixed)), fixed)
+        both = np.nan_to_num(system.solve_held(free, np.stack([rhs, c[None, :] * free], axis=2)))
         s_o, u = both[..., 0], both[..., 1]
     step[over] = s_o
     return step

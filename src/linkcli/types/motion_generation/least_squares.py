@@ -10,12 +10,16 @@ with free timing, every phi_i; with prescribed timing phi_i = input_angles_i + o
 Method: (1) a global stage evaluated on a whole population at once: a Latin hypercube
 over the bounds, the linkages of the Burmester dyads of five-pose subsets and of 3-pose
 inversions (moving pivots for sampled ground pivots), each scored with its best phi_i
-from a grid (free timing; the inner minimization is exact up to the grid); (2) the best
-distinct starts polished by scipy.optimize.least_squares (trust region reflective,
-bounds, tolerances 1e-15) on the residual vector; (3) the best polished design that has no
-branch or order defect and meets the constraints is returned, (4) after a final
-Gauss-Newton settle to round-off (`_settle`, linkcli.search.kkt), so that its printed
-digits do not follow least_squares' path.
+from a grid (free timing; the inner minimization is exact up to the grid; with many poses
+the rows are ranked on a few of them first); (2) the best distinct starts polished all at
+once by the batched Levenberg-Marquardt (linkcli.search.levenberg_marquardt, bounds, a
+step gaining less than 1e-15 of the cost ends a row) on the residual vector, without the
+constraints first, then at stiffer penalties on the rows that break one; with free timing
+its normal equations are an arrow (each pose's angle moves that pose's residuals alone:
+linkcli.search.arrow), solved in O(n); (3) the best polished design that has no branch or
+order defect and meets the constraints is returned, (4) after a final Newton settle to
+round-off (`_settle`, linkcli.search.kkt) on the constraints that bind, so that its
+printed digits do not follow the polish's path. No scipy.
 """
 
 from __future__ import annotations
@@ -23,6 +27,8 @@ from __future__ import annotations
 import numpy as np
 
 from linkcli.mechanisms.four_bar import kinematics as kin
+from linkcli.search.arrow import Arrow
+from linkcli.search.levenberg_marquardt import batch_lm
 from linkcli.search.sampling import latin_hypercube
 
 from . import assemble
@@ -32,9 +38,20 @@ from .dyads import moving_pivots_for_ground
 from .poses import as_poses, characteristic_length
 
 PENALTY = 10.0  # weight of the assembly violation (a length) in the residual vector
-CHUNK = 512  # population rows scored at once
+SCORE_ELEMENTS = 1_000_000  # (row, grid angle, pose) triples scored at once
+SCREEN_POSES = 12  # free timing with more poses: the rows ranked on this many first,
+SCREEN_ROWS = 256  # and the best this many scored on every pose
 SETTLE_STEP = 3e-5  # unit box: the final polish's difference step (kkt.slopes)
 SETTLE_GAIN = 1e-9  # relative: the polished design may be this much worse (round-off)
+SETTLES = 4  # distinct designs settled (and so listed) at most, the best first
+CONFIRM = 1e-7  # relative: another round's best this close confirms the best
+MAX_ROUNDS = 4  # rounds of starts at most (the first two side by side)
+EXACT_RMS = 1e-9  # rms error (relative to the characteristic length) of an exact fit
+SAME_DESIGN = 1e-6  # parameters this close (relative to the longest link) are one design
+ITERATIONS = 400  # Levenberg-Marquardt steps of a polish, at most
+PENALTY_ITERATIONS = 30  # ... of a penalty pass: it only has to find the constraints that bind,
+# the final KKT polish holds them exactly (measured: 400 ended at the same optima, 40 % slower)
+GAIN = 1e-15  # a polish has converged when a step gains less than this share of the cost
 CONSTRAINT_WEIGHTS = (1e1, 1e3, 1e5)  # penalty weights of a Grashof or window violation in the
 # residual vector, each stiffer pass only while the polish leaves one (then the settle holds
 # the binding ones exactly)
@@ -59,25 +76,62 @@ def box_sample(rng, count, lo, hi):
 
 def _scores(params, poses, signs, phi_grid, weight, input_angles):
     """Objective of each population row with its best phi per pose from phi_grid (free
-    timing) or its prescribed angles; returns (objective (N,), phi (N, n))."""
+    timing) or its prescribed angles; returns (objective (N,), phi (N, n)). With more than
+    SCREEN_POSES poses (free timing) the rows are ranked on SCREEN_POSES of them, evenly
+    spread, and the best SCREEN_ROWS scored on all (the others inf): the work grows like
+    the poses, not like rows x poses. Rows are
+    scored SCORE_ELEMENTS (row, grid angle, pose) triples at a time: bounded memory
+    whatever the number of poses. An input angle where the row does not assemble scores
+    inf; the angle error is |wrapped difference| = min(|d|, 2 pi - |d|) for d the
+    difference of two angles in (-pi, pi]."""
     n = len(poses)
+    free = input_angles is None
+    if free and n > SCREEN_POSES:  # ranked on a few poses first, the best rows on all of them
+        few = np.unique(np.linspace(0, n - 1, SCREEN_POSES).round().astype(int))
+        rough, _ = _scored(params, poses[few], signs, phi_grid, weight, None)
+        keep = np.argsort(rough, kind="stable")[:SCREEN_ROWS]
+        keep = np.sort(keep[np.isfinite(rough[keep])])
+        obj, best_phi = np.full(len(params), np.inf), np.zeros((len(params), n))
+        obj[keep], best_phi[keep] = _scored(params[keep], poses, signs, phi_grid, weight, None)
+        return obj, best_phi
+    return _scored(params, poses, signs, phi_grid, weight, input_angles)
+
+
+def _scored(params, poses, signs, phi_grid, weight, input_angles):
+    """`_scores` of every row on every pose."""
+    n = len(poses)
+    free = input_angles is None
+    phis = phi_grid if free else input_angles
+    target_angle = kin.wrap(poses[:, 2])
     obj = np.empty(len(params))
     best_phi = np.empty((len(params), n))
-    for start in range(0, len(params), CHUNK):
-        p = params[start:start + CHUNK]
-        phis = phi_grid if input_angles is None else input_angles
-        ach, valid = assemble.body_poses(p, phis, signs)  # (N, K, 3)
-        dpos = ach[:, :, None, :2] - poses[None, None, :, :2]
-        dang = kin.wrap(ach[:, :, None, 2] - poses[None, None, :, 2])
-        cost = np.sum(dpos ** 2, -1) + (weight * dang) ** 2  # (N, K, n)
-        cost = np.where(valid[:, :, None], cost, np.inf)
-        if input_angles is None:
+    chunk = max(1, SCORE_ELEMENTS // (len(phis) * n if free else n))
+    for start in range(0, len(params), chunk):
+        p = params[start:start + chunk]
+        ach, valid = assemble.body_poses(p, phis, signs)  # (N, K, 3): K grid angles, or the n poses'
+        x = np.where(valid, ach[..., 0], np.inf)  # no assembly there: no score
+        if free:  # every grid angle against every pose: (N, K, n)
+            x, y, ang = x[:, :, None], ach[:, :, None, 1], ach[:, :, None, 2]
+        else:  # pose i at its own angle: (N, n)
+            y, ang = ach[..., 1], ach[..., 2]
+        cost = x - poses[:, 0]
+        cost *= cost
+        dy = y - poses[:, 1]
+        dy *= dy
+        cost += dy
+        d = np.abs(ang - target_angle)
+        np.minimum(d, kin.TWO_PI - d, out=d)
+        d *= weight
+        d *= d
+        cost += d
+        rows = slice(start, start + len(p))
+        if free:
             k = np.argmin(cost, 1)
-            obj[start:start + len(p)] = np.sum(np.take_along_axis(cost, k[:, None, :], 1)[:, 0], -1)
-            best_phi[start:start + len(p)] = phi_grid[k]
+            obj[rows] = np.sum(np.take_along_axis(cost, k[:, None, :], 1)[:, 0], -1)
+            best_phi[rows] = phi_grid[k]
         else:
-            obj[start:start + len(p)] = np.sum(np.diagonal(cost, axis1=1, axis2=2), -1)
-            best_phi[start:start + len(p)] = input_angles
+            obj[rows] = np.sum(cost, -1)
+            best_phi[rows] = input_angles
     return np.where(np.isfinite(obj), obj, np.inf), best_phi
 
 
@@ -98,22 +152,13 @@ def residuals(x_full, poses, sign, weight, timing_angles):
     return np.concatenate([dpos.reshape(lead + (-1,)), weight * dang, PENALTY * viol], -1)
 
 
-def central_jacobian(fun, z):
-    """Jacobian of a row-vectorized fun by central differences, all 2 * dim points in one
-    call; step h_k = eps^(1/3) max(1, |z_k|)."""
-    h = np.finfo(float).eps ** (1 / 3) * np.maximum(1.0, np.abs(z))
-    pts = np.concatenate([z + np.diag(h), z - np.diag(h)])
-    f = fun(pts)
-    dim = len(z)
-    return ((f[:dim] - f[dim:]) / (2 * h[:, None])).T
-
-
-def _starts(poses, lo, hi, rng, population, signs):
-    """Population rows: LHS, Burmester linkages of 5-pose subsets, 3-pose inversions."""
+def _starts(poses, lo, hi, rng, population, signs, spread: bool = True):
+    """Population rows: LHS, Burmester linkages of 5-pose subsets (`spread`: the evenly
+    spread one among them; random ones always), 3-pose inversions."""
     n = len(poses)
     rows = [box_sample(rng, population, lo, hi)]
     if n >= 5:
-        subsets = [np.linspace(0, n - 1, 5).round().astype(int)]
+        subsets = [np.linspace(0, n - 1, 5).round().astype(int)] if spread else []
         subsets += [np.sort(rng.choice(n, 5, replace=False)) for _ in range(3)]
         for sub in subsets:
             res = burmester_dyads(poses[sub])
@@ -153,129 +198,302 @@ def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
     Returns dict: params (10,), branch, input_angles (n,), objective, achieved (n, 3),
     position_error (n,), angle_error (n,), checks (assemble.check_linkage), feasible,
     why (reason when not feasible), angle_weight, evaluations (objective evaluations),
-    converged (the polish of the best met its tolerances), candidates (every polished
-    design: params, branch, objective, defects). budget: a search.budget.Budget that counts
-    the evaluations (a fresh one without a cap when None); the polishes stop at its cap."""
-    from scipy.optimize import least_squares
+    converged (the polish of the best met its tolerances and two rounds found it),
+    confirmed (two rounds of starts found it), candidates (every polished design
+    settled: params, branch, objective, defects). budget: a search.budget.Budget that
+    counts the evaluations (a fresh one without a cap when None); the polishes stop at its cap.
 
+    Rounds (`Search.round`): each draws its own population (population / 2 rows of each
+    kind) and polishes its best polish / 2 distinct starts per branch; the first two run
+    side by side (one batched polish). The best is confirmed when another round's best
+    ends within CONFIRM of it (a second arrival from other starts; two starts of one
+    population can share a basin), or is an exact fit; otherwise rounds follow, at most
+    MAX_ROUNDS, while the budget lasts. An unconfirmed best is not `converged`."""
     from linkcli.search.budget import Budget
 
     counter = budget if budget is not None else Budget(2**62)
-    poses = as_poses(poses)
-    n = len(poses)
-    lo, hi = (np.asarray(v, float) for v in (bounds if bounds is not None else default_bounds(poses)))
-    weight = characteristic_length(poses) if angle_weight is None else float(angle_weight)
+    search = Search(as_poses(poses), bounds, branch, timing, input_angles, offset_bounds, angle_weight,
+                    grashof, transmission, grid, counter)
     rng = np.random.default_rng(seed)
-    prescribed = timing == "prescribed"
-    t_angles = np.asarray(input_angles, float) if prescribed else None
-    signs = {"open": [-1.0], "crossed": [1.0], "either": [-1.0, 1.0]}[branch]
-    starts = _starts(poses, lo, hi, rng, population, signs)
-    phi_grid = np.linspace(-np.pi, np.pi, grid, endpoint=False)
-    pool = []
-    for sign in signs:
-        if prescribed:
-            offs = np.linspace(offset_bounds[0], offset_bounds[1], 9 if offset_bounds[1] > offset_bounds[0] else 1)
-            best = None
-            for off in offs:
-                sc, ph = _scores(starts, poses, sign, None, weight, t_angles + off)
-                best = (sc, np.full(len(sc), off)) if best is None else (
-                    np.where(sc < best[0], sc, best[0]), np.where(sc < best[0], off, best[1]))
-                counter.add(len(starts))
-            score, extra = best[0], best[1][:, None]
-        else:
-            score, extra = _scores(starts, poses, sign, phi_grid, weight, None)
-            counter.add(len(starts) * grid)
-        order = np.argsort(score, kind="stable")[:polish * 4]
-        chosen = []
-        for k in order:  # pick distinct starts (a short loop over the best few)
-            if np.isfinite(score[k]) and all(np.linalg.norm((starts[k] - starts[c]) / (hi - lo + 1e-300)) > 1e-3 for c in chosen):
-                chosen.append(k)
-            if len(chosen) == polish:
-                break
-        for k in chosen:
-            pool.append((sign, np.concatenate([starts[k], extra[k]])))
-    free = hi > lo
-    scale = characteristic_length(poses)
-    grashof_held = grashof if grashof not in (None, "any") else None
-    m_cons = design_constraints.count(grashof_held, transmission, n)
+    size, picks = max(1, population // 2), max(1, polish // 2)
+    rounds = search.rounds([search.pool(rng, size, picks, spread=True), search.pool(rng, size, picks, False)])
+    best, confirmed = search.best_of(rounds)
+    while not confirmed and len(rounds) < MAX_ROUNDS and counter.left > 0:
+        rounds += search.rounds([search.pool(rng, size, picks, False)])
+        best, confirmed = search.best_of(rounds)
+    return search.outcome(rounds, best, confirmed)
 
-    def constraint_values(x):  # (..., m) g <= 0 feasible, length unit
-        phi = x[..., 10:] if t_angles is None else t_angles + x[..., 10:11]
-        return design_constraints.values(x, phi, grashof_held, transmission, scale)
 
-    results, setups = [], []
-    for sign, x0 in pool:
-        if prescribed:
+class Search:
+    """The many-pose least-squares search of one problem: its scoring, rounds of polished
+    starts and their settle (`solve_least_squares`)."""
+
+    def __init__(self, poses, bounds, branch, timing, input_angles, offset_bounds, angle_weight, grashof,
+                 transmission, grid, counter):
+        n = len(poses)
+        self.poses, self.counter, self.grashof, self.transmission = poses, counter, grashof, transmission
+        lo, hi = (np.asarray(v, float) for v in (bounds if bounds is not None else default_bounds(poses)))
+        self.lo, self.hi = lo, hi
+        self.weight = characteristic_length(poses) if angle_weight is None else float(angle_weight)
+        self.scale = characteristic_length(poses)
+        self.prescribed = timing == "prescribed"
+        self.t_angles = np.asarray(input_angles, float) if self.prescribed else None
+        self.offset_bounds = offset_bounds
+        self.signs = {"open": [-1.0], "crossed": [1.0], "either": [-1.0, 1.0]}[branch]
+        self.phi_grid = np.linspace(-np.pi, np.pi, grid, endpoint=False)
+        grashof_held = grashof if grashof not in (None, "any") else None
+        self.m_cons = design_constraints.count(grashof_held, transmission, n)
+        t_angles = self.t_angles
+
+        def constraint_values(x):  # (..., m) g <= 0 feasible, length unit
+            phi = x[..., 10:] if t_angles is None else t_angles + x[..., 10:11]
+            return design_constraints.values(x, phi, grashof_held, transmission, self.scale)
+
+        self.constraint_values = constraint_values
+        if self.prescribed:
             tlo, thi = np.array([offset_bounds[0]]), np.array([offset_bounds[1]])
         else:
             tlo, thi = np.full(n, -4 * np.pi), np.full(n, 4 * np.pi)
-        lo_full, hi_full = np.concatenate([lo, tlo]), np.concatenate([hi, thi])
-        mask = np.concatenate([free, thi > tlo])
-        x0 = np.clip(x0, lo_full, hi_full)
+        self.lo_full, self.hi_full = np.concatenate([lo, tlo]), np.concatenate([hi, thi])
+        self.mask = np.concatenate([hi > lo, thi > tlo])
+        self.fit = PoseFit(poses, self.weight, t_angles, self.mask, self.lo_full, self.hi_full, counter,
+                           constraint_values, self.m_cons,
+                           transmission is not None and grashof_held not in design_constraints.FULL_TURN)
+        self.exact = n * (EXACT_RMS * self.scale) ** 2  # an objective this small fits exactly
+        self.settled_as = []  # (params before, settled result): designs settled so far
+        self.tries = 0
 
-        def design(z, x0=x0):
+    def pool(self, rng, population, polish, spread):
+        """A round's starts: (sign, x0) of the best `polish` distinct rows per branch of a
+        fresh population, scored."""
+        starts = _starts(self.poses, self.lo, self.hi, rng, population, self.signs, spread)
+        pool = []
+        for sign in self.signs:
+            if self.prescribed:
+                ob = self.offset_bounds
+                offs = np.linspace(ob[0], ob[1], 9 if ob[1] > ob[0] else 1)
+                best = None
+                for off in offs:
+                    sc, ph = _scores(starts, self.poses, sign, None, self.weight, self.t_angles + off)
+                    best = (sc, np.full(len(sc), off)) if best is None else (
+                        np.where(sc < best[0], sc, best[0]), np.where(sc < best[0], off, best[1]))
+                    self.counter.add(len(starts))
+                score, extra = best[0], best[1][:, None]
+            else:
+                score, extra = _scores(starts, self.poses, sign, self.phi_grid, self.weight, None)
+                self.counter.add(len(starts) * len(self.phi_grid))
+            order = np.argsort(score, kind="stable")[:polish * 4]
+            chosen = []
+            width = self.hi - self.lo + 1e-300
+            for k in order:  # pick distinct starts (a short loop over the best few)
+                if np.isfinite(score[k]) and all(np.linalg.norm((starts[k] - starts[c]) / width) > 1e-3
+                                                 for c in chosen):
+                    chosen.append(k)
+                if len(chosen) == polish:
+                    break
+            pool += [(sign, np.concatenate([starts[k], extra[k]])) for k in chosen]
+        return pool
+
+    def rounds(self, pools):
+        """Polish the pools' starts together (one batched polish), settle the designs they
+        reach; the results (dicts of `_evaluate`) of each pool."""
+        rows = [row for pool in pools for row in pool]
+        if not rows:
+            return [[] for _ in pools]
+        signs = np.array([sign for sign, _ in rows])
+        x0 = np.clip(np.array([x for _, x in rows]), self.lo_full, self.hi_full)
+        x, converged, penalized = self.fit.polish(x0, signs)
+        results = []
+        for i, sign in enumerate(signs):
+            results.append(_evaluate(x[i], self.poses, sign, self.weight, self.t_angles, self.grashof,
+                                     self.transmission))
+            results[-1].update(converged=bool(converged[i]), penalized=bool(penalized[i]), x=x[i], sign=sign)
+        self._settle_all(results)
+        bounds = np.cumsum([0] + [len(pool) for pool in pools])
+        return [results[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
+
+    def _settle_all(self, results):
+        """The best is settled; with constraints the best SETTLES distinct designs are (a
+        penalty polish ends at a point whose last digits follow round-off, and they are
+        listed). A start that reached a design settled already takes its settled result
+        (they are one design, listed once), not a settle again."""
+        order = sorted(range(len(results)), key=lambda i: _key(results[i]))
+        for i in (order if self.m_cons else order[:1]):
+            if not (results[i]["feasible"] or self.m_cons):
+                continue
+            p = results[i]["params"]
+            same = [out for q, out in self.settled_as
+                    if np.max(np.abs(p - q)) <= SAME_DESIGN * float(max(p[3:7]))]
+            if same:
+                results[i] = dict(same[0])
+                continue
+            if self.tries == SETTLES:
+                continue  # the worse designs stay unsettled, and unlisted
+            self.tries += 1
+            settled = _settle(self.counter, *self._setup(results[i]))
+            if settled is not None:
+                out = _evaluate(settled, self.poses, results[i]["sign"], self.weight, self.t_angles,
+                                self.grashof, self.transmission)
+                if out["feasible"] and (not results[i]["feasible"] or
+                                        out["objective"] <= results[i]["objective"] * (1.0 + SETTLE_GAIN)):
+                    out.update(converged=True, settled=True, sign=results[i]["sign"])
+                    results[i] = out
+                    self.settled_as.append((p, out))
+
+    def _setup(self, result):
+        """What `_settle` needs of a polished design: residuals and constraints of its
+        free variables, the full vector, the mask, the bounds, its sign and the scale."""
+        x0, sign, mask = result["x"], result["sign"], self.mask
+        poses, weight, t_angles, values = self.poses, self.weight, self.t_angles, self.constraint_values
+
+        def design(z):
             z = np.asarray(z, float)
-            x = np.broadcast_to(x0, z.shape[:-1] + x0.shape).copy()
-            x[..., mask] = z
-            return x
+            out = np.broadcast_to(x0, z.shape[:-1] + x0.shape).copy()
+            out[..., mask] = z
+            return out
 
-        def fun(z, sign=sign):
+        def fun(z):
             return residuals(design(z), poses, sign, weight, t_angles)
 
         def cons(z):
-            return constraint_values(design(z))
+            return values(design(z))
 
-        z0 = x0[mask]
-        span = hi_full[mask] - lo_full[mask]
-        z0 = np.clip(z0, lo_full[mask] + 1e-12 * span, hi_full[mask] - 1e-12 * span)
-        passes = [None] + (list(CONSTRAINT_WEIGHTS) if m_cons else [])
-        penalized = False
-        for penalty in passes:  # unconstrained first; stiffer penalties while one is broken
-            if penalty is not None and np.all(cons(z0) <= 0.0):
+        return fun, cons if self.m_cons else None, x0, mask, self.lo_full, self.hi_full, sign, self.scale
+
+    def best_of(self, rounds):
+        """(the best result over the rounds, whether another round's best ends within
+        CONFIRM of it, or it fits exactly)."""
+        bests = [min(r, key=_key) for r in rounds if r]
+        if not bests:
+            return None, False
+        best = min(bests, key=_key)
+        if not best["feasible"]:
+            return best, False
+        if best["objective"] <= self.exact:
+            return best, True
+        near = [b for b in bests if b["feasible"]
+                and b["objective"] - best["objective"] <= CONFIRM * best["objective"]]
+        return best, len(near) >= 2
+
+    def outcome(self, rounds, best, confirmed) -> dict:
+        results = [r for rs in rounds for r in rs]
+        order = sorted(range(len(results)), key=lambda i: _key(results[i]))
+        if self.m_cons:  # listed: the best, and the others the final polish settled (an end point it
+            # did not settle has last digits that follow the search's path, along a penalty or a
+            # flat valley); a design reached from several starts is one entry (polished_rows)
+            order = order[:1] + [i for i in order[1:] if results[i].get("settled")]
+        ranked = [results[i] for i in order]
+        out = dict(ranked[0])
+        out["confirmed"] = bool(confirmed)
+        out["converged"] = bool(out.get("converged")) and bool(confirmed)
+        out["angle_weight"] = self.weight
+        out["evaluations"] = self.counter.used
+        out["candidates"] = [{k: r[k] for k in ("params", "branch", "objective", "feasible", "why")}
+                             for r in ranked]
+        return out
+
+
+def _key(result):
+    """Feasible first, then the lower objective."""
+    return (not result["feasible"], result["objective"])
+
+
+class PoseFit:
+    """The polish of many designs at once (`linkcli.search.levenberg_marquardt.batch_lm`):
+    full vectors x (N, 10 + t) of which the `mask` variables move within [lo, hi], each row
+    with its branch sign; residuals `residuals` (plus `penalty` times the constraints'
+    violations, when set); evaluations counted against `budget`. With free timing the
+    Jacobian is an arrow (linkcli.search.arrow): pose i's input angle moves pose i's
+    residuals alone, so its columns come from two shifted points for all the angles at
+    once (central differences, like the linkage's columns: step eps^(1/3) max(1, |z|)),
+    and the Levenberg-Marquardt normal equations are solved in O(n)."""
+
+    def __init__(self, poses, weight, t_angles, mask, lo, hi, budget, constraint_values, m_cons,
+                 window_at_poses: bool):
+        self.poses, self.weight, self.t_angles, self.mask = poses, weight, t_angles, mask
+        self.lo, self.hi, self.budget = lo[mask], hi[mask], budget
+        self.constraint_values, self.m_cons = constraint_values, m_cons
+        self.window_at_poses = window_at_poses  # the window's 2n rows, one per pose and edge, last
+        self.n_link = int(np.sum(mask[:10]))
+        self.penalty = None
+        self.x0 = self.sign = None
+
+    def full(self, z, rows):
+        """Full vectors of rows z of the batch (their fixed entries from x0)."""
+        x = self.x0[rows].copy()
+        x[:, self.mask] = z
+        return x
+
+    def residuals(self, z, rows, sign=None) -> np.ndarray:
+        """Counted residuals of rows z (`sign`: their branch signs, when not the rows')."""
+        self.budget.add(len(z))
+        x = self.full(z, rows)
+        sign = self.sign[rows] if sign is None else sign
+        r = residuals(x, self.poses, sign[:, None], self.weight, self.t_angles)
+        if self.penalty is None:
+            return r
+        return np.concatenate([r, self.penalty * np.maximum(0.0, self.constraint_values(x))], axis=1)
+
+    def owners(self) -> np.ndarray:
+        """Each residual's pose (whose input angle moves it), -1 for the rows no angle moves
+        (the Grashof class, a window over the full turn)."""
+        n = len(self.poses)
+        each = np.arange(n)
+        own = [np.repeat(each, 2), each, each]  # position (x, y), angle, assembly
+        if self.penalty is not None and self.m_cons:
+            at_poses = 2 * n if self.window_at_poses else 0
+            own += [np.full(self.m_cons - at_poses, -1)] + ([each, each] if at_poses else [])
+        return np.concatenate(own)
+
+    def jacobian(self, z, rows, r0):
+        """Central differences: every column apart (prescribed timing), or the linkage's
+        apart and the input angles' together (free timing: an `Arrow`)."""
+        rows = np.arange(len(self.sign))[rows]
+        n_rows, k = z.shape
+        h = np.finfo(float).eps ** (1 / 3) * np.maximum(1.0, np.abs(z))
+        arrow = self.t_angles is None
+        cols = self.n_link if arrow else k
+        shifts = np.zeros((cols + (1 if arrow else 0), k))
+        shifts[np.arange(cols), np.arange(cols)] = 1.0
+        if arrow:
+            shifts[cols, cols:] = 1.0
+        step = shifts[None, :, :] * h[:, None, :]  # (N, s, k)
+        zz = np.concatenate([z[:, None, :] + step, z[:, None, :] - step], axis=1).reshape(-1, k)
+        reps = 2 * len(shifts)
+        rr = self.residuals(zz, np.repeat(rows, reps), sign=np.repeat(self.sign[rows], reps))
+        rr = rr.reshape(n_rows, reps, -1)
+        plus, minus = rr[:, :len(shifts)], rr[:, len(shifts):]
+        dense = np.transpose((plus[:, :cols] - minus[:, :cols]) / (2.0 * h[:, :cols, None]), (0, 2, 1))
+        if not arrow:
+            return dense
+        owner = self.owners()
+        ht = h[:, cols:]  # each pose's step
+        at = np.where(owner >= 0, owner, 0)
+        local = np.where(owner >= 0, (plus[:, cols] - minus[:, cols]) / (2.0 * ht[:, at]), 0.0)
+        return Arrow(dense, local, owner, len(self.poses))
+
+    def polish(self, x0, sign):
+        """Levenberg-Marquardt on every row at once: without the constraints first, then,
+        on the rows that break one, at the penalty weights CONSTRAINT_WEIGHTS in turn.
+        Returns (x, converged, penalized), each (N, ...)."""
+        x, converged = x0.copy(), np.zeros(len(x0), dtype=bool)
+        penalized = np.zeros(len(x0), dtype=bool)
+        todo = np.arange(len(x0))
+        span = self.hi - self.lo
+        for penalty in [None] + (list(CONSTRAINT_WEIGHTS) if self.m_cons else []):
+            if penalty is not None:
+                todo = todo[np.any(self.constraint_values(x[todo]) > 0.0, axis=1)]
+                penalized[todo] = True
+            if not len(todo):
                 break
-            penalized = penalty is not None
-
-            def penalized(z, penalty=penalty):
-                r = fun(z)
-                return r if penalty is None else np.concatenate([r, penalty * np.maximum(0.0, cons(z))], -1)
-
-            sol = least_squares(penalized, z0, jac=lambda z, f=penalized: central_jacobian(f, z),
-                                bounds=(lo_full[mask], hi_full[mask]), method="trf",
-                                xtol=1e-15, ftol=1e-15, gtol=1e-15,
-                                max_nfev=max(1, min(400 * (len(z0) + 1), counter.left // (2 * len(z0) + 1))))
-            counter.add(sol.nfev + 2 * len(z0) * (sol.njev or 0))  # a Jacobian costs 2 dim evaluations
-            z0 = sol.x
-        x = x0.copy()
-        x[mask] = z0
-        results.append(_evaluate(x, poses, sign, weight, t_angles, grashof, transmission))
-        results[-1]["converged"] = bool(sol.status > 0)
-        results[-1]["penalized"] = penalized
-        setups.append((fun, cons if m_cons else None, x, mask, lo_full, hi_full, sign, scale))
-    order = sorted(range(len(results)), key=lambda i: (not results[i]["feasible"], results[i]["objective"]))
-    # the best is settled; with constraints every candidate is (a penalty polish ends at a
-    # point whose last digits follow round-off, and the candidates are listed)
-    for i in (order if m_cons else order[:1]):
-        if not (results[i]["feasible"] or m_cons):
-            continue
-        settled = _settle(counter, *setups[i])
-        if settled is not None:
-            out = _evaluate(settled, poses, setups[i][6], weight, t_angles, grashof, transmission)
-            if out["feasible"] and (not results[i]["feasible"] or
-                                    out["objective"] <= results[i]["objective"] * (1.0 + SETTLE_GAIN)):
-                out["converged"] = out["settled"] = True
-                results[i] = out
-    order = sorted(range(len(results)), key=lambda i: (not results[i]["feasible"], results[i]["objective"]))
-    if m_cons:  # listed: the best, and the others unless a penalty pass ended them and the
-        # final polish did not settle them (their last digits follow round-off along the penalty)
-        order = order[:1] + [i for i in order[1:]
-                             if results[i].get("settled") or not results[i].get("penalized")]
-    ranked = [results[i] for i in order]
-    best = dict(ranked[0])
-    best["angle_weight"] = weight
-    best["evaluations"] = counter.used
-    best["candidates"] = [{k: r[k] for k in ("params", "branch", "objective", "feasible", "why")}
-                          for r in ranked]
-    return best
+            self.penalty = penalty
+            self.x0, self.sign = x[todo], sign[todo]
+            z0 = np.clip(x[todo][:, self.mask], self.lo + 1e-12 * span, self.hi - 1e-12 * span)
+            z, _, conv = batch_lm(self, z0, ITERATIONS if penalty is None else PENALTY_ITERATIONS, gain=GAIN)
+            x[np.ix_(todo, np.flatnonzero(self.mask))] = z
+            converged[todo] = conv
+        self.penalty = None
+        return x, converged, penalized
 
 
 def _settle(counter, fun, cons, x, mask, lo, hi, sign, scale):

@@ -287,8 +287,11 @@ def _least_squares(problem, poses, scale) -> Solution:
     feasible = res["count"][0] == 0
     solver = SolverRecord("least-squares", opts.seed, int(out["evaluations"]), bool(out.get("converged", False)))
     extra = {"candidates": sections.polished_rows(out["candidates"], problem.meta.units)}
+    notes = [] if out.get("confirmed", True) or not feasible else [
+        f"no second round of starts reached the best design within {least_squares.MAX_ROUNDS} rounds: "
+        "another seed or a larger budget may end lower"]
     return _solution(problem, poses, scale, params[0], phis[0], signs[0], res, 0, feasible, solver, extra,
-                     [], objective=float(out["objective"]), weight=float(out["angle_weight"]))
+                     notes, objective=float(out["objective"]), weight=float(out["angle_weight"]))
 
 
 # ---------------------------------------------------------------- the Solution

@@ -71,6 +71,7 @@ class _Slopes:
         d_point[8] = 1j * w * (crank + arm)
         slopes[8] = np.zeros_like(t_phi)
         d_phi = w * 1j * (crank + arm * t_phi)  # dP_k / dphi_k
+        self.t_phi, self.d_phi = t_phi, d_phi
         link = [j for j in idx if j < N_LINK]
         self.dp = np.stack([d_point[j] for j in link], axis=2) if link else np.zeros((n_rows, n, 0), complex)
         self.dtheta = np.stack([slopes[j] for j in link], axis=2) if link else np.zeros((n_rows, n, 0))
@@ -115,27 +116,65 @@ def projected_jacobian(design: Design, idx: np.ndarray, x: np.ndarray, pose, sig
     just solved, with that fit's pose; and (N,) whether each row's slopes hold (the
     linkage assembles at every target, away from a dead point: elsewhere the caller
     takes differences)."""
-    n_rows = len(x)
     sl = _Slopes(design, idx, x, pose, s)
-    dp, w = sl.dp, sl.w
     gamma_col = np.array([j == 8 for j in idx], dtype=float)
     # the linear columns (px, py, gx, gy) are w E_k, i w E_k, 1, i (their real inner
     # products: n on the diagonal, sigma = sum w E_k off it, as in fit_linear); the slopes
     # of the first two, i (theta_v + gamma_v) w E_k; the pivot's are constant
-    we = w * sl.e_theta
-    turning = 1j * (sl.dtheta + gamma_col[None, None, :])
-    d_px = we[:, :, None] * turning
-    free = _unheld(design, x)  # (N, 4)
-    targets = design.targets[:, 0] + 1j * design.targets[:, 1]
-    r = (x[:, 6:7] + 1j * x[:, 7:8]) + w * (sl.crank + sl.arm) - targets
+    we = sl.w * sl.e_theta
+    d_px = we[:, :, None] * (1j * (sl.dtheta + gamma_col[None, None, :]))
+    r = _errors(design, x, sl)
     # (dA_v)^T r for the px and py columns: Re and Im of sum conj(d(w E_k)) r
     cross = np.sum(np.conj(d_px) * r[:, :, None], axis=1)
-    along = np.sum(np.conj(we)[:, :, None] * dp, axis=1)  # A^T D: px, py columns
-    plain = np.sum(dp, axis=1)  # gx, gy columns
-    rhs = np.stack([along.real + cross.real, along.imag + cross.imag, plain.real, plain.imag], axis=1)
+    along = np.sum(np.conj(we)[:, :, None] * sl.dp, axis=1)  # A^T D: px, py columns
+    plain = np.sum(sl.dp, axis=1)  # gx, gy columns
+    coef = _coefficients(design, x, we, np.stack([along.real + cross.real, along.imag + cross.imag,
+                                                  plain.real, plain.imag], axis=1))
+    fitted = we[:, :, None] * (coef[:, None, 0] + 1j * coef[:, None, 1]) + (coef[:, None, 2]
+                                                                          + 1j * coef[:, None, 3])
+    return _real(design, sl.dp - fitted, sl.ok)
+
+
+def increments_parts(design: Design, idx: np.ndarray, x: np.ndarray, pose, sign, s):
+    """The projected Jacobian of the target errors / L in the factors of
+    linkcli.search.increments, the timing in each target's own input angle phi_k (not yet
+    the increments): (w (N, 2n, p): the link columns `idx` as `projected_jacobian`;
+    local (N, 2n): target k's rows' slopes along phi_k; a (N, 2n, 4): the linear columns
+    w E_k, i w E_k, 1, i / L; coef (N, 4, n): the projection's coefficients of each phi_k),
+    the angle columns being local - a coef; and (N,) whether the rows' slopes hold. Each
+    phi_k moves target k alone, so every sum over the targets of `projected_jacobian`
+    is one term here: O(n) in all."""
+    link = np.array([j for j in idx if j < N_LINK], dtype=int)
+    w_part, ok = projected_jacobian(design, link, x, pose, sign, s)
+    sl = _Slopes(design, [], x, pose, s)
+    we = sl.w * sl.e_theta
+    r = _errors(design, x, sl)
+    cross = np.conj(we * 1j * sl.t_phi) * r  # (dA_k)^T r: target k's term alone
+    along = np.conj(we) * sl.d_phi
+    coef = _coefficients(design, x, we, np.stack([along.real + cross.real, along.imag + cross.imag,
+                                                  sl.d_phi.real, sl.d_phi.imag], axis=1))
+    n_rows, n = we.shape
+    local = np.stack([sl.d_phi.real, sl.d_phi.imag], axis=2).reshape(n_rows, 2 * n) / design.scale
+    columns = np.stack([we, 1j * we, np.ones_like(we), np.full_like(we, 1j)], axis=2)  # (N, n, 4)
+    a = np.stack([columns.real, columns.imag], axis=2).reshape(n_rows, 2 * n, 4) / design.scale
+    return w_part, local, a, coef, ok & np.all(np.isfinite(local), axis=1)
+
+
+def _errors(design: Design, x: np.ndarray, sl: _Slopes) -> np.ndarray:
+    """The target errors P_k - T_k (N, n) complex, from the slopes' closure."""
+    targets = design.targets[:, 0] + 1j * design.targets[:, 1]
+    return (x[:, 6:7] + 1j * x[:, 7:8]) + sl.w * (sl.crank + sl.arm) - targets
+
+
+def _coefficients(design: Design, x: np.ndarray, we: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """(A^T A)^-1 (A^T D + (dA)^T r) (N, 4, cols) from its right-hand side rhs (N, 4, cols)
+    (real parts: px, py, gx, gy), over the linear columns the fit solved for (`_unheld`;
+    the others 0): all four free, fit_linear's complex 2 x 2 in closed form; else the
+    4 x 4 system."""
+    n_rows = len(x)
+    free = _unheld(design, x)  # (N, 4)
     sigma = np.sum(we, axis=1)
     n = float(design.n_targets)
-    # all four free: fit_linear's complex 2 x 2 in closed form; else the 4 x 4 system
     s1, s2 = rhs[:, 0] + 1j * rhs[:, 1], rhs[:, 2] + 1j * rhs[:, 3]
     point, pivot, posed = linear_pair(n, sigma[:, None], s1, s2)
     closed = np.all(free, axis=1) & posed[:, 0]
@@ -146,9 +185,7 @@ def projected_jacobian(design: Design, idx: np.ndarray, x: np.ndarray, pose, sig
         fr = free[rest]
         coef[rest] = linalg.solve_spd(linalg.restricted(linear_normal(n, sigma[rest]), fr),
                                       np.where(fr[:, :, None], rhs[rest], 0.0))
-    fitted = we[:, :, None] * (coef[:, None, 0] + 1j * coef[:, None, 1]) + (coef[:, None, 2]
-                                                                          + 1j * coef[:, None, 3])
-    return _real(design, dp - fitted, sl.ok)
+    return coef
 
 
 def _phi_slopes(design: Design, timing: np.ndarray, s, n: int) -> np.ndarray:
@@ -256,6 +293,19 @@ def _r2_slopes(design: Design, a, d, phi, dphi, unit, lowest: bool) -> np.ndarra
     if design.full_turn:
         sgn = -1.0 if lowest else 1.0  # (d - a)^2 or (d + a)^2
         return 2.0 * (d + sgn * a)[:, None] * (unit[0] + sgn * unit[1])
+    holds, target, p = _span_extreme(a, d, phi, lowest)
+    rows = np.arange(len(a))
+    slope = (2.0 * (a - d * np.cos(p)))[:, None] * unit[1] + (2.0 * (d - a * np.cos(p)))[:, None] * unit[0] \
+        + (2.0 * a * d * np.sin(p))[:, None] * dphi[rows, target]
+    sgn = -1.0 if lowest else 1.0
+    extreme = 2.0 * (d + sgn * a)[:, None] * (unit[0] + sgn * unit[1])
+    return np.where(holds[:, None], extreme, slope)
+
+
+def _span_extreme(a, d, phi, lowest: bool):
+    """Where rho^2 = a^2 + d^2 - 2 a d cos(phi) is smallest (or largest) over the targets'
+    span: (N,) whether at phi = 0 (or pi) inside it, else the end target holding it and its
+    angle."""
     lo = phi.min(axis=1)
     width = phi.max(axis=1) - lo
     at = math.pi if not lowest else 0.0
@@ -265,10 +315,42 @@ def _r2_slopes(design: Design, a, d, phi, dphi, unit, lowest: bool) -> np.ndarra
     r2 = a[:, None] ** 2 + d[:, None] ** 2 - 2 * a[:, None] * d[:, None] * np.cos(pe)
     pick = np.argmin(r2, axis=1) if lowest else np.argmax(r2, axis=1)
     rows = np.arange(len(a))
-    p = pe[rows, pick]
-    target = ends[rows, pick]
-    slope = (2.0 * (a - d * np.cos(p)))[:, None] * unit[1] + (2.0 * (d - a * np.cos(p)))[:, None] * unit[0] \
-        + (2.0 * a * d * np.sin(p))[:, None] * dphi[rows, target]
-    sgn = -1.0 if lowest else 1.0
-    extreme = 2.0 * (d + sgn * a)[:, None] * (unit[0] + sgn * unit[1])
-    return np.where(holds[:, None], extreme, slope)
+    return holds, ends[rows, pick], pe[rows, pick]
+
+
+def penalty_angle_parts(design: Design, x: np.ndarray, frame, s, weight: float, violated):
+    """The penalties' slopes along each target's own input angle phi_k (free timing, the
+    factors of linkcli.search.increments; `penalty_jacobian` has them along the
+    increments): (local (N, m): row k of the assembly's slope along phi_k, a d sin phi_k /
+    rho_k with the side's sign, 0 on the other rows; [(row, slopes (N, n)), ...] of the
+    rows several angles move: the window's over the targets' span, at its end target
+    (2 a d sin phi / (2 b c), scaled as the row), and the sweep, s L (phi_n - phi_1)),
+    weighted and 0 where the row is not `violated` (N, m), as `penalty_jacobian`."""
+    n_rows, n = len(x), design.n_targets
+    d, a, b, c = (x[:, j] for j in range(4))
+    phi = design.input_angles(x, s)
+    lead = (3 if design.grashof in SHORTEST else 1 if design.grashof == "triple-rocker" else 0)
+    window = 2 if design.window is not None else 0
+    local = np.zeros(violated.shape)
+    rho = frame.rho
+    safe = np.where(rho > 0, rho, 1.0)
+    drho = a[:, None] * d[:, None] * frame.sphi / safe
+    short_side = (np.abs(b - c)[:, None] - rho) >= (rho - (b + c)[:, None])
+    local[:, lead + window:lead + window + n] = np.where(short_side, -drho, drho)
+    spread = []
+    if design.window is not None and not design.full_turn:
+        bc = 2.0 * b * c
+        for end, at_lo in ((0, True), (1, False)):
+            holds, target, p = _span_extreme(a, d, phi, at_lo)
+            slope = np.zeros((n_rows, n))
+            slope[np.arange(n_rows), target] = np.where(holds, 0.0, 2.0 * a * d * np.sin(p) / bc)
+            spread.append((lead + end, design.scale * (-slope if at_lo else slope)))
+    if design.timing == "free":
+        slope = np.zeros((n_rows, n))
+        slope[:, 0] -= s * design.scale
+        slope[:, n - 1] += s * design.scale
+        spread.append((violated.shape[1] - 1, slope))
+    scale = weight / design.scale
+    local = np.nan_to_num(np.where(violated, local, 0.0) * scale)
+    spread = [(row, np.nan_to_num(np.where(violated[:, row:row + 1], slope, 0.0) * scale)) for row, slope in spread]
+    return local, spread

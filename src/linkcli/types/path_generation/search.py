@@ -33,6 +33,7 @@ import numpy as np
 
 from linkcli.search import levenberg_marquardt, linalg, sampling
 from linkcli.search.budget import Budget
+from linkcli.search.increments import Increments
 from linkcli.search.evolution import evolve
 from linkcli.types.path_generation import derivatives
 from linkcli.types.path_generation.derivatives import LINEAR
@@ -50,6 +51,10 @@ SHRINK = 16  # is taken again with a step this much smaller,
 SHRINKS = 3  # at most this many times
 MIN_ROOM = 1e-3  # a central step shrunk below this share of the usual one is round-off
 ROUND_OFF = 1e-13  # dimensionless residual differences this small are round-off
+INCREMENTS_TARGETS = 40  # free timing with this many targets or more: the field's Jacobians as
+# linkcli.search.increments factors, O(n) a step (fewer: dense, O(n^3), the bits of before).
+# Measured, a step of 96 rows (Jacobian and solve): 32 targets dense 27 ms, factors 39 ms;
+# 48: 55 and 38 ms; 96: 311 and 106 ms; 192: 2252 and 114 ms
 CLOSED_FORM = 2  # evaluations a row's closed-form Jacobian counts (measured: 1.8 to 2.9 times a
 # residual evaluation's time for 4 to 15 variables, the penalties' slopes included)
 
@@ -74,6 +79,10 @@ class Space:
         self.linear = None  # free timing: the sweep sum(delta) <= 2 pi, held by the LM exactly
         if design.timing == "free" and np.any(self.idx > N_LINK):
             self.linear = ((self.idx > N_LINK).astype(float), 2.0 * math.pi)
+        # many targets, free timing, the field stage: Jacobians as increments' factors
+        self.increments = (project and self.closed_penalties and design.timing == "free"
+                           and design.n_targets >= INCREMENTS_TARGETS
+                           and int(np.sum(self.idx >= N_LINK)) == design.n_targets)
 
     @property
     def k(self) -> int:
@@ -132,6 +141,8 @@ class Space:
         design = self.design
         self.budget.add(CLOSED_FORM * n)
         x, frame = self.fitted(z, sign, s) if fit is None else fit
+        if self.increments:
+            return self._increments(x, frame, sign, s, weight, r0)
         if self.project:
             slopes, ok = derivatives.projected_jacobian(design, self.idx, x, frame, sign, s)
         else:
@@ -163,6 +174,37 @@ class Space:
             # LM holds it, so no slope where it is met (differences across its kink mislead)
             jac[:, -1] = np.where(r0[:, -1:] > 0.0, jac[:, -1], 0.0)
         return jac
+
+    def _increments(self, x, frame, sign, s, weight, r0) -> Increments:
+        """The field's Jacobians as linkcli.search.increments factors (free timing, many
+        targets): the target errors' (`derivatives.increments_parts`) and the penalties'
+        (`penalty_jacobian` along the links, `penalty_angle_parts` along each target's
+        angle) slopes in closed form; a row where the closed form fails (no assembly or a
+        dead point at a target) keeps only its penalties' slopes, which lead it back (the
+        dense stage takes differences there: their rows would not be O(n))."""
+        design = self.design
+        n_rows, n = len(x), design.n_targets
+        m_t = 2 * n
+        link = self.idx[self.idx < N_LINK]
+        w, local, a, coef, ok = derivatives.increments_parts(design, self.idx, x, frame, sign, s)
+        bad = ~ok  # no assembly or a dead point at a target: its slopes are not the toggle's
+        w[bad], local[bad], coef[bad] = 0.0, 0.0, 0.0
+        violated = r0[:, m_t:] > 0.0
+        w_pen = derivatives.penalty_jacobian(design, link, x, frame, s, weight, violated)
+        local_pen, spread = derivatives.penalty_angle_parts(design, x, frame, s, weight, violated)
+        lead = violated.shape[1] - n - 2 - 1  # Grashof and window rows before the assembly's
+        owner = np.concatenate([np.repeat(np.arange(n), 2), np.full(violated.shape[1], -1)])
+        owner[m_t + lead:m_t + lead + n] = np.arange(n)
+        f = np.zeros((n_rows, r0.shape[1], 4 + len(spread)))
+        f[:, :m_t, :4] = -a
+        for i, (row, _) in enumerate(spread):
+            f[:, m_t + row, 4 + i] = 1.0
+        h = np.concatenate([coef] + [slope[:, None, :] for _, slope in spread], axis=1)
+        e = np.ones((n_rows, n))
+        e[:, 1:] = s[:, None]
+        return Increments(np.nan_to_num(np.concatenate([w, w_pen], axis=1)),
+                          np.nan_to_num(np.concatenate([local, local_pen], axis=1)), owner,
+                          np.nan_to_num(f), np.nan_to_num(h), e)
 
     def _shifted(self, sign, s, weight):
         """The counted residuals of shifted copies of rows (`rows`: each copy's row)."""

@@ -1,0 +1,151 @@
+"""The many-pose least-squares search's batched polish (motion_generation.least_squares):
+its arrow Jacobian against a dense central-difference Jacobian taken column by column
+here, and the scoring of the starts on many poses against scoring every row on every
+pose."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from linkcli.search.arrow import Arrow
+from linkcli.search.budget import Budget
+from linkcli.types.motion_generation import constraints, least_squares as LS
+from linkcli.types.motion_generation.poses import characteristic_length
+
+# a crank-rocker (PARAM_NAMES order) and nine poses of its body, a little noise added
+PARAMS = np.array([0.1, -0.2, 0.3, 4.0, 1.2, 3.6, 2.9, 1.5, 1.1, 0.35])
+
+
+def body(params, phi, sign=-1.0):
+    from linkcli.types.motion_generation import assemble
+    out, _ = assemble.body_poses(params, phi, sign)
+    return out
+
+
+def poses_of(n, noise=0.01, seed=0):
+    rng = np.random.default_rng(seed)
+    phi = np.linspace(0.2, 5.5, n)
+    poses = body(PARAMS, phi)
+    poses[:, :2] += rng.normal(0, noise, (n, 2))
+    return poses, phi
+
+
+def fit_for(poses, timing_angles=None, grashof=None, window=None, penalty=None):
+    n = len(poses)
+    lo, hi = LS.default_bounds(poses)
+    t = 1 if timing_angles is not None else n
+    lo_full = np.concatenate([lo, np.full(t, -4 * np.pi)])
+    hi_full = np.concatenate([hi, np.full(t, 4 * np.pi)])
+    mask = np.ones(10 + t, dtype=bool)
+    scale = characteristic_length(poses)
+
+    def values(x):
+        phi = x[..., 10:] if timing_angles is None else timing_angles + x[..., 10:11]
+        return constraints.values(x, phi, grashof, window, scale)
+
+    m = constraints.count(grashof, window, n)
+    fit = LS.PoseFit(poses, scale, timing_angles, mask, lo_full, hi_full, Budget(10**9), values, m,
+                     window is not None and grashof not in constraints.FULL_TURN)
+    fit.penalty = penalty
+    return fit
+
+
+def dense_differences(fit, z, sign):
+    """Each column apart: central differences with the polish's own step."""
+    k = len(z)
+    h = np.finfo(float).eps ** (1 / 3) * np.maximum(1.0, np.abs(z))
+    cols = []
+    for j in range(k):
+        e = np.zeros(k)
+        e[j] = h[j]
+        plus = fit.residuals(np.array([z + e]), np.array([0]), sign=np.array([sign]))[0]
+        minus = fit.residuals(np.array([z - e]), np.array([0]), sign=np.array([sign]))[0]
+        cols.append((plus - minus) / (2 * h[j]))
+    return np.stack(cols, axis=1)
+
+
+def arrow_as_dense(jac: Arrow) -> np.ndarray:
+    n_rows, m, p = jac.dense.shape
+    out = np.zeros((n_rows, m, p + jac.n))
+    out[:, :, :p] = jac.dense
+    rows = np.flatnonzero(jac.owner >= 0)
+    out[:, rows, p + jac.owner[rows]] = jac.local[:, rows]
+    return out
+
+
+def test_free_timing_jacobian_is_an_arrow_equal_to_column_by_column_differences():
+    """Pose i's angle moves pose i's rows alone: its columns, taken two shifted points for
+    all angles at once, equal the columns taken one at a time; with a window over the
+    poses (a penalty row per pose and edge) and a Grashof class (rows no angle moves)."""
+    poses, phi = poses_of(9)
+    for grashof, window in ((None, None), ("double-rocker", (np.radians(50), np.radians(130)))):
+        fit = fit_for(poses, grashof=grashof, window=window, penalty=None if grashof is None else 1e3)
+        x = np.concatenate([PARAMS * 1.01, phi + 0.02])
+        signs = np.array([-1.0, 1.0])
+        fit.x0, fit.sign = np.stack([x, x]), signs
+        z = fit.x0[:, fit.mask]
+        r0 = fit.residuals(z, np.arange(2))
+        jac = fit.jacobian(z, np.arange(2), r0)
+        assert isinstance(jac, Arrow)
+        got = arrow_as_dense(jac)
+        for i, sign in enumerate(signs):
+            want = dense_differences(fit, z[i], sign)
+            np.testing.assert_allclose(got[i], want, rtol=0, atol=1e-12 * max(1.0, np.abs(want).max()))
+
+
+def test_prescribed_timing_jacobian_is_dense():
+    poses, phi = poses_of(8)
+    fit = fit_for(poses, timing_angles=phi)
+    fit.x0, fit.sign = np.concatenate([PARAMS, [0.01]])[None, :], np.array([-1.0])
+    z = fit.x0[:, fit.mask]
+    jac = fit.jacobian(z, np.arange(1), fit.residuals(z, np.arange(1)))
+    assert isinstance(jac, np.ndarray)
+    np.testing.assert_allclose(jac[0], dense_differences(fit, z[0], -1.0), rtol=0, atol=1e-12)
+
+
+def test_many_poses_are_scored_on_a_few_first_then_the_best_rows_on_all():
+    poses, _ = poses_of(40)
+    rng = np.random.default_rng(4)
+    lo, hi = LS.default_bounds(poses)
+    rows = LS._starts(poses, lo, hi, rng, 600, [-1.0, 1.0])
+    grid = np.linspace(-np.pi, np.pi, 180, endpoint=False)
+    weight = characteristic_length(poses)
+    got, phi = LS._scores(rows, poses, -1.0, grid, weight, None)
+    full, full_phi = LS._scored(rows, poses, -1.0, grid, weight, None)
+    scored = np.isfinite(got)
+    assert 0 < scored.sum() <= LS.SCREEN_ROWS
+    np.testing.assert_array_equal(got[scored], full[scored])
+    np.testing.assert_array_equal(phi[scored], full_phi[scored])
+    # the rows kept are the best on the few poses: their full scores hold the best rows'
+    assert full[scored].min() == full[np.isfinite(full)].min()
+
+
+def test_many_poses_import_no_scipy():
+    """The least-squares search runs on the house Levenberg-Marquardt: scipy stays unloaded."""
+    import subprocess
+    import sys
+    code = ("import sys; from linkcli.pipeline import run, Request; "
+            "o = run('problems/motion_many.toml', Request()); "
+            "assert o.exit_code == 0, o.errors; assert 'scipy' not in sys.modules, 'scipy imported'")
+    subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_a_best_is_confirmed_by_another_rounds_best_or_an_exact_fit():
+    """`Search.best_of`: the best over the rounds is confirmed when another round's best
+    ends within CONFIRM of it (feasible), or when it fits exactly; one round alone, or a
+    second round that ends elsewhere, or an infeasible best, is not."""
+    from types import SimpleNamespace
+
+    def res(objective, feasible=True):
+        return {"objective": objective, "feasible": feasible}
+
+    me = SimpleNamespace(exact=1e-20)
+    best_of = LS.Search.best_of
+    assert best_of(me, [[res(2.0), res(1.0)], [res(1.0 * (1 + 0.5 * LS.CONFIRM)), res(3.0)]]) == (res(1.0), True)
+    assert best_of(me, [[res(1.0)], [res(1.1)]])[1] is False
+    assert best_of(me, [[res(1.0)], [res(1.1)], [res(1.0)]])[1] is True
+    assert best_of(me, [[res(1.0)]])[1] is False
+    assert best_of(me, [[res(1e-21)], [res(5.0)]])[1] is True  # exact
+    assert best_of(me, [[res(1.0, False)], [res(1.0, False)]])[1] is False
+    # two starts of one round do not confirm each other
+    assert best_of(me, [[res(1.0), res(1.0)], [res(2.0)]])[1] is False
