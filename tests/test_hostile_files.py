@@ -181,14 +181,19 @@ def _as_another_user() -> tuple[str, ...] | None:
         return ()
     if shutil.which("setpriv") is None:
         return None
-    return ("setpriv", "--reuid=nobody", "--regid=nogroup", "--clear-groups")
+    prefix = ("setpriv", "--reuid=nobody", "--regid=nogroup", "--clear-groups")
+    # nobody must be able to run this Python with linkcli's dependencies (an interpreter or a
+    # virtual environment under /root is not readable to nobody: then there is no such user)
+    probe = subprocess.run([*prefix, sys.executable, "-c", "import typer, numpy, linkcli.cli"],
+                           capture_output=True, cwd="/", env=dict(os.environ, PYTHONPATH=SRC), timeout=120)
+    return prefix if probe.returncode == 0 else None
 
 
 @pytest.mark.parametrize("command", ["synth", "check", "analyze"])
 def test_an_unreadable_file_takes_its_slot_in_the_batch(command):
     prefix = _as_another_user()
     if prefix is None:
-        pytest.skip("running as root without setpriv: every file is readable")
+        pytest.skip("running as root without setpriv, or nobody cannot run this Python: every file is readable")
     folder = Path(tempfile.mkdtemp())  # not pytest's tmp_path: another user must enter it
     try:
         folder.chmod(0o755)
@@ -304,7 +309,7 @@ def test_a_solved_linkage_beyond_the_sizes_is_refused_as_input(tmp_path):
 def test_an_unwritable_folder_is_refused_before_solving(option):
     prefix = _as_another_user()
     if prefix is None:
-        pytest.skip("running as root without setpriv: every folder is writable")
+        pytest.skip("running as root without setpriv, or nobody cannot run this Python: every folder is writable")
     folder = Path(tempfile.mkdtemp())
     try:
         folder.chmod(0o755)
