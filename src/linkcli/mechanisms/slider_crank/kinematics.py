@@ -299,14 +299,22 @@ def stroke(crank, rod, offset):
     """Slider travel of a turning crank (NaN otherwise), vectorized:
     sqrt((a+b)^2 - e^2) - sqrt((b-a)^2 - e^2) = 4 a b / (sqrt((a+b)^2 - e^2) + sqrt((b-a)^2 - e^2)),
     the second form free of cancellation."""
-    a, b, e = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (crank, rod, offset)))
-    code = class_code(a, b, e)
-    turns = (code == 0) | (code == 2)
+    a, b, e, turns, r_ext, r_fold = _dead_centres(crank, rod, offset)
     with np.errstate(invalid="ignore", divide="ignore"):
-        r_ext = np.sqrt((a + b - e) * (a + b + e))
-        r_fold = np.sqrt(np.maximum((b - a - e) * (b - a + e), 0.0))
         out = 4.0 * a * b / (r_ext + r_fold)
     return np.where(turns, out, np.nan)
+
+
+def _dead_centres(crank, rod, offset):
+    """(a, b, e broadcast, whether the crank turns fully, R_ext, R_fold): the slider's
+    distances from the crank pivot along the guide at the extended and folded dead
+    centres, R = sqrt(L^2 - e^2) with L = a + b and b - a (NaN where the crank does not turn)."""
+    a, b, e = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (crank, rod, offset)))
+    code = class_code(a, b, e)
+    with np.errstate(invalid="ignore"):
+        r_ext = np.sqrt((a + b - e) * (a + b + e))
+        r_fold = np.sqrt(np.maximum((b - a - e) * (b - a + e), 0.0))
+    return a, b, e, (code == 0) | (code == 2), r_ext, r_fold
 
 
 def time_ratio(crank, rod, offset, branch="open"):
@@ -317,12 +325,8 @@ def time_ratio(crank, rod, offset, branch="open"):
     (R = sqrt(L^2 - e^2), L = b - a and a + b); K = (pi + |delta|) / (pi - |delta|) >= 1.
     slow: +1 the return stroke is slower, -1 the outward one, 0 equal (e = 0: K = 1 exactly).
     NaN (and 0) when the crank does not turn fully."""
-    a, b, e = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (crank, rod, offset)))
-    code = class_code(a, b, e)
-    turns = (code == 0) | (code == 2)
+    a, b, e, turns, r_ext, r_fold = _dead_centres(crank, rod, offset)
     with np.errstate(invalid="ignore", divide="ignore"):
-        r_ext = np.sqrt((a + b - e) * (a + b + e))
-        r_fold = np.sqrt(np.maximum((b - a - e) * (b - a + e), 0.0))
         delta = np.arctan2(e, r_fold) - np.arctan2(e, r_ext)
         k = (math.pi + np.abs(delta)) / (math.pi - np.abs(delta))
     slow = np.sign(root_sign(branch) * delta)
