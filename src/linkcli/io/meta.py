@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from linkcli.model import InverseTolerance, Meta, Reference, SolverOptions, Tolerance
+from linkcli.model import Meta, Reference, SolverOptions
 from linkcli.io.reader import Table
 from linkcli.registry import ProblemType
 from linkcli.units import ANGLE_UNITS, LENGTH_TO_MM, Units
@@ -235,6 +235,7 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     from linkcli.io.loads import mechanism_of
     from linkcli.io.tolerance_keys import check_cost_bounds, read_clearance, read_cost, read_lengths, read_schemes
     from linkcli.mechanisms import NAMES, module
+    from linkcli.model import InverseTolerance, Tolerance
     path_type = root.raw("type") == "path-generation"
     mechanism = mechanism_of(root)
     own = module(mechanism, "schema")

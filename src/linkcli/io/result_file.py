@@ -10,10 +10,9 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from linkcli.model import LinkageProblem, Meta
+from linkcli.model import Meta
 from linkcli.io.loads import read_loads
 from linkcli.io.meta import MAX_LENGTH, read_units
-from linkcli.types.linkage import TYPE as LINKAGE
 from linkcli.mechanisms.schema import read_linkage
 from linkcli.io.reader import Reader
 from linkcli.io.result_motion import motion_study
@@ -40,6 +39,8 @@ def has_linkage(data: dict) -> bool:
 
 
 def parse(reader: Reader) -> LinkageProblem | None:
+    from linkcli.model import LinkageProblem
+    from linkcli.types.linkage import TYPE as LINKAGE
     root = reader.root()
     count = batch_size(reader.data)
     if count:

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 from linkcli.io.meta import MAX_LENGTH
 from linkcli.io.reader import MISSING, Table
-from linkcli.model import LinkSection, StrengthSpec
 
 CRITERIA = ("goodman", "gerber", "soderberg", "asme-elliptic")
 MATERIAL_KEYS = ("ultimate", "yield", "endurance", "modulus")
@@ -85,6 +84,7 @@ def read_material(t: Table) -> StrengthSpec | None:
     """[material]: a listed `name` (each value given overrides the listed one) or all four
     values; yield and endurance at most the ultimate. None when in error (errors recorded)."""
     from linkcli import materials
+    from linkcli.model import StrengthSpec
     errors = len(t.reader.errors)
     named = "name" in t
     name = t.string("name", None, max_len=100)
@@ -139,6 +139,7 @@ SHAPES = "width and thickness (a rectangle), or diameter (a round bar; with wall
 
 def _section(t: Table, line) -> LinkSection | None:
     """One cross-section from its keys; None when in error (recorded)."""
+    from linkcli.model import LinkSection
     rectangle = "width" in t or "thickness" in t
     if rectangle and ("diameter" in t or "wall" in t):
         t.allow("width", "thickness", "diameter", "wall")
