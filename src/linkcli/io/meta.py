@@ -150,7 +150,6 @@ def read_load_case(root: Table, kind: str, spec: ProblemType, sections: tuple[st
 def read_joint_table(root: Table, kind: str, spec: ProblemType, units: Units):
     """[joints] (linkcli.io.joints) on a type whose result is a linkage; refused, located, on
     one that has none."""
-    from linkcli.io.joints import read_joints
     from linkcli.io.loads import mechanism_of
     from linkcli.registry import NAMES, problem_type
     if "forces" not in spec.sections:
@@ -160,6 +159,9 @@ def read_joint_table(root: Table, kind: str, spec: ProblemType, units: Units):
             root.error("joints", f"a problem whose result is a linkage ({with_linkage}) for [joints]",
                        raw_got=f'type = "{kind}", which has no linkage')
         return ()
+    if "joints" not in root:
+        return ()  # what read_joints gives without the table, without importing io.joints
+    from linkcli.io.joints import read_joints
     return read_joints(root, mechanism_of(root), units)
 
 

@@ -119,11 +119,11 @@ def read_material(t: Table) -> StrengthSpec | None:
 def read_link_sections(root: Table, mechanism: str) -> dict[str, LinkSection]:
     """[sections]: one cross-section per link the mechanism has (`LINKS` of its schema; None:
     the drawing names its links, checked when analysed)."""
-    from linkcli.io.joints import named_tables
-    from linkcli.mechanisms import module
     t = root.table("sections")
     if t is None:
         return {}
+    from linkcli.io.joints import named_tables
+    from linkcli.mechanisms import module
     entries = named_tables(t, module(mechanism, "schema").LINKS, "link", mechanism,
                            "{ width = 12, thickness = 4 } or { diameter = 10 }")
     out = {}
