@@ -453,12 +453,13 @@ def _surely_fits(con: Console, table: Table) -> bool:
     """True when the table cannot be wider than the console, by a bound that costs a pass
     over the cells' text: each column at most its longest header or cell plus both its
     paddings, plus a rule or edge between and around the columns, and the table's own
-    min_width. rich's measure (_width) is never more than that (markup only shortens a
-    cell; emoji are off), so a False from here only means "measure it": the result of
-    print_table is the same, and the common case skips a measure of every cell."""
+    min_width. rich's measure (_width) is never more than that (markup and emoji codes
+    only shorten a cell), so a False from here only means "measure it": the result of
+    print_table is the same, and the common case skips a measure of every cell
+    (tests/test_table_width_bound.py holds the bound against rich's measure)."""
     if table.width is not None or not table.columns:
         return False
-    top, right, bottom, left = table.padding
+    _, right, _, left = table.padding
     pad = left + right
     total = len(table.columns) + 2  # rules between columns, the two edges (box or not)
     for column in table.columns:
