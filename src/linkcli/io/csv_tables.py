@@ -10,7 +10,6 @@ like JSON (`--precision`), so the same report gives the same bytes.
 
 from __future__ import annotations
 
-import csv
 import io
 
 from linkcli.io.export import rounded_leaf
@@ -75,6 +74,7 @@ def write_csv(rows: list[dict], digits: int, file) -> None:
     written to `file` as it is made: the columns (their first appearance over all rows)
     in a first pass that formats nothing, then each row formatted and written, so the
     cells of 100,000 rows are never held at once."""
+    import csv  # here, not at the top: the table view reads row_tables alone
     fmt = f".{digits}g"
     names: dict = {}
     for row in rows:

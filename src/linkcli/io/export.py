@@ -17,7 +17,6 @@ as it is made.
 
 from __future__ import annotations
 
-import json
 import math
 from functools import lru_cache
 from pathlib import PurePath
@@ -73,6 +72,7 @@ def rounded(obj, digits: int):
 def _flat_encoder(level: int):
     """The json module's encoder (C when available) for a container at indent `level`
     holding no container: its items separated as `indent=2` separates them at that depth."""
+    import json  # here: the table view (io.report) uses this module for `rounded` alone
     separator = ",\n" + "  " * (level + 1)
     encoder = json.JSONEncoder(ensure_ascii=False, check_circular=False, separators=(separator, ": "))
     make = getattr(json.encoder, "c_make_encoder", None)
@@ -113,8 +113,9 @@ def _json(obj, digits: int, level: int, out: list, flush=None) -> None:
     out.append("{" if is_dict else "[")
     first = True
     if is_dict:
+        from json.encoder import encode_basestring
         for key, value in obj.items():
-            out.append(("\n" if first else ",\n") + inner + json.encoder.encode_basestring(str(key)) + ": ")
+            out.append(("\n" if first else ",\n") + inner + encode_basestring(str(key)) + ": ")
             first = False
             _json(value, digits, level + 1, out, flush)
     else:

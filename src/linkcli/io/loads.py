@@ -13,7 +13,6 @@ one place for every problem whose result is a linkage (and for result files read
 from __future__ import annotations
 
 from linkcli.io.reader import MISSING, Table
-from linkcli.model import LinkMass, LoadCase, Loads, Masses
 
 MAX_LOAD = 1e12  # N, N m, kg, kg m^2, m/s^2: beyond, no linkage; squares stay finite
 SOLVES_COUPLER_POINT = ("path-generation",)  # types whose result always has a coupler point
@@ -50,6 +49,7 @@ def read_loads(root: Table, kind: str) -> LoadCase | None:
     if "loads" not in root and "masses" not in root:
         return None
     from linkcli.mechanisms import NAMES, module
+    from linkcli.model import LoadCase, Loads, Masses
     mechanism = mechanism_of(root)
     own = module(mechanism, "schema")
     if own.MASSES is None:  # a home whose loads are named by its own drawing reads them itself
@@ -129,6 +129,7 @@ def _amount(t: Table, key: str, default, what: str):
 
 def link_mass(masses: Table, link: str, point_mass: bool) -> LinkMass | None:
     """{ mass, center, inertia } of one link (a body that only translates, a slider: { mass } only)."""
+    from linkcli.model import LinkMass
     t = masses.table(link)
     if t is None:
         return None

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from linkcli.model import InverseTolerance, Meta, Reference, SolverOptions, Tolerance
+from linkcli.model import Meta, Reference, SolverOptions
 from linkcli.io.reader import Table
 from linkcli.registry import ProblemType
 from linkcli.units import ANGLE_UNITS, LENGTH_TO_MM, Units
@@ -150,7 +150,6 @@ def read_load_case(root: Table, kind: str, spec: ProblemType, sections: tuple[st
 def read_joint_table(root: Table, kind: str, spec: ProblemType, units: Units):
     """[joints] (linkcli.io.joints) on a type whose result is a linkage; refused, located, on
     one that has none."""
-    from linkcli.io.joints import read_joints
     from linkcli.io.loads import mechanism_of
     from linkcli.registry import NAMES, problem_type
     if "forces" not in spec.sections:
@@ -160,6 +159,9 @@ def read_joint_table(root: Table, kind: str, spec: ProblemType, units: Units):
             root.error("joints", f"a problem whose result is a linkage ({with_linkage}) for [joints]",
                        raw_got=f'type = "{kind}", which has no linkage')
         return ()
+    if "joints" not in root:
+        return ()  # what read_joints gives without the table, without importing io.joints
+    from linkcli.io.joints import read_joints
     return read_joints(root, mechanism_of(root), units)
 
 
@@ -235,6 +237,7 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     from linkcli.io.loads import mechanism_of
     from linkcli.io.tolerance_keys import check_cost_bounds, read_clearance, read_cost, read_lengths, read_schemes
     from linkcli.mechanisms import NAMES, module
+    from linkcli.model import InverseTolerance, Tolerance
     path_type = root.raw("type") == "path-generation"
     mechanism = mechanism_of(root)
     own = module(mechanism, "schema")

@@ -449,6 +449,31 @@ def _width(con: Console, table: Table) -> int:
     return Measurement.get(con, con.options.update_width(MAX_TABLE_WIDTH), table).maximum
 
 
+def _surely_fits(con: Console, table: Table) -> bool:
+    """True when the table cannot be wider than the console, by a bound that costs a pass
+    over the cells' text: each column at most its longest header or cell plus both its
+    paddings, plus a rule or edge between and around the columns, and the table's own
+    min_width. rich's measure (_width) is never more than that (markup and emoji codes
+    only shorten a cell), so a False from here only means "measure it": the result of
+    print_table is the same, and the common case skips a measure of every cell
+    (tests/test_table_width_bound.py holds the bound against rich's measure)."""
+    if table.width is not None or not table.columns:
+        return False
+    _, right, _, left = table.padding
+    pad = left + right
+    total = len(table.columns) + 2  # rules between columns, the two edges (box or not)
+    for column in table.columns:
+        texts = [column.header] + list(column.cells)
+        if not column.cells or not all(isinstance(t, (str, Text)) for t in texts):
+            return False  # an empty column is measured as wide as allowed; other renderables vary
+        plain = [t if isinstance(t, str) else t.plain for t in texts]
+        if any("\t" in p or "\n" in p for p in plain):
+            return False
+        widest = column.width if column.width is not None else max(cell_len(p) for p in plain)
+        total += max(widest, column.min_width or 0) + pad
+    return max(total, table.min_width or 0) <= con.width
+
+
 def _blocks(con: Console, table: Table) -> list[Table]:
     """A row table too wide for the terminal as several tables of its columns, each as wide
     as fits, the first column (the row's key: input angle, parameter, problem) repeated
@@ -487,7 +512,8 @@ def print_table(con: Console, part) -> None:
     words, cells never); if it still does not fit it is printed wider (a file or a pipe:
     one row per line, every digit) or, on a terminal, a row table in blocks of columns
     (_blocks) and a key/value table with its cells folded onto a second line."""
-    if isinstance(part, Table) and not getattr(part, "is_head", False) and _width(con, part) > con.width:
+    if (isinstance(part, Table) and not getattr(part, "is_head", False) and not _surely_fits(con, part)
+            and _width(con, part) > con.width):
         _compact(part)
         need = _width(con, part)
         if need > con.width:

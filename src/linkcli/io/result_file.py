@@ -10,13 +10,10 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from linkcli.model import LinkageProblem, Meta
-from linkcli.io.loads import read_loads
-from linkcli.io.meta import MAX_LENGTH, read_units
-from linkcli.types.linkage import TYPE as LINKAGE
-from linkcli.mechanisms.schema import read_linkage
 from linkcli.io.reader import Reader
-from linkcli.io.result_motion import motion_study
+
+# what parse() reads with is imported there: synth and check import this module for
+# is_result() alone (io.misplaced_keys.refuse_result_file)
 
 
 def is_result(data: dict) -> bool:
@@ -40,6 +37,12 @@ def has_linkage(data: dict) -> bool:
 
 
 def parse(reader: Reader) -> LinkageProblem | None:
+    from linkcli.io.loads import read_loads
+    from linkcli.io.meta import MAX_LENGTH, read_units
+    from linkcli.io.result_motion import motion_study
+    from linkcli.mechanisms.schema import read_linkage
+    from linkcli.model import LinkageProblem, Meta
+    from linkcli.types.linkage import TYPE as LINKAGE
     root = reader.root()
     count = batch_size(reader.data)
     if count:

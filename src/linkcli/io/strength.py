@@ -17,7 +17,6 @@ from __future__ import annotations
 
 from linkcli.io.meta import MAX_LENGTH
 from linkcli.io.reader import MISSING, Table
-from linkcli.model import LinkSection, StrengthSpec
 
 CRITERIA = ("goodman", "gerber", "soderberg", "asme-elliptic")
 MATERIAL_KEYS = ("ultimate", "yield", "endurance", "modulus")
@@ -85,6 +84,7 @@ def read_material(t: Table) -> StrengthSpec | None:
     """[material]: a listed `name` (each value given overrides the listed one) or all four
     values; yield and endurance at most the ultimate. None when in error (errors recorded)."""
     from linkcli import materials
+    from linkcli.model import StrengthSpec
     errors = len(t.reader.errors)
     named = "name" in t
     name = t.string("name", None, max_len=100)
@@ -119,11 +119,11 @@ def read_material(t: Table) -> StrengthSpec | None:
 def read_link_sections(root: Table, mechanism: str) -> dict[str, LinkSection]:
     """[sections]: one cross-section per link the mechanism has (`LINKS` of its schema; None:
     the drawing names its links, checked when analysed)."""
-    from linkcli.io.joints import named_tables
-    from linkcli.mechanisms import module
     t = root.table("sections")
     if t is None:
         return {}
+    from linkcli.io.joints import named_tables
+    from linkcli.mechanisms import module
     entries = named_tables(t, module(mechanism, "schema").LINKS, "link", mechanism,
                            "{ width = 12, thickness = 4 } or { diameter = 10 }")
     out = {}
@@ -139,6 +139,7 @@ SHAPES = "width and thickness (a rectangle), or diameter (a round bar; with wall
 
 def _section(t: Table, line) -> LinkSection | None:
     """One cross-section from its keys; None when in error (recorded)."""
+    from linkcli.model import LinkSection
     rectangle = "width" in t or "thickness" in t
     if rectangle and ("diameter" in t or "wall" in t):
         t.allow("width", "thickness", "diameter", "wall")

@@ -12,8 +12,9 @@ import math
 
 from linkcli.io.meta import MAX_LENGTH
 from linkcli.io.reader import MISSING, Table, describe
-from linkcli.mechanisms.drawn.model import SLIDE, TURN, Drawn, DrawnJoint, DrawnLink, Drive
 from linkcli.mechanisms.schema import drive_motion as read_motion  # noqa: F401 ([motion] steps: the linkage type's)
+# .model (its dataclasses) is imported inside the functions that build them: every other
+# mechanism's [linkage] reads this module for KEYS alone (mechanisms.schema.refuse_foreign)
 
 KEYS: tuple[str, ...] = ()  # [linkage] holds only `mechanism`: the drawing is in its own tables
 JOINTS = None  # [joints] names are the drawing's own
@@ -57,6 +58,7 @@ def toleranced(root: Table) -> tuple[str, ...]:
 def read(t: Table, units) -> Drawn | None:
     """The drawing ([joints], [links], [drive], [motion]) of a `mechanism = "drawn"` [linkage];
     None when in error (every error recorded, structural ones naming the joints)."""
+    from linkcli.mechanisms.drawn.model import Drawn
     from linkcli.io.joints import read_joints
     root = t.reader.root()
     errors = len(root.reader.errors)
@@ -99,6 +101,7 @@ def _skip(root: Table) -> None:
 def _drawn_joints(t: Table, specs) -> tuple[DrawnJoint, ...] | None:
     """The drawing's joints: each with `at`; `slider` and `ground` exclusive; `guide` only
     with `slider`."""
+    from linkcli.mechanisms.drawn.model import DrawnJoint
     out, ok = [], True
     for spec in specs:
         if not spec.name:
@@ -125,6 +128,7 @@ def _drawn_joints(t: Table, specs) -> tuple[DrawnJoint, ...] | None:
 
 def _links(root: Table, joints) -> tuple[DrawnLink, ...] | None:
     """[links]: name = [joints it carries] (2 or more, each once, at distinct places)."""
+    from linkcli.mechanisms.drawn.model import DrawnLink
     t = root.table("links", required=True)
     if t is None:
         return None
@@ -230,6 +234,7 @@ def _carried(root: Table, t: Table, joints, links) -> tuple[DrawnLink, ...] | No
 def _drives(root: Table, joints, links, units) -> tuple[Drive, ...] | None:
     """[drive]: one entry per degree of freedom, a link turning about its ground joint
     (speed: angle unit/s) or a slider joint moved along its guide (length unit/s)."""
+    from linkcli.mechanisms.drawn.model import SLIDE, TURN, Drive
     t = root.table("drive", required=True)
     if t is None or joints is None:
         return None
@@ -291,6 +296,7 @@ def _drives(root: Table, joints, links, units) -> tuple[Drive, ...] | None:
 def _motion(root: Table, joints, links, drives, units):
     """[motion] of a drawn linkage: span, points, output (steps is read with every linkage);
     (span, points, output), or None when in error."""
+    from linkcli.mechanisms.drawn.model import TURN
     t = root.table("motion")
     if t is None:
         return None, (), None

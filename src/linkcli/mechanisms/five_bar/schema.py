@@ -16,8 +16,9 @@ import math
 
 from linkcli.io.meta import MAX_LENGTH, bounded_length, bounded_point
 from linkcli.io.reader import MISSING, MAX_ARRAY, Table, describe
-from linkcli.mechanisms.five_bar.model import DEFAULT_MODES, DRIVES, MODES, SIDES, FiveBar, FiveBarMotion, Phase
 from linkcli.mechanisms.schema import ASSEMBLY_RTOL, refuse_ratio
+# .model (its dataclasses) is imported inside the functions that build them: every other
+# mechanism's [linkage] reads this module for KEYS alone (mechanisms.schema.refuse_foreign)
 
 KEYS = ("ground", "input", "input2", "coupler", "coupler2", "branch", "ground_pivot", "ground_angle")
 JOINTS = ("A0", "A", "P", "B", "B0")  # its pins, as [joints] names them
@@ -57,6 +58,7 @@ def read(t: Table, units) -> FiveBar | None:
     |A B| ranges over [max(0, ground - input - input2, |input - input2| - ground), ground +
     input + input2] and must overlap [|coupler - coupler2|, coupler + coupler2] over more
     than one value."""
+    from linkcli.mechanisms.five_bar.model import SIDES, FiveBar
     lengths = {k: bounded_length(t, k) for k in TOLERANCED}
     branch = t.string("branch", None, choices=SIDES)
     gp = bounded_point(t, "ground_pivot", [0.0, 0.0])
@@ -103,6 +105,7 @@ def pairs(t: Table, key: str, what: str, min_len: int, limit: float):
 
 def _modes(t: Table, has_path: bool):
     """modes = ["+"|"-", "+"|"-"] with a path (default ["+", "-"]); refused with inputs."""
+    from linkcli.mechanisms.five_bar.model import DEFAULT_MODES, MODES
     if "modes" not in t:
         return DEFAULT_MODES
     value = t.raw("modes")
@@ -134,6 +137,7 @@ def _rates(t: Table, key: str, default: list[float], unit: str, units):
 def _phases(t: Table, rows: int | None) -> tuple[Phase, ...] | None:
     """[[motion.phases]]: each { rows = [first, last], locked = "input" | "input2" }, within
     the rows, not overlapping; in row order."""
+    from linkcli.mechanisms.five_bar.model import DRIVES, Phase
     value = t.raw("phases")
     if value is MISSING:
         return ()
@@ -171,6 +175,7 @@ def _phases(t: Table, rows: int | None) -> tuple[Phase, ...] | None:
 def _held(t: Table, inputs, phases, units) -> bool:
     """Forward rows hold a phase's locked drive at its first row's angle (within TURN_RTOL
     of a turn): else one located error, False."""
+    from linkcli.mechanisms.five_bar.model import DRIVES
     turn = units.from_rad(2.0 * math.pi)
     for ph in phases:
         k = DRIVES.index(ph.locked)
@@ -188,6 +193,7 @@ def _held(t: Table, inputs, phases, units) -> bool:
 def read_motion(root: Table, meta, linkage: FiveBar | None):
     """[motion] of a five-bar (module docstring): (the linkage with its motion, the left
     drive's speed rad/s, the rows) or None (errors recorded)."""
+    from linkcli.mechanisms.five_bar.model import FiveBarMotion
     units = meta.units
     t = root.table("motion")
     if t is None:

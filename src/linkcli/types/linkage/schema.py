@@ -12,7 +12,7 @@ from linkcli.io.reader import Table
 from linkcli.io.loads import mechanism_of
 from linkcli.mechanisms import module
 from linkcli.mechanisms.schema import read_linkage
-from linkcli.model import LinkageProblem, Meta
+from linkcli.model import Meta
 
 MAX_STEPS = 100_000
 
@@ -33,6 +33,7 @@ def read_motion(root: Table) -> tuple[float | None, int | None]:
 
 
 def parse(root: Table, meta: Meta) -> LinkageProblem | None:
+    from linkcli.model import LinkageProblem
     link = root.table("linkage", required=True)
     linkage = read_linkage(link, meta.units) if link else None
     study = module(mechanism_of(root), "schema").read_motion(root, meta, linkage)  # its [motion]

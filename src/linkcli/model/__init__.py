@@ -1,0 +1,122 @@
+"""Frozen dataclasses: units, the four-bar, and one class per problem type (a tagged union).
+
+Inside, lengths are in the file's length unit and angles in radians; `Units` converts
+angles back for output. Problem classes hold validated data only: no numerics here.
+
+What every problem has (Meta, its solver options, the four-bar and the slider-crank) is
+defined here; the records of optional tables ([tolerance], [loads]/[masses], [sections]/
+[material]) and each problem type's class live in a submodule of their own, made on first
+use: `from linkcli.model import Tolerance` works as before, but a run that never touches
+a tolerance does not pay for building its classes (each frozen dataclass compiles six
+methods when defined, 0.5 to 1 ms apiece: the bulk of this package's import).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+from linkcli.units import Units
+
+HOMES = {  # class -> the submodule of linkcli.model that defines it (imported on first use)
+    **dict.fromkeys(("CostModel", "CostSpec", "Scheme", "Tolerance", "InverseTolerance"), "tolerance"),
+    **dict.fromkeys(("LinkMass", "Masses", "Loads", "LoadCase"), "loads"),
+    **dict.fromkeys(("LinkSection", "StrengthSpec"), "strength"),
+    "PrecisionPositionProblem": "precision_position",
+    "LinkageProblem": "linkage",
+    "PathGenerationProblem": "path_generation",
+    "MotionGenerationProblem": "motion_generation",
+    "FunctionGenerationProblem": "function_generation",
+    "FlipperCylinderProblem": "flipper_cylinder",
+    "QuickReturnProblem": "quick_return",
+}
+
+
+def __getattr__(name: str):
+    """A class of HOMES, imported from its submodule on first use (PEP 562)."""
+    home = HOMES.get(name)
+    if home is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    import importlib
+    value = getattr(importlib.import_module(f"{__name__}.{home}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(HOMES))
+
+
+LINKS = ("ground", "input", "coupler", "output")
+BRANCHES = ("open", "crossed")
+
+
+@dataclass(frozen=True)
+class SliderCrank:
+    """An offset slider-crank: lengths in the length unit; coupler_point (px, py) in the
+    coupler frame (origin A, x along A -> B), as the four-bar's (the conventions of docs/format.md)."""
+
+    mechanism: ClassVar[str] = "slider-crank"  # its home: linkcli.mechanisms
+    input: float
+    coupler: float
+    offset: float
+    branch: str = "open"
+    coupler_point: tuple[float, float] | None = None
+
+    @property
+    def abe(self) -> tuple[float, float, float]:
+        """(crank, rod, offset)."""
+        return self.input, self.coupler, self.offset
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    method: str = "auto"
+    seed: int = 0
+    budget: int | None = None
+
+
+@dataclass(frozen=True)
+class Reference:
+    objective: float
+    source: str | None = None
+
+
+@dataclass(frozen=True)
+class Meta:
+    """What every problem file has: where it came from and how to solve and report it."""
+
+    path: str
+    type: str
+    title: str | None = None
+    units: Units = field(default_factory=Units)
+    solver: SolverOptions = field(default_factory=SolverOptions)
+    sections: tuple[str, ...] = ()
+    reference: Reference | None = None
+    tolerance: Tolerance | None = None
+    notes: tuple[str, ...] = ()  # notes on the file itself (angles that look like the other unit)
+    loads: LoadCase | None = None  # [loads] / [masses]: the forces section
+    joints: tuple = ()  # [joints]: io.joints.JointSpec per joint (part sizes, a drawing)
+    link_sections: dict = field(default_factory=dict)  # [sections]: link -> LinkSection
+    strength: StrengthSpec | None = None  # [material] / [strength]: the strength section
+
+
+@dataclass(frozen=True)
+class FourBar:
+    """A planar four-bar (the conventions of docs/format.md). Lengths in the length unit, angles in radians."""
+
+    mechanism: ClassVar[str] = "four-bar"  # its home: linkcli.mechanisms
+    ground: float
+    input: float
+    coupler: float
+    output: float
+    branch: str = "open"
+    coupler_point: tuple[float, float] | None = None
+    ground_pivot: tuple[float, float] = (0.0, 0.0)
+    ground_angle: float = 0.0
+    coupler_angle: float | None = None  # motion generation: the body's x axis from A -> B, rad
+
+    @property
+    def abcd(self) -> tuple[float, float, float, float]:
+        """Seed-paper letters: a = input, b = coupler, c = output, d = ground."""
+        return (self.input, self.coupler, self.output, self.ground)
