@@ -688,10 +688,14 @@ def test_hostile_expressions_are_input_errors(tmp_path, text, token):
     ("psi0 + 1e300*phi*1e300", "inf at point 1 of 31", "check"),
     # finite but beyond 1e6 rad: no fraction of a turn left (the targets were noise)
     ("psi0 + 1e300*(phi - phi0)", "5.23599e+298 at point 2 of 31 (phi = phi0 + 3 deg)", "check"),
-    # finite for some start angles (phi < 0.71 rad) but overflowing over the sweep of every
-    # open crank-rocker the bounds allow (extended start near 26 deg, 90 deg long): found
-    # when solving
-    ("psi0 + exp(1000*phi)", "of 31 points of the best design found, first at phi", "synth"),
+    # finite only where phi < 0.0138 rad, but every sampled open crank-rocker's extended
+    # start is beyond (its sweep 90 deg long): refused when solving begins (a linkage with
+    # no extended dead-centre, whose start angle is a clipped 0, is no evidence for the law)
+    ("psi0 + exp(1000*phi)", "found nan at phi = 16.7936 deg (and at every point for every sampled linkage)",
+     "synth"),
+    # finite over part of every sweep: the search ends with a design the law fails at
+    ("psi0 + sqrt(0.5 - phi)", "found nan at 21 of 31 points of the best design found, first at phi = 30 deg "
+     "(point 11)", "synth"),
 ])
 def test_laws_undefined_at_the_points_are_input_errors(tmp_path, law, where, command):
     data = json.loads(json.dumps(LAW_KEYS))

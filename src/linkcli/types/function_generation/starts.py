@@ -36,10 +36,13 @@ def check_law(model: Model, u: np.ndarray) -> None:
     a, b, c, d = model.lengths(values)
     for sign in sorted({BRANCH_SIGN[b_] for b_ in (("open", "crossed") if p.branch == "either" else (p.branch,))}):
         with np.errstate(all="ignore"):
-            phi0, psi0, _ = model.start(values, a, b, c, d, sign)
+            phi0, psi0, no_start = model.start(values, a, b, c, d, sign)
             phi = phi0 + model.t * p.input_sweep
             target = model.target(phi, phi0, psi0)
-        sane = np.isfinite(phi0[:, 0]) & np.isfinite(psi0[:, 0])  # else the lengths overflowed
+        # start angles defined: finite (else the lengths overflowed), and for the extended
+        # start a linkage that has one (else phi0 is a clipped 0, and the law's value there
+        # says nothing about the law)
+        sane = np.isfinite(phi0[:, 0]) & np.isfinite(psi0[:, 0]) & (no_start[:, 0] <= 0.0)
         if not sane.any() or np.isfinite(target[sane]).any():
             return
     i = int(np.argmax(sane))
