@@ -60,6 +60,24 @@ def test_slopes_match_the_analytic_jacobian():
     assert_allclose(jac, exact, rtol=0, atol=1e-11)
 
 
+def test_slopes_on_and_near_a_bound_are_taken_at_the_point_itself():
+    # one-sided stencils for the variables within 2 h of a bound; moving the whole point
+    # inside instead would take every column elsewhere (an O(h) error in all of them)
+    def values(u):  # (N, 3) -> (N, 2), curved in every variable
+        return np.stack([np.sin(3 * u[:, 0]) * u[:, 1] ** 2 + u[:, 2] ** 3,
+                         np.exp(u[:, 0] - u[:, 1]) * np.cos(2 * u[:, 2])], axis=1)
+
+    for u in ([0.0, 1.0, 0.5], [1e-5, 0.5, 1.0 - 2e-5], [0.3, 0.0, 0.0]):
+        u = np.array(u)
+        x, y, z = u
+        exact = np.array([[3 * np.cos(3 * x) * y * y, 2 * np.sin(3 * x) * y, 3 * z * z],
+                          [np.exp(x - y) * np.cos(2 * z), -np.exp(x - y) * np.cos(2 * z),
+                           -2 * np.exp(x - y) * np.sin(2 * z)]])
+        v, jac = kkt.slopes(values, u)
+        assert_allclose(v, values(u[None])[0])
+        assert_allclose(jac, exact, rtol=0, atol=1e-9)
+
+
 # ---------------------------------------------------------------- the KKT polish
 
 def _circle_problem(u):
@@ -108,6 +126,20 @@ def test_settle_releases_a_bound_and_a_constraint_that_do_not_bind():
         out = kkt.settle(point, np.array(start))
         assert out.converged
         assert_allclose(out.u, [0.0, 0.3], rtol=0, atol=1e-13)
+
+
+def test_settle_adds_a_constraint_that_a_failed_round_crossed():
+    # min (x - 3)^2 + (y - 0.5)^2 in the unit box subject to x <= 0.6, started 1e-6 inside
+    # (not within ACTIVE): the unconstrained round runs into the box at x = 1 and fails
+    # there, having crossed x = 0.6; the constraint binds, the optimum is (0.6, 0.5)
+    def point(u):
+        x, y = u
+        return kkt.Point((x - 3) ** 2 + (y - 0.5) ** 2, np.array([2 * (x - 3), 2 * (y - 0.5)]),
+                         np.array([0.6 - x]), np.array([[-1.0, 0.0]]), h=2.0 * np.eye(2))
+
+    out = kkt.settle(point, np.array([0.6 - 1e-6, 0.2]))
+    assert out.converged
+    assert_allclose(out.u, [0.6, 0.5], rtol=0, atol=1e-13)
 
 
 def test_settle_is_deterministic_and_independent_of_the_start_within_its_basin():

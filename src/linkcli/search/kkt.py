@@ -115,13 +115,13 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
             else:
                 upper[worst_sign - len(p.c) - len(u)] = False
             continue
-        if not ok:
-            break
         broken = ~active & (p.c < -FEASIBLE)
         if not broken.any():
+            if not ok:
+                break
             worst = float(np.max(np.maximum(0.0, -p.c), initial=0.0)) + 0.0
             return Settled(u, float(p.f), worst, True)
-        active |= broken
+        active |= broken  # also after a failed round: its path crossed them (they bind)
     worst = float(np.max(np.maximum(0.0, -p.c), initial=0.0)) + 0.0
     return Settled(u, float(p.f), worst, False)
 
@@ -177,17 +177,28 @@ def _newton(evaluate, u, p: Point, active, fixed, hessian_step, multipliers: boo
 
 def slopes(values: Callable[[np.ndarray], np.ndarray], u: np.ndarray, step: float = SLOPE_STEP):
     """(values at u (m,), Jacobian (m, n)) of a vectorized function of unit-box points
-    ((N, n) -> (N, m)) by the fourth-order central difference
-    (8 (v(u + h) - v(u - h)) - (v(u + 2h) - v(u - 2h))) / (12 h), about u moved 2h inside
-    the box where it is nearer a bound. The step is large (round-off in the slopes ~ eps / h
-    is what leaves a Newton root uncertain) since the truncation error ~ h^4 is small and
-    the same on every machine. One batch of 4n + 1 points."""
+    ((N, n) -> (N, m)) by fourth-order differences, every column at u itself: the central
+    (8 (v(u + h) - v(u - h)) - (v(u + 2h) - v(u - 2h))) / (12 h), or, for a variable within
+    2h of a bound, the one-sided (-25 v(u) + 48 v(u + h) - 36 v(u + 2h) + 16 v(u + 3h)
+    - 3 v(u + 4h)) / (12 h) with h pointing into the box (Fornberg, Math. Comp. 51 (1988),
+    the weights of the 5-point stencils). Moving the whole point inside instead would
+    take every column at another point, an O(h) error in the gradient that Newton cannot
+    settle below. The step is large (round-off in the slopes ~ eps / h is what leaves a
+    Newton root uncertain) since the truncation error ~ h^4 is small and the same on every
+    machine. One batch of 4n + 1 points."""
     n = len(u)
-    centre = np.clip(u, 2.0 * step, 1.0 - 2.0 * step)
-    shift = np.eye(n) * step
-    batch = values(np.vstack([u[None, :], centre + shift, centre - shift, centre + 2 * shift, centre - 2 * shift]))
-    v0, p1, m1, p2, m2 = batch[0], batch[1:n + 1], batch[n + 1:2 * n + 1], batch[2 * n + 1:3 * n + 1], batch[3 * n + 1:]
-    return v0, (8.0 * (p1 - m1) - (p2 - m2)).T / (12.0 * step)
+    one_sided = np.where(u < 2.0 * step, 1.0, np.where(u > 1.0 - 2.0 * step, -1.0, 0.0))
+    h = np.where(one_sided < 0.0, -step, step)  # into the box where one-sided
+    # each column's four offsets, in steps h: central (1, -1, 2, -2), one-sided (1, 2, 3, 4)
+    offsets = np.where(one_sided[None, :] != 0.0, np.array([1.0, 2.0, 3.0, 4.0])[:, None],
+                       np.array([1.0, -1.0, 2.0, -2.0])[:, None])  # (4, n)
+    shifts = (offsets * h)[:, :, None] * np.eye(n)[None, :, :]  # (4, n, n)
+    batch = values(np.vstack([u[None, :], (u[None, None, :] + shifts).reshape(4 * n, n)]))
+    v0, v = batch[0], batch[1:].reshape(4, n, -1)
+    central = 8.0 * (v[0] - v[1]) - (v[2] - v[3])
+    forward = -25.0 * v0[None, :] + 48.0 * v[0] - 36.0 * v[1] + 16.0 * v[2] - 3.0 * v[3]
+    jac = np.where((one_sided != 0.0)[:, None], forward, central) / (12.0 * h[:, None])
+    return v0, jac.T
 
 
 def _kkt_residual(p: Point, rows, lam, free) -> float:
