@@ -142,6 +142,25 @@ def test_settle_adds_a_constraint_that_a_failed_round_crossed():
     assert_allclose(out.u, [0.6, 0.5], rtol=0, atol=1e-13)
 
 
+def test_settle_adds_the_active_constraints_curvature_to_a_model_of_f_alone():
+    # min (x - 3)^2 + (y - 1.8)^2 subject to x^2 + y^2 <= 1/2: the optimum is (3, 1.8)
+    # scaled to radius sqrt(1/2), multiplier lambda = 3 / x* - 1 ~ 3.9 (2 (p - t) =
+    # -2 lambda p). With h the Hessian of f alone (2 I) Newton misses the circle's
+    # curvature (the Lagrangian's is 2 (1 + lambda) I): along the circle its error grows
+    # by a factor lambda a step, and it does not settle; `curvature` adds it
+    def point(u):
+        x, y = u
+        return kkt.Point((x - 3) ** 2 + (y - 1.8) ** 2, np.array([2 * (x - 3), 2 * (y - 1.8)]),
+                         np.array([0.5 - x * x - y * y]), np.array([[-2 * x, -2 * y]]), h=2.0 * np.eye(2))
+
+    best = np.array([1.0, 0.6]) * math.sqrt(0.5) / math.hypot(1.0, 0.6)
+    start = np.array([0.2, 0.6])
+    assert not kkt.settle(point, start).converged
+    out = kkt.settle(point, start, curvature=True)
+    assert out.converged
+    assert_allclose(out.u, best, rtol=0, atol=1e-12)
+
+
 def test_settle_is_deterministic_and_independent_of_the_start_within_its_basin():
     # a least-squares fit with a binding constraint, from three starts near the optimum:
     # the same point to round-off, and the same bits when run twice

@@ -77,7 +77,8 @@ class Settled:
 
 
 def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e-6,
-           active_tol: float = ACTIVE, multipliers: bool = False, step_tol: float = STEP_TOL) -> Settled:
+           active_tol: float = ACTIVE, multipliers: bool = False, step_tol: float = STEP_TOL,
+           curvature: bool = False) -> Settled:
     """Newton-KKT from u0 on the active set found there (constraints within `active_tol`
     of 0: above the margin a search keeps from its limits; see the module docstring).
     A round that ends with a multiplier of the wrong sign (or fails on it) releases the
@@ -88,7 +89,11 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
     epigraph's, maximize t) has no curvature of its own, and with fewer binding constraints
     than free variables its first Newton system would be singular. `step_tol`: the Newton
     step (unit box) that counts as converged (slopes taken with a small step, against a
-    sharp bend, leave a round-off jitter above STEP_TOL)."""
+    sharp bend, leave a round-off jitter above STEP_TOL). `curvature`: the Points' h models
+    f's Hessian alone (Gauss-Newton), and the active constraints' curvature
+    -sum lambda_i Hess c_i is added by central differences of their gradients (steps
+    `hessian_step`): without it a constraint that bends under a large multiplier leaves
+    Newton-KKT linear at best, and its line search stalls short of the root."""
     start = np.clip(np.asarray(u0, dtype=float), 0.0, 1.0)
     p = evaluate(start)
     active = p.c <= active_tol
@@ -97,7 +102,7 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
     for _ in range(ROUNDS):
         u = np.where(lower, 0.0, np.where(upper, 1.0, here))
         u, p, lam, ok = _newton(evaluate, u, evaluate(u), active, lower | upper, hessian_step, multipliers,
-                                step_tol)
+                                step_tol, curvature)
         here = u if ok else start  # a round that failed leaves no point to go on from
         # multipliers of the bounds: the gradient of the Lagrangian pushing outwards
         grad_l = p.g - linalg.matvec(p.a[active].T, lam) if active.any() else p.g
@@ -127,7 +132,7 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
 
 
 def _newton(evaluate, u, p: Point, active, fixed, hessian_step, multipliers: bool = False,
-            step_tol: float = STEP_TOL):
+            step_tol: float = STEP_TOL, curvature: bool = False):
     """Newton steps on the KKT system with `active` constraints as equalities and the
     `fixed` variables held; a step is halved until the merit f + rho |c_A|_1 falls (rho
     above every multiplier). Returns (u, point, multipliers, ok)."""
@@ -140,13 +145,24 @@ def _newton(evaluate, u, p: Point, active, fixed, hessian_step, multipliers: boo
         af = p.a[rows][:, free]
         lam = linalg.solve(linalg.gram(af.T), linalg.matvec(af, p.g[free]))
         lam = np.where(np.isfinite(lam), lam, 0.0)
+    full, last = False, np.inf  # curvature: the differenced Hessian in use; the last step's size
     for _ in range(ITERATIONS):
-        h = p.h if p.h is not None else _lagrangian_hessian(evaluate, u, rows, lam, hessian_step)
+        if p.h is None or (curvature and full):
+            h = _lagrangian_hessian(evaluate, u, rows, lam, hessian_step)
+        elif curvature and len(rows) and np.any(lam != 0.0):
+            h = p.h + _constraint_curvature(evaluate, u, rows, lam, hessian_step)
+        else:
+            h = p.h
         step, lam_new = _kkt_step(h, p.g, p.a[rows], p.c[rows], free)
         if step is None:
             return u, p, lam, False
         lam = lam_new
         size = float(np.max(np.abs(step)))
+        if curvature and size <= NEAR:  # Newton's region: steps that shrink only linearly say
+            # the model misses curvature (a large residual's): the differenced Hessian then;
+            # steps that grow under it say it is worse (round-off in a flat valley): back
+            full = size < last if full else size > 0.25 * last
+        last = size
         if size <= NEAR:  # Newton's own region: the step is taken whole
             u = np.clip(u + step, 0.0, 1.0)
             p = evaluate(u)
@@ -263,5 +279,20 @@ def _lagrangian_hessian(evaluate, u, rows, lam, h_step):
         gh = ph.g - linalg.matvec(ph.a[rows].T, lam) if len(rows) else ph.g
         gl = pl.g - linalg.matvec(pl.a[rows].T, lam) if len(rows) else pl.g
         cols.append((gh - gl) / max(hi[j] - lo[j], 1e-300))
+    h = np.stack(cols, axis=1)
+    return 0.5 * (h + h.T)
+
+
+def _constraint_curvature(evaluate, u, rows, lam, h_step):
+    """-sum lambda_i Hess c_i over the active rows: central differences of -A^T lambda,
+    symmetrized; steps kept inside the box."""
+    n = len(u)
+    cols = []
+    for j in range(n):
+        e = np.zeros(n)
+        e[j] = h_step
+        lo, hi = np.clip(u - e, 0.0, 1.0), np.clip(u + e, 0.0, 1.0)
+        ah, al = evaluate(hi).a[rows], evaluate(lo).a[rows]
+        cols.append(-linalg.matvec((ah - al).T, lam) / max(hi[j] - lo[j], 1e-300))
     h = np.stack(cols, axis=1)
     return 0.5 * (h + h.T)

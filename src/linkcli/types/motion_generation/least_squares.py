@@ -42,6 +42,7 @@ SCORE_ELEMENTS = 1_000_000  # (row, grid angle, pose) triples scored at once
 SCREEN_POSES = 12  # free timing with more poses: the rows ranked on this many first,
 SCREEN_ROWS = 256  # and the best this many scored on every pose
 SETTLE_STEP = 3e-5  # unit box: the final polish's difference step (kkt.slopes)
+CURVATURE_STEP = 1e-4  # unit box: differences of the constraints' slopes for their curvature (kkt)
 SETTLE_GAIN = 1e-9  # relative: the polished design may be this much worse (round-off)
 SETTLES = 4  # distinct designs settled (and so listed) at most, the best first
 CONFIRM = 1e-7  # relative: another round's best this close confirms the best
@@ -533,7 +534,7 @@ def _settle(counter, fun, cons, x, mask, lo, hi, sign, scale):
                          h=2.0 * linalg.gram(jr))
 
     try:
-        out = kkt.settle(evaluate, (x[mask] - lo[mask]) / width)
+        out = kkt.settle(evaluate, (x[mask] - lo[mask]) / width, hessian_step=CURVATURE_STEP, curvature=True)
     except BudgetSpent:
         return None
     if not out.converged:
