@@ -150,7 +150,7 @@ def _newton(evaluate, u, p: Point, active, fixed, hessian_step, multipliers: boo
         if p.h is None or (curvature and full):
             h = _lagrangian_hessian(evaluate, u, rows, lam, hessian_step)
         elif curvature and len(rows) and np.any(lam != 0.0):
-            h = p.h + _constraint_curvature(evaluate, u, rows, lam, hessian_step)
+            h = p.h + _lagrangian_hessian(evaluate, u, rows, lam, hessian_step, objective=False)
         else:
             h = p.h
         step, lam_new = _kkt_step(h, p.g, p.a[rows], p.c[rows], free)
@@ -267,32 +267,20 @@ def independent_rows(a: np.ndarray, tol: float = DEPENDENT) -> list[int]:
     return kept
 
 
-def _lagrangian_hessian(evaluate, u, rows, lam, h_step):
-    """Central differences of grad f - A^T lambda, symmetrized; steps kept inside the box."""
+def _lagrangian_hessian(evaluate, u, rows, lam, h_step, objective: bool = True):
+    """Central differences of grad f - A^T lambda (`objective` False: of -A^T lambda alone,
+    the active constraints' curvature), symmetrized; steps kept inside the box."""
     n = len(u)
     cols = []
+
+    def slope(p):
+        g = p.g if objective else np.zeros(n)
+        return g - linalg.matvec(p.a[rows].T, lam) if len(rows) else g
+
     for j in range(n):
         e = np.zeros(n)
         e[j] = h_step
         lo, hi = np.clip(u - e, 0.0, 1.0), np.clip(u + e, 0.0, 1.0)
-        ph, pl = evaluate(hi), evaluate(lo)
-        gh = ph.g - linalg.matvec(ph.a[rows].T, lam) if len(rows) else ph.g
-        gl = pl.g - linalg.matvec(pl.a[rows].T, lam) if len(rows) else pl.g
-        cols.append((gh - gl) / max(hi[j] - lo[j], 1e-300))
-    h = np.stack(cols, axis=1)
-    return 0.5 * (h + h.T)
-
-
-def _constraint_curvature(evaluate, u, rows, lam, h_step):
-    """-sum lambda_i Hess c_i over the active rows: central differences of -A^T lambda,
-    symmetrized; steps kept inside the box."""
-    n = len(u)
-    cols = []
-    for j in range(n):
-        e = np.zeros(n)
-        e[j] = h_step
-        lo, hi = np.clip(u - e, 0.0, 1.0), np.clip(u + e, 0.0, 1.0)
-        ah, al = evaluate(hi).a[rows], evaluate(lo).a[rows]
-        cols.append(-linalg.matvec((ah - al).T, lam) / max(hi[j] - lo[j], 1e-300))
+        cols.append((slope(evaluate(hi)) - slope(evaluate(lo))) / max(hi[j] - lo[j], 1e-300))
     h = np.stack(cols, axis=1)
     return 0.5 * (h + h.T)
