@@ -149,3 +149,27 @@ def test_a_best_is_confirmed_by_another_rounds_best_or_an_exact_fit():
     assert best_of(me, [[res(1.0, False)], [res(1.0, False)]])[1] is False
     # two starts of one round do not confirm each other
     assert best_of(me, [[res(1.0), res(1.0)], [res(2.0)]])[1] is False
+
+
+def test_a_design_on_the_grashof_constraints_limit_is_judged_the_class_asked():
+    # the settle holds a binding class constraint at g = 0 exactly: there the sums s + l and
+    # p + q must differ by more than the change-point tolerance, or the judge
+    # (kin.grashof_code) calls the design a change point by round-off
+    from linkcli.mechanisms.four_bar import kinematics as kin
+    for klass, (d, a, b), inside, outside in (("double-crank", (1.0, 2.0, 1.7), 2.0, 6.0),
+                                              ("crank-rocker", (2.0, 1.0, 1.7), 2.0, 6.0),
+                                              ("double-rocker", (2.0, 1.8, 1.0), 2.0, 6.0),
+                                              ("triple-rocker", (2.0, 1.8, 1.0), 6.0, 2.0)):
+        x = np.zeros(10)
+        x[3], x[4], x[5] = d, a, b
+
+        def worst(c):  # the largest constraint value with the output c
+            x[6] = c
+            return float(np.max(constraints.values(x, np.zeros(1), klass, None, 1.0)))
+
+        assert worst(inside) < 0 < worst(outside)
+        for _ in range(200):  # bisection on the output for the limit g = 0, from the feasible side
+            mid = 0.5 * (inside + outside)
+            inside, outside = (mid, outside) if worst(mid) <= 0 else (inside, mid)
+        assert worst(inside) <= 0
+        assert kin.GRASHOF_CLASSES[int(kin.grashof_code(a, b, inside, d))] == klass, klass

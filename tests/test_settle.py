@@ -60,6 +60,24 @@ def test_slopes_match_the_analytic_jacobian():
     assert_allclose(jac, exact, rtol=0, atol=1e-11)
 
 
+def test_slopes_on_and_near_a_bound_are_taken_at_the_point_itself():
+    # one-sided stencils for the variables within 2 h of a bound; moving the whole point
+    # inside instead would take every column elsewhere (an O(h) error in all of them)
+    def values(u):  # (N, 3) -> (N, 2), curved in every variable
+        return np.stack([np.sin(3 * u[:, 0]) * u[:, 1] ** 2 + u[:, 2] ** 3,
+                         np.exp(u[:, 0] - u[:, 1]) * np.cos(2 * u[:, 2])], axis=1)
+
+    for u in ([0.0, 1.0, 0.5], [1e-5, 0.5, 1.0 - 2e-5], [0.3, 0.0, 0.0]):
+        u = np.array(u)
+        x, y, z = u
+        exact = np.array([[3 * np.cos(3 * x) * y * y, 2 * np.sin(3 * x) * y, 3 * z * z],
+                          [np.exp(x - y) * np.cos(2 * z), -np.exp(x - y) * np.cos(2 * z),
+                           -2 * np.exp(x - y) * np.sin(2 * z)]])
+        v, jac = kkt.slopes(values, u)
+        assert_allclose(v, values(u[None])[0])
+        assert_allclose(jac, exact, rtol=0, atol=1e-9)
+
+
 # ---------------------------------------------------------------- the KKT polish
 
 def _circle_problem(u):
@@ -108,6 +126,39 @@ def test_settle_releases_a_bound_and_a_constraint_that_do_not_bind():
         out = kkt.settle(point, np.array(start))
         assert out.converged
         assert_allclose(out.u, [0.0, 0.3], rtol=0, atol=1e-13)
+
+
+def test_settle_adds_a_constraint_that_a_failed_round_crossed():
+    # min (x - 3)^2 + (y - 0.5)^2 in the unit box subject to x <= 0.6, started 1e-6 inside
+    # (not within ACTIVE): the unconstrained round runs into the box at x = 1 and fails
+    # there, having crossed x = 0.6; the constraint binds, the optimum is (0.6, 0.5)
+    def point(u):
+        x, y = u
+        return kkt.Point((x - 3) ** 2 + (y - 0.5) ** 2, np.array([2 * (x - 3), 2 * (y - 0.5)]),
+                         np.array([0.6 - x]), np.array([[-1.0, 0.0]]), h=2.0 * np.eye(2))
+
+    out = kkt.settle(point, np.array([0.6 - 1e-6, 0.2]))
+    assert out.converged
+    assert_allclose(out.u, [0.6, 0.5], rtol=0, atol=1e-13)
+
+
+def test_settle_adds_the_active_constraints_curvature_to_a_model_of_f_alone():
+    # min (x - 3)^2 + (y - 1.8)^2 subject to x^2 + y^2 <= 1/2: the optimum is (3, 1.8)
+    # scaled to radius sqrt(1/2), multiplier lambda = 3 / x* - 1 ~ 3.9 (2 (p - t) =
+    # -2 lambda p). With h the Hessian of f alone (2 I) Newton misses the circle's
+    # curvature (the Lagrangian's is 2 (1 + lambda) I): along the circle its error grows
+    # by a factor lambda a step, and it does not settle; `curvature` adds it
+    def point(u):
+        x, y = u
+        return kkt.Point((x - 3) ** 2 + (y - 1.8) ** 2, np.array([2 * (x - 3), 2 * (y - 1.8)]),
+                         np.array([0.5 - x * x - y * y]), np.array([[-2 * x, -2 * y]]), h=2.0 * np.eye(2))
+
+    best = np.array([1.0, 0.6]) * math.sqrt(0.5) / math.hypot(1.0, 0.6)
+    start = np.array([0.2, 0.6])
+    assert not kkt.settle(point, start).converged
+    out = kkt.settle(point, start, curvature=True)
+    assert out.converged
+    assert_allclose(out.u, best, rtol=0, atol=1e-12)
 
 
 def test_settle_is_deterministic_and_independent_of_the_start_within_its_basin():

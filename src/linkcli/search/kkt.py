@@ -77,7 +77,8 @@ class Settled:
 
 
 def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e-6,
-           active_tol: float = ACTIVE, multipliers: bool = False, step_tol: float = STEP_TOL) -> Settled:
+           active_tol: float = ACTIVE, multipliers: bool = False, step_tol: float = STEP_TOL,
+           curvature: bool = False) -> Settled:
     """Newton-KKT from u0 on the active set found there (constraints within `active_tol`
     of 0: above the margin a search keeps from its limits; see the module docstring).
     A round that ends with a multiplier of the wrong sign (or fails on it) releases the
@@ -88,7 +89,11 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
     epigraph's, maximize t) has no curvature of its own, and with fewer binding constraints
     than free variables its first Newton system would be singular. `step_tol`: the Newton
     step (unit box) that counts as converged (slopes taken with a small step, against a
-    sharp bend, leave a round-off jitter above STEP_TOL)."""
+    sharp bend, leave a round-off jitter above STEP_TOL). `curvature`: the Points' h models
+    f's Hessian alone (Gauss-Newton), and the active constraints' curvature
+    -sum lambda_i Hess c_i is added by central differences of their gradients (steps
+    `hessian_step`): without it a constraint that bends under a large multiplier leaves
+    Newton-KKT linear at best, and its line search stalls short of the root."""
     start = np.clip(np.asarray(u0, dtype=float), 0.0, 1.0)
     p = evaluate(start)
     active = p.c <= active_tol
@@ -97,7 +102,7 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
     for _ in range(ROUNDS):
         u = np.where(lower, 0.0, np.where(upper, 1.0, here))
         u, p, lam, ok = _newton(evaluate, u, evaluate(u), active, lower | upper, hessian_step, multipliers,
-                                step_tol)
+                                step_tol, curvature)
         here = u if ok else start  # a round that failed leaves no point to go on from
         # multipliers of the bounds: the gradient of the Lagrangian pushing outwards
         grad_l = p.g - linalg.matvec(p.a[active].T, lam) if active.any() else p.g
@@ -115,19 +120,19 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
             else:
                 upper[worst_sign - len(p.c) - len(u)] = False
             continue
-        if not ok:
-            break
         broken = ~active & (p.c < -FEASIBLE)
         if not broken.any():
+            if not ok:
+                break
             worst = float(np.max(np.maximum(0.0, -p.c), initial=0.0)) + 0.0
             return Settled(u, float(p.f), worst, True)
-        active |= broken
+        active |= broken  # also after a failed round: its path crossed them (they bind)
     worst = float(np.max(np.maximum(0.0, -p.c), initial=0.0)) + 0.0
     return Settled(u, float(p.f), worst, False)
 
 
 def _newton(evaluate, u, p: Point, active, fixed, hessian_step, multipliers: bool = False,
-            step_tol: float = STEP_TOL):
+            step_tol: float = STEP_TOL, curvature: bool = False):
     """Newton steps on the KKT system with `active` constraints as equalities and the
     `fixed` variables held; a step is halved until the merit f + rho |c_A|_1 falls (rho
     above every multiplier). Returns (u, point, multipliers, ok)."""
@@ -140,13 +145,24 @@ def _newton(evaluate, u, p: Point, active, fixed, hessian_step, multipliers: boo
         af = p.a[rows][:, free]
         lam = linalg.solve(linalg.gram(af.T), linalg.matvec(af, p.g[free]))
         lam = np.where(np.isfinite(lam), lam, 0.0)
+    full, last = False, np.inf  # curvature: the differenced Hessian in use; the last step's size
     for _ in range(ITERATIONS):
-        h = p.h if p.h is not None else _lagrangian_hessian(evaluate, u, rows, lam, hessian_step)
+        if p.h is None or (curvature and full):
+            h = _lagrangian_hessian(evaluate, u, rows, lam, hessian_step)
+        elif curvature and len(rows) and np.any(lam != 0.0):
+            h = p.h + _lagrangian_hessian(evaluate, u, rows, lam, hessian_step, objective=False)
+        else:
+            h = p.h
         step, lam_new = _kkt_step(h, p.g, p.a[rows], p.c[rows], free)
         if step is None:
             return u, p, lam, False
         lam = lam_new
         size = float(np.max(np.abs(step)))
+        if curvature and size <= NEAR:  # Newton's region: steps that shrink only linearly say
+            # the model misses curvature (a large residual's): the differenced Hessian then;
+            # steps that grow under it say it is worse (round-off in a flat valley): back
+            full = size < last if full else size > 0.25 * last
+        last = size
         if size <= NEAR:  # Newton's own region: the step is taken whole
             u = np.clip(u + step, 0.0, 1.0)
             p = evaluate(u)
@@ -177,17 +193,28 @@ def _newton(evaluate, u, p: Point, active, fixed, hessian_step, multipliers: boo
 
 def slopes(values: Callable[[np.ndarray], np.ndarray], u: np.ndarray, step: float = SLOPE_STEP):
     """(values at u (m,), Jacobian (m, n)) of a vectorized function of unit-box points
-    ((N, n) -> (N, m)) by the fourth-order central difference
-    (8 (v(u + h) - v(u - h)) - (v(u + 2h) - v(u - 2h))) / (12 h), about u moved 2h inside
-    the box where it is nearer a bound. The step is large (round-off in the slopes ~ eps / h
-    is what leaves a Newton root uncertain) since the truncation error ~ h^4 is small and
-    the same on every machine. One batch of 4n + 1 points."""
+    ((N, n) -> (N, m)) by fourth-order differences, every column at u itself: the central
+    (8 (v(u + h) - v(u - h)) - (v(u + 2h) - v(u - 2h))) / (12 h), or, for a variable within
+    2h of a bound, the one-sided (-25 v(u) + 48 v(u + h) - 36 v(u + 2h) + 16 v(u + 3h)
+    - 3 v(u + 4h)) / (12 h) with h pointing into the box (Fornberg, Math. Comp. 51 (1988),
+    the weights of the 5-point stencils). Moving the whole point inside instead would
+    take every column at another point, an O(h) error in the gradient that Newton cannot
+    settle below. The step is large (round-off in the slopes ~ eps / h is what leaves a
+    Newton root uncertain) since the truncation error ~ h^4 is small and the same on every
+    machine. One batch of 4n + 1 points."""
     n = len(u)
-    centre = np.clip(u, 2.0 * step, 1.0 - 2.0 * step)
-    shift = np.eye(n) * step
-    batch = values(np.vstack([u[None, :], centre + shift, centre - shift, centre + 2 * shift, centre - 2 * shift]))
-    v0, p1, m1, p2, m2 = batch[0], batch[1:n + 1], batch[n + 1:2 * n + 1], batch[2 * n + 1:3 * n + 1], batch[3 * n + 1:]
-    return v0, (8.0 * (p1 - m1) - (p2 - m2)).T / (12.0 * step)
+    one_sided = np.where(u < 2.0 * step, 1.0, np.where(u > 1.0 - 2.0 * step, -1.0, 0.0))
+    h = np.where(one_sided < 0.0, -step, step)  # into the box where one-sided
+    # each column's four offsets, in steps h: central (1, -1, 2, -2), one-sided (1, 2, 3, 4)
+    offsets = np.where(one_sided[None, :] != 0.0, np.array([1.0, 2.0, 3.0, 4.0])[:, None],
+                       np.array([1.0, -1.0, 2.0, -2.0])[:, None])  # (4, n)
+    shifts = (offsets * h)[:, :, None] * np.eye(n)[None, :, :]  # (4, n, n)
+    batch = values(np.vstack([u[None, :], (u[None, None, :] + shifts).reshape(4 * n, n)]))
+    v0, v = batch[0], batch[1:].reshape(4, n, -1)
+    central = 8.0 * (v[0] - v[1]) - (v[2] - v[3])
+    forward = -25.0 * v0[None, :] + 48.0 * v[0] - 36.0 * v[1] + 16.0 * v[2] - 3.0 * v[3]
+    jac = np.where((one_sided != 0.0)[:, None], forward, central) / (12.0 * h[:, None])
+    return v0, jac.T
 
 
 def _kkt_residual(p: Point, rows, lam, free) -> float:
@@ -240,17 +267,20 @@ def independent_rows(a: np.ndarray, tol: float = DEPENDENT) -> list[int]:
     return kept
 
 
-def _lagrangian_hessian(evaluate, u, rows, lam, h_step):
-    """Central differences of grad f - A^T lambda, symmetrized; steps kept inside the box."""
+def _lagrangian_hessian(evaluate, u, rows, lam, h_step, objective: bool = True):
+    """Central differences of grad f - A^T lambda (`objective` False: of -A^T lambda alone,
+    the active constraints' curvature), symmetrized; steps kept inside the box."""
     n = len(u)
     cols = []
+
+    def slope(p):
+        g = p.g if objective else np.zeros(n)
+        return g - linalg.matvec(p.a[rows].T, lam) if len(rows) else g
+
     for j in range(n):
         e = np.zeros(n)
         e[j] = h_step
         lo, hi = np.clip(u - e, 0.0, 1.0), np.clip(u + e, 0.0, 1.0)
-        ph, pl = evaluate(hi), evaluate(lo)
-        gh = ph.g - linalg.matvec(ph.a[rows].T, lam) if len(rows) else ph.g
-        gl = pl.g - linalg.matvec(pl.a[rows].T, lam) if len(rows) else pl.g
-        cols.append((gh - gl) / max(hi[j] - lo[j], 1e-300))
+        cols.append((slope(evaluate(hi)) - slope(evaluate(lo))) / max(hi[j] - lo[j], 1e-300))
     h = np.stack(cols, axis=1)
     return 0.5 * (h + h.T)

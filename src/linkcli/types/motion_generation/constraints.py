@@ -9,6 +9,9 @@ coupler b = x[5], output c = x[6]; the input angles phi (..., n) at the poses.
   rocker-crank: the output; double-rocker: the coupler): s + x_j - (the other two) <= 0
   for each other link x_j, which together say s is shortest and s + l <= p + q (Norton,
   Design of Machinery, sec. 2.12); triple-rocker: p + q - s - l <= 0 (sorted lengths).
+  Each held CLASS_MARGIN (relative to p + q) inside, off the change point: sums within
+  kin.CHANGE_POINT_RTOL of each other are the change-point class, and a design settled on
+  the limit would be judged that class by round-off.
 - Transmission window [mu_lo, mu_hi]: cos(mu) = (b^2 + c^2 - rho^2) / (2 b c) falls as
   rho = |A B0| grows, so L (cos mu(rho_min) - cos mu_lo) <= 0 and
   L (cos mu_hi - cos mu(rho_max)) <= 0; rho over the full turn (|d - a| and d + a) when
@@ -26,6 +29,8 @@ import numpy as np
 from linkcli.mechanisms.four_bar import kinematics as kin
 
 FULL_TURN = ("crank-rocker", "double-crank")
+CLASS_MARGIN = 2.0 * kin.CHANGE_POINT_RTOL  # relative to p + q: off the change point
+WINDOW_TOL = 1e-12  # rad: a transmission angle this far outside its window is on it (round-off)
 SHORTEST = {"crank-rocker": 4, "double-crank": 3, "rocker-crank": 6, "double-rocker": 5}  # x index
 
 
@@ -47,10 +52,12 @@ def values(x, phi, grashof: str | None, window, scale: float) -> np.ndarray:
         others = [j for j in (3, 4, 5, 6) if j != k]
         for j in others:
             rest = [o for o in others if o != j]
-            cols.append(links[k] + links[j] - links[rest[0]] - links[rest[1]])
+            pq = links[rest[0]] + links[rest[1]]
+            cols.append(links[k] + links[j] - pq * (1.0 - CLASS_MARGIN))
     elif grashof == "triple-rocker":
         srt = np.sort(np.stack([links[j] for j in (3, 4, 5, 6)], axis=-1), axis=-1)
-        cols.append(srt[..., 1] + srt[..., 2] - srt[..., 0] - srt[..., 3])
+        pq = srt[..., 1] + srt[..., 2]
+        cols.append(pq * (1.0 + CLASS_MARGIN) - srt[..., 0] - srt[..., 3])
     out = np.stack(cols, axis=-1) if cols else np.zeros(x.shape[:-1] + (0,))
     if window is None:
         return out

@@ -42,6 +42,7 @@ SCORE_ELEMENTS = 1_000_000  # (row, grid angle, pose) triples scored at once
 SCREEN_POSES = 12  # free timing with more poses: the rows ranked on this many first,
 SCREEN_ROWS = 256  # and the best this many scored on every pose
 SETTLE_STEP = 3e-5  # unit box: the final polish's difference step (kkt.slopes)
+CURVATURE_STEP = 1e-4  # unit box: differences of the constraints' slopes for their curvature (kkt)
 SETTLE_GAIN = 1e-9  # relative: the polished design may be this much worse (round-off)
 SETTLES = 4  # distinct designs settled (and so listed) at most, the best first
 CONFIRM = 1e-7  # relative: another round's best this close confirms the best
@@ -308,16 +309,24 @@ class Search:
             results.append(_evaluate(x[i], self.poses, sign, self.weight, self.t_angles, self.grashof,
                                      self.transmission))
             results[-1].update(converged=bool(converged[i]), penalized=bool(penalized[i]), x=x[i], sign=sign)
-        self._settle_all(results)
         bounds = np.cumsum([0] + [len(pool) for pool in pools])
+        for a, b in zip(bounds[:-1], bounds[1:]):
+            results[a:b] = self._settle_all(results[a:b])
         return [results[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
 
     def _settle_all(self, results):
-        """The best is settled; with constraints the best SETTLES distinct designs are (a
-        penalty polish ends at a point whose last digits follow round-off, and they are
-        listed). A start that reached a design settled already takes its settled result
-        (they are one design, listed once), not a settle again."""
-        order = sorted(range(len(results)), key=lambda i: _key(results[i]))
+        """One round's results, settled: its best; with constraints the best SETTLES
+        distinct designs over all rounds, and each round's best beyond them (a penalty
+        polish ends at a point whose last digits follow round-off, and they are listed; a
+        round confirms another's best only settled, `best_of`). With constraints the rows
+        are taken by objective, the penalized ones among the feasible: a penalty polish ends
+        just outside a binding constraint, which the settle holds. A start that reached a
+        design settled already takes its settled result (they are one design, listed once),
+        not a settle again."""
+        results = list(results)
+        key = (lambda r: (not (r["feasible"] or r["penalized"]), r["objective"])) if self.m_cons else _key
+        order = sorted(range(len(results)), key=lambda i: key(results[i]))
+        first = True  # the round's best is settled whatever the count
         for i in (order if self.m_cons else order[:1]):
             if not (results[i]["feasible"] or self.m_cons):
                 continue
@@ -325,20 +334,21 @@ class Search:
             same = [out for q, out in self.settled_as
                     if np.max(np.abs(p - q)) <= SAME_DESIGN * float(max(p[3:7]))]
             if same:
-                results[i] = dict(same[0])
+                results[i], first = dict(same[0]), False
                 continue
-            if self.tries == SETTLES:
+            if self.tries >= SETTLES and not first:
                 continue  # the worse designs stay unsettled, and unlisted
-            self.tries += 1
+            self.tries, first = self.tries + 1, False
             settled = _settle(self.counter, *self._setup(results[i]))
             if settled is not None:
                 out = _evaluate(settled, self.poses, results[i]["sign"], self.weight, self.t_angles,
                                 self.grashof, self.transmission)
                 if out["feasible"] and (not results[i]["feasible"] or
                                         out["objective"] <= results[i]["objective"] * (1.0 + SETTLE_GAIN)):
-                    out.update(converged=True, settled=True, sign=results[i]["sign"])
+                    out.update(converged=True, settled=True, sign=results[i]["sign"], penalized=True)
                     results[i] = out
                     self.settled_as.append((p, out))
+        return results
 
     def _setup(self, result):
         """What `_settle` needs of a polished design: residuals and constraints of its
@@ -524,7 +534,7 @@ def _settle(counter, fun, cons, x, mask, lo, hi, sign, scale):
                          h=2.0 * linalg.gram(jr))
 
     try:
-        out = kkt.settle(evaluate, (x[mask] - lo[mask]) / width)
+        out = kkt.settle(evaluate, (x[mask] - lo[mask]) / width, hessian_step=CURVATURE_STEP, curvature=True)
     except BudgetSpent:
         return None
     if not out.converged:
@@ -547,8 +557,9 @@ def _evaluate(x, poses, sign, weight, t_angles, grashof, transmission) -> dict:
     why += [f"{d} defect" for d in checks["defects"]]
     if grashof is not None and checks["grashof"]["class"] != grashof:
         why.append(f"Grashof class {checks['grashof']['class']}, not {grashof}")
-    if transmission is not None and (checks["transmission_min"] < transmission[0]
-                                     or checks["transmission_max"] > transmission[1]):
+    tol = design_constraints.WINDOW_TOL
+    if transmission is not None and (checks["transmission_min"] < transmission[0] - tol
+                                     or checks["transmission_max"] > transmission[1] + tol):
         why.append("transmission angle outside its bounds")
     return {"params": p, "branch": "open" if sign < 0 else "crossed", "input_angles": phi,
             "objective": objective, "achieved": ach, "position_error": pos, "angle_error": ang,

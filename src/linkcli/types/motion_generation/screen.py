@@ -32,6 +32,7 @@ from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.types.path_generation.model import FULL_TURN, rho2_extremes
 
 from .assemble import body_poses, pose_errors
+from .constraints import WINDOW_TOL
 
 TWO_PI = kin.TWO_PI
 EXACT_RTOL = 1e-7  # relative to the poses' scale: an exact candidate missing a pose by more is not exact
@@ -137,7 +138,8 @@ def screen(problem, poses, params, phi, signs, scale: float, exact: bool) -> dic
             t_max = kin.transmission_angle(b, c, a + d)
         else:
             t_min, t_max = mu_min, mu_max
-        bad["transmission"] = (t_min < w_lo - 1e-12) | (t_max > w_hi + 1e-12)
+        tol = WINDOW_TOL
+        bad["transmission"] = (t_min < w_lo - tol) | (t_max > w_hi + tol)
     bad["bounds"] = out_of_bounds(problem, params)
     want = {"open": -1.0, "crossed": 1.0}.get(problem.branch)
     bad["branch_choice"] = (np.any(signs != want, axis=1) if want is not None
