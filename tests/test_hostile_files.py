@@ -7,6 +7,7 @@ The inputs differ from the issue's reproductions on purpose: each test holds a k
 
 from __future__ import annotations
 
+import functools
 import os
 import shutil
 import subprocess
@@ -174,6 +175,7 @@ def test_an_integer_of_thousands_of_digits_keeps_its_key_path(tmp_path, where, l
 
 # -- file names: unreadable, empty -----------------------------------------------------
 
+@functools.cache  # one probe of the other user per session, not one per test
 def _as_another_user() -> tuple[str, ...] | None:
     """A command prefix that runs as a user without root's rights to read any file (None
     when there is none): the current user when not root, else `setpriv` to nobody."""
