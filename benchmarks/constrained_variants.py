@@ -4,7 +4,9 @@ constraint made to bind; how often the default search ends `ok` at the best know
 Usage (from the repository root):
 
     python3 benchmarks/constrained_variants.py best-known [--cases 128] [--only I ...]
-    python3 benchmarks/constrained_variants.py study [--half tuning|reporting|all] [--seeds 5]
+    python3 benchmarks/constrained_variants.py refresh [--families F ...] [--shift 100]
+    python3 benchmarks/constrained_variants.py study [--half tuning|reporting|all] [--seeds 5] [--rows F]
+    python3 benchmarks/constrained_variants.py report --rows F [F ...] [--half ...] [--out MD]
 
 Case i (0 <= i < --cases) is drawn with numpy.random.default_rng([SEED, i, attempt]); its
 family is FAMILIES[i % 4]: path generation with prescribed timing (absolute angles or a free
@@ -33,6 +35,13 @@ constraint is active at the best known's design, checked here from the report's 
 (independent closed forms: mu from rho^2 = a^2 + d^2 - 2 a d cos(phi) over the travel, the
 Grashof sums, the bound, the angle); a case whose constraint does not bind is drawn again
 (the next attempt) until one does.
+
+`refresh` adds the long runs of every kept case again, under seeds --shift above RUNS'
+(after a change of the search: they may end lower); the best known is the lowest of all
+its runs. Their cases stay as drawn.
+
+`report` judges the rows that `study --rows` kept (several files: parts of one study run
+side by side) against the best knowns of the cache as it is now, and writes the results.
 
 `study` solves every kept case of the half asked for (tuning: cases 0-3, 8-11, 16-19, ...;
 reporting: 4-7, 12-15, ...: every family in both; the search is tuned on the first and
@@ -589,6 +598,32 @@ def long_runs(index: int, cache: dict) -> dict:
     return entry
 
 
+def refresh(index: int, cache: dict, shift: int) -> dict:
+    """A kept case's long runs again under seeds `shift` above RUNS' (the search has
+    changed since: its runs may now end lower), added to the entry's; the best known is
+    then the lowest of all its runs, old and new. The case itself is not drawn again."""
+    key = str(index)
+    entry = cache["cases"][key]
+    done = {(r["method"], r["seed"]) for r in entry["runs"]}
+    case = draw(index, entry["attempt"], entry)
+    for method, budget, multiple, seeds in RUNS[entry["family"]]:
+        for seed in (s + shift for s in seeds):
+            if (method, seed) in done:
+                continue
+            run = solve_text(entry["text"], method, budget, seed, multiple)
+            entry["runs"].append(run_record(run, case))
+            print(f"case {index} refresh {method} seed {seed}: {run['objective']!r} {run['status']} "
+                  f"({run['seconds']:.1f} s)", file=sys.stderr, flush=True)
+            cache["cases"][key] = entry
+            save_cache(cache)
+    best, reach, m = best_known(entry)
+    entry.update(best_known=best, found_by=reach, best_margin=m,
+                 binds=bool(best is not None and m is not None and m <= BINDS and reach >= 2))
+    cache["cases"][key] = entry
+    save_cache(cache)
+    return entry
+
+
 def hopeless(case: dict, entry: dict) -> bool:
     """After the first long run: its answer fits exactly (objective below 1e-12 of the
     targets' extent squared: the constraint leaves an exact fit, a cognate say) or keeps
@@ -631,6 +666,14 @@ def classify(run: dict, best: float) -> str:
     if run["status"] == "ok":
         return "ok" if at else "ok-off"
     return "nc-at" if at else "nc-off"
+
+
+def rejudged(row: dict, entry: dict) -> dict:
+    """A study row judged against the entry's best known (refreshed since the row ran)."""
+    best = entry["best_known"]
+    run = dict(status=row["status"], objective=row["objective"])
+    gap = (row["objective"] - best) / abs(best) if row["objective"] is not None else None
+    return dict(row, best_known=best, gap=gap, verdict=classify(run, best))
 
 
 def half_of(index: int) -> str:
@@ -726,7 +769,9 @@ def write_results(cache: dict, rows: list[dict], args) -> None:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("mode", choices=("best-known", "study", "show"))
+    ap.add_argument("mode", choices=("best-known", "refresh", "study", "report", "show"))
+    ap.add_argument("--rows", nargs="+", default=None, help="study: keep its rows in this JSON file; report: "
+                    "the rows files to judge again (against the best knowns of --cache) and write to --out")
     ap.add_argument("--cases", type=int, default=128)
     ap.add_argument("--only", type=int, nargs="+", default=None)
     ap.add_argument("--half", choices=("tuning", "reporting", "all"), default="reporting")
@@ -734,6 +779,8 @@ def main() -> None:
     ap.add_argument("--out", default=RESULTS)
     ap.add_argument("--cache", default=CACHE, help="the best knowns' file (a second worker: its own, merged with "
                     "--merge FILE)")
+    ap.add_argument("--shift", type=int, default=100, help="refresh: the seeds' shift above RUNS'")
+    ap.add_argument("--families", nargs="+", default=list(FAMILIES), help="refresh: these families' kept cases")
     ap.add_argument("--merge", default=None, help="add the cases of this cache file to --cache, and stop")
     args = ap.parse_args()
     import scipy.optimize  # noqa: F401  imported before any timing
@@ -748,11 +795,30 @@ def main() -> None:
             print(f"case {i}: best known {entry.get('best_known')!r} found by {entry.get('found_by')}, "
                   f"margin {entry.get('best_margin')}, binds {entry.get('binds')}", file=sys.stderr, flush=True)
         return
+    if args.mode == "refresh":
+        for key, entry in sorted(cache["cases"].items(), key=lambda kv: int(kv[0])):
+            i = int(key)
+            if not entry.get("binds") or entry["family"] not in args.families or (args.only and i not in args.only):
+                continue
+            before = entry["best_known"]
+            entry = refresh(i, cache, args.shift)
+            print(f"case {i}: best known {before!r} -> {entry['best_known']!r} found by {entry['found_by']}, "
+                  f"margin {entry['best_margin']}, binds {entry['binds']}", file=sys.stderr, flush=True)
+        return
     if args.mode == "show":
         for i in (args.only or range(args.cases)):
             print(draw(i, 0, cache["cases"].get(str(i)))["text"])
         return
+    if args.mode == "report":  # rows of earlier study runs, judged against the cache's best knowns now
+        rows = [r for path in args.rows for r in json.load(open(path, encoding="utf-8"))]
+        rows = [rejudged(r, cache["cases"][str(r["case"])]) for r in rows]
+        write_results(cache, rows, args)
+        print(totals(rows))
+        return
     rows = study(cache, args.half, args.seeds, args.only)
+    if args.rows:
+        with open(args.rows[0], "w", encoding="utf-8") as fh:
+            json.dump(rows, fh, indent=0)
     if not args.only:
         write_results(cache, rows, args)
     print(totals(rows))

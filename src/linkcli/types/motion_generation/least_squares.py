@@ -261,7 +261,7 @@ class Search:
                            constraint_values, self.m_cons,
                            transmission is not None and grashof_held not in design_constraints.FULL_TURN)
         self.exact = n * (EXACT_RMS * self.scale) ** 2  # an objective this small fits exactly
-        self.settled_as = []  # (params before, settled result): designs settled so far
+        self.settled_as = []  # (params before, settled result or None: it failed): designs settled so far
         self.tries = 0
 
     def pool(self, rng, population, polish, spread):
@@ -322,7 +322,8 @@ class Search:
         are taken by objective, the penalized ones among the feasible: a penalty polish ends
         just outside a binding constraint, which the settle holds. A start that reached a
         design settled already takes its settled result (they are one design, listed once),
-        not a settle again."""
+        not a settle again; one whose settle failed is not tried again (the same start
+        fails the same way, and would spend the SETTLES tries the others need)."""
         results = list(results)
         key = (lambda r: (not (r["feasible"] or r["penalized"]), r["objective"])) if self.m_cons else _key
         order = sorted(range(len(results)), key=lambda i: key(results[i]))
@@ -334,8 +335,9 @@ class Search:
             same = [out for q, out in self.settled_as
                     if np.max(np.abs(p - q)) <= SAME_DESIGN * float(max(p[3:7]))]
             if same:
-                results[i], first = dict(same[0]), False
-                continue
+                if same[0] is not None:
+                    results[i], first = dict(same[0]), False
+                continue  # one that failed to settle fails again: no try spent on it
             if self.tries >= SETTLES and not first:
                 continue  # the worse designs stay unsettled, and unlisted
             self.tries, first = self.tries + 1, False
@@ -348,6 +350,8 @@ class Search:
                     out.update(converged=True, settled=True, sign=results[i]["sign"], penalized=True)
                     results[i] = out
                     self.settled_as.append((p, out))
+                    continue
+            self.settled_as.append((p, None))
         return results
 
     def _setup(self, result):
