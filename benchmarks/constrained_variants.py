@@ -811,7 +811,11 @@ def main() -> None:
         return
     if args.mode == "report":  # rows of earlier study runs, judged against the cache's best knowns now
         rows = [r for path in args.rows for r in json.load(open(path, encoding="utf-8"))]
-        rows = [rejudged(r, cache["cases"][str(r["case"])]) for r in rows]
+        dropped = sorted({r["case"] for r in rows if not cache["cases"][str(r["case"])].get("binds")})
+        if dropped:  # refreshed runs found a better design where the constraint does not bind
+            print(f"no longer kept (the constraint does not bind at the best known): cases {dropped}",
+                  file=sys.stderr)
+        rows = [rejudged(r, cache["cases"][str(r["case"])]) for r in rows if r["case"] not in dropped]
         write_results(cache, rows, args)
         print(totals(rows))
         return
