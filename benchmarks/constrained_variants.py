@@ -574,21 +574,13 @@ def long_runs(index: int, cache: dict) -> dict:
                 for seed in seeds:
                     if (method, seed) in done:
                         continue
-                    run = solve_text(case["text"], method, budget, seed, multiple)
-                    entry["runs"].append(run_record(run, case))
-                    print(f"case {index} attempt {attempt} {method} seed {seed}: {run['objective']!r} "
-                          f"{run['status']} ({run['seconds']:.1f} s)", file=sys.stderr, flush=True)
-                    cache["cases"][key] = entry
-                    save_cache(cache)
+                    add_run(cache, key, entry, case, (method, budget, seed, multiple), f"attempt {attempt}")
             best, reach, m = best_known(entry)
             if stage is not first and reach >= 2:
                 break
             if stage is first and hopeless(case, entry):
                 break  # the first long run says it does not bind: drawn again
-        entry.update(best_known=best, found_by=reach, best_margin=m,
-                     binds=bool(best is not None and m is not None and m <= BINDS and reach >= 2))
-        cache["cases"][key] = entry
-        save_cache(cache)
+        judge(cache, key, entry)
         if entry["binds"]:
             return entry
         rejected.append({k: entry.get(k) for k in ("attempt", "constraint", "best_known", "found_by",
@@ -610,18 +602,31 @@ def refresh(index: int, cache: dict, shift: int) -> dict:
         for seed in (s + shift for s in seeds):
             if (method, seed) in done:
                 continue
-            run = solve_text(entry["text"], method, budget, seed, multiple)
-            entry["runs"].append(run_record(run, case))
-            print(f"case {index} refresh {method} seed {seed}: {run['objective']!r} {run['status']} "
-                  f"({run['seconds']:.1f} s)", file=sys.stderr, flush=True)
-            cache["cases"][key] = entry
-            save_cache(cache)
+            add_run(cache, key, entry, case, (method, budget, seed, multiple), "refresh")
+    judge(cache, key, entry)
+    return entry
+
+
+def add_run(cache: dict, key: str, entry: dict, case: dict, setting, label: str) -> None:
+    """One long run (method, budget, seed, multiple of the default budget) of the case,
+    added to its entry and saved at once (a long study survives an interruption)."""
+    method, budget, seed, multiple = setting
+    run = solve_text(case["text"], method, budget, seed, multiple)
+    entry["runs"].append(run_record(run, case))
+    print(f"case {key} {label} {method} seed {seed}: {run['objective']!r} {run['status']} "
+          f"({run['seconds']:.1f} s)", file=sys.stderr, flush=True)
+    cache["cases"][key] = entry
+    save_cache(cache)
+
+
+def judge(cache: dict, key: str, entry: dict) -> None:
+    """The entry's best known (`best_known`) and whether its constraint binds there (a
+    margin of BINDS at most, reached by two runs), saved."""
     best, reach, m = best_known(entry)
     entry.update(best_known=best, found_by=reach, best_margin=m,
                  binds=bool(best is not None and m is not None and m <= BINDS and reach >= 2))
     cache["cases"][key] = entry
     save_cache(cache)
-    return entry
 
 
 def hopeless(case: dict, entry: dict) -> bool:
