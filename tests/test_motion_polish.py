@@ -173,3 +173,24 @@ def test_a_design_on_the_grashof_constraints_limit_is_judged_the_class_asked():
             inside, outside = (mid, outside) if worst(mid) <= 0 else (inside, mid)
         assert worst(inside) <= 0
         assert kin.GRASHOF_CLASSES[int(kin.grashof_code(a, b, inside, d))] == klass, klass
+
+
+def test_a_design_whose_settle_failed_is_not_settled_again(monkeypatch):
+    """Every round of a constrained search reaches the same designs (here: a window the
+    noisy poses break); a design whose settle failed must not take another of the SETTLES
+    tries when a later round reaches it (constrained-variant case 103 spent all four on the
+    unconstrained exact fit). The settle is made to fail, and its starts recorded."""
+    poses, _ = poses_of(9, noise=0.02, seed=3)
+    tried = []
+
+    def failing(counter, fun, cons, x, *rest):
+        tried.append(np.array(x[:10]))
+        return None  # as a settle that does not converge
+
+    monkeypatch.setattr(LS, "_settle", failing)
+    LS.solve_least_squares(poses, grashof="crank-rocker", transmission=(np.radians(60.0), np.radians(120.0)),
+                           seed=0, budget=Budget(3_000_000))
+    assert len(tried) >= 2, "the rounds offered fewer than two designs to the settle"
+    for i, a in enumerate(tried):  # no two tries on one design (within SAME_DESIGN of its longest link)
+        for b in tried[i + 1:]:
+            assert np.max(np.abs(a - b)) > LS.SAME_DESIGN * float(max(a[3:7]))
