@@ -76,6 +76,9 @@ MEMORY = 4_000_000  # Jacobian elements held at once by the batched stage
 EXACT_RMS = 1e-9  # rms error, relative to the targets' extent, that ends the rounds
 SETTLE_EVALUATIONS = 5000  # the final KKT polish's reserve in the budget, at most,
 SETTLE_SHARE = 20  # and at most this fraction (1/20) of it
+SETTLE_NEAR = 1e-2  # relative: a converged pick this close to the best is settled too (a polish
+# converges by its own tolerances short of a binding window: tuning case 72's rounds ended at
+# 0.30104, 0.30110, 0.3010048, 0.3010094 against 0.3010027, and never confirmed)
 PICK_SETTLE = 30_000  # evaluations of the settle of a round's pick, at most (measured: those
 # that converge take 4,000 to 22,000; those that fail, from far, 110,000 and more)
 SETTLE_GAIN = 1e-9  # relative: the polished candidate may be this much worse (round-off)
@@ -284,8 +287,20 @@ def one_round(design: Design, budget: Budget, rng, sizes: list[int], best_so_far
                            conv[more])
         for j, c in zip(short, again):
             done[j] = c
-    done = [c if c.converged else _settled_pick(design, budget, c) for c in done]
+    near = _near_best(design, done, best_so_far)
+    done = [_settled_pick(design, budget, c) if not c.converged or j in near else c for j, c in enumerate(done)]
     return [done[a:b] for a, b in zip(bounds[:-1], bounds[1:]) if b > a]
+
+
+def _near_best(design: Design, done: list[Candidate], best: float | None) -> set[int]:
+    """The feasible picks within SETTLE_NEAR (relative) of the best feasible objective (the
+    search's so far, `best`, or these picks'): those a settle may make confirm it."""
+    ranks = [_rank(design, c) for c in done]
+    objective = [r[2] for r in ranks if not r[0]] + ([best] if best is not None else [])
+    if not objective:
+        return set()
+    top = min(objective)
+    return {j for j, r in enumerate(ranks) if not r[0] and r[2] <= top * (1.0 + SETTLE_NEAR)}
 
 
 def _short_of_best(design: Design, done: list[Candidate], best: float | None) -> np.ndarray:
@@ -396,11 +411,12 @@ def polish_all(design: Design, budget: Budget, x, sign, s, converged=None) -> li
 
 
 def _settled_pick(design: Design, budget: Budget, pick: Candidate) -> Candidate:
-    """A round's polished pick that did not converge, settled (`settled`) within PICK_SETTLE
-    evaluations: the penalized polish stops short of a binding constraint's optimum (a flat
-    valley along it), where rounds that reached one basin would not compare equal;
-    Newton-KKT ends them at its one point. (A converged pick is left: settling every pick
-    doubled the time of a prescribed-timing round, measured on case 4.)"""
+    """A round's polished pick that did not converge, or lies within SETTLE_NEAR of the best,
+    settled (`settled`) within PICK_SETTLE evaluations: the penalized polish stops short of
+    a binding constraint's optimum (a flat valley along it), where rounds that reached one
+    basin would not compare equal; Newton-KKT ends them at its one point. (The other
+    converged picks are left: settling every pick doubled the time of a prescribed-timing
+    round, measured on case 4.)"""
     with budget.limit(PICK_SETTLE):
         return settled(design, budget, pick)
 
