@@ -121,3 +121,19 @@ def test_an_optimum_found_once_is_found_again_on_another_window():
             rep = json.loads(out)
             assert code == 0 and rep["status"] == "ok", rep["message"]
             assert abs(rep["error"]["objective"] - 3.8966591898) <= 1e-6 * 3.8966591898
+
+
+def test_optima_tied_within_round_off_are_ranked_in_the_order_found(monkeypatch):
+    """Feasible objectives within TIE (relative) of the best are one optimum: the first
+    found (lowest round) ranks first, whichever is a hair lower (that follows the
+    machine's round-off); a lower one beyond TIE, or an infeasible one, keeps its rank."""
+    from linkcli.types.path_generation import solve as path_solve
+
+    values = {"a": (False, 0.0, 1.0 + 1e-12), "b": (False, 0.0, 1.0), "c": (False, 0.0, 1.0 + 2e-12),
+              "d": (False, 0.0, 1.5), "e": (True, 0.3, 0.1)}
+    monkeypatch.setattr(path_solve, "_rank", lambda design, c: values[c.x])
+    cands = [path_solve.Candidate(name, -1.0, 1.0, True, round=r)
+             for name, r in (("b", 2), ("d", 0), ("a", 1), ("e", 0), ("c", 1))]
+    assert [c.x for c in path_solve._ranked(None, cands)] == ["a", "c", "b", "d", "e"]
+    values["a"] = (False, 0.0, 1.0 + 2 * path_solve.TIE)  # beyond the tie: a ranks after b and c
+    assert [c.x for c in path_solve._ranked(None, cands)] == ["c", "b", "a", "d", "e"]

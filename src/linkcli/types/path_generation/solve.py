@@ -81,6 +81,7 @@ SETTLE_NEAR = 1e-2  # relative: a converged pick this close to the best is settl
 # 0.30104, 0.30110, 0.3010048, 0.3010094 against 0.3010027, and never confirmed)
 PICK_SETTLE = 30_000  # evaluations of the settle of a round's pick, at most (measured: those
 # that converge take 4,000 to 22,000; those that fail, from far, 110,000 and more)
+TIE = 1e-9  # relative: feasible objectives this close are one optimum, the first found ranked first
 SETTLE_GAIN = 1e-9  # relative: the polished candidate may be this much worse (round-off)
 ANGLE_VIOLATIONS = ("transmission", "order")  # violations measured in radians (others: length)
 
@@ -172,7 +173,7 @@ def multistart(design: Design, budget: Budget, rng) -> tuple[list[Candidate], bo
             new = [replace(c, round=index) for c in new]
             index += 1
             mine = min((_rank(design, c) for c in new), default=None)
-            found = sorted(found + new, key=lambda c: _rank(design, c))[:POLISHED]
+            found = _ranked(design, found + new)[:POLISHED]
             top = _rank(design, found[0])
             done = not top[0] and top[2] <= exact
             stop = False
@@ -458,8 +459,24 @@ def _rank(design: Design, c: Candidate):
     return (len(v) > 0, total, obj if math.isfinite(obj) else math.inf)
 
 
+def _ranked(design: Design, cands: list[Candidate]) -> list[Candidate]:
+    """Candidates best first (`_rank`), those feasible within TIE (relative) of the best
+    objective counted as one optimum and taken in the order they were found (round, then
+    place): which of them is a hair lower follows the machine's round-off, and in a flat
+    valley their designs differ in the printed digits (arc6_timed's ground angle, -3.85757
+    or -3.85756 with numpy's vector paths narrowed, when later rounds reach it again)."""
+    ranks = [_rank(design, c) for c in cands]
+    order = sorted(range(len(cands)), key=lambda i: ranks[i])
+    if not order or ranks[order[0]][0]:
+        return [cands[i] for i in order]
+    top = ranks[order[0]][2]
+    tied = [i for i in order if not ranks[i][0] and ranks[i][2] <= top + TIE * abs(top)]
+    tied.sort(key=lambda i: (cands[i].round, i))
+    return [cands[i] for i in tied] + [cands[i] for i in order if i not in set(tied)]
+
+
 def choose(design: Design, cands: list[Candidate]):
-    best = min(cands, key=lambda c: _rank(design, c))
+    best = _ranked(design, cands)[0]
     return best, violations(design, best.x, best.sign, best.s)
 
 
