@@ -176,7 +176,6 @@ def multistart(design: Design, budget: Budget, rng) -> tuple[list[Candidate], bo
             found = _ranked(design, found + new)[:POLISHED]
             top = _rank(design, found[0])
             done = not top[0] and top[2] <= exact
-            stop = False
             if best is not None and mine is not None:
                 k = 1 if best[0] else 2  # compare violations while infeasible, else objectives
                 tiny = exact if k == 2 else 0.0
@@ -184,10 +183,10 @@ def multistart(design: Design, budget: Budget, rng) -> tuple[list[Candidate], bo
                 better = top[0] < best[0] or (top[0] == best[0] and top[k] < best[k] * (1 - IMPROVE) - tiny)
                 stale = 0 if better else stale + 1
                 confirmed = again and not better  # a better round is a new optimum, to confirm
-                stop = stale >= MAX_STALE
+                done |= stale >= MAX_STALE
             best = top if best is None or top < best else best
             confirmed |= _found_twice(design, found, exact)
-            if done or stop or (confirmed and index >= CLAIM_ROUNDS):
+            if done or (confirmed and index >= CLAIM_ROUNDS):
                 return found, confirmed
         if budget.left < MIN_ROUND // 2:  # too little left for a round that could settle it
             return found, confirmed
@@ -288,33 +287,27 @@ def one_round(design: Design, budget: Budget, rng, sizes: list[int], best_so_far
                            conv[more])
         for j, c in zip(short, again):
             done[j] = c
-    near = _near_best(design, done, best_so_far)
+    near = set(_near_best(design, done, best_so_far, SETTLE_NEAR))
     done = [_settled_pick(design, budget, c) if not c.converged or j in near else c for j, c in enumerate(done)]
     return [done[a:b] for a, b in zip(bounds[:-1], bounds[1:]) if b > a]
 
 
-def _near_best(design: Design, done: list[Candidate], best: float | None) -> set[int]:
-    """The feasible picks within SETTLE_NEAR (relative) of the best feasible objective (the
-    search's so far, `best`, or these picks'): those a settle may make confirm it."""
+def _near_best(design: Design, done: list[Candidate], best: float | None, share: float) -> list[int]:
+    """The feasible picks within `share` (relative) of the best feasible objective (the
+    search's so far, `best`, or these picks')."""
     ranks = [_rank(design, c) for c in done]
     objective = [r[2] for r in ranks if not r[0]] + ([best] if best is not None else [])
     if not objective:
-        return set()
+        return []
     top = min(objective)
-    return {j for j, r in enumerate(ranks) if not r[0] and r[2] <= top * (1.0 + SETTLE_NEAR)}
+    return [j for j, r in enumerate(ranks) if not r[0] and r[2] <= top * (1.0 + share)]
 
 
 def _short_of_best(design: Design, done: list[Candidate], best: float | None) -> np.ndarray:
     """The polished picks left unconverged within NEAR_BEST (relative) of the best feasible
-    objective (the search's so far, `best`, or these picks'): those that may confirm it or
-    beat it; one stopped short of it would be a lost second arrival."""
-    ranks = [_rank(design, c) for c in done]
-    objective = [r[2] for r in ranks if not r[0]] + ([best] if best is not None else [])
-    if not objective:
-        return np.zeros(0, dtype=int)
-    top = min(objective)
-    return np.array([j for j, (c, r) in enumerate(zip(done, ranks))
-                     if not c.converged and not r[0] and r[2] <= top * (1.0 + NEAR_BEST)], dtype=int)
+    objective (`_near_best`): those that may confirm it or beat it; one stopped short of it
+    would be a lost second arrival."""
+    return np.array([j for j in _near_best(design, done, best, NEAR_BEST) if not done[j].converged], dtype=int)
 
 
 def _drawn(design: Design, proj: Space, budget: Budget, rng, size: int, rounds: int) -> Field:
@@ -471,8 +464,10 @@ def _ranked(design: Design, cands: list[Candidate]) -> list[Candidate]:
         return [cands[i] for i in order]
     top = ranks[order[0]][2]
     tied = [i for i in order if not ranks[i][0] and ranks[i][2] <= top + TIE * abs(top)]
+    one = set(tied)
+    rest = [i for i in order if i not in one]
     tied.sort(key=lambda i: (cands[i].round, i))
-    return [cands[i] for i in tied] + [cands[i] for i in order if i not in set(tied)]
+    return [cands[i] for i in tied + rest]
 
 
 def choose(design: Design, cands: list[Candidate]):
