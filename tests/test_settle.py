@@ -100,13 +100,23 @@ def test_settle_lands_on_a_curved_active_constraint_to_round_off():
     assert out.worst <= 1e-12
 
 
+def _nearest_to(target, constraint):
+    """The Point of min |u - target|^2 subject to constraint(u) = (c, dc/du) >= 0, with h
+    the Hessian of f alone (2 I)."""
+    target = np.asarray(target, dtype=float)
+
+    def point(u):
+        c, a = constraint(u)
+        d = u - target
+        return kkt.Point(float(d @ d), 2.0 * d, np.array([c]), np.array([a], dtype=float), h=2.0 * np.eye(2))
+
+    return point
+
+
 def test_settle_on_a_linear_constraint_with_a_given_hessian():
     # min (x - 0.8)^2 + (y - 0.9)^2 subject to x + y <= 1: projection of (0.8, 0.9) on the
     # line, (0.45, 0.55)
-    def point(u):
-        x, y = u
-        return kkt.Point((x - 0.8) ** 2 + (y - 0.9) ** 2, np.array([2 * (x - 0.8), 2 * (y - 0.9)]),
-                         np.array([1.0 - x - y]), np.array([[-1.0, -1.0]]), h=2.0 * np.eye(2))
+    point = _nearest_to((0.8, 0.9), lambda u: (1.0 - u[0] - u[1], [-1.0, -1.0]))
 
     out = kkt.settle(point, np.array([0.45 - 3e-8, 0.55]))
     assert out.converged
@@ -117,10 +127,7 @@ def test_settle_releases_a_bound_and_a_constraint_that_do_not_bind():
     # min (x + 1)^2 + (y - 0.3)^2 in the unit box subject to y <= 0.8: x sits on its lower
     # bound (the gradient pushes out), y is interior at 0.3; starting from y at its upper
     # bound 1 (held there first) and on y = 0.8 (within ACTIVE), both must be released
-    def point(u):
-        x, y = u
-        return kkt.Point((x + 1) ** 2 + (y - 0.3) ** 2, np.array([2 * (x + 1), 2 * (y - 0.3)]),
-                         np.array([0.8 - y]), np.array([[0.0, -1.0]]), h=2.0 * np.eye(2))
+    point = _nearest_to((-1.0, 0.3), lambda u: (0.8 - u[1], [0.0, -1.0]))
 
     for start in ([1e-9, 1.0], [0.0, 0.8 - 1e-9]):
         out = kkt.settle(point, np.array(start))
@@ -132,10 +139,7 @@ def test_settle_adds_a_constraint_that_a_failed_round_crossed():
     # min (x - 3)^2 + (y - 0.5)^2 in the unit box subject to x <= 0.6, started 1e-6 inside
     # (not within ACTIVE): the unconstrained round runs into the box at x = 1 and fails
     # there, having crossed x = 0.6; the constraint binds, the optimum is (0.6, 0.5)
-    def point(u):
-        x, y = u
-        return kkt.Point((x - 3) ** 2 + (y - 0.5) ** 2, np.array([2 * (x - 3), 2 * (y - 0.5)]),
-                         np.array([0.6 - x]), np.array([[-1.0, 0.0]]), h=2.0 * np.eye(2))
+    point = _nearest_to((3.0, 0.5), lambda u: (0.6 - u[0], [-1.0, 0.0]))
 
     out = kkt.settle(point, np.array([0.6 - 1e-6, 0.2]))
     assert out.converged
@@ -148,10 +152,7 @@ def test_settle_adds_the_active_constraints_curvature_to_a_model_of_f_alone():
     # -2 lambda p). With h the Hessian of f alone (2 I) Newton misses the circle's
     # curvature (the Lagrangian's is 2 (1 + lambda) I): along the circle its error grows
     # by a factor lambda a step, and it does not settle; `curvature` adds it
-    def point(u):
-        x, y = u
-        return kkt.Point((x - 3) ** 2 + (y - 1.8) ** 2, np.array([2 * (x - 3), 2 * (y - 1.8)]),
-                         np.array([0.5 - x * x - y * y]), np.array([[-2 * x, -2 * y]]), h=2.0 * np.eye(2))
+    point = _nearest_to((3.0, 1.8), lambda u: (0.5 - u[0] ** 2 - u[1] ** 2, [-2 * u[0], -2 * u[1]]))
 
     best = np.array([1.0, 0.6]) * math.sqrt(0.5) / math.hypot(1.0, 0.6)
     start = np.array([0.2, 0.6])
