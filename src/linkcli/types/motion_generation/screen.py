@@ -138,8 +138,7 @@ def screen(problem, poses, params, phi, signs, scale: float, exact: bool) -> dic
             t_max = kin.transmission_angle(b, c, a + d)
         else:
             t_min, t_max = mu_min, mu_max
-        tol = WINDOW_TOL
-        bad["transmission"] = (t_min < w_lo - tol) | (t_max > w_hi + tol)
+        bad["transmission"] = (t_min < w_lo - WINDOW_TOL) | (t_max > w_hi + WINDOW_TOL)
     bad["bounds"] = out_of_bounds(problem, params)
     want = {"open": -1.0, "crossed": 1.0}.get(problem.branch)
     bad["branch_choice"] = (np.any(signs != want, axis=1) if want is not None
