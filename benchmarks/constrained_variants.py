@@ -673,8 +673,9 @@ def classify(run: dict, best: float) -> str:
     return "nc-at" if at else "nc-off"
 
 
-def rejudged(row: dict, entry: dict) -> dict:
-    """A study row judged against the entry's best known (refreshed since the row ran)."""
+def judged(row: dict, entry: dict) -> dict:
+    """A study row (status, objective) judged against the entry's best known: its gap and
+    verdict (`classify`); `report` judges kept rows again against refreshed best knowns."""
     best = entry["best_known"]
     run = dict(status=row["status"], objective=row["objective"])
     gap = (row["objective"] - best) / abs(best) if row["objective"] is not None else None
@@ -697,16 +698,14 @@ def study(cache: dict, half: str, seeds: int, only=None) -> list[dict]:
             continue
         for seed in range(seeds):
             run = solve_text(entry["text"], "auto", None, seed)
-            verdict = classify(run, entry["best_known"])
-            gap = (run["objective"] - entry["best_known"]) / abs(entry["best_known"]) \
-                if run["objective"] is not None else None
-            rows.append(dict(case=i, family=entry["family"], kind=entry["kind"], seed=seed,
-                             status=run["status"], objective=run["objective"], best_known=entry["best_known"],
-                             gap=gap, verdict=verdict, seconds=run["seconds"], cpu=run["cpu"],
-                             evaluations=run["evaluations"]))
+            row = judged(dict(case=i, family=entry["family"], kind=entry["kind"], seed=seed, status=run["status"],
+                              objective=run["objective"], seconds=run["seconds"], cpu=run["cpu"],
+                              evaluations=run["evaluations"]), entry)
+            rows.append(row)
+            gap = row["gap"]
             print(f"case {i} ({entry['family']}, {entry['kind']}) seed {seed}: {run['status']} gap "
-                  f"{gap if gap is None else f'{gap:.2e}'} {verdict} {run['seconds']:.2f} s ({run['cpu']:.2f} s cpu)",
-                  file=sys.stderr, flush=True)
+                  f"{gap if gap is None else f'{gap:.2e}'} {row['verdict']} {run['seconds']:.2f} s "
+                  f"({run['cpu']:.2f} s cpu)", file=sys.stderr, flush=True)
     return rows
 
 
@@ -815,12 +814,15 @@ def main() -> None:
             print(draw(i, 0, cache["cases"].get(str(i)))["text"])
         return
     if args.mode == "report":  # rows of earlier study runs, judged against the cache's best knowns now
-        rows = [r for path in args.rows for r in json.load(open(path, encoding="utf-8"))]
+        rows = []
+        for path in args.rows:
+            with open(path, encoding="utf-8") as fh:
+                rows += json.load(fh)
         dropped = sorted({r["case"] for r in rows if not cache["cases"][str(r["case"])].get("binds")})
         if dropped:  # refreshed runs found a better design where the constraint does not bind
             print(f"no longer kept (the constraint does not bind at the best known): cases {dropped}",
                   file=sys.stderr)
-        rows = [rejudged(r, cache["cases"][str(r["case"])]) for r in rows if r["case"] not in dropped]
+        rows = [judged(r, cache["cases"][str(r["case"])]) for r in rows if r["case"] not in dropped]
         write_results(cache, rows, args)
         print(totals(rows))
         return
