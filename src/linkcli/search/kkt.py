@@ -45,6 +45,8 @@ STEP_TOL = 1e-10  # unit box: a Newton step this small has converged (round-off 
 # slopes leaves steps of 1e-12 on a well-posed problem; six printed digits need 1e-7)
 NEAR = 1e-4  # unit box: a step this small is taken whole (no line search: the merit no
 # longer resolves it, while Newton converges quadratically from here)
+AGAIN = 3  # settles from the last one's end, while they lower f: the binding set read at a
+# KKT point of one set can be another (a bound and a constraint that nearly coincide)
 HALVINGS = 12  # step halvings before Newton gives up on an active set
 RIDGE = 1e-12  # relative ridge on H (a flat direction, a continuum of optima)
 SIGN_TOL = 1e-10  # a multiplier below -SIGN_TOL * (|g| + 1) has the wrong sign
@@ -93,7 +95,26 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
     f's Hessian alone (Gauss-Newton), and the active constraints' curvature
     -sum lambda_i Hess c_i is added by central differences of their gradients (steps
     `hessian_step`): without it a constraint that bends under a large multiplier leaves
-    Newton-KKT linear at best, and its line search stalls short of the root."""
+    Newton-KKT linear at best, and its line search stalls short of the root.
+    A converged settle starts again from its end point (at most AGAIN times) while that
+    lowers f: there the binding set is read afresh, and a set that held at the first end
+    point (a variable within AT_BOUND of its bound left free, a constraint beside it held)
+    can give way to a better one."""
+    out = _settle_once(evaluate, u0, hessian_step, active_tol, multipliers, step_tol, curvature)
+    for _ in range(AGAIN):  # from its end, where the binding set is read afresh
+        if not out.converged:
+            break
+        again = _settle_once(evaluate, out.u, hessian_step, active_tol, multipliers, step_tol, curvature)
+        if not (again.converged and again.f < out.f - ROUND_OFF * abs(out.f)
+                and again.worst <= max(out.worst, FEASIBLE)):
+            break
+        out = again
+    return out
+
+
+def _settle_once(evaluate, u0, hessian_step, active_tol, multipliers, step_tol, curvature) -> Settled:
+    """`settle` from u0 once: Newton-KKT rounds on the binding set read at u0, changed as
+    the multipliers' signs and the broken constraints say."""
     start = np.clip(np.asarray(u0, dtype=float), 0.0, 1.0)
     p = evaluate(start)
     active = p.c <= active_tol
