@@ -6,6 +6,7 @@ pose."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from linkcli.search.arrow import Arrow
 from linkcli.search.budget import Budget
@@ -194,3 +195,56 @@ def test_a_design_whose_settle_failed_is_not_settled_again(monkeypatch):
     for i, a in enumerate(tried):  # no two tries on one design (within SAME_DESIGN of its longest link)
         for b in tried[i + 1:]:
             assert np.max(np.abs(a - b)) > LS.SAME_DESIGN * float(max(a[3:7]))
+
+
+def test_an_angle_outside_its_window_goes_to_the_nearer_edge_round_the_circle():
+    """`into_window`: a direction inside the window keeps its value there (a window beyond
+    (-pi, pi], [-230, -203] deg, holds -215 deg given as 145 deg); one outside goes to the
+    edge it is nearer to round the circle, not the one nearer on the number line."""
+    lo, hi = np.radians(-230.0), np.radians(-203.0)
+    got = np.degrees(LS.into_window(np.radians([145.0, -215.0, -190.0, 100.0, -250.0, 0.0]), lo, hi))
+    np.testing.assert_allclose(got, [-215.0, -215.0, -203.0, -230.0, -230.0, -230.0], atol=1e-12)
+    # a full turn: every direction kept, in [lo, lo + 360)
+    got = np.degrees(LS.into_window(np.radians([190.0, -170.0, 359.0]), 0.0, 2 * np.pi))
+    np.testing.assert_allclose(got, [190.0, 190.0, 359.0], atol=1e-12)
+
+
+def test_a_polish_crosses_the_seam_of_a_full_turn():
+    """The ground angle of a full turn may be polished past the seam of its range, -pi / pi
+    (one more turn each side, then brought back into [-pi, pi)): a start at -178 deg beside
+    the exact fit at 176 deg (6 deg round the circle) reaches it; a polish held within
+    [-pi, pi] stopped at -180 deg."""
+    params = PARAMS.copy()
+    params[2] = np.radians(176.0)
+    phi = np.linspace(0.2, 5.5, 9)
+    poses = body(params, phi)
+    lo, hi = LS.default_bounds(poses)
+    search = LS.Search(poses, (lo, hi), "open", "free", None, (0.0, 0.0), None, None, None, 180, Budget(10**8))
+    start = np.concatenate([params, phi])
+    start[2] = np.radians(-178.0)
+    (result,), = search.rounds([[(-1.0, start)]])
+    assert result["objective"] < 1e-16 * characteristic_length(poses) ** 2
+    assert np.degrees(result["params"][2]) == pytest.approx(176.0, abs=1e-6)
+    assert -np.pi <= result["params"][2] < np.pi
+
+
+def test_a_best_is_claimed_only_after_claim_rounds_unless_it_fits_exactly(monkeypatch):
+    """Two rounds that agree on one local optimum are not enough to claim it (the first two
+    can fall into one wide basin): a confirmed best ends the search only once CLAIM_ROUNDS
+    rounds have run; an exact fit ends it at once."""
+    counted = []
+    original = LS.Search.rounds
+
+    def rounds(self, pools):
+        counted.append(len(pools))
+        return original(self, pools)
+
+    monkeypatch.setattr(LS.Search, "rounds", rounds)
+    poses, _ = poses_of(9, noise=0.01, seed=1)
+    out = LS.solve_least_squares(poses, seed=0, budget=Budget(20_000_000))
+    assert out["confirmed"] and out["objective"] > 1e-6
+    assert sum(counted) >= LS.CLAIM_ROUNDS >= 3
+    counted.clear()
+    exact, _ = poses_of(9, noise=0.0)
+    out = LS.solve_least_squares(exact, seed=0, budget=Budget(20_000_000))
+    assert out["confirmed"] and sum(counted) == 2  # the first two, side by side

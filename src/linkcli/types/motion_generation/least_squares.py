@@ -24,6 +24,9 @@ printed digits do not follow the polish's path. No scipy.
 
 from __future__ import annotations
 
+import itertools
+import math
+
 import numpy as np
 
 from linkcli.mechanisms.four_bar import kinematics as kin
@@ -41,17 +44,28 @@ PENALTY = 10.0  # weight of the assembly violation (a length) in the residual ve
 SCORE_ELEMENTS = 1_000_000  # (row, grid angle, pose) triples scored at once
 SCREEN_POSES = 12  # free timing with more poses: the rows ranked on this many first,
 SCREEN_ROWS = 256  # and the best this many scored on every pose
-SETTLE_STEP = 3e-5  # unit box: the final polish's difference step (kkt.slopes)
+SETTLE_STEP = 1e-5  # unit box: the final polish's difference step (kkt.slopes); at 3e-5 the slopes'
+# truncation error moved a flat valley's root 1.2e-7 (relative) above the polished point (case 19
+# of benchmarks/constrained_variants.py), and the settle was refused; at 1e-5 and below it lands at 1e-11
 CURVATURE_STEP = 1e-4  # unit box: differences of the constraints' slopes for their curvature (kkt)
 SETTLE_GAIN = 1e-9  # relative: the polished design may be this much worse (round-off)
 SETTLES = 4  # distinct designs settled (and so listed) at most, the best first
 CONFIRM = 1e-7  # relative: another round's best this close confirms the best
-MAX_ROUNDS = 4  # rounds of starts at most (the first two side by side)
+MAX_ROUNDS = 6  # rounds of starts at most (the first two side by side)
+CLAIM_ROUNDS = 3  # rounds run at least before a confirmed best ends the search (not an exact fit):
+# with two, the first two rounds ending in one wide basin claimed it (cases 11, 27, 83 of the
+# constrained-variant study's tuning half, 8 of 75 runs)
 EXACT_RMS = 1e-9  # rms error (relative to the characteristic length) of an exact fit
+SUBSETS = 12  # distinct random 5-pose subsets whose Burmester linkages join a round's population
+# (near-exact fits of five poses: clipped into the bounds, starts near a bound-held optimum; 3
+# found case 11's, two length bounds binding, in 2 of 5 seeds, 12 in 5 of 5)
+DISTINCT = 1e-3  # unit box: starts at least this far apart are distinct
 SAME_DESIGN = 1e-6  # parameters this close (relative to the longest link) are one design
 ITERATIONS = 400  # Levenberg-Marquardt steps of a polish, at most
-PENALTY_ITERATIONS = 30  # ... of a penalty pass: it only has to find the constraints that bind,
-# the final KKT polish holds them exactly (measured: 400 ended at the same optima, 40 % slower)
+PENALTY_ITERATIONS = 100  # ... of a penalty pass: it has to find the constraints that bind and
+# come near the optimum along them, the final KKT polish holding them exactly (30 left case 35 of the
+# constrained-variant study, a transmission window, 0.4 of the unit box from it: the settle's Newton
+# steps did not converge, 5 seeds of 5 `not-converged`; 100: 5 `ok`; 400: 5 `ok`, 50 % slower)
 GAIN = 1e-15  # a polish has converged when a step gains less than this share of the cost
 CONSTRAINT_WEIGHTS = (1e1, 1e3, 1e5)  # penalty weights of a Grashof or window violation in the
 # residual vector, each stiffer pass only while the polish leaves one (then the settle holds
@@ -160,7 +174,7 @@ def _starts(poses, lo, hi, rng, population, signs, spread: bool = True):
     rows = [box_sample(rng, population, lo, hi)]
     if n >= 5:
         subsets = [np.linspace(0, n - 1, 5).round().astype(int)] if spread else []
-        subsets += [np.sort(rng.choice(n, 5, replace=False)) for _ in range(3)]
+        subsets += _subsets(rng, n, SUBSETS)
         for sub in subsets:
             res = burmester_dyads(poses[sub])
             k = len(res.ground)
@@ -180,16 +194,42 @@ def _starts(poses, lo, hi, rng, population, signs, spread: bool = True):
         p, _, _ = assemble.dyad_pair_params(poses, g1[ok], m1[ok], g2[ok], m2[ok])
         rows.append(p)
     allp = np.concatenate(rows)
-    # angles into [-pi, pi]; rows outside the bounds are clipped into them
-    allp[:, [2, 9]] = kin.wrap(allp[:, [2, 9]])
-    allp = np.clip(allp[np.all(np.isfinite(allp), -1)], lo, hi)
-    return allp
+    allp = allp[np.all(np.isfinite(allp), -1)]
+    for j in (2, 9):  # the angles into their windows (the nearest edge, round the circle, when outside)
+        allp[:, j] = into_window(allp[:, j], lo[j], hi[j])
+    return np.clip(allp, lo, hi)  # the other rows outside the bounds: clipped into them
+
+
+def into_window(angle, lo: float, hi: float):
+    """Angles (rad) as the same directions within [lo, hi] (hi - lo <= 2 pi), or, for one
+    outside the window, the edge nearer round the circle: a window such as [-230, -203] deg
+    holds directions that wrapping into (-pi, pi] would put outside it."""
+    d = np.mod(np.asarray(angle, float) - lo, kin.TWO_PI)  # [0, 2 pi) past lo
+    width = hi - lo
+    past = d - width  # > 0: beyond hi by this much, and short of lo (a turn on) by 2 pi - d
+    return np.where(past <= 0.0, lo + d, np.where(past <= kin.TWO_PI - d, hi, lo))
+
+
+def _subsets(rng, n: int, count: int) -> list[np.ndarray]:
+    """`count` distinct 5-pose subsets of n poses drawn at random (all of them, in a random
+    order, when there are no more than `count`), each sorted."""
+    total = math.comb(n, 5)
+    if total <= 4 * count:  # few: every subset, shuffled, the first `count`
+        every = np.array(list(itertools.combinations(range(n), 5)))
+        return list(every[rng.permutation(total)[:count]])
+    seen, out = set(), []
+    while len(out) < count:  # many: draws, a repeat drawn again (rare: total > 4 count)
+        sub = tuple(np.sort(rng.choice(n, 5, replace=False)).tolist())
+        if sub not in seen:
+            seen.add(sub)
+            out.append(np.array(sub))
+    return out
 
 
 def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
                         input_angles=None, offset_bounds=(0.0, 0.0), angle_weight=None,
                         grashof=None, transmission=None, seed=0, population=2000,
-                        polish=8, grid=180, budget=None) -> dict:
+                        polish=16, grid=180, budget=None) -> dict:
     """Best four-bar through `poses` (n, 3; angles rad) in the least-squares sense.
 
     bounds: (lo, hi) arrays (10,) in PARAM_NAMES order (lo == hi fixes a value), default
@@ -200,7 +240,7 @@ def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
     position_error (n,), angle_error (n,), checks (assemble.check_linkage), feasible,
     why (reason when not feasible), angle_weight, evaluations (objective evaluations),
     converged (the polish of the best met its tolerances and two rounds found it),
-    confirmed (two rounds of starts found it), candidates (every polished design
+    confirmed (two rounds of starts found it, CLAIM_ROUNDS run), candidates (every polished design
     settled: params, branch, objective, defects). budget: a search.budget.Budget that
     counts the evaluations (a fresh one without a cap when None); the polishes stop at its cap.
 
@@ -208,8 +248,9 @@ def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
     kind) and polishes its best polish / 2 distinct starts per branch; the first two run
     side by side (one batched polish). The best is confirmed when another round's best
     ends within CONFIRM of it (a second arrival from other starts; two starts of one
-    population can share a basin), or is an exact fit; otherwise rounds follow, at most
-    MAX_ROUNDS, while the budget lasts. An unconfirmed best is not `converged`."""
+    population can share a basin) and CLAIM_ROUNDS rounds have run, or is an exact fit;
+    otherwise rounds follow, at most MAX_ROUNDS, while the budget lasts. An unconfirmed
+    best is not `converged`."""
     from linkcli.search.budget import Budget
 
     counter = budget if budget is not None else Budget(2**62)
@@ -219,7 +260,8 @@ def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
     size, picks = max(1, population // 2), max(1, polish // 2)
     rounds = search.rounds([search.pool(rng, size, picks, spread=True), search.pool(rng, size, picks, False)])
     best, confirmed = search.best_of(rounds)
-    while not confirmed and len(rounds) < MAX_ROUNDS and counter.left > 0:
+    while (not confirmed or (len(rounds) < CLAIM_ROUNDS and not search.fits_exactly(best))) \
+            and len(rounds) < MAX_ROUNDS and counter.left > 0:
         rounds += search.rounds([search.pool(rng, size, picks, False)])
         best, confirmed = search.best_of(rounds)
     return search.outcome(rounds, best, confirmed)
@@ -257,6 +299,13 @@ class Search:
             tlo, thi = np.full(n, -4 * np.pi), np.full(n, 4 * np.pi)
         self.lo_full, self.hi_full = np.concatenate([lo, tlo]), np.concatenate([hi, thi])
         self.mask = np.concatenate([hi > lo, thi > tlo])
+        # angles free over a full turn (ground, coupler, a prescribed offset): a polish may cross
+        # the seam of their range (one more turn each side), `wrapped` brings them back into it
+        self.periodic = [j for j in ((2, 9, 10) if self.prescribed else (2, 9))
+                         if self.hi_full[j] - self.lo_full[j] >= kin.TWO_PI * (1.0 - 1e-12)]
+        self.turn_lo = self.lo_full[self.periodic].copy()
+        self.lo_full[self.periodic] -= kin.TWO_PI
+        self.hi_full[self.periodic] += kin.TWO_PI
         self.fit = PoseFit(poses, self.weight, t_angles, self.mask, self.lo_full, self.hi_full, counter,
                            constraint_values, self.m_cons,
                            transmission is not None and grashof_held not in design_constraints.FULL_TURN)
@@ -287,7 +336,7 @@ class Search:
             chosen = []
             width = self.hi - self.lo + 1e-300
             for k in order:  # pick distinct starts (a short loop over the best few)
-                if np.isfinite(score[k]) and all(np.linalg.norm((starts[k] - starts[c]) / width) > 1e-3
+                if np.isfinite(score[k]) and all(np.linalg.norm((starts[k] - starts[c]) / width) > DISTINCT
                                                  for c in chosen):
                     chosen.append(k)
                 if len(chosen) == polish:
@@ -304,6 +353,7 @@ class Search:
         signs = np.array([sign for sign, _ in rows])
         x0 = np.clip(np.array([x for _, x in rows]), self.lo_full, self.hi_full)
         x, converged, penalized = self.fit.polish(x0, signs)
+        x = self.wrapped(x)
         results = []
         for i, sign in enumerate(signs):
             results.append(_evaluate(x[i], self.poses, sign, self.weight, self.t_angles, self.grashof,
@@ -343,6 +393,7 @@ class Search:
             self.tries, first = self.tries + 1, False
             settled = _settle(self.counter, *self._setup(results[i]))
             if settled is not None:
+                settled = self.wrapped(settled)
                 out = _evaluate(settled, self.poses, results[i]["sign"], self.weight, self.t_angles,
                                 self.grashof, self.transmission)
                 if out["feasible"] and (not results[i]["feasible"] or
@@ -373,6 +424,17 @@ class Search:
             return values(design(z))
 
         return fun, cons if self.m_cons else None, x0, mask, self.lo_full, self.hi_full, sign, self.scale
+
+    def wrapped(self, x):
+        """Designs x (..., 10 + t) with each full-turn angle brought into [lo, lo + 2 pi) of its
+        range (the same linkage: the angles enter through their cosine and sine alone)."""
+        x = np.array(x, float)
+        x[..., self.periodic] = self.turn_lo + np.mod(x[..., self.periodic] - self.turn_lo, kin.TWO_PI)
+        return x
+
+    def fits_exactly(self, result) -> bool:
+        """A feasible result whose objective is within round-off of 0 (`exact`): nothing to confirm."""
+        return result is not None and result["feasible"] and result["objective"] <= self.exact
 
     def best_of(self, rounds):
         """(the best result over the rounds, whether another round's best ends within
