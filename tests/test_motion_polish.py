@@ -248,3 +248,19 @@ def test_a_best_is_claimed_only_after_claim_rounds_unless_it_fits_exactly(monkey
     exact, _ = poses_of(9, noise=0.0)
     out = LS.solve_least_squares(exact, seed=0, budget=Budget(20_000_000))
     assert out["confirmed"] and sum(counted) == 2  # the first two, side by side
+
+
+def test_a_rounds_starts_are_spread_over_the_bounds():
+    """`Search.pool`: the best-scored rows of a population crowd into one basin; a round
+    polishes the best ones at least DISTINCT apart (each parameter over its bounds' width),
+    per branch, the best-scored one first."""
+    poses, _ = poses_of(9, noise=0.01, seed=2)
+    lo, hi = LS.default_bounds(poses)
+    search = LS.Search(poses, (lo, hi), "either", "free", None, (0.0, 0.0), None, None, None, 180, Budget(10**9))
+    pool = search.pool(np.random.default_rng(0), 1000, 8, spread=True)
+    for sign in (-1.0, 1.0):
+        starts = np.array([x[:10] for s, x in pool if s == sign])
+        assert 2 <= len(starts) <= 8
+        unit = starts / (hi - lo)
+        gaps = np.linalg.norm(unit[:, None] - unit[None], axis=-1)[np.triu_indices(len(unit), 1)]
+        assert gaps.min() > LS.DISTINCT >= 0.05
