@@ -215,3 +215,43 @@ def test_solve_spd_matches_lapack_and_marks_indefinite_systems(n):
     assert_allclose(linalg.solve_spd(a, b), np.linalg.solve(a, b[..., None])[..., 0], rtol=1e-9, atol=1e-9)
     indefinite = np.array([np.diag([1.0] * (n - 1) + [-1.0]), np.zeros((n, n))])
     assert np.all(np.isnan(linalg.solve_spd(indefinite, np.ones((2, n)))))
+
+
+def _arrow_objective(u):
+    """f = sum_i s_i^2, s_i = p0 cos t_i + p1 t_i^2 + t_i, u = (p0, p1, t_1..t_k): each t_i
+    enters its own term alone (free timing's structure). Returns the kkt.Point with the
+    closed-form gradient, and the closed-form Hessian."""
+    p0, p1, t = u[0], u[1], u[2:]
+    s = p0 * np.cos(t) + p1 * t ** 2 + t
+    ds = -p0 * np.sin(t) + 2 * p1 * t + 1  # d s_i / d t_i
+    g = np.concatenate([[np.sum(2 * s * np.cos(t)), np.sum(2 * s * t ** 2)], 2 * s * ds])
+    k = len(t)
+    h = np.zeros((k + 2, k + 2))
+    h[0, 0], h[0, 1], h[1, 1] = np.sum(2 * np.cos(t) ** 2), np.sum(2 * np.cos(t) * t ** 2), np.sum(2 * t ** 4)
+    h[0, 2:] = 2 * ds * np.cos(t) - 2 * s * np.sin(t)
+    h[1, 2:] = 2 * ds * t ** 2 + 4 * s * t
+    h[2:, 2:] = np.diag(2 * ds ** 2 + 2 * s * (-p0 * np.cos(t) + 2 * p1))
+    h = np.triu(h) + np.triu(h, 1).T
+    return kkt.Point(float(np.sum(s * s)), g, np.zeros(0), np.zeros((0, k + 2))), h
+
+
+def test_a_grouped_hessian_matches_the_closed_form_with_two_gradients_a_group():
+    """kkt's differenced Hessian with the separable variables taken together (column
+    grouping): the closed-form Hessian of an arrow-structured objective, from 2 x 3
+    gradients (p0, p1, the angles together) instead of 2 x 7."""
+    u = np.array([0.6, 0.3, 0.1, 0.25, 0.4, 0.55, 0.8])
+    calls = []
+
+    def evaluate(v):
+        calls.append(1)
+        return _arrow_objective(v)[0]
+
+    exact = _arrow_objective(u)[1]
+    grouped = kkt._lagrangian_hessian(evaluate, u, [], np.zeros(0), 1e-5,
+                                      groups=[np.array([0]), np.array([1]), np.arange(2, 7)])
+    assert len(calls) == 6
+    assert_allclose(grouped, exact, rtol=0, atol=1e-8)
+    calls.clear()
+    alone = kkt._lagrangian_hessian(evaluate, u, [], np.zeros(0), 1e-5)
+    assert len(calls) == 14
+    assert_allclose(alone, exact, rtol=0, atol=1e-8)

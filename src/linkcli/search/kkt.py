@@ -80,7 +80,7 @@ class Settled:
 
 def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e-6,
            active_tol: float = ACTIVE, multipliers: bool = False, step_tol: float = STEP_TOL,
-           curvature: bool = False) -> Settled:
+           curvature: bool = False, groups=None) -> Settled:
     """Newton-KKT from u0 on the active set found there (constraints within `active_tol`
     of 0: above the margin a search keeps from its limits; see the module docstring).
     A round that ends with a multiplier of the wrong sign (or fails on it) releases the
@@ -100,11 +100,11 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
     lowers f: there the binding set is read afresh, and a set that held at the first end
     point (a variable within AT_BOUND of its bound left free, a constraint beside it held)
     can give way to a better one."""
-    out = _settle_once(evaluate, u0, hessian_step, active_tol, multipliers, step_tol, curvature)
+    out = _settle_once(evaluate, u0, hessian_step, active_tol, multipliers, step_tol, curvature, groups)
     for _ in range(AGAIN):  # from its end, where the binding set is read afresh
         if not out.converged:
             break
-        again = _settle_once(evaluate, out.u, hessian_step, active_tol, multipliers, step_tol, curvature)
+        again = _settle_once(evaluate, out.u, hessian_step, active_tol, multipliers, step_tol, curvature, groups)
         if not (again.converged and again.f < out.f - ROUND_OFF * abs(out.f)
                 and again.worst <= max(out.worst, FEASIBLE)):
             break
@@ -112,7 +112,7 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
     return out
 
 
-def _settle_once(evaluate, u0, hessian_step, active_tol, multipliers, step_tol, curvature) -> Settled:
+def _settle_once(evaluate, u0, hessian_step, active_tol, multipliers, step_tol, curvature, groups) -> Settled:
     """`settle` from u0 once: Newton-KKT rounds on the binding set read at u0, changed as
     the multipliers' signs and the broken constraints say."""
     start = np.clip(np.asarray(u0, dtype=float), 0.0, 1.0)
@@ -123,7 +123,7 @@ def _settle_once(evaluate, u0, hessian_step, active_tol, multipliers, step_tol, 
     for _ in range(ROUNDS):
         u = np.where(lower, 0.0, np.where(upper, 1.0, here))
         u, p, lam, ok = _newton(evaluate, u, evaluate(u), active, lower | upper, hessian_step, multipliers,
-                                step_tol, curvature)
+                                step_tol, curvature, groups)
         here = u if ok else start  # a round that failed leaves no point to go on from
         # multipliers of the bounds: the gradient of the Lagrangian pushing outwards
         grad_l = p.g - linalg.matvec(p.a[active].T, lam) if active.any() else p.g
@@ -153,7 +153,7 @@ def _settle_once(evaluate, u0, hessian_step, active_tol, multipliers, step_tol, 
 
 
 def _newton(evaluate, u, p: Point, active, fixed, hessian_step, multipliers: bool = False,
-            step_tol: float = STEP_TOL, curvature: bool = False):
+            step_tol: float = STEP_TOL, curvature: bool = False, groups=None):
     """Newton steps on the KKT system with `active` constraints as equalities and the
     `fixed` variables held; a step is halved until the merit f + rho |c_A|_1 falls (rho
     above every multiplier). Returns (u, point, multipliers, ok)."""
@@ -169,9 +169,9 @@ def _newton(evaluate, u, p: Point, active, fixed, hessian_step, multipliers: boo
     full, last = False, np.inf  # curvature: the differenced Hessian in use; the last step's size
     for _ in range(ITERATIONS):
         if p.h is None or (curvature and full):
-            h = _lagrangian_hessian(evaluate, u, rows, lam, hessian_step)
+            h = _lagrangian_hessian(evaluate, u, rows, lam, hessian_step, groups=groups)
         elif curvature and len(rows) and np.any(lam != 0.0):
-            h = p.h + _lagrangian_hessian(evaluate, u, rows, lam, hessian_step, objective=False)
+            h = p.h + _lagrangian_hessian(evaluate, u, rows, lam, hessian_step, objective=False, groups=groups)
         else:
             h = p.h
         step, lam_new = _kkt_step(h, p.g, p.a[rows], p.c[rows], free)
@@ -288,20 +288,36 @@ def independent_rows(a: np.ndarray, tol: float = DEPENDENT) -> list[int]:
     return kept
 
 
-def _lagrangian_hessian(evaluate, u, rows, lam, h_step, objective: bool = True):
+def _lagrangian_hessian(evaluate, u, rows, lam, h_step, objective: bool = True, groups=None):
     """Central differences of grad f - A^T lambda (`objective` False: of -A^T lambda alone,
-    the active constraints' curvature), symmetrized; steps kept inside the box."""
+    the active constraints' curvature), symmetrized; steps kept inside the box. `groups`
+    (index arrays covering the variables, or None: each variable alone) are differenced
+    together, one pair of points a group (Curtis, Powell & Reid, J. Inst. Maths Applics 13
+    (1974), column grouping): the members of a group of more than one must share no Hessian
+    entry with one another nor with another such group's members (free timing's input
+    angles: each moves its own pose's residuals alone), so that each member's own slope
+    gives its diagonal entry; its entries with the variables differenced alone come from
+    their columns (symmetry). The cost is two gradients a group, not a variable."""
     n = len(u)
-    cols = []
+    groups = [np.array([j]) for j in range(n)] if groups is None else [np.asarray(g, int) for g in groups]
+    h = np.zeros((n, n))
 
     def slope(p):
         g = p.g if objective else np.zeros(n)
         return g - linalg.matvec(p.a[rows].T, lam) if len(rows) else g
 
-    for j in range(n):
+    for g in groups:
         e = np.zeros(n)
-        e[j] = h_step
+        e[g] = h_step
         lo, hi = np.clip(u - e, 0.0, 1.0), np.clip(u + e, 0.0, 1.0)
-        cols.append((slope(evaluate(hi)) - slope(evaluate(lo))) / max(hi[j] - lo[j], 1e-300))
-    h = np.stack(cols, axis=1)
+        d = slope(evaluate(hi)) - slope(evaluate(lo))
+        width = np.maximum(hi[g] - lo[g], 1e-300)
+        if len(g) == 1:
+            h[:, g[0]] = d / width[0]
+        else:
+            h[g, g] = d[g] / width  # each member's own slope: its diagonal entry alone
+    many = [g for g in groups if len(g) > 1]
+    if many:
+        together = np.concatenate(many)
+        h[:, together] = h[together, :].T  # their other entries: the single columns' (symmetry)
     return 0.5 * (h + h.T)
