@@ -823,3 +823,28 @@ def test_the_batched_stage_slopes_match_differences_and_penalize_only_violations
         np.testing.assert_allclose(jac[:, points:-1, k][one_side], central[:, points:-1][one_side],
                                    rtol=1e-4, atol=1e-2)
         assert np.all(jac[:, points:-1, k][penalty == 0.0] == 0.0)
+
+
+
+def test_auto_claims_a_best_only_after_claim_rounds(monkeypatch):
+    """The first round's two batches can both end in one basin: a best found twice ends the
+    rounds only once CLAIM_ROUNDS (2) have run, and is then `ok`; an exact fit ends them at
+    once."""
+    from conftest import ROOT
+    from linkcli.io.load import load
+    from linkcli.io.safe_read import read_problem_bytes
+    from linkcli.pipeline import solve
+    from linkcli.types.function_generation import auto as fg_auto
+
+    calls = []
+    original = fg_auto.one_round
+
+    def counted(*args, **kwargs):
+        calls.append(1)
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(fg_auto, "one_round", counted)
+    path = str(ROOT / "problems" / "bench" / "crank_rocker.toml")
+    sol = solve(load(path, read_problem_bytes(path)))
+    assert sol.status.value == "ok"
+    assert len(calls) >= fg_auto.CLAIM_ROUNDS >= 2

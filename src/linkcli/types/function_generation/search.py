@@ -139,13 +139,18 @@ class Search:
         best = self.feasible.get(branch)
         if best is None:
             return False
-        if best.f <= len(self.model.t) * EXACT_RMS ** 2:  # an exact fit: nothing lower to find
+        if self.fits_exactly(branch):  # nothing lower to find
             return True
         if len({batch for _, _, batch in self._at_best(branch)}) < 2:
             return False
         ends = sorted(f for f, _, _ in self.ends.get(branch, []))
         distinct = sum(1 for i, f in enumerate(ends) if i == 0 or f - ends[i - 1] > CONFIRM * abs(f) + 1e-20)
         return len(ends) - distinct >= REPEATS
+
+    def fits_exactly(self, branch: str) -> bool:
+        """The branch's best feasible design fits exactly (rms error EXACT_RMS, round-off)."""
+        best = self.feasible.get(branch)
+        return best is not None and best.f <= len(self.model.t) * EXACT_RMS ** 2
 
     def answer(self) -> Best:
         """The best feasible candidate of any branch, else the least violating one."""
