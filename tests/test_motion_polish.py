@@ -141,6 +141,7 @@ def test_a_best_is_confirmed_by_another_rounds_best_or_an_exact_fit():
         return {"objective": objective, "feasible": feasible}
 
     me = SimpleNamespace(exact=1e-20)
+    me.fits_exactly = lambda result: LS.Search.fits_exactly(me, result)
     best_of = LS.Search.best_of
     assert best_of(me, [[res(2.0), res(1.0)], [res(1.0 * (1 + 0.5 * LS.CONFIRM)), res(3.0)]]) == (res(1.0), True)
     assert best_of(me, [[res(1.0)], [res(1.1)]])[1] is False

@@ -449,7 +449,7 @@ class Search:
         best = min(bests, key=_key)
         if not best["feasible"]:
             return best, False
-        if best["objective"] <= self.exact:
+        if self.fits_exactly(best):
             return best, True
         near = [b for b in bests if b["feasible"]
                 and b["objective"] - best["objective"] <= CONFIRM * best["objective"]]
