@@ -757,6 +757,27 @@ def study_lowered(rows: list[dict], cache: dict) -> dict:
     return out
 
 
+def judged_rows(rows: list[dict], cache: dict) -> tuple[list[dict], list[str]]:
+    """Study rows judged for the tables: those of cases no longer kept (refreshed runs found
+    a better design where the constraint does not bind) left out; each against its case's
+    best known, or a study seed's lower design (`study_lowered`). Returns (rows, notes for
+    the results file); what changed is said on stderr too."""
+    dropped = sorted({r["case"] for r in rows if not cache["cases"][str(r["case"])].get("binds")})
+    if dropped:
+        print(f"no longer kept (the constraint does not bind at the best known): cases {dropped}", file=sys.stderr)
+    rows = [r for r in rows if r["case"] not in dropped]
+    lowered = study_lowered(rows, cache)
+    notes = []
+    if lowered:
+        notes = ["Best known lowered by a study seed's design (the long runs' value, then the seed's): " + ", ".join(
+            f"case {i} {cache['cases'][str(i)]['best_known']:.10g} -> {v:.10g}" for i, v in sorted(lowered.items()))
+            + "; these cases' rows are judged against the lower value.\n"]
+        print(notes[0], file=sys.stderr)
+    entries = {r["case"]: cache["cases"][str(r["case"])] for r in rows}
+    return [judged(r, dict(entries[r["case"]], best_known=lowered.get(r["case"], entries[r["case"]]["best_known"])))
+            for r in rows], notes
+
+
 def write_results(cache: dict, rows: list[dict], args, notes=()) -> None:
     kept = {int(k): e for k, e in cache["cases"].items() if e.get("binds")}
     by_case = {}
@@ -832,21 +853,7 @@ def main() -> None:
         for path in args.rows:
             with open(path, encoding="utf-8") as fh:
                 rows += json.load(fh)
-        dropped = sorted({r["case"] for r in rows if not cache["cases"][str(r["case"])].get("binds")})
-        if dropped:  # refreshed runs found a better design where the constraint does not bind
-            print(f"no longer kept (the constraint does not bind at the best known): cases {dropped}",
-                  file=sys.stderr)
-        rows = [r for r in rows if r["case"] not in dropped]
-        lowered = study_lowered(rows, cache)
-        notes = []
-        if lowered:  # a study seed's feasible design beat the long runs: it is the best known now
-            notes = [f"Best known lowered by a study seed's design (the long runs' value, then the seed's): " + ", ".join(
-                f"case {i} {cache['cases'][str(i)]['best_known']:.10g} -> {v:.10g}" for i, v in sorted(lowered.items()))
-                + "; these cases' rows are judged against the lower value.\n"]
-            print(notes[0], file=sys.stderr)
-        rows = [judged(r, dict(cache["cases"][str(r["case"])], **({"best_known": lowered[r["case"]]}
-                                                                   if r["case"] in lowered else {})))
-                for r in rows]
+        rows, notes = judged_rows(rows, cache)
         write_results(cache, rows, args, notes)
         print(totals(rows))
         return
@@ -854,8 +861,9 @@ def main() -> None:
     if args.rows:
         with open(args.rows[0], "w", encoding="utf-8") as fh:
             json.dump(rows, fh, indent=0)
+    rows, notes = judged_rows(rows, cache)
     if not args.only:
-        write_results(cache, rows, args)
+        write_results(cache, rows, args, notes)
     print(totals(rows))
 
 
