@@ -70,6 +70,19 @@ class Point:
     h: np.ndarray | None = None
 
 
+@dataclass(frozen=True)
+class Options:
+    """How `settle` runs (its keyword arguments, held together for its rounds)."""
+
+    evaluate: Callable[[np.ndarray], Point]
+    hessian_step: float
+    active_tol: float
+    multipliers: bool
+    step_tol: float
+    curvature: bool
+    groups: list | None
+
+
 @dataclass
 class Settled:
     u: np.ndarray
@@ -100,11 +113,12 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
     lowers f: there the binding set is read afresh, and a set that held at the first end
     point (a variable within AT_BOUND of its bound left free, a constraint beside it held)
     can give way to a better one."""
-    out = _settle_once(evaluate, u0, hessian_step, active_tol, multipliers, step_tol, curvature, groups)
+    opts = Options(evaluate, hessian_step, active_tol, multipliers, step_tol, curvature, groups)
+    out = _settle_once(opts, u0)
     for _ in range(AGAIN):  # from its end, where the binding set is read afresh
         if not out.converged:
             break
-        again = _settle_once(evaluate, out.u, hessian_step, active_tol, multipliers, step_tol, curvature, groups)
+        again = _settle_once(opts, out.u)
         if not (again.converged and again.f < out.f - ROUND_OFF * abs(out.f)
                 and again.worst <= max(out.worst, FEASIBLE)):
             break
@@ -112,18 +126,18 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
     return out
 
 
-def _settle_once(evaluate, u0, hessian_step, active_tol, multipliers, step_tol, curvature, groups) -> Settled:
+def _settle_once(opts: Options, u0) -> Settled:
     """`settle` from u0 once: Newton-KKT rounds on the binding set read at u0, changed as
     the multipliers' signs and the broken constraints say."""
+    evaluate = opts.evaluate
     start = np.clip(np.asarray(u0, dtype=float), 0.0, 1.0)
     p = evaluate(start)
-    active = p.c <= active_tol
+    active = p.c <= opts.active_tol
     lower, upper = start <= AT_BOUND, start >= 1.0 - AT_BOUND
     here = start
     for _ in range(ROUNDS):
         u = np.where(lower, 0.0, np.where(upper, 1.0, here))
-        u, p, lam, ok = _newton(evaluate, u, evaluate(u), active, lower | upper, hessian_step, multipliers,
-                                step_tol, curvature, groups)
+        u, p, lam, ok = _newton(opts, u, evaluate(u), active, lower | upper)
         here = u if ok else start  # a round that failed leaves no point to go on from
         # multipliers of the bounds: the gradient of the Lagrangian pushing outwards
         grad_l = p.g - linalg.matvec(p.a[active].T, lam) if active.any() else p.g
@@ -152,17 +166,17 @@ def _settle_once(evaluate, u0, hessian_step, active_tol, multipliers, step_tol, 
     return Settled(u, float(p.f), worst, False)
 
 
-def _newton(evaluate, u, p: Point, active, fixed, hessian_step, multipliers: bool = False,
-            step_tol: float = STEP_TOL, curvature: bool = False, groups=None):
+def _newton(opts: Options, u, p: Point, active, fixed):
     """Newton steps on the KKT system with `active` constraints as equalities and the
     `fixed` variables held; a step is halved until the merit f + rho |c_A|_1 falls (rho
     above every multiplier). Returns (u, point, multipliers, ok)."""
+    evaluate, curvature, hessian_step, groups = opts.evaluate, opts.curvature, opts.hessian_step, opts.groups
     free = np.flatnonzero(~fixed)
     rows = np.flatnonzero(active)
     lam = np.zeros(len(rows))
     if len(free) == 0:
         return u, p, lam, True
-    if multipliers and len(rows):  # least squares g = A^T lambda over the free variables
+    if opts.multipliers and len(rows):  # least squares g = A^T lambda over the free variables
         af = p.a[rows][:, free]
         lam = linalg.solve(linalg.gram(af.T), linalg.matvec(af, p.g[free]))
         lam = np.where(np.isfinite(lam), lam, 0.0)
@@ -187,7 +201,7 @@ def _newton(evaluate, u, p: Point, active, fixed, hessian_step, multipliers: boo
         if size <= NEAR:  # Newton's own region: the step is taken whole
             u = np.clip(u + step, 0.0, 1.0)
             p = evaluate(u)
-            if size <= step_tol:  # the root to round-off
+            if size <= opts.step_tol:  # the root to round-off
                 break
             continue
         rho = 2.0 * float(np.max(np.abs(lam), initial=0.0)) + 1e-300
