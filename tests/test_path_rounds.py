@@ -165,3 +165,25 @@ def test_a_settle_reads_the_binding_set_again_from_its_end():
     after = _rank(design, settled(design, Budget(10**6), pick))
     assert not after[0]
     assert best_known * (1 - 1e-9) <= after[2] <= best_known * (1 + 0.1 * CONFIRM)
+
+
+def test_found_twice_sees_another_rounds_arrival_behind_two_of_one_round():
+    """A round whose two picks both end at the best ranks them first and second; the
+    other round's arrival at the same optimum is third in the kept list, and still
+    confirms it (constrained-variant tuning case 64, seed 2: rounds 0 and 1 both reached
+    the best, and the search ended `not-converged` there). Two picks of one round alone,
+    or another round's candidate above CONFIRM, do not."""
+    from linkcli.search.budget import Budget
+    from linkcli.types.path_generation import solve as path_solve
+
+    design = design_of("kunjur5")
+    cands, _ = path_solve.multistart(design, Budget(2_000_000), np.random.default_rng(0))
+    best = path_solve._ranked(design, cands)[0]
+    f = path_solve._rank(design, best)[2]
+    worse = path_solve.Candidate(best.x.copy(), best.sign, best.s, True, round=1)
+    worse.x[4] += 1e-3 * design.scale  # the coupler point moved: a worse objective
+    assert path_solve._rank(design, worse)[2] > f * (1 + path_solve.CONFIRM)
+    same = [path_solve.Candidate(best.x.copy(), best.sign, best.s, True, round=r) for r in (0, 0, 1)]
+    assert path_solve._found_twice(design, same, 0.0)  # the third: another round's
+    assert not path_solve._found_twice(design, same[:2], 0.0)  # one round's two picks
+    assert not path_solve._found_twice(design, same[:2] + [worse], 0.0)  # another round, higher

@@ -201,16 +201,23 @@ def round_limit(left: int, size: int) -> int:
 
 
 def _found_twice(design: Design, found: list[Candidate], exact: float) -> bool:
-    """The best candidate is an exact fit, or the next one, found by another round (other
-    draws: two starts of one round can be led into one basin by its shared stages), ends
-    within CONFIRM of it: the optimum found again."""
-    ranks = [_rank(design, c) for c in found[:2]]
-    if not ranks or ranks[0][0]:
+    """The best candidate is an exact fit, or another one found by another round (other
+    draws: two starts of one round can be led into one basin by its shared stages) ends
+    within CONFIRM of it: the optimum found again. Any of the kept candidates may be that
+    arrival: a round whose two picks both reach the best ranks them first and second, the
+    other round's arrival third."""
+    if not found:
         return False
-    if ranks[0][2] <= exact:
+    top = _rank(design, found[0])
+    if top[0]:
+        return False
+    if top[2] <= exact:
         return True
-    return (len(ranks) == 2 and not ranks[1][0] and found[0].round != found[1].round
-            and ranks[1][2] - ranks[0][2] <= CONFIRM * ranks[0][2])
+    for c in found[1:]:
+        r = _rank(design, c)
+        if c.round != found[0].round and not r[0] and r[2] - top[2] <= CONFIRM * top[2]:
+            return True
+    return False
 
 
 @dataclass
