@@ -778,6 +778,11 @@ def judged_rows(rows: list[dict], cache: dict) -> tuple[list[dict], list[str]]:
             for r in rows], notes
 
 
+def _gap_cell(gap) -> str:
+    """A row's relative gap to the best known as the cases' table prints it."""
+    return "-" if gap is None else f"{gap:.1e}"
+
+
 def write_results(cache: dict, rows: list[dict], args, notes=()) -> None:
     kept = {int(k): e for k, e in cache["cases"].items() if e.get("binds")}
     by_case = {}
@@ -796,8 +801,7 @@ def write_results(cache: dict, rows: list[dict], args, notes=()) -> None:
              "|---|---|---|---|---|---|---|"]
     for i, rs in sorted(by_case.items()):
         e = kept[i]
-        cells = ", ".join(f"{r['status']} ({'-' if r['gap'] is None else f'{r[chr(103) + chr(97) + chr(112)]:.1e}'})"
-                          for r in rs)
+        cells = ", ".join(f"{r['status']} ({_gap_cell(r['gap'])})" for r in rs)
         best = rs[0]["best_known"]
         lines.append(f"| {i} | {e['family']} | {e['constraint']} | {best:.10g} ({e['found_by']}) | "
                      f"{sum(r['verdict'] == 'ok' for r in rs)}/{len(rs)} | {cells} | "
