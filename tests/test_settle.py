@@ -247,11 +247,11 @@ def test_a_grouped_hessian_matches_the_closed_form_with_two_gradients_a_group():
         return _arrow_objective(v)[0]
 
     exact = _arrow_objective(u)[1]
-    grouped = kkt._lagrangian_hessian(evaluate, u, [], np.zeros(0), 1e-5,
+    grouped = kkt._lagrangian_hessian(lambda us: [evaluate(v) for v in us], u, [], np.zeros(0), 1e-5,
                                       groups=[np.array([0]), np.array([1]), np.arange(2, 7)])
     assert len(calls) == 6
     assert_allclose(grouped, exact, rtol=0, atol=1e-8)
     calls.clear()
-    alone = kkt._lagrangian_hessian(evaluate, u, [], np.zeros(0), 1e-5)
+    alone = kkt._lagrangian_hessian(lambda us: [evaluate(v) for v in us], u, [], np.zeros(0), 1e-5)
     assert len(calls) == 14
     assert_allclose(alone, exact, rtol=0, atol=1e-8)

@@ -81,6 +81,7 @@ class Options:
     step_tol: float
     curvature: bool
     groups: list | None
+    evaluate_many: Callable[[np.ndarray], list] | None = None
 
 
 @dataclass
@@ -93,7 +94,7 @@ class Settled:
 
 def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e-6,
            active_tol: float = ACTIVE, multipliers: bool = False, step_tol: float = STEP_TOL,
-           curvature: bool = False, groups=None) -> Settled:
+           curvature: bool = False, groups=None, evaluate_many=None) -> Settled:
     """Newton-KKT from u0 on the active set found there (constraints within `active_tol`
     of 0: above the margin a search keeps from its limits; see the module docstring).
     A round that ends with a multiplier of the wrong sign (or fails on it) releases the
@@ -112,8 +113,10 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
     A converged settle starts again from its end point (at most AGAIN times) while that
     lowers f: there the binding set is read afresh, and a set that held at the first end
     point (a variable within AT_BOUND of its bound left free, a constraint beside it held)
-    can give way to a better one."""
-    opts = Options(evaluate, hessian_step, active_tol, multipliers, step_tol, curvature, groups)
+    can give way to a better one. `evaluate_many`: the Points of many u (K, n) at once (one
+    batch of the caller's vectorized function, `slopes_many`), for the differenced
+    Hessian's 2 points a group; None: `evaluate` point by point."""
+    opts = Options(evaluate, hessian_step, active_tol, multipliers, step_tol, curvature, groups, evaluate_many)
     out = _settle_once(opts, u0)
     for _ in range(AGAIN):  # from its end, where the binding set is read afresh
         if not out.converged:
@@ -171,6 +174,7 @@ def _newton(opts: Options, u, p: Point, active, fixed):
     `fixed` variables held; a step is halved until the merit f + rho |c_A|_1 falls (rho
     above every multiplier). Returns (u, point, multipliers, ok)."""
     evaluate, curvature, hessian_step, groups = opts.evaluate, opts.curvature, opts.hessian_step, opts.groups
+    many = opts.evaluate_many or (lambda us: [evaluate(v) for v in us])
     free = np.flatnonzero(~fixed)
     rows = np.flatnonzero(active)
     lam = np.zeros(len(rows))
@@ -183,9 +187,9 @@ def _newton(opts: Options, u, p: Point, active, fixed):
     full, last = False, np.inf  # curvature: the differenced Hessian in use; the last step's size
     for _ in range(ITERATIONS):
         if p.h is None or (curvature and full):
-            h = _lagrangian_hessian(evaluate, u, rows, lam, hessian_step, groups=groups)
+            h = _lagrangian_hessian(many, u, rows, lam, hessian_step, groups=groups)
         elif curvature and len(rows) and np.any(lam != 0.0):
-            h = p.h + _lagrangian_hessian(evaluate, u, rows, lam, hessian_step, objective=False, groups=groups)
+            h = p.h + _lagrangian_hessian(many, u, rows, lam, hessian_step, objective=False, groups=groups)
         else:
             h = p.h
         step, lam_new = _kkt_step(h, p.g, p.a[rows], p.c[rows], free)
@@ -237,19 +241,27 @@ def slopes(values: Callable[[np.ndarray], np.ndarray], u: np.ndarray, step: floa
     settle below. The step is large (round-off in the slopes ~ eps / h is what leaves a
     Newton root uncertain) since the truncation error ~ h^4 is small and the same on every
     machine. One batch of 4n + 1 points."""
-    n = len(u)
-    one_sided = np.where(u < 2.0 * step, 1.0, np.where(u > 1.0 - 2.0 * step, -1.0, 0.0))
+    v0, jac = slopes_many(values, np.asarray(u, float)[None, :], step)
+    return v0[0], jac[0]
+
+
+def slopes_many(values: Callable[[np.ndarray], np.ndarray], u: np.ndarray, step: float = SLOPE_STEP):
+    """`slopes` at each of K points u (K, n): (values (K, m), Jacobians (K, m, n)), from
+    one batch of K (4n + 1) points."""
+    k, n = u.shape
+    one_sided = np.where(u < 2.0 * step, 1.0, np.where(u > 1.0 - 2.0 * step, -1.0, 0.0))  # (K, n)
     h = np.where(one_sided < 0.0, -step, step)  # into the box where one-sided
     # each column's four offsets, in steps h: central (1, -1, 2, -2), one-sided (1, 2, 3, 4)
-    offsets = np.where(one_sided[None, :] != 0.0, np.array([1.0, 2.0, 3.0, 4.0])[:, None],
-                       np.array([1.0, -1.0, 2.0, -2.0])[:, None])  # (4, n)
-    shifts = (offsets * h)[:, :, None] * np.eye(n)[None, :, :]  # (4, n, n)
-    batch = values(np.vstack([u[None, :], (u[None, None, :] + shifts).reshape(4 * n, n)]))
-    v0, v = batch[0], batch[1:].reshape(4, n, -1)
-    central = 8.0 * (v[0] - v[1]) - (v[2] - v[3])
-    forward = -25.0 * v0[None, :] + 48.0 * v[0] - 36.0 * v[1] + 16.0 * v[2] - 3.0 * v[3]
-    jac = np.where((one_sided != 0.0)[:, None], forward, central) / (12.0 * h[:, None])
-    return v0, jac.T
+    offsets = np.where(one_sided[:, None, :] != 0.0, np.array([1.0, 2.0, 3.0, 4.0])[:, None],
+                       np.array([1.0, -1.0, 2.0, -2.0])[:, None])  # (K, 4, n)
+    shifts = (offsets * h[:, None, :])[:, :, :, None] * np.eye(n)  # (K, 4, n, n)
+    points = np.concatenate([u[:, None, :], (u[:, None, None, :] + shifts).reshape(k, 4 * n, n)], axis=1)
+    batch = values(points.reshape(k * (4 * n + 1), n)).reshape(k, 4 * n + 1, -1)
+    v0, v = batch[:, 0], batch[:, 1:].reshape(k, 4, n, -1)
+    central = 8.0 * (v[:, 0] - v[:, 1]) - (v[:, 2] - v[:, 3])
+    forward = -25.0 * v0[:, None, :] + 48.0 * v[:, 0] - 36.0 * v[:, 1] + 16.0 * v[:, 2] - 3.0 * v[:, 3]
+    jac = np.where((one_sided != 0.0)[:, :, None], forward, central) / (12.0 * h[:, :, None])
+    return v0, np.transpose(jac, (0, 2, 1))
 
 
 def _kkt_residual(p: Point, rows, lam, free) -> float:
@@ -302,7 +314,7 @@ def independent_rows(a: np.ndarray, tol: float = DEPENDENT) -> list[int]:
     return kept
 
 
-def _lagrangian_hessian(evaluate, u, rows, lam, h_step, objective: bool = True, groups=None):
+def _lagrangian_hessian(points, u, rows, lam, h_step, objective: bool = True, groups=None):
     """Central differences of grad f - A^T lambda (`objective` False: of -A^T lambda alone,
     the active constraints' curvature), symmetrized; steps kept inside the box. `groups`
     (index arrays covering the variables, or None: each variable alone) are differenced
@@ -311,7 +323,8 @@ def _lagrangian_hessian(evaluate, u, rows, lam, h_step, objective: bool = True, 
     entry with one another nor with another such group's members (free timing's input
     angles: each moves its own pose's residuals alone), so that each member's own slope
     gives its diagonal entry; its entries with the variables differenced alone come from
-    their columns (symmetry). The cost is two gradients a group, not a variable."""
+    their columns (symmetry). The cost is two gradients a group, not a variable, evaluated
+    together: `points` maps the 2 x groups points (K, n) to their Points."""
     n = len(u)
     groups = [np.array([j]) for j in range(n)] if groups is None else [np.asarray(g, int) for g in groups]
     h = np.zeros((n, n))
@@ -320,11 +333,16 @@ def _lagrangian_hessian(evaluate, u, rows, lam, h_step, objective: bool = True, 
         g = p.g if objective else np.zeros(n)
         return g - linalg.matvec(p.a[rows].T, lam) if len(rows) else g
 
+    his, los = [], []
     for g in groups:
         e = np.zeros(n)
         e[g] = h_step
-        lo, hi = np.clip(u - e, 0.0, 1.0), np.clip(u + e, 0.0, 1.0)
-        d = slope(evaluate(hi)) - slope(evaluate(lo))
+        his.append(np.clip(u + e, 0.0, 1.0))
+        los.append(np.clip(u - e, 0.0, 1.0))
+    at = points(np.array([v for pair in zip(his, los) for v in pair]))
+    for i, g in enumerate(groups):
+        hi, lo = his[i], los[i]
+        d = slope(at[2 * i]) - slope(at[2 * i + 1])
         width = np.maximum(hi[g] - lo[g], 1e-300)
         if len(g) == 1:
             h[:, g[0]] = d / width[0]

@@ -600,18 +600,21 @@ def _settle(counter, fun, cons, x, mask, lo, hi, sign, scale, free_timing: bool)
 
     m = len(fun(x[mask]))
 
+    def evaluate_many(us):  # the Points of many unit-box points (K, n), one batch of residuals
+        v, jac = kkt.slopes_many(values, us, step=SETTLE_STEP)
+        r, jr = v[:, :m], jac[:, :m]
+        f, g, h = linalg.dot(r, r), 2.0 * linalg.matvec(np.swapaxes(jr, 1, 2), r), 2.0 * linalg.gram(jr)
+        return [kkt.Point(float(f[i]), g[i], v[i, m:], jac[i, m:], h=h[i]) for i in range(len(us))]
+
     def evaluate(u):
-        v, jac = kkt.slopes(values, u, step=SETTLE_STEP)
-        r, jr = v[:m], jac[:m]
-        return kkt.Point(float(linalg.dot(r, r)), 2.0 * linalg.matvec(jr.T, r), v[m:], jac[m:],
-                         h=2.0 * linalg.gram(jr))
+        return evaluate_many(np.asarray(u, float)[None, :])[0]
 
     try:
         n_link = int(np.sum(mask[:10]))
         angles = [np.arange(n_link, len(width))] if free_timing and len(width) - n_link > 1 else []
         groups = [np.array([j]) for j in range(n_link if angles else len(width))] + angles
         out = kkt.settle(evaluate, (x[mask] - lo[mask]) / width, hessian_step=CURVATURE_STEP, curvature=True,
-                         groups=groups)
+                         groups=groups, evaluate_many=evaluate_many)
     except BudgetSpent:
         return None
     if not out.converged:
