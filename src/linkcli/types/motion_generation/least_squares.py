@@ -51,7 +51,7 @@ CURVATURE_STEP = 1e-4  # unit box: differences of the constraints' slopes for th
 SETTLE_GAIN = 1e-9  # relative: the polished design may be this much worse (round-off)
 SETTLES = 4  # distinct designs settled (and so listed) at most, the best first
 CONFIRM = 1e-7  # relative: another round's best this close confirms the best
-MAX_ROUNDS = 6  # rounds of starts at most (the first two side by side)
+MAX_ROUNDS = 6  # rounds of starts at most (the first CLAIM_ROUNDS side by side)
 CLAIM_ROUNDS = 3  # rounds run at least before a confirmed best ends the search (not an exact fit):
 # with two, the first two rounds ending in one wide basin claimed it (cases 11, 27, 83 of the
 # constrained-variant study's tuning half, 8 of 75 runs)
@@ -248,8 +248,10 @@ def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
     counts the evaluations (a fresh one without a cap when None); the polishes stop at its cap.
 
     Rounds (`Search.round`): each draws its own population (population / 2 rows of each
-    kind) and polishes its best polish / 2 distinct starts per branch; the first two run
-    side by side (one batched polish). The best is confirmed when another round's best
+    kind) and polishes its best polish / 2 distinct starts per branch; the first CLAIM_ROUNDS
+    run side by side (one batched polish: a step costs about as much for 24 rows as for 8,
+    and a round's pool does not depend on another's results, so they are the rounds run in
+    turn, with the same draws). The best is confirmed when another round's best
     ends within CONFIRM of it (a second arrival from other starts; two starts of one
     population can share a basin) and CLAIM_ROUNDS rounds have run, or is an exact fit;
     otherwise rounds follow, at most MAX_ROUNDS, while the budget lasts. An unconfirmed
@@ -261,7 +263,7 @@ def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
                     grashof, transmission, grid, counter)
     rng = np.random.default_rng(seed)
     size, picks = max(1, population // 2), max(1, polish // 2)
-    rounds = search.rounds([search.pool(rng, size, picks, spread=True), search.pool(rng, size, picks, False)])
+    rounds = search.rounds([search.pool(rng, size, picks, spread=(i == 0)) for i in range(CLAIM_ROUNDS)])
     best, confirmed = search.best_of(rounds)
     while (not confirmed or (len(rounds) < CLAIM_ROUNDS and not search.fits_exactly(best))) \
             and len(rounds) < MAX_ROUNDS and counter.left > 0:
