@@ -14,8 +14,8 @@ Methods (`[solver] method`):
   the most promising distinct candidates at once with the linear part projected out, the
   field halving after each of its rounds, then the best distinct few refined (still
   projected, bounds and penalties held) and polished on every variable; until two
-  rounds end at the same optimum. The first two rounds run side by side, in the same
-  batched steps.
+  rounds end at the same optimum. The first CLAIM_ROUNDS rounds run side by side, in the
+  same batched steps (each of the size and from the draws it would have in turn).
 * `least-squares`: plain multistart, Levenberg-Marquardt (`search.polish`) from uniform random draws.
 * `differential-evolution`: scipy's differential evolution alone, on the penalized sum.
 * `de-polish`: differential evolution on half the budget, then the Levenberg-Marquardt polish.
@@ -146,7 +146,7 @@ def exact_objective(design: Design) -> float:
 # ---------------------------------------------------------------- methods
 
 def multistart(design: Design, budget: Budget, rng) -> tuple[list[Candidate], bool]:
-    """Rounds of `one_round` (the first two side by side) until an exact fit, a round
+    """Rounds of `one_round` (the first CLAIM_ROUNDS side by side) until an exact fit, a round
     whose own best lands within CONFIRM of the best so far (the same optimum found again
     from other starts), MAX_STALE rounds in a row that do not improve the best by more
     than IMPROVE, or the budget's end.
@@ -164,8 +164,12 @@ def multistart(design: Design, budget: Budget, rng) -> tuple[list[Candidate], bo
     index = 0
     while True:
         sizes = [round_limit(budget.left, size)]
-        if index == 0 and budget.left - sizes[0] >= MIN_ROUND // 2:  # the first two side by side
-            sizes.append(round_limit(budget.left - sizes[0], size))
+        for later in range(1, CLAIM_ROUNDS if index == 0 else 1):  # the first CLAIM_ROUNDS side by side,
+            # each of the size it would have in turn (the second as the first, then doubling)
+            if budget.left - sum(sizes) < MIN_ROUND // 2:
+                break
+            size = size if later == 1 else min(2 * size, ROUND_BUDGET)
+            sizes.append(round_limit(budget.left - sum(sizes), size))
         size = min(2 * size, ROUND_BUDGET)  # a round that did not settle it: the next is larger
         with budget.limit(sum(sizes)):
             rounds = one_round(design, budget, rng, sizes, None if best is None or best[0] else best[2])
@@ -245,11 +249,11 @@ def one_round(design: Design, budget: Budget, rng, sizes: list[int], best_so_far
     within NEAR_BEST of the best (`_short_of_best`: the search's best so far or its round's)
     is refined REFINE_MORE steps further and polished again (one stopped short of the
     optimum is a second arrival lost: arc6 with windows other than the bench's ended
-    `not-converged` at the optimum that way). A second round starts one field
-    round after the first (its draws only once the first round's field holds no exact
-    fit, which settles the search alone), so that both share every batched step: a
-    step costs about as much for 200 rows as for 100 (numpy's call overhead). The
-    rounds never exchange rows: each is as independent of the other as in turn."""
+    `not-converged` at the optimum that way). The other rounds start one field
+    round after the first (their draws only once the first round's field holds no exact
+    fit, which settles the search alone), so that all share every batched step: a
+    step costs about as much for 400 rows as for 100 (numpy's call overhead). The
+    rounds never exchange rows: each is as independent of the others as in turn."""
     proj = Space(design, budget, project=True)
     width = proj.hi - proj.lo
     exact = exact_objective(design) / design.scale ** 2  # dimensionless, as the costs
@@ -262,8 +266,8 @@ def one_round(design: Design, budget: Budget, rng, sizes: list[int], best_so_far
         if proj.k == 0 or budget.left <= reserve or not active:
             break
         _field_round(proj, active, reserve, width, exact)
-        if len(fields) < len(sizes) and fields[0].f.min() > exact:
-            fields.append(_drawn(design, proj, budget, rng, sizes[1], len(sizes)))
+        if len(fields) < len(sizes) and fields[0].f.min() > exact:  # the other rounds' draws
+            fields += [_drawn(design, proj, budget, rng, size, len(sizes)) for size in sizes[1:]]
             reserve = int(0.15 * budget.left)
     for g in fields:  # the best distinct few; only exact fits where the round has one
         f = np.where(g.f > exact, np.inf, g.f) if g.f.min() <= exact else g.f
