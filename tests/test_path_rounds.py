@@ -1,4 +1,4 @@
-"""The path multistart's rounds: the first two run side by side without exchanging rows,
+"""The path multistart's rounds: the first ones run side by side without exchanging rows,
 an exact fit settles the search in one round, and the Jacobians reuse the residual call's
 fit only at the very points it was made for."""
 
@@ -187,3 +187,25 @@ def test_found_twice_sees_another_rounds_arrival_behind_two_of_one_round():
     assert path_solve._found_twice(design, same, 0.0)  # the third: another round's
     assert not path_solve._found_twice(design, same[:2], 0.0)  # one round's two picks
     assert not path_solve._found_twice(design, same[:2] + [worse], 0.0)  # another round, higher
+
+
+def test_prescribed_timing_runs_its_first_four_rounds_side_by_side_free_timing_two(monkeypatch):
+    """SIDE_BY_SIDE: a prescribed-timing round spends a small share of its size, so the
+    first CLAIM_ROUNDS run in one batch, each of the size it would have in turn (the second
+    as the first, then doubling); free timing keeps its first two together, the next alone."""
+    from linkcli.search.budget import Budget
+    from linkcli.types.path_generation import solve as path_solve
+
+    batches = []
+    original = path_solve.one_round
+
+    def recorded(design, budget, rng, sizes, best_so_far=None):
+        batches.append(list(sizes))
+        return original(design, budget, rng, sizes, best_so_far)
+
+    monkeypatch.setattr(path_solve, "one_round", recorded)
+    path_solve.multistart(design_of("kunjur5"), Budget(2_000_000), np.random.default_rng(0))
+    assert batches[0] == [100_000, 100_000, 200_000, 400_000] and path_solve.CLAIM_ROUNDS == 4
+    batches.clear()
+    path_solve.multistart(design_of("lin10_closed"), Budget(2_000_000), np.random.default_rng(0))
+    assert batches[0] == [100_000, 100_000] and all(len(b) == 1 for b in batches[1:])

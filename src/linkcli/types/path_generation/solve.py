@@ -14,8 +14,9 @@ Methods (`[solver] method`):
   the most promising distinct candidates at once with the linear part projected out, the
   field halving after each of its rounds, then the best distinct few refined (still
   projected, bounds and penalties held) and polished on every variable; until two
-  rounds end at the same optimum. The first CLAIM_ROUNDS rounds run side by side, in the
-  same batched steps (each of the size and from the draws it would have in turn).
+  rounds end at the same optimum. The first rounds run side by side, in the same batched
+  steps (each of the size and from the draws it would have in turn): four with prescribed
+  timing, two with free timing (SIDE_BY_SIDE).
 * `least-squares`: plain multistart, Levenberg-Marquardt (`search.polish`) from uniform random draws.
 * `differential-evolution`: scipy's differential evolution alone, on the penalized sum.
 * `de-polish`: differential evolution on half the budget, then the Levenberg-Marquardt polish.
@@ -69,6 +70,13 @@ CLAIM_ROUNDS = 4  # rounds run at least before a best found twice ends the searc
 # (constrained-variant cases 13, 69 and 93: two or three rounds at 1.2 to 15 times the best
 # known, said `ok`; with four, each found the best or said `not-converged`; two checking
 # rounds side by side at the first rounds' size did not)
+SIDE_BY_SIDE = {"free": 2, "prescribed": CLAIM_ROUNDS}  # rounds run side by side at the start. A
+# prescribed-timing round spends a small share of its size (its draws are capped), so its batched steps
+# are call overhead and four rounds together take about the time of two (tuning cases 96, 40: 2.3 -> 1.4
+# and 1.6 s, the same designs). A free-timing round fills its size, and four together saved less (tuning
+# cases 9 and 33: 3 to 20 %, under load) while each round compared its picks with its own best instead
+# of the best so far: refined further, rounds 2 and 3 of reporting case 13 both reached its local optimum
+# at 16.6 times the best known and it was claimed (seeds 2 and 3), where in turn round 3 stopped short of it
 MAX_STALE = 6  # rounds in a row without improvement that end the search (3 stopped an unconfirmed
 # best with most of the budget left: constrained-variant case 24, seeds 1 and 3, found the
 # optimum in their first round and confirmed it in their fifth and sixth)
@@ -146,7 +154,7 @@ def exact_objective(design: Design) -> float:
 # ---------------------------------------------------------------- methods
 
 def multistart(design: Design, budget: Budget, rng) -> tuple[list[Candidate], bool]:
-    """Rounds of `one_round` (the first CLAIM_ROUNDS side by side) until an exact fit, a round
+    """Rounds of `one_round` (the first SIDE_BY_SIDE side by side) until an exact fit, a round
     whose own best lands within CONFIRM of the best so far (the same optimum found again
     from other starts), MAX_STALE rounds in a row that do not improve the best by more
     than IMPROVE, or the budget's end.
@@ -164,8 +172,8 @@ def multistart(design: Design, budget: Budget, rng) -> tuple[list[Candidate], bo
     index = 0
     while True:
         sizes = [round_limit(budget.left, size)]
-        for later in range(1, CLAIM_ROUNDS if index == 0 else 1):  # the first CLAIM_ROUNDS side by side,
-            # each of the size it would have in turn (the second as the first, then doubling)
+        for later in range(1, SIDE_BY_SIDE[design.timing] if index == 0 else 1):  # the first rounds side
+            # by side, each of the size it would have in turn (the second as the first, then doubling)
             if budget.left - sum(sizes) < MIN_ROUND // 2:
                 break
             size = size if later == 1 else min(2 * size, ROUND_BUDGET)
