@@ -249,7 +249,7 @@ def solve_least_squares(poses, bounds=None, *, branch="either", timing="free",
 
     Rounds (`Search.round`): each draws its own population (population / 2 rows of each
     kind) and polishes its best polish / 2 distinct starts per branch; the first CLAIM_ROUNDS
-    run side by side (one batched polish: a step costs about as much for 24 rows as for 8,
+    run side by side (one batched polish: at these sizes a step is mostly numpy's call overhead,
     and a round's pool does not depend on another's results, so they are the rounds run in
     turn, with the same draws). The best is confirmed when another round's best
     ends within CONFIRM of it (a second arrival from other starts; two starts of one
