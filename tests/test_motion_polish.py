@@ -265,3 +265,31 @@ def test_a_rounds_starts_are_spread_over_the_bounds():
         unit = starts / (hi - lo)
         gaps = np.linalg.norm(unit[:, None] - unit[None], axis=-1)[np.triu_indices(len(unit), 1)]
         assert gaps.min() > LS.DISTINCT >= 0.05
+
+
+def test_no_two_rounds_take_one_five_pose_subset(monkeypatch):
+    """A subset's Burmester linkages are the same in every round, and two rounds polishing
+    one start agree without being independent arrivals: each round's subsets are new ones
+    (with 7 poses, 21 subsets: 13 in the first round, the 8 left in the second, none in
+    the third), and a round draws only among those left."""
+    seen = []
+    original = LS.burmester_dyads
+
+    def recorded(poses):
+        seen[-1].append(tuple(np.round(poses.ravel(), 12)))
+        return original(poses)
+
+    monkeypatch.setattr(LS, "burmester_dyads", recorded)
+    poses, _ = poses_of(7, noise=0.01, seed=4)
+    lo, hi = LS.default_bounds(poses)
+    search = LS.Search(poses, (lo, hi), "either", "free", None, (0.0, 0.0), None, None, None, 180, Budget(10**9))
+    rng = np.random.default_rng(0)
+    for spread in (True, False, False):
+        seen.append([])
+        search.pool(rng, 200, 8, spread=spread)
+    assert [len(s) for s in seen] == [13, 8, 0]
+    assert len(set(seen[0]) | set(seen[1])) == 21 and len(search.taken) == 21
+    rng = np.random.default_rng(1)
+    taken = frozenset(tuple(int(i) for i in s) for s in LS._subsets(rng, 12, 40))
+    later = LS._subsets(rng, 12, 40, taken)
+    assert len(later) == 40 and not taken & {tuple(int(i) for i in s) for s in later}

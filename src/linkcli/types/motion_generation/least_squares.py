@@ -56,7 +56,8 @@ CLAIM_ROUNDS = 3  # rounds run at least before a confirmed best ends the search 
 # with two, the first two rounds ending in one wide basin claimed it (cases 11, 27, 83 of the
 # constrained-variant study's tuning half, 8 of 75 runs)
 EXACT_RMS = 1e-9  # rms error (relative to the characteristic length) of an exact fit
-SUBSETS = 12  # distinct random 5-pose subsets whose Burmester linkages join a round's population
+SUBSETS = 12  # distinct random 5-pose subsets whose Burmester linkages join a round's population,
+# none taken by an earlier round (`_subsets`)
 # (near-exact fits of five poses: clipped into the bounds, starts near a bound-held optimum; 3
 # found case 11's, two length bounds binding, in 2 of 5 seeds, 12 in 5 of 5)
 DISTINCT = 0.1  # a round's picks are at least this far apart (Euclidean, each parameter over its
@@ -170,14 +171,18 @@ def residuals(x_full, poses, sign, weight, timing_angles):
     return np.concatenate([dpos.reshape(lead + (-1,)), weight * dang, PENALTY * viol], -1)
 
 
-def _starts(poses, lo, hi, rng, population, signs, spread: bool = True):
+def _starts(poses, lo, hi, rng, population, signs, spread: bool = True, taken: set | None = None):
     """Population rows: LHS, Burmester linkages of 5-pose subsets (`spread`: the evenly
-    spread one among them; random ones always), 3-pose inversions."""
+    spread one among them; random ones always, none of the subsets in `taken`, the earlier
+    rounds', to which this population's are added), 3-pose inversions."""
     n = len(poses)
     rows = [box_sample(rng, population, lo, hi)]
     if n >= 5:
+        taken = set() if taken is None else taken
         subsets = [np.linspace(0, n - 1, 5).round().astype(int)] if spread else []
-        subsets += _subsets(rng, n, SUBSETS)
+        subsets = [sub for sub in subsets if tuple(int(i) for i in sub) not in taken]
+        subsets += _subsets(rng, n, SUBSETS, frozenset(taken))
+        taken.update(tuple(int(i) for i in sub) for sub in subsets)
         for sub in subsets:
             res = burmester_dyads(poses[sub])
             k = len(res.ground)
@@ -213,15 +218,20 @@ def into_window(angle, lo: float, hi: float):
     return np.where(past <= 0.0, lo + d, np.where(past <= kin.TWO_PI - d, hi, lo))
 
 
-def _subsets(rng, n: int, count: int) -> list[np.ndarray]:
-    """`count` distinct 5-pose subsets of n poses drawn at random (all of them, in a random
-    order, when there are no more than `count`), each sorted."""
+def _subsets(rng, n: int, count: int, taken: frozenset = frozenset()) -> list[np.ndarray]:
+    """`count` distinct 5-pose subsets of n poses drawn at random, none of `taken` (every
+    one left, in a random order, when no more than 4 `count` are left; none when all are
+    taken), each sorted. A subset's Burmester linkages are the same whichever round
+    computes them: two rounds that polish one such start end at one point without being
+    two independent arrivals (the motion study's tuning and reporting halves: 10 of 150
+    runs claimed their best on rounds that had all polished one bit-identical start), so
+    a round takes only subsets no earlier round took."""
     total = math.comb(n, 5)
-    if total <= 4 * count:  # few: every subset, shuffled, the first `count`
-        every = np.array(list(itertools.combinations(range(n), 5)))
-        return list(every[rng.permutation(total)[:count]])
-    seen, out = set(), []
-    while len(out) < count:  # many: draws, a repeat drawn again (rare: total > 4 count)
+    if total - len(taken) <= 4 * count:  # few: every subset left, shuffled, the first `count`
+        every = np.array([sub for sub in itertools.combinations(range(n), 5) if sub not in taken], int)
+        return list(every[rng.permutation(len(every))[:count]]) if len(every) else []
+    seen, out = set(taken), []
+    while len(out) < count:  # many: draws, a repeat or a taken one drawn again (rare: > 4 count left)
         sub = tuple(np.sort(rng.choice(n, 5, replace=False)).tolist())
         if sub not in seen:
             seen.add(sub)
@@ -316,12 +326,13 @@ class Search:
                            transmission is not None and grashof_held not in design_constraints.FULL_TURN)
         self.exact = n * (EXACT_RMS * self.scale) ** 2  # an objective this small fits exactly
         self.settled_as = []  # (params before, settled result or None: it failed): designs settled so far
+        self.taken = set()  # 5-pose subsets whose Burmester linkages earlier rounds' populations hold
         self.tries = 0
 
     def pool(self, rng, population, polish, spread):
         """A round's starts: (sign, x0) of the best `polish` distinct rows per branch of a
         fresh population, scored."""
-        starts = _starts(self.poses, self.lo, self.hi, rng, population, self.signs, spread)
+        starts = _starts(self.poses, self.lo, self.hi, rng, population, self.signs, spread, self.taken)
         pool = []
         for sign in self.signs:
             if self.prescribed:
