@@ -255,3 +255,24 @@ def test_a_grouped_hessian_matches_the_closed_form_with_two_gradients_a_group():
     alone = kkt._lagrangian_hessian(lambda us: [evaluate(v) for v in us], u, [], np.zeros(0), 1e-5)
     assert len(calls) == 14
     assert_allclose(alone, exact, rtol=0, atol=1e-8)
+
+
+def test_the_differenced_hessian_evaluates_its_points_in_calls_of_bounded_size(monkeypatch):
+    """`_lagrangian_hessian` hands `points` as many groups' point pairs a call as BATCH_ROWS
+    allows (slopes' 4n + 1 rows a point): all of them at once when small, one pair a call at
+    the least; the Hessian is the same either way."""
+    u = np.array([0.6, 0.3, 0.1, 0.25, 0.4, 0.55, 0.8])
+    groups = [np.array([0]), np.array([1]), np.arange(2, 7)]
+    calls = []
+
+    def points(us):
+        calls.append(len(us))
+        return [_arrow_objective(v)[0] for v in us]
+
+    batched = kkt._lagrangian_hessian(points, u, [], np.zeros(0), 1e-5, groups=groups)
+    assert calls == [6]
+    calls.clear()
+    monkeypatch.setattr(kkt, "BATCH_ROWS", 1)
+    one_by_one = kkt._lagrangian_hessian(points, u, [], np.zeros(0), 1e-5, groups=groups)
+    assert calls == [2, 2, 2]
+    assert np.array_equal(batched, one_by_one)

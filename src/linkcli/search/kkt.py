@@ -52,6 +52,9 @@ RIDGE = 1e-12  # relative ridge on H (a flat direction, a continuum of optima)
 SIGN_TOL = 1e-10  # a multiplier below -SIGN_TOL * (|g| + 1) has the wrong sign
 ROUND_OFF = 1e-13  # relative change of the merit that is round-off
 FEASIBLE = 1e-10  # an inactive constraint may fall this far below 0
+BATCH_ROWS = 2048  # `_lagrangian_hessian`: points in one call of `evaluate_many`, counted as the
+# 4n + 1 rows of their `slopes_many` each, and the Points alive at once (motion with 200 poses: 2 a
+# call, peak 130 MiB against 105 one point at a time; with 11 poses all 22 in one call)
 DEPENDENT = 1e-8  # an active gradient with less than this share of its norm outside the
 # span of the others' adds no condition (finite-difference slopes are exact to ~1e-10)
 
@@ -115,7 +118,8 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
     point (a variable within AT_BOUND of its bound left free, a constraint beside it held)
     can give way to a better one. `evaluate_many`: the Points of many u (K, n) at once (one
     batch of the caller's vectorized function, `slopes_many`), for the differenced
-    Hessian's 2 points a group; None: `evaluate` point by point."""
+    Hessian's 2 points a group, which use their f, g, c and a only (h may be None there);
+    None: `evaluate` point by point."""
     opts = Options(evaluate, hessian_step, active_tol, multipliers, step_tol, curvature, groups, evaluate_many)
     out = _settle_once(opts, u0)
     for _ in range(AGAIN):  # from its end, where the binding set is read afresh
@@ -324,7 +328,8 @@ def _lagrangian_hessian(points, u, rows, lam, h_step, objective: bool = True, gr
     angles: each moves its own pose's residuals alone), so that each member's own slope
     gives its diagonal entry; its entries with the variables differenced alone come from
     their columns (symmetry). The cost is two gradients a group, not a variable, evaluated
-    together: `points` maps the 2 x groups points (K, n) to their Points."""
+    together: `points` maps the 2 x groups points (K, n) to their Points, as many groups a
+    call as BATCH_ROWS allows (memory bounded whatever n)."""
     n = len(u)
     groups = [np.array([j]) for j in range(n)] if groups is None else [np.asarray(g, int) for g in groups]
     h = np.zeros((n, n))
@@ -333,21 +338,21 @@ def _lagrangian_hessian(points, u, rows, lam, h_step, objective: bool = True, gr
         g = p.g if objective else np.zeros(n)
         return g - linalg.matvec(p.a[rows].T, lam) if len(rows) else g
 
-    his, los = [], []
-    for g in groups:
-        e = np.zeros(n)
-        e[g] = h_step
-        his.append(np.clip(u + e, 0.0, 1.0))
-        los.append(np.clip(u - e, 0.0, 1.0))
-    at = points(np.array([v for pair in zip(his, los) for v in pair]))
-    for i, g in enumerate(groups):
-        hi, lo = his[i], los[i]
-        d = slope(at[2 * i]) - slope(at[2 * i + 1])
-        width = np.maximum(hi[g] - lo[g], 1e-300)
-        if len(g) == 1:
-            h[:, g[0]] = d / width[0]
-        else:
-            h[g, g] = d[g] / width  # each member's own slope: its diagonal entry alone
+    per_call = max(1, BATCH_ROWS // (2 * (4 * n + 1)))  # groups whose point pairs go in one call
+    for first in range(0, len(groups), per_call):
+        chunk = groups[first:first + per_call]
+        steps = np.zeros((len(chunk), n))
+        for i, g in enumerate(chunk):
+            steps[i, g] = h_step
+        his, los = np.clip(u + steps, 0.0, 1.0), np.clip(u - steps, 0.0, 1.0)
+        at = points(np.stack([his, los], axis=1).reshape(2 * len(chunk), n))  # hi, lo of each group
+        for i, g in enumerate(chunk):
+            d = slope(at[2 * i]) - slope(at[2 * i + 1])
+            width = np.maximum(his[i, g] - los[i, g], 1e-300)
+            if len(g) == 1:
+                h[:, g[0]] = d / width[0]
+            else:
+                h[g, g] = d[g] / width  # each member's own slope: its diagonal entry alone
     many = [g for g in groups if len(g) > 1]
     if many:
         together = np.concatenate(many)

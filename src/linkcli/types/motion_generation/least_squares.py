@@ -56,10 +56,10 @@ CLAIM_ROUNDS = 3  # rounds run at least before a confirmed best ends the search 
 # with two, the first two rounds ending in one wide basin claimed it (cases 11, 27, 83 of the
 # constrained-variant study's tuning half, 8 of 75 runs)
 EXACT_RMS = 1e-9  # rms error (relative to the characteristic length) of an exact fit
-SUBSETS = 12  # distinct random 5-pose subsets whose Burmester linkages join a round's population,
-# none taken by an earlier round (`_subsets`)
+SUBSETS = 12  # distinct random 5-pose subsets whose Burmester linkages join a round's population
 # (near-exact fits of five poses: clipped into the bounds, starts near a bound-held optimum; 3
-# found case 11's, two length bounds binding, in 2 of 5 seeds, 12 in 5 of 5)
+# found case 11's, two length bounds binding, in 2 of 5 seeds, 12 in 5 of 5), none that an earlier
+# round took (`_subsets`)
 DISTINCT = 0.1  # a round's picks are at least this far apart (Euclidean, each parameter over its
 # bounds' width): the best-scored rows of a population crowd into one basin (tuning case 83: every
 # start of three rounds at one local optimum 3.2 % above the best; 1e-3 before, 3 of 5 seeds `ok`
@@ -179,10 +179,10 @@ def _starts(poses, lo, hi, rng, population, signs, spread: bool = True, taken: s
     rows = [box_sample(rng, population, lo, hi)]
     if n >= 5:
         taken = set() if taken is None else taken
-        subsets = [np.linspace(0, n - 1, 5).round().astype(int)] if spread else []
-        subsets = [sub for sub in subsets if tuple(int(i) for i in sub) not in taken]
+        spread_one = [np.linspace(0, n - 1, 5).round().astype(int)] if spread else []
+        subsets = [sub for sub in spread_one if tuple(sub.tolist()) not in taken]
         subsets += _subsets(rng, n, SUBSETS, frozenset(taken))
-        taken.update(tuple(int(i) for i in sub) for sub in subsets)
+        taken.update(tuple(sub.tolist()) for sub in subsets)
         for sub in subsets:
             res = burmester_dyads(poses[sub])
             k = len(res.ground)
@@ -613,14 +613,19 @@ def _settle(counter, fun, cons, x, mask, lo, hi, sign, scale, free_timing: bool)
 
     m = len(fun(x[mask]))
 
-    def evaluate_many(us):  # the Points of many unit-box points (K, n), one batch of residuals
+    def points(us, gauss_newton: bool):  # the Points of unit-box points (K, n), one batch of residuals;
+        # the Gauss-Newton matrix only where Newton steps from them (not at the Hessian's differenced points)
         v, jac = kkt.slopes_many(values, us, step=SETTLE_STEP)
         r, jr = v[:, :m], jac[:, :m]
-        f, g, h = linalg.dot(r, r), 2.0 * linalg.matvec(np.swapaxes(jr, 1, 2), r), 2.0 * linalg.gram(jr)
+        f, g = linalg.dot(r, r), 2.0 * linalg.matvec(np.swapaxes(jr, 1, 2), r)
+        h = 2.0 * linalg.gram(jr) if gauss_newton else [None] * len(us)
         return [kkt.Point(float(f[i]), g[i], v[i, m:], jac[i, m:], h=h[i]) for i in range(len(us))]
 
     def evaluate(u):
-        return evaluate_many(np.asarray(u, float)[None, :])[0]
+        return points(np.asarray(u, float)[None, :], True)[0]
+
+    def evaluate_many(us):
+        return points(us, False)
 
     try:
         n_link = int(np.sum(mask[:10]))

@@ -259,8 +259,9 @@ def one_round(design: Design, budget: Budget, rng, sizes: list[int], best_so_far
     optimum is a second arrival lost: arc6 with windows other than the bench's ended
     `not-converged` at the optimum that way). The other rounds start one field
     round after the first (their draws only once the first round's field holds no exact
-    fit, which settles the search alone), so that all share every batched step: a
-    step costs about as much for 400 rows as for 100 (numpy's call overhead). The
+    fit, which settles the search alone), so that all share every batched step: at
+    these sizes a step is mostly numpy's call overhead (prescribed timing's four rounds
+    together take about the time of two, SIDE_BY_SIDE). The
     rounds never exchange rows: each is as independent of the others as in turn."""
     proj = Space(design, budget, project=True)
     width = proj.hi - proj.lo
