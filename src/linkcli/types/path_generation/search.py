@@ -46,6 +46,8 @@ SETTLE_STEP = 3e-5  # unit box: the final polish's difference step (kkt.slopes).
 # lie in flat valleys that turn a slope's truncation error (~ step^4) into a shift of the
 # optimum: at 1e-4 closed18_timed's ground moves in the 6th digit, at 3e-5 in the 8th, while
 # the round-off left (~ eps / step) keeps seeds within 1e-9 of each other
+CURVATURE_STEP = 1e-4  # unit box: differences of the closed-form gradient for the settle's Hessian
+# of the Lagrangian (kkt, `curvature`), as motion generation's
 NONLINEAR = 0.01  # a Jacobian column whose second difference exceeds this share of the first
 SHRINK = 16  # is taken again with a step this much smaller,
 SHRINKS = 3  # at most this many times
@@ -356,8 +358,16 @@ def settle(space: Space, z0, sign: float, s: float):
     """Newton on the KKT system of the constraints that bind at z0 (linkcli.search.kkt),
     on the objective sum |P_k - T_k|^2 / L^2 (no penalty), in the unit box of the free
     variables, slopes by `kkt.slopes`; constraints c = -g / L from `Design.constraints`
-    (g <= 0 feasible). Returns the kkt.Settled record with z in place of the unit
-    coordinates."""
+    (g <= 0 feasible). The Hessian model is Gauss-Newton's 2 J^T J; with prescribed timing
+    also kkt's differenced Hessian of the Lagrangian where its steps shrink only linearly or
+    grow (`curvature`): an approximate path leaves residuals whose own curvature Gauss-Newton
+    misses (tuning case 80 of benchmarks/constrained_variants.py: its steps grew 2.4 times a
+    step, every settle failed after its 30 steps and they took half the run; now 0.82 s
+    against 1.43). Not with free timing: its input angles are a start plus cumulative
+    increments, every one moving the later targets, so the differenced Hessian costs 2 k
+    gradients of k = 9 + n variables and a round's pick ran out of its settle's evaluations
+    (tuning case 73: 2 of 5 seeds lost their confirmation). Returns the kkt.Settled record
+    with z in place of the unit coordinates."""
     from linkcli.search import kkt
     design = space.design
     width = space.hi - space.lo
@@ -370,29 +380,35 @@ def settle(space: Space, z0, sign: float, s: float):
         r = (pts - design.targets[None]).reshape(len(u), -1) / design.scale
         return np.concatenate([r, -design.constraints(x, pose, phi) / design.scale], axis=1)
 
+    def points(us, gauss_newton: bool):  # kkt.Points of unit points us (K, k): one batch of values;
+        # the Gauss-Newton matrix only where Newton steps from them (not at the differenced Hessian's)
+        v, jac = kkt.slopes_many(values, us, step=SETTLE_STEP)
+        r, jr = v[:, :m], _exact_slopes(space, us, sign, s, width, jac[:, :m])
+        f, g = linalg.dot(r, r), 2.0 * linalg.matvec(np.swapaxes(jr, 1, 2), r)
+        h = 2.0 * linalg.gram(jr) if gauss_newton else [None] * len(us)
+        return [kkt.Point(float(f[i]), g[i], v[i, m:], jac[i, m:], h=h[i]) for i in range(len(us))]
+
     def evaluate(u):
-        v, jac = kkt.slopes(values, u, step=SETTLE_STEP)
-        r, jr = v[:m], _exact_slopes(space, u, sign, s, width, jac[:m])
-        return kkt.Point(float(linalg.dot(r, r)), 2.0 * linalg.matvec(jr.T, r), v[m:], jac[m:],
-                         h=2.0 * linalg.gram(jr))
+        return points(np.asarray(u, float)[None, :], True)[0]
 
     u0 = np.clip((np.asarray(z0, dtype=float) - space.lo) / np.where(width > 0, width, 1.0), 0.0, 1.0)
-    out = kkt.settle(evaluate, u0)
+    out = kkt.settle(evaluate, u0, hessian_step=CURVATURE_STEP, curvature=design.timing == "prescribed",
+                     evaluate_many=lambda us: points(us, False))
     out.u = space.lo + out.u * width
     return out
 
 
-def _exact_slopes(space: Space, u, sign: float, s: float, width, differenced: np.ndarray) -> np.ndarray:
-    """The target errors' slopes at the unit point u in closed form (derivatives.full_jacobian,
-    times the box's width), where they hold; else the differenced ones. A difference's
-    truncation error (~ step^4) moves a flat valley's optimum in the 7th digit, by an amount
-    that follows the machine's last bits (lin10_closed with numpy's vector paths narrowed);
-    closed-form slopes leave round-off alone."""
-    x = space.full(space.lo + np.clip(u, 0.0, 1.0)[None] * width)
-    signs, dirs = np.full(1, sign), np.full(1, s)
+def _exact_slopes(space: Space, us, sign: float, s: float, width, differenced: np.ndarray) -> np.ndarray:
+    """The target errors' slopes (K, 2n, k) at the unit points us (K, k) in closed form
+    (derivatives.full_jacobian, times the box's width), where they hold; else the
+    differenced ones (K, 2n, k). A difference's truncation error (~ step^4) moves a flat
+    valley's optimum in the 7th digit, by an amount that follows the machine's last bits
+    (lin10_closed with numpy's vector paths narrowed); closed-form slopes leave round-off alone."""
+    x = space.full(space.lo + np.clip(us, 0.0, 1.0) * width)
+    signs, dirs = np.full(len(us), sign), np.full(len(us), s)
     _, pose, _ = space.design.points(x, signs, dirs)
     jac, ok = derivatives.full_jacobian(space.design, space.idx, x, pose, dirs)
-    return jac[0] * width[None, :] if ok[0] else differenced
+    return np.where(ok[:, None, None], jac * width, differenced)
 
 
 # ---------------------------------------------------------------- differential evolution
