@@ -276,3 +276,51 @@ def test_the_differenced_hessian_evaluates_its_points_in_calls_of_bounded_size(m
     one_by_one = kkt._lagrangian_hessian(points, u, [], np.zeros(0), 1e-5, groups=groups)
     assert calls == [2, 2, 2]
     assert np.array_equal(batched, one_by_one)
+
+
+def _large_residual(lam: float, counter: list):
+    """Dennis & Schnabel (Numerical Methods for Unconstrained Optimization, 1983, example
+    10.2.4): r(x) = (x + 1, lam x^2 + x - 1), minimum at x = 0 (g = 2 J^T r = 0 there for
+    every lam) with Hessian 2 (2 - 2 lam), Gauss-Newton's 2 J^T J = 4: for lam < -1 its
+    steps grow by |1 - (2 - 2 lam) / 2| a step. x = 4 (u - 1/2) on the unit box; h is
+    Gauss-Newton's; a linear constraint x <= 0.5 (inactive) rides along."""
+
+    def point(u):
+        counter.append(1)
+        x = 4.0 * (float(u[0]) - 0.5)
+        r = np.array([x + 1.0, lam * x * x + x - 1.0])
+        j = np.array([[1.0], [2.0 * lam * x + 1.0]]) * 4.0
+        return kkt.Point(float(r @ r), 2.0 * j.T @ r, np.array([0.5 - x]), np.array([[-4.0]]), h=2.0 * j.T @ j)
+
+    return point
+
+
+def test_stalled_curvature_settles_where_gauss_newton_steps_grow():
+    # lam = -2: Gauss-Newton's steps double each time from 1e-6 off the minimum and the
+    # settle fails; "stalled" switches to the differenced Hessian once they stop shrinking
+    calls = []
+    start = np.array([0.5 + 1e-6])
+    assert not kkt.settle(_large_residual(-2.0, calls), start).converged
+    out = kkt.settle(_large_residual(-2.0, calls), start, curvature="stalled")
+    assert out.converged
+    assert_allclose(out.u, [0.5], rtol=0, atol=1e-12)
+
+
+def test_stalled_curvature_costs_nothing_where_gauss_newton_converges():
+    # lam = 0.1: Gauss-Newton converges (linearly, fast: ratio 0.1); a linear constraint
+    # binds: min (x - 0.9)^2 on x <= 0.5 with a multiplier. "stalled" evaluates as
+    # curvature=False does; True differences the constraint's (zero) curvature each step
+    def run(curvature):
+        calls = []
+
+        def point(u):
+            calls.append(1)
+            x = float(u[0])
+            return kkt.Point((x - 0.9) ** 2, np.array([2.0 * (x - 0.9)]), np.array([0.5 - x]),
+                             np.array([[-1.0]]), h=np.array([[2.0]]))
+
+        out = kkt.settle(point, np.array([0.5 - 1e-9]), curvature=curvature)
+        assert out.converged and abs(out.u[0] - 0.5) <= 1e-12
+        return len(calls)
+
+    assert run("stalled") == run(False) < run(True)

@@ -82,7 +82,7 @@ class Options:
     active_tol: float
     multipliers: bool
     step_tol: float
-    curvature: bool
+    curvature: bool | str
     groups: list | None
     evaluate_many: Callable[[np.ndarray], list] | None = None
 
@@ -97,7 +97,7 @@ class Settled:
 
 def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e-6,
            active_tol: float = ACTIVE, multipliers: bool = False, step_tol: float = STEP_TOL,
-           curvature: bool = False, groups=None, evaluate_many=None) -> Settled:
+           curvature: bool | str = False, groups=None, evaluate_many=None) -> Settled:
     """Newton-KKT from u0 on the active set found there (constraints within `active_tol`
     of 0: above the margin a search keeps from its limits; see the module docstring).
     A round that ends with a multiplier of the wrong sign (or fails on it) releases the
@@ -112,7 +112,13 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
     f's Hessian alone (Gauss-Newton), and the active constraints' curvature
     -sum lambda_i Hess c_i is added by central differences of their gradients (steps
     `hessian_step`): without it a constraint that bends under a large multiplier leaves
-    Newton-KKT linear at best, and its line search stalls short of the root.
+    Newton-KKT linear at best, and its line search stalls short of the root. Where the
+    steps shrink only linearly or grow, the whole Hessian of the Lagrangian by differences
+    (a residual's own curvature that Gauss-Newton misses). `curvature="stalled"`: that
+    differenced Hessian only where the steps stall, Gauss-Newton alone elsewhere (each
+    differenced Hessian costs 2 gradients a group: with constraints that are mostly
+    linear, such as the Grashof inequalities, adding their curvature at every step
+    spends a budget for nothing).
     A converged settle starts again from its end point (at most AGAIN times) while that
     lowers f: there the binding set is read afresh, and a set that held at the first end
     point (a variable within AT_BOUND of its bound left free, a constraint beside it held)
@@ -192,7 +198,7 @@ def _newton(opts: Options, u, p: Point, active, fixed):
     for _ in range(ITERATIONS):
         if p.h is None or (curvature and full):
             h = _lagrangian_hessian(many, u, rows, lam, hessian_step, groups=groups)
-        elif curvature and len(rows) and np.any(lam != 0.0):
+        elif curvature is True and len(rows) and np.any(lam != 0.0):
             h = p.h + _lagrangian_hessian(many, u, rows, lam, hessian_step, objective=False, groups=groups)
         else:
             h = p.h

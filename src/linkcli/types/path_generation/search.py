@@ -359,11 +359,13 @@ def settle(space: Space, z0, sign: float, s: float):
     on the objective sum |P_k - T_k|^2 / L^2 (no penalty), in the unit box of the free
     variables, slopes by `kkt.slopes`; constraints c = -g / L from `Design.constraints`
     (g <= 0 feasible). The Hessian model is Gauss-Newton's 2 J^T J; with prescribed timing
-    also kkt's differenced Hessian of the Lagrangian where its steps shrink only linearly or
-    grow (`curvature`): an approximate path leaves residuals whose own curvature Gauss-Newton
-    misses (tuning case 80 of benchmarks/constrained_variants.py: its steps grew 2.4 times a
-    step, every settle failed after its 30 steps and they took half the run; now 0.82 s
-    against 1.43). Not with free timing: its input angles are a start plus cumulative
+    kkt's differenced Hessian of the Lagrangian where its steps shrink only linearly or
+    grow (`curvature="stalled"`): an approximate path leaves residuals whose own curvature
+    Gauss-Newton misses (tuning case 80 of benchmarks/constrained_variants.py: its steps
+    grew 2.4 times a step, every settle failed after its 30 steps and they took half the
+    run; now 0.82 s against 1.43). Only there: the constraints' curvature added at every
+    step (`curvature=True`) spent a round pick's settle budget (PICK_SETTLE) on Grashof
+    inequalities, which are linear, and the pick stayed unsettled. Not with free timing: its input angles are a start plus cumulative
     increments, every one moving the later targets, so the differenced Hessian costs 2 k
     gradients of k = 9 + n variables and a round's pick ran out of its settle's evaluations
     (tuning case 73: 2 of 5 seeds lost their confirmation). Returns the kkt.Settled record
@@ -392,7 +394,7 @@ def settle(space: Space, z0, sign: float, s: float):
         return points(np.asarray(u, float)[None, :], True)[0]
 
     u0 = np.clip((np.asarray(z0, dtype=float) - space.lo) / np.where(width > 0, width, 1.0), 0.0, 1.0)
-    out = kkt.settle(evaluate, u0, hessian_step=CURVATURE_STEP, curvature=design.timing == "prescribed",
+    out = kkt.settle(evaluate, u0, hessian_step=CURVATURE_STEP, curvature="stalled" if design.timing == "prescribed" else False,
                      evaluate_many=lambda us: points(us, False))
     out.u = space.lo + out.u * width
     return out
