@@ -599,7 +599,10 @@ def _settle(counter, fun, cons, x, mask, lo, hi, sign, scale, free_timing: bool)
     `counter`). With free timing each input angle moves its own pose's residuals and
     constraints alone: the differenced Hessian takes the angles together (kkt groups),
     two gradients for all of them instead of two each (scaling.py's 100 poses: the settles
-    15.6 -> 2.8 s)."""
+    15.6 -> 2.8 s). The Hessian is Gauss-Newton's, and the differenced one of the whole
+    Lagrangian only where the steps stall (kkt, curvature="stalled"): the constraints'
+    curvature added at every step cost 10 % of a run's time (farm-bench, tuning cases 3,
+    19, 35, 67, 91, 123: 0.90) for the same verdicts on the tuning half."""
     from linkcli.search import kkt, linalg
     from linkcli.search.budget import BudgetSpent
 
@@ -631,7 +634,7 @@ def _settle(counter, fun, cons, x, mask, lo, hi, sign, scale, free_timing: bool)
         n_link = int(np.sum(mask[:10]))
         angles = [np.arange(n_link, len(width))] if free_timing and len(width) - n_link > 1 else []
         groups = [np.array([j]) for j in range(n_link if angles else len(width))] + angles
-        out = kkt.settle(evaluate, (x[mask] - lo[mask]) / width, hessian_step=CURVATURE_STEP, curvature=True,
+        out = kkt.settle(evaluate, (x[mask] - lo[mask]) / width, hessian_step=CURVATURE_STEP, curvature="stalled",
                          groups=groups, evaluate_many=evaluate_many)
     except BudgetSpent:
         return None
