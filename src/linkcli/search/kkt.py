@@ -55,6 +55,10 @@ FEASIBLE = 1e-10  # an inactive constraint may fall this far below 0
 BATCH_ROWS = 2048  # `_lagrangian_hessian`: points in one call of `evaluate_many`, counted as the
 # 4n + 1 rows of their `slopes_many` each, and the Points alive at once (motion with 200 poses: 2 a
 # call, peak 130 MiB against 105 one point at a time; with 11 poses all 22 in one call)
+STALLED = 0.5  # curvature="stalled": steps shrinking by less than this a step stall. The differenced
+# Hessian costs 2 gradients a group, about as many Newton steps; Gauss-Newton at a rate of 1/2 needs
+# about 20 steps from NEAR to STEP_TOL, so below it Gauss-Newton is the cheaper (arc6_timed's rates
+# are 0.02 to 0.35: at 0.25 its settles took the differenced Hessian, 76,612 -> 215,029 evaluations)
 DEPENDENT = 1e-8  # an active gradient with less than this share of its norm outside the
 # span of the others' adds no condition (finite-difference slopes are exact to ~1e-10)
 
@@ -115,7 +119,8 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
     Newton-KKT linear at best, and its line search stalls short of the root. Where the
     steps shrink only linearly or grow, the whole Hessian of the Lagrangian by differences
     (a residual's own curvature that Gauss-Newton misses). `curvature="stalled"`: that
-    differenced Hessian only where the steps stall, Gauss-Newton alone elsewhere (each
+    differenced Hessian only where the steps stall (shrink by less than STALLED a step, or
+    grow), Gauss-Newton alone elsewhere (each
     differenced Hessian costs 2 gradients a group: with constraints that are mostly
     linear, such as the Grashof inequalities, adding their curvature at every step
     spends a budget for nothing).
@@ -126,6 +131,8 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
     batch of the caller's vectorized function, `slopes_many`), for the differenced
     Hessian's 2 points a group, which use their f, g, c and a only (h may be None there);
     None: `evaluate` point by point."""
+    if curvature not in (False, True, "stalled"):
+        raise ValueError(f"curvature must be False, True or 'stalled', not {curvature!r}")
     opts = Options(evaluate, hessian_step, active_tol, multipliers, step_tol, curvature, groups, evaluate_many)
     out = _settle_once(opts, u0)
     for _ in range(AGAIN):  # from its end, where the binding set is read afresh
@@ -210,7 +217,7 @@ def _newton(opts: Options, u, p: Point, active, fixed):
         if curvature and size <= NEAR:  # Newton's region: steps that shrink only linearly say
             # the model misses curvature (a large residual's): the differenced Hessian then;
             # steps that grow under it say it is worse (round-off in a flat valley): back
-            full = size < last if full else size > 0.25 * last
+            full = size < last if full else size > (STALLED if curvature == "stalled" else 0.25) * last
         last = size
         if size <= NEAR:  # Newton's own region: the step is taken whole
             u = np.clip(u + step, 0.0, 1.0)

@@ -365,11 +365,12 @@ def settle(space: Space, z0, sign: float, s: float):
     grew 2.4 times a step, every settle failed after its 30 steps and they took half the
     run; now 0.82 s against 1.43). Only there: the constraints' curvature added at every
     step (`curvature=True`) spent a round pick's settle budget (PICK_SETTLE) on Grashof
-    inequalities, which are linear, and the pick stayed unsettled. Not with free timing: its input angles are a start plus cumulative
-    increments, every one moving the later targets, so the differenced Hessian costs 2 k
-    gradients of k = 9 + n variables and a round's pick ran out of its settle's evaluations
-    (tuning case 73: 2 of 5 seeds lost their confirmation). Returns the kkt.Settled record
-    with z in place of the unit coordinates."""
+    inequalities, which are linear, and the pick stayed unsettled. Not with free timing:
+    its input angles are a start plus cumulative increments, every one moving the later
+    targets, so the differenced Hessian costs 2 k gradients of k = 9 + n variables and a
+    round's pick ran out of its settle's evaluations (tuning case 73: 2 of 5 seeds lost
+    their confirmation). Returns the kkt.Settled record with z in place of the unit
+    coordinates."""
     from linkcli.search import kkt
     design = space.design
     width = space.hi - space.lo
@@ -394,7 +395,8 @@ def settle(space: Space, z0, sign: float, s: float):
         return points(np.asarray(u, float)[None, :], True)[0]
 
     u0 = np.clip((np.asarray(z0, dtype=float) - space.lo) / np.where(width > 0, width, 1.0), 0.0, 1.0)
-    out = kkt.settle(evaluate, u0, hessian_step=CURVATURE_STEP, curvature="stalled" if design.timing == "prescribed" else False,
+    curvature = "stalled" if design.timing == "prescribed" else False
+    out = kkt.settle(evaluate, u0, hessian_step=CURVATURE_STEP, curvature=curvature,
                      evaluate_many=lambda us: points(us, False))
     out.u = space.lo + out.u * width
     return out
