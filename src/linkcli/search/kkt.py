@@ -120,10 +120,9 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
     steps shrink only linearly or grow, the whole Hessian of the Lagrangian by differences
     (a residual's own curvature that Gauss-Newton misses). `curvature="stalled"`: that
     differenced Hessian only where the steps stall (shrink by less than STALLED a step, or
-    grow), Gauss-Newton alone elsewhere (each
-    differenced Hessian costs 2 gradients a group: with constraints that are mostly
-    linear, such as the Grashof inequalities, adding their curvature at every step
-    spends a budget for nothing).
+    grow), Gauss-Newton alone elsewhere (each differenced Hessian costs 2 gradients a
+    group: with constraints that are mostly linear, such as the Grashof inequalities,
+    adding their curvature at every step spends a budget for nothing).
     A converged settle starts again from its end point (at most AGAIN times) while that
     lowers f: there the binding set is read afresh, and a set that held at the first end
     point (a variable within AT_BOUND of its bound left free, a constraint beside it held)
@@ -279,6 +278,19 @@ def slopes_many(values: Callable[[np.ndarray], np.ndarray], u: np.ndarray, step:
     forward = -25.0 * v0[:, None, :] + 48.0 * v[:, 0] - 36.0 * v[:, 1] + 16.0 * v[:, 2] - 3.0 * v[:, 3]
     jac = np.where((one_sided != 0.0)[:, :, None], forward, central) / (12.0 * h[:, :, None])
     return v0, np.transpose(jac, (0, 2, 1))
+
+
+def least_squares_points(v, jac, m: int, gauss_newton: bool, jr=None) -> list[Point]:
+    """The Points of f = |r|^2 at K points from their values v (K, m + c) -- the residuals r
+    first, then the constraints c -- and Jacobians jac (K, m + c, n) (`slopes_many`):
+    g = 2 J^T r, and h = 2 J^T J where `gauss_newton` (None elsewhere: the differenced
+    Hessian's points read f, g, c and a alone). jr (K, m, n): the residuals' Jacobians to
+    use instead of jac's first m rows (closed-form slopes)."""
+    r = v[:, :m]
+    jr = jac[:, :m] if jr is None else jr
+    f, g = linalg.dot(r, r), 2.0 * linalg.matvec(np.swapaxes(jr, 1, 2), r)
+    h = 2.0 * linalg.gram(jr) if gauss_newton else [None] * len(v)
+    return [Point(float(f[i]), g[i], v[i, m:], jac[i, m:], h=h[i]) for i in range(len(v))]
 
 
 def _kkt_residual(p: Point, rows, lam, free) -> float:

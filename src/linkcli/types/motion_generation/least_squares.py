@@ -603,7 +603,7 @@ def _settle(counter, fun, cons, x, mask, lo, hi, sign, scale, free_timing: bool)
     Lagrangian only where the steps stall (kkt, curvature="stalled"): the constraints'
     curvature added at every step cost 10 % of a run's time (farm-bench, tuning cases 3,
     19, 35, 67, 91, 123: 0.90) for the same verdicts on the tuning half."""
-    from linkcli.search import kkt, linalg
+    from linkcli.search import kkt
     from linkcli.search.budget import BudgetSpent
 
     width = hi[mask] - lo[mask]
@@ -619,10 +619,7 @@ def _settle(counter, fun, cons, x, mask, lo, hi, sign, scale, free_timing: bool)
     def points(us, gauss_newton: bool):  # the Points of unit-box points (K, n), one batch of residuals;
         # the Gauss-Newton matrix only where Newton steps from them (not at the Hessian's differenced points)
         v, jac = kkt.slopes_many(values, us, step=SETTLE_STEP)
-        r, jr = v[:, :m], jac[:, :m]
-        f, g = linalg.dot(r, r), 2.0 * linalg.matvec(np.swapaxes(jr, 1, 2), r)
-        h = 2.0 * linalg.gram(jr) if gauss_newton else [None] * len(us)
-        return [kkt.Point(float(f[i]), g[i], v[i, m:], jac[i, m:], h=h[i]) for i in range(len(us))]
+        return kkt.least_squares_points(v, jac, m, gauss_newton)
 
     def evaluate(u):
         return points(np.asarray(u, float)[None, :], True)[0]

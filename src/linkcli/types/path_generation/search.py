@@ -31,7 +31,7 @@ import math
 
 import numpy as np
 
-from linkcli.search import levenberg_marquardt, linalg, sampling
+from linkcli.search import levenberg_marquardt, sampling
 from linkcli.search.budget import Budget
 from linkcli.search.increments import Increments
 from linkcli.search.evolution import evolve
@@ -386,10 +386,8 @@ def settle(space: Space, z0, sign: float, s: float):
     def points(us, gauss_newton: bool):  # kkt.Points of unit points us (K, k): one batch of values;
         # the Gauss-Newton matrix only where Newton steps from them (not at the differenced Hessian's)
         v, jac = kkt.slopes_many(values, us, step=SETTLE_STEP)
-        r, jr = v[:, :m], _exact_slopes(space, us, sign, s, width, jac[:, :m])
-        f, g = linalg.dot(r, r), 2.0 * linalg.matvec(np.swapaxes(jr, 1, 2), r)
-        h = 2.0 * linalg.gram(jr) if gauss_newton else [None] * len(us)
-        return [kkt.Point(float(f[i]), g[i], v[i, m:], jac[i, m:], h=h[i]) for i in range(len(us))]
+        jr = _exact_slopes(space, us, sign, s, width, jac[:, :m])
+        return kkt.least_squares_points(v, jac, m, gauss_newton, jr)
 
     def evaluate(u):
         return points(np.asarray(u, float)[None, :], True)[0]
