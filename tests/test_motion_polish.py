@@ -271,7 +271,8 @@ def test_no_two_rounds_take_one_five_pose_subset(monkeypatch):
     """A subset's Burmester linkages are the same in every round, and two rounds polishing
     one start agree without being independent arrivals: each round's subsets are new ones
     (with 7 poses, 21 subsets: 13 in the first round, the 8 left in the second, none in
-    the third), and a round draws only among those left."""
+    the third, whose starts then come from four-pose subsets, each taken once too), and a
+    round draws only among those left."""
     seen = []
     original = LS.burmester_dyads
 
@@ -288,7 +289,11 @@ def test_no_two_rounds_take_one_five_pose_subset(monkeypatch):
         seen.append([])
         search.pool(rng, 200, 8, spread=spread)
     assert [len(s) for s in seen] == [13, 8, 0]
-    assert len(set(seen[0]) | set(seen[1])) == 21 and len(search.taken) == 21
+    assert len(set(seen[0]) | set(seen[1])) == 21
+    fives, fours = ([s for s in search.taken if len(s) == k] for k in (5, 4))
+    # the subsets run out: the second round fills its 12 with four-pose curves (4), the third
+    # takes 12 of them, each four-pose subset once (curve_dyads)
+    assert len(fives) == 21 and len(fours) == 16
     rng = np.random.default_rng(1)
     taken = frozenset(tuple(int(i) for i in s) for s in LS._subsets(rng, 12, 40))
     later = LS._subsets(rng, 12, 40, taken)

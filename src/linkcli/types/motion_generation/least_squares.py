@@ -37,6 +37,7 @@ from linkcli.search.sampling import latin_hypercube
 from . import assemble
 from . import constraints as design_constraints
 from .burmester import burmester_dyads
+from .curve_dyads import fitting_dyads
 from .dyads import moving_pivots_for_ground
 from .poses import as_poses, characteristic_length
 
@@ -56,6 +57,7 @@ CLAIM_ROUNDS = 3  # rounds run at least before a confirmed best ends the search 
 # with two, the first two rounds ending in one wide basin claimed it (cases 11, 27, 83 of the
 # constrained-variant study's tuning half, 8 of 75 runs)
 EXACT_RMS = 1e-9  # rms error (relative to the characteristic length) of an exact fit
+CURVE_DYADS = 6  # a four-pose curve's best-fitting dyads that make start linkages (every ordered pair)
 SUBSETS = 12  # distinct random 5-pose subsets whose Burmester linkages join a round's population
 # (near-exact fits of five poses: clipped into the bounds, starts near a bound-held optimum; 3
 # found case 11's, two length bounds binding, in 2 of 5 seeds, 12 in 5 of 5), none that an earlier
@@ -181,15 +183,22 @@ def _starts(poses, lo, hi, rng, population, signs, spread: bool = True, taken: s
         taken = set() if taken is None else taken
         spread_one = [np.linspace(0, n - 1, 5).round().astype(int)] if spread else []
         subsets = [sub for sub in spread_one if tuple(sub.tolist()) not in taken]
-        subsets += _subsets(rng, n, SUBSETS, frozenset(taken))
+        drawn = _subsets(rng, n, SUBSETS, frozenset(taken))
+        subsets += drawn
         taken.update(tuple(sub.tolist()) for sub in subsets)
+        dyads = []
         for sub in subsets:
             res = burmester_dyads(poses[sub])
-            k = len(res.ground)
+            dyads.append((res.ground, res.moving))
+        if len(drawn) < SUBSETS:  # the five-pose subsets run out: four-pose curves' best dyads instead
+            fours = _subsets(rng, n, SUBSETS - len(drawn), frozenset(taken), size=4)
+            taken.update(tuple(sub.tolist()) for sub in fours)
+            dyads += [fitting_dyads(poses, sub, CURVE_DYADS) for sub in fours]
+        for ground, moving in dyads:
+            k = len(ground)
             if k >= 2:
                 i, j = np.nonzero(~np.eye(k, dtype=bool))
-                p, _, _ = assemble.dyad_pair_params(poses, res.ground[i], res.moving[i],
-                                                    res.ground[j], res.moving[j])
+                p, _, _ = assemble.dyad_pair_params(poses, ground[i], moving[i], ground[j], moving[j])
                 rows.append(p)
     if n >= 3:
         sub = np.array([0, n // 2, n - 1])
@@ -218,21 +227,21 @@ def into_window(angle, lo: float, hi: float):
     return np.where(past <= 0.0, lo + d, np.where(past <= kin.TWO_PI - d, hi, lo))
 
 
-def _subsets(rng, n: int, count: int, taken: frozenset = frozenset()) -> list[np.ndarray]:
-    """`count` distinct 5-pose subsets of n poses drawn at random, none of `taken` (every
+def _subsets(rng, n: int, count: int, taken: frozenset = frozenset(), size: int = 5) -> list[np.ndarray]:
+    """`count` distinct `size`-pose subsets of n poses drawn at random, none of `taken` (every
     one left, in a random order, when no more than 4 `count` are left; none when all are
     taken), each sorted. A subset's Burmester linkages are the same whichever round
     computes them: two rounds that polish one such start end at one point without being
     two independent arrivals (the motion study's tuning and reporting halves: 10 of 150
     runs claimed their best on rounds that had all polished one bit-identical start), so
     a round takes only subsets no earlier round took."""
-    total = math.comb(n, 5)
-    if total - len(taken) <= 4 * count:  # few: every subset left, shuffled, the first `count`
-        every = np.array([sub for sub in itertools.combinations(range(n), 5) if sub not in taken], int)
+    total = math.comb(n, size) - sum(1 for sub in taken if len(sub) == size)  # those left
+    if total <= 4 * count:  # few: every subset left, shuffled, the first `count`
+        every = np.array([sub for sub in itertools.combinations(range(n), size) if sub not in taken], int)
         return list(every[rng.permutation(len(every))[:count]]) if len(every) else []
     seen, out = set(taken), []
     while len(out) < count:  # many: draws, a repeat or a taken one drawn again (rare: > 4 count left)
-        sub = tuple(np.sort(rng.choice(n, 5, replace=False)).tolist())
+        sub = tuple(np.sort(rng.choice(n, size, replace=False)).tolist())
         if sub not in seen:
             seen.add(sub)
             out.append(np.array(sub))
