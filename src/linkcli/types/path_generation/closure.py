@@ -50,29 +50,23 @@ class Frame:
 
 def frame(a, b, c, d, phi, sign) -> Frame:
     """The closure at input angles phi on the branch `sign` (-1 open, +1 crossed; arrays
-    broadcast like the lengths). Lengths are square roots of sums of squares (exactly
-    rounded, as `hypot`, but a third of its time; the lengths a file accepts are far from
-    overflow), and each length divides once (its reciprocal multiplies both components)."""
+    broadcast like the lengths)."""
     cphi, sphi = np.cos(phi), np.sin(phi)
     ax, ay = a * cphi, a * sphi
     rx = ax - d
-    rho2 = rx * rx + ay * ay
-    rho = np.sqrt(rho2)
-    apart = rho > 0.0
-    inv_rho = 1.0 / np.where(apart, rho, 1.0)
+    rho = np.hypot(rx, ay)
+    safe = np.where(rho > 0.0, rho, 1.0)
     with np.errstate(over="ignore", invalid="ignore"):
-        cos_alpha = (rho2 + (c * c - b * b)) * inv_rho / (2.0 * c)
-    valid = (np.abs(cos_alpha) <= 1.0 + ASSEMBLY_SLACK) & apart
-    ca = np.clip(cos_alpha, -1.0, 1.0)
-    ca[np.isnan(ca)] = 1.0  # 0 / 0 (a zero coupler and rocker): a toggle, not assembled
+        cos_alpha = (rho * rho + c * c - b * b) / (2.0 * safe * c)
+    valid = (np.abs(cos_alpha) <= 1.0 + ASSEMBLY_SLACK) & (rho > 0.0)
+    ca = np.clip(np.nan_to_num(cos_alpha, nan=1.0), -1.0, 1.0)
     sa = sign * np.sqrt((1.0 - ca) * (1.0 + ca))
-    ux, uy = np.where(apart, rx * inv_rho, 1.0), ay * inv_rho
+    ux, uy = np.where(rho > 0.0, rx / safe, 1.0), ay / safe
     cpsi, spsi = ux * ca - uy * sa, ux * sa + uy * ca
     bx, by = d + c * cpsi - ax, c * spsi - ay
-    length = np.sqrt(bx * bx + by * by)
-    joined = length > 0.0
-    inv_len = 1.0 / np.where(joined, length, 1.0)
-    ct, st = np.where(joined, bx * inv_len, 1.0), by * inv_len
+    length = np.hypot(bx, by)
+    safe_len = np.where(length > 0.0, length, 1.0)
+    ct, st = np.where(length > 0.0, bx / safe_len, 1.0), by / safe_len
     shape = ct.shape
     return Frame(cphi=np.broadcast_to(cphi, shape), sphi=np.broadcast_to(sphi, shape), ct=ct, st=st,
                  cpsi=cpsi, spsi=spsi, rho=np.broadcast_to(rho, shape),
