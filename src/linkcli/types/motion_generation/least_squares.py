@@ -8,7 +8,8 @@ excursion of the body. Unknowns: the 10 linkage parameters (assemble.PARAM_NAMES
 with free timing, every phi_i; with prescribed timing phi_i = input_angles_i + offset.
 
 Method: (1) a global stage evaluated on a whole population at once: a Latin hypercube
-over the bounds, the linkages of the Burmester dyads of five-pose subsets and of 3-pose
+over the bounds, the linkages of the Burmester dyads of five-pose subsets (of four-pose
+centre-point curves' best-fitting dyads once those run out: curve_dyads.py) and of 3-pose
 inversions (moving pivots for sampled ground pivots), each scored with its best phi_i
 from a grid (free timing; the inner minimization is exact up to the grid; with many poses
 the rows are ranked on a few of them first); (2) the best distinct starts polished all at
@@ -228,15 +229,15 @@ def into_window(angle, lo: float, hi: float):
 
 
 def _subsets(rng, n: int, count: int, taken: frozenset = frozenset(), size: int = 5) -> list[np.ndarray]:
-    """`count` distinct `size`-pose subsets of n poses drawn at random, none of `taken` (every
-    one left, in a random order, when no more than 4 `count` are left; none when all are
-    taken), each sorted. A subset's Burmester linkages are the same whichever round
+    """`count` distinct `size`-pose subsets of n poses drawn at random, none of `taken` (which
+    may hold subsets of other sizes too; every one left, in a random order, when no more
+    than 4 `count` are left; none when all are taken), each sorted. A subset's Burmester linkages are the same whichever round
     computes them: two rounds that polish one such start end at one point without being
     two independent arrivals (the motion study's tuning and reporting halves: 10 of 150
     runs claimed their best on rounds that had all polished one bit-identical start), so
     a round takes only subsets no earlier round took."""
-    total = math.comb(n, size) - sum(1 for sub in taken if len(sub) == size)  # those left
-    if total <= 4 * count:  # few: every subset left, shuffled, the first `count`
+    left = math.comb(n, size) - sum(1 for sub in taken if len(sub) == size)
+    if left <= 4 * count:  # few: every subset left, shuffled, the first `count`
         every = np.array([sub for sub in itertools.combinations(range(n), size) if sub not in taken], int)
         return list(every[rng.permutation(len(every))[:count]]) if len(every) else []
     seen, out = set(taken), []
