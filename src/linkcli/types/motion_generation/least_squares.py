@@ -488,7 +488,9 @@ class Search:
         ranked = [results[i] for i in order]
         out = dict(ranked[0])
         out["confirmed"] = bool(confirmed)
-        out["converged"] = bool(out.get("converged")) and bool(confirmed)
+        # an exact fit has nothing left to converge to (as in path generation): its polish may
+        # stop at 1e-27 on a step that gains nothing measurable, without meeting the gain test
+        out["converged"] = (bool(out.get("converged")) and bool(confirmed)) or self.fits_exactly(out)
         out["angle_weight"] = self.weight
         out["evaluations"] = self.counter.used
         out["candidates"] = [{k: r[k] for k in ("params", "branch", "objective", "feasible", "why")}
