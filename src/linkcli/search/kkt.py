@@ -59,6 +59,8 @@ STALLED = 0.5  # curvature="stalled": steps shrinking by less than this a step s
 # Hessian costs 2 gradients a group, about as many Newton steps; Gauss-Newton at a rate of 1/2 needs
 # about 20 steps from NEAR to STEP_TOL, so below it Gauss-Newton is the cheaper (arc6_timed's rates
 # are 0.02 to 0.35: at 0.25 its settles took the differenced Hessian, 76,612 -> 215,029 evaluations)
+STALL_RATE = {True: 0.25, "stalled": STALLED}  # each curvature's stall threshold (True: the
+# constraints' curvature is added at every step already, the whole Hessian only below a quarter)
 DEPENDENT = 1e-8  # an active gradient with less than this share of its norm outside the
 # span of the others' adds no condition (finite-difference slopes are exact to ~1e-10)
 
@@ -216,7 +218,7 @@ def _newton(opts: Options, u, p: Point, active, fixed):
         if curvature and size <= NEAR:  # Newton's region: steps that shrink only linearly say
             # the model misses curvature (a large residual's): the differenced Hessian then;
             # steps that grow under it say it is worse (round-off in a flat valley): back
-            full = size < last if full else size > (STALLED if curvature == "stalled" else 0.25) * last
+            full = size < last if full else size > STALL_RATE[curvature] * last
         last = size
         if size <= NEAR:  # Newton's own region: the step is taken whole
             u = np.clip(u + step, 0.0, 1.0)

@@ -26,7 +26,7 @@ import numpy as np
 from linkcli.noise import NOISE_FLOOR
 
 from .burmester import centre_point_curve
-from .poses import characteristic_length
+from .poses import characteristic_length, to_global
 
 SAMPLES = 181  # directions sampled on the curve (two cuts each)
 DISTINCT = 0.05  # characteristic lengths between the ground pivots of two dyads kept
@@ -46,10 +46,7 @@ def fitting_dyads(poses, subset, count: int):
     if not len(ground):
         return ground, moving
     scale = characteristic_length(poses)
-    c, s = np.cos(poses[:, 2]), np.sin(poses[:, 2])
-    ax = poses[:, 0] + c * moving[:, None, 0] - s * moving[:, None, 1]  # (K, n)
-    ay = poses[:, 1] + s * moving[:, None, 0] + c * moving[:, None, 1]
-    radius = np.sqrt((ax - ground[:, None, 0]) ** 2 + (ay - ground[:, None, 1]) ** 2)
+    radius = np.linalg.norm(to_global(poses, moving[:, None, :]) - ground[:, None, :], axis=-1)  # (K, n)
     spread = np.sqrt(np.mean((radius - radius.mean(1, keepdims=True)) ** 2, 1)) / scale
     kept: list[int] = []
     for k in np.argsort(spread, kind="stable"):  # a short loop: it stops at `count` kept
