@@ -284,17 +284,21 @@ def bounded_lstsq(h: np.ndarray, rhs: np.ndarray, lo: np.ndarray, hi: np.ndarray
     held = np.zeros((n, f), dtype=bool)
     value = np.zeros((n, f))
     y = np.zeros((n, f))
+    todo = np.arange(n)  # the rows whose held set changed in the last pass (a row's solve
+    # depends on its own held set alone: the others would repeat their last solve)
     for _ in range(f + 1):
-        free = ~held
-        r = rhs - np.einsum("nij,nj->ni", h, value * held)
-        a = linalg.restricted(h, free)
-        b = np.where(free, r, value)
-        y = np.nan_to_num(linalg.solve_spd(a, b))
-        low, high = free & (y < lo), free & (y > hi)
-        if not (low.any() or high.any()):
+        h_t, held_t, value_t = h[todo], held[todo], value[todo]
+        free = ~held_t
+        r = rhs[todo] - np.einsum("nij,nj->ni", h_t, value_t * held_t)
+        y_t = np.nan_to_num(linalg.solve_spd(linalg.restricted(h_t, free), np.where(free, r, value_t)))
+        y[todo] = y_t
+        low, high = free & (y_t < lo), free & (y_t > hi)
+        moved = np.any(low | high, axis=1)
+        if not moved.any():
             break
-        held |= low | high
-        value = np.where(low, lo, np.where(high, hi, value))
+        held[todo] = held_t | low | high
+        value[todo] = np.where(low, lo, np.where(high, hi, value_t))
+        todo = todo[moved]
     return np.clip(np.where(held, value, y), lo, hi)
 
 
