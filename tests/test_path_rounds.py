@@ -39,7 +39,7 @@ def test_an_exact_fit_in_the_field_settles_the_search_without_a_second_draw(monk
     """closed_curve12's targets lie on a four-bar's coupler curve: the first field round
     fits them exactly, so the second round of the pair is never drawn; kunjur5 has no
     exact fit, so both are, and its best, found twice by the pair, is only claimed after
-    CLAIM_ROUNDS rounds (4: two more, each drawn)."""
+    CLAIM_ROUNDS["prescribed"] rounds (4: two more, each drawn)."""
     from linkcli.search.budget import Budget
     from linkcli.types.path_generation import solve as path_solve
     from linkcli.types.path_generation import starts
@@ -213,7 +213,7 @@ def test_prescribed_timing_runs_its_first_four_rounds_side_by_side_free_timing_t
         return original(design, budget, rng, sizes, best_so_far, thorough)
 
     monkeypatch.setattr(path_solve, "one_round", recorded)
-    monkeypatch.setattr(path_solve, "CLAIM_ROUNDS", 6)
+    monkeypatch.setattr(path_solve, "CLAIM_ROUNDS", dict(path_solve.CLAIM_ROUNDS, prescribed=6))
     path_solve.multistart(design_of("kunjur5"), Budget(2_000_000), np.random.default_rng(0))
     assert batches[0] == [100_000, 100_000, 200_000, 400_000] and len(batches) > 1
     assert flags == [False] + [True] * (len(batches) - 1)

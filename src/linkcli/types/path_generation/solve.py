@@ -74,12 +74,15 @@ FIRST_ROUND = 100_000  # the first round's; each next one twice the last, up to 
 MIN_ROUND = 60_000  # a budget below two of these is one round
 CONFIRM = 1e-7  # a round whose own best is within this (relative) of the best so far confirms it
 IMPROVE = 1e-6  # a round improves the best when it lowers it by more than this (relative)
-CLAIM_ROUNDS = 4  # rounds run at least before a best found twice ends the search (an exact fit
-# ends it at once): the first two rounds can all fall into one wide basin of a local optimum
-# (constrained-variant cases 13, 69 and 93: two or three rounds at 1.2 to 15 times the best
-# known, said `ok`; with four, each found the best or said `not-converged`; two checking
-# rounds side by side at the first rounds' size did not)
-SIDE_BY_SIDE = {"free": 2, "prescribed": CLAIM_ROUNDS}  # rounds run side by side at the start. A
+CLAIM_ROUNDS = {"prescribed": 4, "free": 6}  # rounds run at least before a best found twice ends
+# the search (an exact fit ends it at once): the first rounds can all fall into one wide basin of a
+# local optimum (constrained-variant cases 13, 69 and 93: two or three rounds at 1.2 to 15 times the
+# best known, said `ok`; with four, each found the best or said `not-converged`; two checking rounds
+# side by side at the first rounds' size did not). With free timing six: its rounds refine every
+# unconverged pick (REFINE_ALL), so that more of them arrive at a wide basin's bottom, and reporting
+# case 13's four rounds of seed 3 all ended at its local optimum at 16.6 times the best known and
+# claimed it (in turn, the optimum's basin is reached about one round in three or four there)
+SIDE_BY_SIDE = {"free": 2, "prescribed": CLAIM_ROUNDS["prescribed"]}  # rounds run side by side at the start. A
 # prescribed-timing round spends a small share of its size (its draws are capped), so its batched steps
 # are call overhead and four rounds together take about the time of two (tuning cases 96, 40: 2.3 -> 1.4
 # and 1.6 s, the same designs). A free-timing round fills its size, and four together saved less (tuning
@@ -208,7 +211,7 @@ def multistart(design: Design, budget: Budget, rng) -> tuple[list[Candidate], bo
                 done |= stale >= MAX_STALE
             best = top if best is None or top < best else best
             confirmed |= _found_twice(design, found, exact)
-            if done or (confirmed and index >= CLAIM_ROUNDS):
+            if done or (confirmed and index >= CLAIM_ROUNDS[design.timing]):
                 return found, confirmed
         if budget.left < MIN_ROUND // 2:  # too little left for a round that could settle it
             return found, confirmed
