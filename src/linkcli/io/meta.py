@@ -223,6 +223,25 @@ def read_sections(root: Table, default: tuple[str, ...], allowed: tuple[str, ...
     return tuple(s for s in ALL_SECTIONS if s in value)
 
 
+MIN_LEVEL = MIN_FAILURES / MAX_SAMPLES  # the least max_failure_probability: 1e-05
+
+
+def read_level(t: Table) -> float | None:
+    """The inverse mode's `max_failure_probability` p, None when missing or bad: a probability
+    from MIN_LEVEL (1e-05) to below 1, since the study wants samples >= MIN_FAILURES / p and
+    holds at most MAX_SAMPLES (a smaller p, down to a denormal, could never be met)."""
+    level = t.number("max_failure_probability", None, what="a probability strictly between 0 and 1")
+    if level is not None and not 0.0 < level < 1.0:
+        t.error("max_failure_probability", "a probability strictly between 0 and 1", level)
+        return None
+    if level is not None and level < MIN_LEVEL:
+        t.error("max_failure_probability", f"a probability of at least {MIN_LEVEL:g} (the study wants "
+                f"samples >= {MIN_FAILURES} / max_failure_probability and holds at most {MAX_SAMPLES} samples)",
+                level)
+        return None
+    return level
+
+
 def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     """[tolerance]: `lengths` (one +- tolerance for every link, an ISO 2768 class, or a table
     per link of either; a path generator's table may add `coupler_point`, +- on each
@@ -268,10 +287,7 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     allowed = t.number("allowed_error", None, positive=True)
     if allowed is not None:
         allowed = units.to_rad(allowed) if not (path_type or own.OUTPUT == "length") else allowed
-    level = t.number("max_failure_probability", None, what="a probability strictly between 0 and 1")
-    if level is not None and not 0.0 < level < 1.0:
-        t.error("max_failure_probability", "a probability strictly between 0 and 1", level)
-        level = None
+    level = read_level(t)
     if level is not None and allowed is None and "allowed_error" not in t:
         t.error("allowed_error", "a positive number (needed by max_failure_probability: a "
                 "sample fails when its error exceeds allowed_error)")
