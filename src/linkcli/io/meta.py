@@ -223,6 +223,14 @@ def read_sections(root: Table, default: tuple[str, ...], allowed: tuple[str, ...
     return tuple(s for s in ALL_SECTIONS if s in value)
 
 
+def drawn_joint_names(root: Table) -> tuple[str, ...]:
+    """The joint names of a drawn linkage's top-level [joints], unchecked (they are checked
+    where the drawing is read); () when it is missing or not a table (`joints = 1`: that
+    error is recorded there, once)."""
+    joints = root.data.get("joints")
+    return tuple(joints) if isinstance(joints, dict) else ()
+
+
 MIN_LEVEL = MIN_FAILURES / MAX_SAMPLES  # the least max_failure_probability: 1e-05
 
 
@@ -291,7 +299,7 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     if level is not None and allowed is None and "allowed_error" not in t:
         t.error("allowed_error", "a positive number (needed by max_failure_probability: a "
                 "sample fails when its error exceeds allowed_error)")
-    joint_names = own.JOINTS if own.JOINTS is not None else tuple(root.data.get("joints") or ())
+    joint_names = own.JOINTS if own.JOINTS is not None else drawn_joint_names(root)
     cost = read_cost(t, per_link, joint_names)
     schemes = read_schemes(t, links, per_link, own.JOINTS)
     if cost is not None and level is None and "max_failure_probability" not in t:
