@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 
 from linkcli.model import Meta, Reference, SolverOptions
-from linkcli.io.reader import Table
+from linkcli.io.reader import MAX_ARRAY, Table
 from linkcli.registry import ProblemType
 from linkcli.units import ANGLE_UNITS, LENGTH_TO_MM, Units
 
@@ -204,14 +204,18 @@ def read_reference(root: Table) -> Reference | None:
 
 
 def read_sections(root: Table, default: tuple[str, ...], allowed: tuple[str, ...]) -> tuple[str, ...]:
+    """[report] sections: an array of 1 to MAX_ARRAY names from `allowed` (the cap of every
+    array: this one, of strings, is not read by number_list, which holds it for numbers);
+    `default` when absent or bad (error recorded)."""
     t = root.table("report")
     if t is None:
         return tuple(default)
     value = t.raw("sections", None)
     if value is None:
         return tuple(default)
-    if not isinstance(value, list) or not value or not all(isinstance(v, str) for v in value):
-        t.error("sections", f"an array of section names from: {', '.join(allowed)}", value)
+    if (not isinstance(value, list) or not 1 <= len(value) <= MAX_ARRAY
+            or not all(isinstance(v, str) for v in value)):
+        t.error("sections", f"an array of 1 to {MAX_ARRAY} section names from: {', '.join(allowed)}", value)
         return tuple(default)
     bad = [v for v in value if v not in allowed]
     if bad:
