@@ -157,6 +157,26 @@ def test_a_key_32_deep_is_read():
     assert node == 1
 
 
+LONG_RUNS = {  # masked text with a 4 MiB run of bare-key characters, and where the deep key is
+    "a string (masked to x)": ('title = "' + "x" * 4_000_000 + '"\n', None),
+    "a bare key": ("k" * 4_000_000 + " = 1\n", None),
+    "an integer": ("x = " + "1" * 4_000_000 + "\n", None),
+    "a 32-part key with a long last part": ("a." * 31 + "b" * 4_000_000 + " = 1\n", None),
+    "a 33-part key after a long string": ('t = "' + "x" * 4_000_000 + '"\n' + _dotted(33) + " = 1\n", 2),
+    "a 33-part key whose first part is long": ("\n" + "k" * 4_000_000 + "." + _dotted(32) + " = 1\n", 2),
+}
+
+
+@pytest.mark.parametrize("case", LONG_RUNS)
+def test_the_deep_key_scan_reads_a_long_run_of_key_characters_once(case):
+    # the scan runs before tomllib on every file: the backtracking regex of the probe took
+    # 16 s on a 40,000-character title and hours on the 4 MiB a file may hold (each start in
+    # the run read the rest of it); the linear one reads these 4 MiB in a fraction of a second
+    from linkcli.io.nesting import deep_key_line
+    masked, line = LONG_RUNS[case]
+    assert deep_key_line(masked) == line
+
+
 # -- an integer beyond Python's digit limit keeps its key --------------------------------
 
 @pytest.mark.parametrize("where, line, key", [

@@ -239,6 +239,19 @@ def test_tolerance_section_with_its_table_is_accepted():
     assert load("f.toml", text).meta.sections == ("tolerance",)
 
 
+@pytest.mark.parametrize("count, refused", [(10_000, False), (10_001, True)])
+def test_report_sections_hold_at_most_the_array_cap(count, refused):
+    # a string array, so not capped by number_list: 10,001 names were accepted
+    text = 'type = "linkage"\n' + LINKAGE + f'[report]\nsections = {["lengths"] * count}\n'
+    if not refused:
+        assert load("f.toml", text).meta.sections == ("lengths",)
+        return
+    (err,) = errors_of(text)
+    assert (err.key, err.line) == ("report.sections", 8)
+    assert err.expected.startswith("an array of 1 to 10000 section names from: lengths, ")
+    assert err.got == "an array of 10001"
+
+
 def test_a_bad_tolerance_table_is_reported_once():
     text = 'type = "linkage"\ntolerance = 3\n' + LINKAGE + '[report]\nsections = ["tolerance"]\n'
     (err,) = errors_of(text)

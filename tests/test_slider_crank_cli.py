@@ -259,6 +259,21 @@ def test_check_refuses_impossible_slider_positions_as_synth_does(tmp_path, phi, 
     assert (code, out) == (2, "") and found in err and err.startswith(f"{path}:5: positions: expected")
 
 
+@pytest.mark.parametrize("s, index, found", [
+    ("[-1e308, 117.366946, 85.254772]", 0, "-1e+308"),  # passed check; synth blamed `linkage`
+    ("[40, 1000000001, 85]", 1, "1000000001"),
+])
+def test_a_slider_position_beyond_the_sizes_is_refused_on_its_item(tmp_path, s, index, found):
+    path = tmp_path / "p.toml"
+    path.write_text(SLIDER_POSITIONS.format(phi=[30, 90, 150], s=s))
+    outputs = {command: run_cli(command, str(path)) for command in ("check", "synth")}
+    assert outputs["check"] == outputs["synth"]
+    code, out, err = outputs["check"]
+    assert (code, out) == (2, "")
+    assert err == (f"{path}:6: positions.output[{index}]: expected a slider position of magnitude at most "
+                   f"1e+09 (length unit), found {found}\n")
+
+
 def test_check_and_synth_agree_on_random_slider_positions(tmp_path):
     """Random position sets (three to six, some near-degenerate): `check` refuses exactly
     the files `synth` refuses (exit 2), with the same line."""

@@ -517,6 +517,18 @@ BAD = [
     ('[sections]\ncoupler = { diameter = 8 }\n[material]\nname = "6061-T6"\nyield = 400',
      "material.yield: expected a yield strength at most the ultimate strength, found yield 400 MPa "
      "and ultimate 310 MPa"),
+    # sizes below 1e-9, as a link's length: 1e-300 and denormals passed as "> 0", then
+    # underflowed (the buckling load's division by zero, an internal error; infinite stresses)
+    ('[sections]\ncoupler = { width = 12, thickness = 1e-300 }\n[material]\nname = "AISI 1045 CD"',
+     "sections.coupler.thickness: expected a thickness > 0 normal to the plane of motion (length unit), "
+     "within [1e-09, 1e+09], found 1e-300"),
+    ('[sections]\ncoupler = { width = 5e-324, thickness = 4 }\n[material]\nname = "AISI 1045 CD"',
+     "sections.coupler.width: expected a width > 0 in the plane of motion (length unit), "
+     "within [1e-09, 1e+09], found 5e-324"),
+    ('[sections]\ncoupler = { diameter = 8, wall = 9e-10 }\n[material]\nname = "AISI 1045 CD"',
+     "sections.coupler.wall: expected a tube wall > 0 (length unit), within [1e-09, 1e+09], found 9e-10"),
+    ('[joints]\nA = { diameter = 5, width = 1e-300 }\n[material]\nname = "AISI 1045 CD"',
+     "joints.A.width: expected a bearing width > 0 (length unit), within [1e-09, 1e+09], found 1e-300"),
     ('[sections]\ncupler = { diameter = 8 }\n[material]\nname = "6061-T6"',
      'sections.cupler: expected a link of the four-bar: one of input, coupler, output (did you mean '
      '"coupler"?), found link "cupler"'),

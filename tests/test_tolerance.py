@@ -527,6 +527,14 @@ output = [52, 82, 112]
     ("allowed_error = -1", "tolerance.allowed_error", "a positive number"),
     ('distribution = "gauss"', "tolerance.distribution", "one of: uniform, normal"),
     ("max_failure_probability = 0", "tolerance.max_failure_probability", "strictly between"),
+    # below 10 / 1,000,000 no sample count can be enough: a denormal overflowed the count
+    # (an internal error), 1e-300 asked for a 300-digit one of `samples`
+    ("max_failure_probability = 5e-324\nallowed_error = 0.5", "tolerance.max_failure_probability",
+     "a probability of at least 1e-05"),
+    ("max_failure_probability = 1e-300\nallowed_error = 0.5", "tolerance.max_failure_probability",
+     "a probability of at least 1e-05"),
+    ("max_failure_probability = 9.9e-6\nsamples = 1000000\nallowed_error = 0.5",
+     "tolerance.max_failure_probability", "a probability of at least 1e-05"),
     ("lengths = { input = 1 }\nmax_failure_probability = 0.1\nallowed_error = 0.5", "tolerance.lengths",
      "a single"),
     ("samples = 100\nmax_failure_probability = 0.01\nallowed_error = 0.5", "tolerance.samples",
@@ -540,6 +548,12 @@ def test_bad_tolerance_is_a_schema_error_with_line_and_key(body, key, expected):
     assert errors[0].key == key and errors[0].line == 8
     assert expected in errors[0].expected
     assert str(errors[0]).startswith(f"bad.toml:8: {key}: expected ")
+
+
+def test_the_least_failure_probability_is_met_by_the_most_samples():
+    tolerance = load("p.toml", BASE + "max_failure_probability = 1e-5\nsamples = 1000000\n"
+                     "allowed_error = 0.5\n").meta.tolerance
+    assert isinstance(tolerance, InverseTolerance) and tolerance.max_failure_probability == 1e-5
 
 
 @pytest.mark.parametrize("bad", sorted((ROOT / "tests" / "bad").glob("tolerance_*.toml")))

@@ -136,8 +136,21 @@ def link_mass(masses: Table, link: str, point_mass: bool) -> LinkMass | None:
     mass = _amount(t, "mass", MISSING, "a mass >= 0 (kg)")
     if point_mass:
         return None if mass is None else LinkMass(mass)
-    center = t.number_list("center", [0.0, 0.0], length=2, what="coordinates [x, y] in the link's frame")
+    center = mass_center(t)
     inertia = _amount(t, "inertia", 0.0, "an inertia >= 0 about the centre (kg m^2)")
     if mass is None or center is None or inertia is None:
         return None
     return LinkMass(mass, tuple(center), inertia)
+
+
+def mass_center(t: Table):
+    """A link's centre of mass [x, y] (length unit, the link's frame; default [0, 0]), each
+    coordinate at most MAX_LENGTH in magnitude as every coordinate a file holds (1e308
+    made the loads' equations singular); None when bad."""
+    from linkcli.io.meta import MAX_LENGTH
+    center = t.number_list("center", [0.0, 0.0], length=2, what="coordinates [x, y] in the link's frame")
+    if center is not None and max(abs(v) for v in center) > MAX_LENGTH:
+        t.error("center", f"coordinates [x, y] in the link's frame of magnitude at most {MAX_LENGTH:g}",
+                raw_got=f"[{center[0]:g}, {center[1]:g}]")
+        return None
+    return center

@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 
 from linkcli.model import Meta, Reference, SolverOptions
-from linkcli.io.reader import Table
+from linkcli.io.reader import MAX_ARRAY, Table
 from linkcli.registry import ProblemType
 from linkcli.units import ANGLE_UNITS, LENGTH_TO_MM, Units
 
@@ -204,14 +204,18 @@ def read_reference(root: Table) -> Reference | None:
 
 
 def read_sections(root: Table, default: tuple[str, ...], allowed: tuple[str, ...]) -> tuple[str, ...]:
+    """[report] sections: an array of 1 to MAX_ARRAY names from `allowed` (the cap of every
+    array: this one, of strings, is not read by number_list, which holds it for numbers);
+    `default` when absent or bad (error recorded)."""
     t = root.table("report")
     if t is None:
         return tuple(default)
     value = t.raw("sections", None)
     if value is None:
         return tuple(default)
-    if not isinstance(value, list) or not value or not all(isinstance(v, str) for v in value):
-        t.error("sections", f"an array of section names from: {', '.join(allowed)}", value)
+    if (not isinstance(value, list) or not 1 <= len(value) <= MAX_ARRAY
+            or not all(isinstance(v, str) for v in value)):
+        t.error("sections", f"an array of 1 to {MAX_ARRAY} section names from: {', '.join(allowed)}", value)
         return tuple(default)
     bad = [v for v in value if v not in allowed]
     if bad:
@@ -221,6 +225,33 @@ def read_sections(root: Table, default: tuple[str, ...], allowed: tuple[str, ...
         t.error("sections", f"section names from: {', '.join(allowed)}{extra}", bad[0])
         return tuple(default)
     return tuple(s for s in ALL_SECTIONS if s in value)
+
+
+def drawn_joint_names(root: Table) -> tuple[str, ...]:
+    """The joint names of a drawn linkage's top-level [joints], unchecked (they are checked
+    where the drawing is read); () when it is missing or not a table (`joints = 1`: that
+    error is recorded there, once)."""
+    joints = root.data.get("joints")
+    return tuple(joints) if isinstance(joints, dict) else ()
+
+
+MIN_LEVEL = MIN_FAILURES / MAX_SAMPLES  # the least max_failure_probability: 1e-05
+
+
+def read_level(t: Table) -> float | None:
+    """The inverse mode's `max_failure_probability` p, None when missing or bad: a probability
+    from MIN_LEVEL (1e-05) to below 1, since the study wants samples >= MIN_FAILURES / p and
+    holds at most MAX_SAMPLES (a smaller p, down to a denormal, could never be met)."""
+    level = t.number("max_failure_probability", None, what="a probability strictly between 0 and 1")
+    if level is not None and not 0.0 < level < 1.0:
+        t.error("max_failure_probability", "a probability strictly between 0 and 1", level)
+        return None
+    if level is not None and level < MIN_LEVEL:
+        t.error("max_failure_probability", f"a probability of at least {MIN_LEVEL:g} (the study wants "
+                f"samples >= {MIN_FAILURES} / max_failure_probability and holds at most {MAX_SAMPLES} samples)",
+                level)
+        return None
+    return level
 
 
 def read_tolerance(root: Table, units: Units) -> Tolerance | None:
@@ -268,14 +299,11 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     allowed = t.number("allowed_error", None, positive=True)
     if allowed is not None:
         allowed = units.to_rad(allowed) if not (path_type or own.OUTPUT == "length") else allowed
-    level = t.number("max_failure_probability", None, what="a probability strictly between 0 and 1")
-    if level is not None and not 0.0 < level < 1.0:
-        t.error("max_failure_probability", "a probability strictly between 0 and 1", level)
-        level = None
+    level = read_level(t)
     if level is not None and allowed is None and "allowed_error" not in t:
         t.error("allowed_error", "a positive number (needed by max_failure_probability: a "
                 "sample fails when its error exceeds allowed_error)")
-    joint_names = own.JOINTS if own.JOINTS is not None else tuple(root.data.get("joints") or ())
+    joint_names = own.JOINTS if own.JOINTS is not None else drawn_joint_names(root)
     cost = read_cost(t, per_link, joint_names)
     schemes = read_schemes(t, links, per_link, own.JOINTS)
     if cost is not None and level is None and "max_failure_probability" not in t:

@@ -17,9 +17,15 @@ from __future__ import annotations
 import re
 
 MAX_DEPTH = 32  # levels of tables and arrays a file may nest
-# MAX_DEPTH + 1 dot-joined parts (masked strings are "xxx" or 'xxx')
-_PART = r"""(?:[A-Za-z0-9_\-]+|"x*"|'x*')"""
-_DEEP_KEY = re.compile(rf"(?:{_PART}[ \t]*\.[ \t]*){{{MAX_DEPTH}}}{_PART}")
+# MAX_DEPTH + 1 dot-joined parts (masked strings are "xxx" or 'xxx'). Linear time: every
+# quantifier is possessive (a part or a run of blanks, once read, is never given back), and
+# a match begins only at the start of a run of bare-key characters (the lookbehind), so a
+# run of n such characters (a long key, number, or string masked to "xxx...") is read O(1)
+# times, not once per start and length (the backtracking regex took minutes on 4 MiB).
+_KEY_CHARS = r"A-Za-z0-9_\-"
+_PART = rf"""(?:[{_KEY_CHARS}]++|"x*+"|'x*+')"""
+_FIRST = rf"""(?:(?<![{_KEY_CHARS}])[{_KEY_CHARS}]++|"x*+"|'x*+')"""
+_DEEP_KEY = re.compile(rf"{_FIRST}(?:[ \t]*+\.[ \t]*+{_PART}){{{MAX_DEPTH}}}")
 _BRACKET = re.compile(r"[\[\]{}]")
 
 

@@ -15,7 +15,7 @@ and needs the load cycle ([loads] or [masses]) and at least one sized part.
 
 from __future__ import annotations
 
-from linkcli.io.meta import MAX_LENGTH
+from linkcli.io.meta import MAX_LENGTH, MIN_LENGTH
 from linkcli.io.reader import MISSING, Table
 
 CRITERIA = ("goodman", "gerber", "soderberg", "asme-elliptic")
@@ -169,8 +169,13 @@ def _section(t: Table, line) -> LinkSection | None:
 
 
 def _length(t: Table, key: str, what: str, required: bool = True):
-    """A positive length within MAX_LENGTH; None when bad (recorded) or absent and optional."""
-    return _bounded(t, key, MISSING if required else None, MAX_LENGTH, what)
+    """A length within [MIN_LENGTH, MAX_LENGTH], as a link's (a width of 1e-300 underflowed
+    the buckling load to a division by zero); None when bad (recorded) or absent and optional."""
+    value = t.number(key, MISSING if required else None, positive=True, what=what)
+    if value is not None and not MIN_LENGTH <= value <= MAX_LENGTH:
+        t.error(key, f"{what}, within [{MIN_LENGTH:g}, {MAX_LENGTH:g}]", value)
+        return None
+    return value
 
 
 def _bounded(t: Table, key: str, default, most: float, what: str):

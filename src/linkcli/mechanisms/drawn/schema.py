@@ -68,8 +68,8 @@ def read(t: Table, units) -> Drawn | None:
                 raw_got='a result file of a drawn linkage')
         _skip(root)
         return None
-    specs = read_joints(root, "drawn", units)
-    joint_table = root.table("joints", required=True)
+    specs = read_joints(root, "drawn", units)  # records a `joints` that is not a table
+    joint_table = root.table("joints", required=True) if isinstance(root.data.get("joints", {}), dict) else None
     if specs is None or joint_table is None:
         _skip(root)
         return None

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 from linkcli.model import Meta, PrecisionPositionProblem
-from linkcli.io.meta import bounded_length, in_motion_order
+from linkcli.io.meta import MAX_LENGTH, bounded_length, in_motion_order
 from linkcli.errors import SchemaError
 from linkcli.io.reader import Table
 from linkcli.types.precision_position.system import position_problem
@@ -67,6 +67,18 @@ def coincident(pos: Table, phi: list[float], u) -> bool:
     return False
 
 
+def within_sizes(pos: Table, s: list[float]) -> bool:
+    """Every slider position at most MAX_LENGTH in magnitude, as any coordinate a file holds
+    (-1e308 passed `check` and made a linkage no file could hold); else one located error,
+    at the first one beyond, and False."""
+    for i, value in enumerate(s):
+        if abs(value) > MAX_LENGTH:
+            pos.error(f"output[{i}]", f"a slider position of magnitude at most {MAX_LENGTH:g} (length unit)",
+                      pos.data["output"][i])  # as written
+            return False
+    return True
+
+
 def _parse_slider(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
     """A slider-crank through (crank angle, slider position) pairs: [linkage] holds only
     `mechanism` (the lengths are the answer); positions.output are slider positions s_i
@@ -81,6 +93,8 @@ def _parse_slider(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
                             what="slider positions (length unit)")
         if phi is not None and s is not None and len(phi) != len(s):
             pos.error("output", f"one slider position per input angle ({len(phi)})", s)
+            return None
+        if s is not None and not within_sizes(pos, s):
             return None
     speed, steps = read_motion(root)
     if phi is None or s is None or speed is None or steps is None:
