@@ -94,6 +94,53 @@ def test_toml_result_round_trips_through_analyze(tmp_path):
     assert rep["grashof"]["class"] == "crank-rocker"
 
 
+ANALYSABLE = sorted(p.name for p in __import__("pathlib").Path("problems").glob("*.toml")
+                    if not p.name.startswith(("drawn_", "flipper", "watt_")))
+
+
+@pytest.mark.parametrize("name", ANALYSABLE)
+def test_every_genuine_result_file_is_accepted_unchanged(tmp_path, name):
+    """Every key `synth --format toml` writes is one `analyze` accepts (result files are
+    checked, io.result_check), for every example whose result has a [linkage]."""
+    code, _, err = run_cli("synth", f"problems/{name}", "--format", "toml", "--out", str(tmp_path))
+    assert code in (0, 1), err
+    code, _, err = run_cli("analyze", str(tmp_path / name), "--format", "json")
+    assert code in (0, 1) and err == "", err
+
+
+def _firedoor_result(tmp_path, edit) -> tuple[str, str]:
+    code, out, _ = run_cli("synth", "problems/firedoor.toml", "--format", "toml")
+    assert code == 0
+    result = tmp_path / "result.toml"
+    result.write_text(edit(out))
+    code, out, err = run_cli("analyze", str(result))
+    assert code == 2 and out == "", err
+    return str(result), err
+
+
+@pytest.mark.parametrize("edit, line, message", [
+    (lambda t: t.replace('type = "precision-position"', "type = 5"), 3,
+     "type: expected one of: precision-position, function-generation, path-generation, "
+     "flipper-cylinder, linkage, motion-generation, quick-return, found 5"),
+    (lambda t: t.replace("[transmission]\nmin = ", "[transmission]\nmin = nan\nold = "), 34,
+     "transmission.min: expected a finite number (a result file holds no nan or inf), found nan"),
+    (lambda t: t.replace('status = "ok"', 'status = "fine"'), 4,
+     "status: expected one of: ok, infeasible, not-converged, found \"fine\""),
+    (lambda t: t + "\n[extra]\nx = 1\n", None, 'extra: expected a known key'),
+    (lambda t: t.replace("[error]", "[error]\nbig = [" + "1," * 10_001 + "]"), None,
+     "error.big: expected an array of at most 10000 elements, found an array of 10001 elements"),
+    (lambda t: t.replace("[linkage]", "[linkage]\nwat = 1"), None, 'linkage.wat: expected a known key'),
+])
+def test_analyze_refuses_garbage_in_a_result_file(tmp_path, edit, line, message):
+    """A result file is linkcli's output: a wrong type or status, nan, an unknown key or
+    table, an overlong array is one located line (exit 2), not silently ignored."""
+    path, err = _firedoor_result(tmp_path, edit)
+    lines = err.splitlines()
+    assert len(lines) == 1, err
+    where = f"{path}:{line}: " if line else f"{path}:"
+    assert lines[0].startswith(where) and message in lines[0], lines[0]
+
+
 def test_analyze_rejects_a_synthesis_problem():
     code, _, err = run_cli("analyze", "problems/firedoor.toml")
     assert code == 2 and 'type: expected type = "linkage"' in err

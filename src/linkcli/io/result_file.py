@@ -1,7 +1,9 @@
 """Result files written by `linkcli synth --format toml`, read back as a linkage to analyse.
 
 Only `title`, `[units]`, `[linkage]`, `[motion]`'s study and `[loads]`/`[masses]` are read; the rest of a result file is linkcli's
-own output (status, tables) and is ignored, so a result always round-trips. A batch
+own output (status, tables): it is checked, not read (io.result_check: known top-level
+keys, `type` and `status` of their vocabularies, finite numbers, bounded arrays), and
+unknown keys of the tables read are errors, as in a problem file. A batch
 written by `synth A B --format toml` (`[[result]]` tables) is refused with a clear line:
 `analyze` makes one report per file, so each result must be in a file of its own.
 """
@@ -39,6 +41,7 @@ def has_linkage(data: dict) -> bool:
 def parse(reader: Reader) -> LinkageProblem | None:
     from linkcli.io.loads import read_loads
     from linkcli.io.meta import MAX_LENGTH, read_units
+    from linkcli.io.result_check import check_header, check_values
     from linkcli.io.result_motion import motion_study
     from linkcli.mechanisms.schema import read_linkage
     from linkcli.model import LinkageProblem, Meta
@@ -51,13 +54,17 @@ def parse(reader: Reader) -> LinkageProblem | None:
                    "one per file with synth --out DIR --format toml)",
                    raw_got=f"a batch result file holding {count} results")
         return None
+    if not check_header(root):  # a wrong type: nothing else can be judged
+        return None
+    check_values(root)
     if not has_linkage(reader.data):
         kind = reader.data.get("type")
         what = f'a {kind} result without one' if isinstance(kind, str) else "a result without one"
         root.error("linkage", "a result with a [linkage] table (only linkages can be analysed)",
                    raw_got=what)
+        reader.finish()
         return None
-    title = root.raw("title", None)
+    title = root.data.get("title")  # checked by check_header
     units = read_units(root)
     link = root.table("linkage", required=True)
     fourbar = read_linkage(link, units) if link else None
@@ -69,8 +76,11 @@ def parse(reader: Reader) -> LinkageProblem | None:
             fourbar = replace(fourbar, coupler_angle=units.to_rad(angle))  # a motion-generation result
     loads = read_loads(root, "linkage")  # [loads] / [masses]: echoed by synth, or added by hand
     if reader.errors or fourbar is None:
+        reader.finish()  # raises them, with the unknown keys
         return None
     sections = LINKAGE.default_sections + (("forces",) if loads is not None else ())
     meta = Meta(path=reader.path, type="linkage", title=title if isinstance(title, str) else None,
                 units=units, sections=sections, loads=loads)
-    return motion_study(root, LinkageProblem(meta=meta, linkage=fourbar, input_speed=units.to_rad(1.0), steps=360))
+    problem = motion_study(root, LinkageProblem(meta=meta, linkage=fourbar, input_speed=units.to_rad(1.0), steps=360))
+    reader.finish()  # unknown keys of the tables read (and of the top level): errors
+    return problem

@@ -66,6 +66,7 @@ def read(t: Table, units) -> Drawn | None:
         t.error("mechanism", "a drawing to analyse: `analyze` reads a drawn linkage from its problem "
                 "file (with [joints], [links] and [drive]), not from a result file",
                 raw_got='a result file of a drawn linkage')
+        t.allow(*t.keys())  # its echo of the links: that one line says it all
         _skip(root)
         return None
     specs = read_joints(root, "drawn", units)  # records a `joints` that is not a table

@@ -1,0 +1,79 @@
+"""What a result file holds beyond what `analyze` reads back: checked, never ignored.
+
+A result file is linkcli's own output (`synth --format toml`), so what it may hold is
+known: the report's top-level keys (`TOP_KEYS`), a `type` and `status` of their
+vocabularies, strings where the report writes strings, and numbers that are finite (the
+writer leaves a non-finite number out: TOML has no null) in arrays no longer than a
+problem file's (or, for the rows of a motion study, its `steps`). Anything else is an
+error on its own line, like an unknown key of a problem file. The sections `analyze`
+reads ([units], [linkage], [motion]'s study, [loads], [masses]) are checked key by key
+where they are read.
+"""
+
+from __future__ import annotations
+
+import math
+
+from linkcli.io.meta import ALL_SECTIONS
+from linkcli.io.reader import MAX_ARRAY, Table
+from linkcli.registry import NAMES, problem_type
+
+STATUSES = ("ok", "infeasible", "not-converged")
+MAX_STEPS = 100_000  # [motion] steps: a motion study's rows (kinematics, forces.rows, ...)
+MAX_VALUE_ERRORS = 100  # a file of garbage: the first ones are enough
+_TYPE_SECTIONS = ("target", "structural_error", "robust", "timing", "defects", "design",
+                  "tradeoff", "candidates", "candidate_counts", "burmester", "family",
+                  "cylinder", "pareto")  # a type's own sections (its solver's Solution.sections)
+_REPORT_KEYS = ("file", "title", "type", "status", "message", "units", "notes", "linkage",
+                "loads", "masses")
+
+
+def top_keys() -> tuple[str, ...]:
+    """Every top-level key a result file of any type may hold."""
+    typed = (s for name in NAMES for s in problem_type(name).sections)
+    return tuple(dict.fromkeys((*_REPORT_KEYS, *ALL_SECTIONS, *typed, *_TYPE_SECTIONS)))
+
+
+def check_header(root: Table) -> bool:
+    """`type` (one of the problem types), `status`, and the strings `file`, `title`,
+    `message`, `notes`; True when `type` is good (the rest can then be judged)."""
+    kind = root.string("type", choices=NAMES)
+    root.string("status", choices=STATUSES)
+    for key in ("file", "title", "message"):
+        root.string(key, None)
+    notes = root.raw("notes", None)
+    if notes is not None and not (isinstance(notes, list) and len(notes) <= MAX_ARRAY
+                                  and all(isinstance(n, str) for n in notes)):
+        root.error("notes", f"an array of at most {MAX_ARRAY} strings", notes)
+    root.allow(*top_keys())
+    return kind is not None
+
+
+def row_cap(root: Table) -> int:
+    """The longest array a result may hold: a problem file's cap, or the `steps` of its
+    motion study (one row each) when larger."""
+    motion = root.data.get("motion")
+    steps = motion.get("steps") if isinstance(motion, dict) else None
+    ok = isinstance(steps, int) and not isinstance(steps, bool) and 2 <= steps <= MAX_STEPS
+    return max(MAX_ARRAY, steps) if ok else MAX_ARRAY
+
+
+def check_values(root: Table) -> None:
+    """Every number in the file finite and every array at most `row_cap` long: one located
+    error per bad value (at most MAX_VALUE_ERRORS)."""
+    cap, found, known = row_cap(root), 0, top_keys()
+    stack = [((k,), v) for k, v in reversed(root.data.items()) if k in known]  # unknown: one line
+    while stack and found < MAX_VALUE_ERRORS:
+        path, value = stack.pop()
+        if isinstance(value, float) and not math.isfinite(value):
+            root.reader.error(path, "a finite number (a result file holds no nan or inf)", value)
+            found += 1
+        elif isinstance(value, list) and len(value) > cap:
+            root.reader.error(path, f"an array of at most {cap} elements",
+                              raw_got=f"an array of {len(value)} elements")
+            found += 1
+        elif isinstance(value, list):
+            head, last = path[:-1], path[-1]
+            stack.extend((head + (f"{last}[{i}]",), v) for i, v in reversed(list(enumerate(value))))
+        elif isinstance(value, dict):
+            stack.extend((path + (k,), v) for k, v in reversed(list(value.items())))
