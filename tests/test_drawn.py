@@ -232,3 +232,39 @@ def test_a_drawn_result_file_is_refused_by_analyze_with_one_line(tmp_path):
     code, _, err = run_cli("analyze", path)
     assert code == 2 and err.count("\n") == 1
     assert "reads a drawn linkage from its problem file" in err
+
+
+@pytest.mark.parametrize("speed", ["5e-324", "1e-300", "-1e-10"])
+def test_a_vanishing_drive_speed_is_one_located_line(tmp_path, speed):
+    """A drive's |speed| below 1e-9 (a denormal was read as 0 by the speed ratios: a
+    singular group blamed on `links` under `<input>`, and a numpy warning) is refused at
+    load on its line, naming drive.<name>.speed."""
+    text = open("problems/drawn_stephenson.toml").read().replace("crank = { speed = 30 }",
+                                                              f"crank = {{ speed = {speed} }}")
+    assert f"speed = {speed}" in text
+    path = write(tmp_path, text, "slow.toml")
+    line = text.splitlines().index(f"crank = {{ speed = {speed} }}") + 1
+    for command in ("check", "synth"):
+        code, out, err = run_cli(command, path)
+        assert code == 2 and out == ""
+        assert err == (f"{path}:{line}: drive.crank.speed: expected a non-zero number of magnitude "
+                       "1e-09 to 1e+09 (angle unit/s for a link, length unit/s for a slider), "
+                       f"found {float(speed)!r}\n"), err
+
+
+def test_an_error_raised_while_solving_names_the_file_and_prints_no_warning(tmp_path, monkeypatch, capfd):
+    """A SolveInputError raised deep in a solve (drawn groups) knows its key, not its file:
+    the pipeline gives it the file's name (never `<input>`), and numpy's warnings of the
+    solve stay off stderr."""
+    from linkcli import pipeline
+    from linkcli.errors import SolveInputError
+
+    def solve(problem):
+        np.array([0.0]) / np.array([0.0])  # a RuntimeWarning, were numpy not quieted
+        raise SolveInputError("links determined by the drawing", "a singular group", key="links")
+    monkeypatch.setattr(pipeline, "solve", solve)
+    outcome = pipeline.run("problems/drawn_stephenson.toml", pipeline.Request())
+    assert outcome.exit_code == 2
+    assert outcome.errors == ("problems/drawn_stephenson.toml: links: expected links determined "
+                              "by the drawing, found a singular group",)
+    assert "Warning" not in capfd.readouterr().err

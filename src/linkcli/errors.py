@@ -117,3 +117,12 @@ class PlotError(LinkcliError):
 
     def __reduce__(self):
         return (PlotError, (str(self), self.exit_code))
+
+
+def located(exc: LinkcliError, path: str) -> LinkcliError:
+    """`exc` with `path` as the file of every error that names none (an error raised deep in
+    a solve knows its key, not its file): never `<input>` for a file the CLI read."""
+    for error in (exc, *getattr(exc, "errors", ())):
+        if getattr(error, "path", "") is None:
+            error.path = path
+    return exc

@@ -20,7 +20,7 @@ import time
 from dataclasses import replace
 from typing import Any, Iterator, NamedTuple
 
-from linkcli.errors import InputError, LinkcliError
+from linkcli.errors import InputError, LinkcliError, located
 
 MODES = ("synth", "analyze", "check")
 CHUNKS_PER_JOB = 4  # --jobs: files are sent in about this many chunks per process
@@ -90,6 +90,13 @@ def solve(problem):
     return problem_type(problem.meta.type).module("solve").solve(problem)
 
 
+def quiet_numerics():
+    """No RuntimeWarning of numpy on stderr while solving (an overflow or 0/0 in a
+    degenerate case is handled as a status or an error line, never printed raw)."""
+    import numpy as np
+    return np.errstate(all="ignore")
+
+
 def analyse(problem, solution) -> dict:
     """The report of one solved problem (linkcli.analysis)."""
     from linkcli.analysis.sections import build
@@ -104,7 +111,8 @@ def run(path: str, request: Request, source: bytes | InputError | None = None) -
         if request.mode == "check":
             return Outcome(path, 0)
         started = time.perf_counter()
-        solution = solve(problem)
+        with quiet_numerics():
+            solution = solve(problem)
         seconds = time.perf_counter() - started
         from linkcli.io.meta import refuse_oversized
         refuse_oversized(problem, solution.linkage)  # a result no file could hold
@@ -114,6 +122,7 @@ def run(path: str, request: Request, source: bytes | InputError | None = None) -
         drawing = drawing_report(problem, report) if request.plot else None
         return Outcome(path, report_exit_code(report), Result(problem, solution, report, drawing))
     except LinkcliError as exc:
+        located(exc, path)
         if request.debug:
             raise
         return Outcome(path, exc.exit_code, errors=tuple(exc.lines()))

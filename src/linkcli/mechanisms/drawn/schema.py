@@ -29,6 +29,7 @@ REPORTED_MOTION: tuple[str, ...] = ()  # (analyze refuses a drawn result)
 MAX_LINKS = 1000
 MAX_SPAN_TURNS = 2.0  # a turning drive's span: at most two turns either way
 MAX_SPEED = 1e9
+MIN_SPEED = 1e-9  # a drive's |speed|: below, the speed ratios over- or underflow (a denormal is 0)
 
 
 def known_lengths(linkage) -> dict[str, float]:
@@ -97,6 +98,18 @@ def _skip(root: Table) -> None:
     motion = root.data.get("motion")
     if isinstance(motion, dict):
         root.reader.allow(("motion",), ("span", "points", "output", "input_speed"))
+
+
+def _speed(sub: Table) -> float | None:
+    """A drive's `speed` (default 1): a number of magnitude MIN_SPEED to MAX_SPEED; None
+    when bad (error recorded on its line)."""
+    what = (f"a non-zero number of magnitude {MIN_SPEED:g} to {MAX_SPEED:g} "
+            "(angle unit/s for a link, length unit/s for a slider)")
+    speed = sub.number("speed", 1.0, lo=-MAX_SPEED, hi=MAX_SPEED, what=what)
+    if speed is not None and abs(speed) < MIN_SPEED:
+        sub.error("speed", what, speed)
+        return None
+    return speed
 
 
 def _drawn_joints(t: Table, specs) -> tuple[DrawnJoint, ...] | None:
@@ -255,11 +268,7 @@ def _drives(root: Table, joints, links, units) -> tuple[Drive, ...] | None:
         if sub is None:
             ok = False
             continue
-        speed = sub.number("speed", 1.0, lo=-MAX_SPEED, hi=MAX_SPEED,
-                           what="a non-zero number (angle unit/s for a link, length unit/s for a slider)")
-        if speed == 0.0:
-            sub.error("speed", "a non-zero number (angle unit/s for a link, length unit/s for a slider)", 0.0)
-            speed = None
+        speed = _speed(sub)
         if not named:
             continue
         if is_link and is_slider:
