@@ -112,7 +112,10 @@ def parse(root: Table, meta: Meta) -> FunctionGenerationProblem | None:
 
 def read_lengths(root: Table, link: Table | None, bnd: Table | None):
     """(fixed, bounds): every link fixed in [linkage] or bounded in [bounds], never both,
-    at least one fixed. A bound that is one number (or [v, v]) fixes the link."""
+    at least one fixed. A bound that is one number (or [v, v]) fixes the link. A `linkage`
+    that is not a table (its one error already recorded) may have fixed any link: a length
+    missing from [bounds] is then not judged (no second line for the same mistake)."""
+    unjudged = link is None and "linkage" in root
     fixed: dict[str, float] = {}
     bounds: dict[str, tuple[float, float]] = {}
     ok = True
@@ -130,6 +133,8 @@ def read_lengths(root: Table, link: Table | None, bnd: Table | None):
         if in_link and in_bnd:
             bnd.error(k, f"a length either fixed in [linkage] or bounded in [bounds], not both",
                       raw_got=f"linkage.{k} = {_show(link.raw(k))} and bounds.{k} = {_show(bnd.raw(k))}")
+            ok = False
+        elif not in_link and not in_bnd and unjudged:
             ok = False
         elif not in_link and not in_bnd:
             where = ("bounds", k) if bnd is not None else ("linkage", k)
