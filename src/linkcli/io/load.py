@@ -31,6 +31,7 @@ def load(path: str, text: str | bytes | None = None):
         extra = f' (did you mean "{hint[0]}"?)' if hint else ""
         root.error("type", f"one of: {', '.join(NAMES)}{extra}", MISSING if kind is None else kind)
         raise InputErrors(reader.errors)
+    refuse_unknown_mechanism(reader, root)
     kind_spec = problem_type(kind)
     meta = read_meta(root, kind, kind_spec)
     problem = kind_spec.module("schema").parse(root, meta)
@@ -44,6 +45,19 @@ def load(path: str, text: str | bytes | None = None):
     if note:
         problem = replace(problem, meta=replace(problem.meta, notes=problem.meta.notes + (note,)))
     return problem
+
+
+def refuse_unknown_mechanism(reader: Reader, root) -> None:
+    """A [linkage] `mechanism` that no mechanism is named: that one located line (with its
+    did-you-mean), and nothing more. Every other table is read by the mechanism's vocabulary
+    (joints, links, drives, [motion]): judged as another mechanism's, a misspelled "drawn"
+    gave eleven more lines, each blaming a correct key."""
+    from linkcli.mechanisms import NAMES as MECHANISMS
+    from linkcli.mechanisms.schema import read_mechanism
+    link = root.data.get("linkage")
+    if isinstance(link, dict) and "mechanism" in link and link["mechanism"] not in MECHANISMS:
+        read_mechanism(root.table("linkage"))  # records the line
+        raise InputErrors(reader.errors)
 
 
 def load_for_analysis(path: str, text: str | bytes | None = None):
