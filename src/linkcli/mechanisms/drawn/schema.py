@@ -76,6 +76,11 @@ def read(t: Table, units) -> Drawn | None:
         _skip(root)
         return None
     joints = _drawn_joints(joint_table, specs)
+    if joints is None:  # a joint in error: [links], [drive] and [motion] name joints, and judged
+        # against the drawing without it every link "carries more than the 0 joints" (one bad
+        # entry gave eight more lines, each blaming a correct key)
+        _skip(root)
+        return None
     links = _links(root, joints)
     drives = _drives(root, joints, links, units)
     motion = _motion(root, joints, links or (), drives, units)
