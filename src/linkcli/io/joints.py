@@ -25,7 +25,7 @@ import difflib
 import weakref
 from dataclasses import dataclass
 
-from linkcli.io.meta import MAX_LENGTH, MIN_LENGTH, bounded_point
+from linkcli.io.meta import MAX_LENGTH, bounded_length, bounded_point
 from linkcli.io.reader import Table, describe
 
 MAX_JOINTS = 1000
@@ -153,10 +153,6 @@ def _checked_fit(t: Table, fit: str, diameter, units):
 
 
 def _size(t: Table, key: str, what: str):
-    """A length within [MIN_LENGTH, MAX_LENGTH], as a link's (a pin of 1e-300 gave infinite
-    stresses); None when absent or bad (error recorded)."""
-    value = t.number(key, None, positive=True, what=what)
-    if value is not None and not MIN_LENGTH <= value <= MAX_LENGTH:
-        t.error(key, f"{what}, within [{MIN_LENGTH:g}, {MAX_LENGTH:g}]", value)
-        return None
-    return value
+    """A pin's length within [MIN_LENGTH, MAX_LENGTH] (`meta.bounded_length`); None when
+    absent or bad (error recorded)."""
+    return bounded_length(t, key, None, what)

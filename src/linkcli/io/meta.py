@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 
 from linkcli.model import Meta, Reference, SolverOptions
-from linkcli.io.reader import MAX_ARRAY, Table
+from linkcli.io.reader import MAX_ARRAY, MISSING, Table
 from linkcli.registry import ProblemType
 from linkcli.units import ANGLE_UNITS, LENGTH_TO_MM, Units
 
@@ -80,11 +80,14 @@ def in_motion_order(angles: list[float]) -> list[float]:
     return list(angles)
 
 
-def bounded_length(t: Table, key: str):
-    """A positive length within [MIN_LENGTH, MAX_LENGTH]; None when missing or bad."""
-    value = t.number(key, positive=True, what="a positive length")
+def bounded_length(t: Table, key: str, default=MISSING, what: str | None = None):
+    """A positive length within [MIN_LENGTH, MAX_LENGTH] (a link's, a pin's, a section's: 1e-300
+    gave infinite stresses and a buckling load of 0); `default` when absent (MISSING: required),
+    None when bad (error recorded, said as `what` when given)."""
+    value = t.number(key, default, positive=True, what=what or "a positive length")
     if value is not None and not MIN_LENGTH <= value <= MAX_LENGTH:
-        t.error(key, f"a length within [{MIN_LENGTH:g}, {MAX_LENGTH:g}]", value)
+        span = f"within [{MIN_LENGTH:g}, {MAX_LENGTH:g}]"
+        t.error(key, f"{what}, {span}" if what else f"a length {span}", value)
         return None
     return value
 

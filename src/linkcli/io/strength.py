@@ -15,7 +15,7 @@ and needs the load cycle ([loads] or [masses]) and at least one sized part.
 
 from __future__ import annotations
 
-from linkcli.io.meta import MAX_LENGTH, MIN_LENGTH
+from linkcli.io.meta import MAX_LENGTH, bounded_length
 from linkcli.io.reader import MISSING, Table
 
 CRITERIA = ("goodman", "gerber", "soderberg", "asme-elliptic")
@@ -169,13 +169,9 @@ def _section(t: Table, line) -> LinkSection | None:
 
 
 def _length(t: Table, key: str, what: str, required: bool = True):
-    """A length within [MIN_LENGTH, MAX_LENGTH], as a link's (a width of 1e-300 underflowed
-    the buckling load to a division by zero); None when bad (recorded) or absent and optional."""
-    value = t.number(key, MISSING if required else None, positive=True, what=what)
-    if value is not None and not MIN_LENGTH <= value <= MAX_LENGTH:
-        t.error(key, f"{what}, within [{MIN_LENGTH:g}, {MAX_LENGTH:g}]", value)
-        return None
-    return value
+    """A section's length within [MIN_LENGTH, MAX_LENGTH] (`meta.bounded_length`); None when
+    bad (recorded) or absent and optional."""
+    return bounded_length(t, key, MISSING if required else None, what)
 
 
 def _bounded(t: Table, key: str, default, most: float, what: str):
