@@ -84,7 +84,7 @@ def read(t: Table, units) -> Drawn | None:
     links = _links(root, joints)
     drives = _drives(root, joints, links, units)
     motion = _motion(root, joints, links or (), drives, units)
-    if len(root.reader.errors) > errors or joints is None or links is None or drives is None or motion is None:
+    if len(root.reader.errors) > errors or links is None or drives is None or motion is None:
         return None
     span, points, output = motion
     drawing = Drawn(joints=joints, links=links, drives=drives, points=points, span=span, output=output)
