@@ -4,6 +4,8 @@ fit only at the very points it was made for."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from conftest import ROOT
@@ -204,15 +206,22 @@ def test_prescribed_timing_runs_its_first_four_rounds_side_by_side_free_timing_t
     from linkcli.search.budget import Budget
     from linkcli.types.path_generation import solve as path_solve
 
-    batches, flags = [], []
-    original = path_solve.one_round
+    batches, flags, shares = [], [], []
+    original, short_of_best = path_solve.one_round, path_solve._short_of_best
 
-    def recorded(design, budget, rng, sizes, best_so_far=None, thorough=None):
+    def recorded(design, budget, rng, sizes, best_so_far=None, later=False):
         batches.append(list(sizes))
-        flags.append(thorough)
-        return original(design, budget, rng, sizes, best_so_far, thorough)
+        seen = len(shares)
+        out = original(design, budget, rng, sizes, best_so_far, later)
+        flags.append({math.isinf(share) for share in shares[seen:]} == {True})  # every pick refined: thorough
+        return out
+
+    def share_of(design, done, best, share):
+        shares.append(share)
+        return short_of_best(design, done, best, share)
 
     monkeypatch.setattr(path_solve, "one_round", recorded)
+    monkeypatch.setattr(path_solve, "_short_of_best", share_of)
     monkeypatch.setattr(path_solve, "CLAIM_ROUNDS", dict(path_solve.CLAIM_ROUNDS, prescribed=6))
     path_solve.multistart(design_of("kunjur5"), Budget(2_000_000), np.random.default_rng(0))
     assert batches[0] == [100_000, 100_000, 200_000, 400_000] and len(batches) > 1

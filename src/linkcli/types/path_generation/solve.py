@@ -193,7 +193,7 @@ def multistart(design: Design, budget: Budget, rng) -> tuple[list[Candidate], bo
         size = min(2 * size, ROUND_BUDGET)  # a round that did not settle it: the next is larger
         with budget.limit(sum(sizes)):
             rounds = one_round(design, budget, rng, sizes, None if best is None or best[0] else best[2],
-                               thorough=design.timing == "free" or index > 0)
+                               later=index > 0)
         for new in rounds:
             new = [replace(c, round=index) for c in new]
             index += 1
@@ -261,7 +261,7 @@ class Field:
 
 
 def one_round(design: Design, budget: Budget, rng, sizes: list[int], best_so_far: float | None = None,
-              thorough: bool | None = None) -> list[list[Candidate]]:
+              later: bool = False) -> list[list[Candidate]]:
     """Rounds of the multistart (one per entry of `sizes`, its evaluations) run side by
     side, each from its own draws: draws completed in closed form, batched
     Levenberg-Marquardt with the linear part projected out (the field halving after each
@@ -270,8 +270,9 @@ def one_round(design: Design, budget: Budget, rng, sizes: list[int], best_so_far
     within NEAR_BEST of the best (`_short_of_best`: the search's best so far or its round's)
     is refined REFINE_MORE steps further and polished again (one stopped short of the
     optimum is a second arrival lost: arc6 with windows other than the bench's ended
-    `not-converged` at the optimum that way); in a `thorough` round (None: free timing or
-    a round after the first ones) every unconverged pick, REFINE_ALL steps. The other rounds start one field
+    `not-converged` at the optimum that way); in a `thorough` round (free timing's every
+    round; with prescribed timing the `later` ones, after the first batch) every unconverged
+    pick, REFINE_ALL steps. The other rounds start one field
     round after the first (their draws only once the first round's field holds no exact
     fit, which settles the search alone), so that all share every batched step: at
     these sizes a step is mostly numpy's call overhead (prescribed timing's four rounds
@@ -310,8 +311,7 @@ def one_round(design: Design, budget: Budget, rng, sizes: list[int], best_so_far
     done = polish_all(design, budget, space.full(z[pick], sign[pick], s[pick]), sign[pick], s[pick],
                       conv[pick])
     bounds = np.cumsum([0] + [len(p) for p in picks])
-    if thorough is None:
-        thorough = design.timing == "free" or best_so_far is not None
+    thorough = design.timing == "free" or later
     share, steps = (math.inf, REFINE_ALL) if thorough else (NEAR_BEST, REFINE_MORE)
     short = np.concatenate([a + _short_of_best(design, done[a:b], best_so_far, share)
                             for a, b in zip(bounds[:-1], bounds[1:])]).astype(int)
