@@ -144,7 +144,9 @@ def draw_window(rng, mu_lo: float, mu_hi: float) -> list[float]:
 
 
 def outside_window(rng, value: float) -> list[float]:
-    """An angle window (deg) of 20 to 90 deg whose near edge is 5 to 40 deg from `value`."""
+    """An angle window (deg) of 20 to 90 deg whose near edge is 5 to 40 deg from `value`
+    (floats: a numpy scalar's repr would show in the case's description)."""
+    value = float(value)
     gap, width = rng.uniform(5, 40), rng.uniform(20, 90)
     if rng.random() < 0.5:
         return [round(value + gap, 3), round(value + gap + width, 3)]
