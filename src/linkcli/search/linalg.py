@@ -86,22 +86,24 @@ def solve_spd(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 def _eliminate(a: np.ndarray, x: np.ndarray, pivoting: bool) -> None:
     """Solve the stack a (N, n, n) x = x (N, n, c) in place: forward elimination (with
     partial pivoting, or none: then a pivot must be positive), back substitution; rows
-    whose elimination met a bad pivot become NaN."""
+    whose elimination met a bad pivot become NaN. The forward sweep runs on [a | x] side
+    by side (one update a column for both); a pivot stays on the diagonal once used, so
+    the bad ones are read there at the end."""
     n = a.shape[-1]
     rows = np.arange(len(a))
-    bad = np.zeros(len(a), dtype=bool)
+    both = np.concatenate([a, x], axis=2)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         for k in range(n):
             if pivoting:
-                p = k + np.argmax(np.abs(a[:, k:, k]), axis=1)
-                for m in (a, x):
-                    top, low = m[rows, k].copy(), m[rows, p].copy()
-                    m[rows, k], m[rows, p] = low, top
-            pivot = a[:, k, k]
-            bad |= ~((np.abs(pivot) if pivoting else pivot) > 0.0)
-            factor = a[:, k + 1:, k] / pivot[:, None]
-            a[:, k + 1:, k:] -= factor[:, :, None] * a[:, None, k, k:]
-            x[:, k + 1:] -= factor[:, :, None] * x[:, None, k]
+                p = k + np.argmax(np.abs(both[:, k:, k]), axis=1)
+                top, low = both[rows, k].copy(), both[rows, p].copy()
+                both[rows, k], both[rows, p] = low, top
+            factor = both[:, k + 1:, k] / both[:, k, k][:, None]
+            both[:, k + 1:, k:] -= factor[:, :, None] * both[:, None, k, k:]
+        a[...] = both[:, :, :n]
+        x[...] = both[:, :, n:]
+        pivots = np.diagonal(a, axis1=1, axis2=2)
+        bad = ~np.all((np.abs(pivots) if pivoting else pivots) > 0.0, axis=1)
         for k in range(n - 1, -1, -1):
             s = np.einsum("rj,rjc->rc", a[:, k, k + 1:], x[:, k + 1:], optimize=False)
             x[:, k] = (x[:, k] - s) / a[:, k, k][:, None]

@@ -50,23 +50,47 @@ class Frame:
 
 def frame(a, b, c, d, phi, sign) -> Frame:
     """The closure at input angles phi on the branch `sign` (-1 open, +1 crossed; arrays
-    broadcast like the lengths)."""
+    broadcast like the lengths). Written in place where it can be (the search calls it on
+    every candidate at every target): the same operations in the same order as the
+    equations above, so the same bits, with fewer temporaries."""
     cphi, sphi = np.cos(phi), np.sin(phi)
     ax, ay = a * cphi, a * sphi
     rx = ax - d
     rho = np.hypot(rx, ay)
-    safe = np.where(rho > 0.0, rho, 1.0)
+    assembles = rho > 0.0
+    safe = np.where(assembles, rho, 1.0)
     with np.errstate(over="ignore", invalid="ignore"):
-        cos_alpha = (rho * rho + c * c - b * b) / (2.0 * safe * c)
-    valid = (np.abs(cos_alpha) <= 1.0 + ASSEMBLY_SLACK) & (rho > 0.0)
-    ca = np.clip(np.nan_to_num(cos_alpha, nan=1.0), -1.0, 1.0)
-    sa = sign * np.sqrt((1.0 - ca) * (1.0 + ca))
-    ux, uy = np.where(rho > 0.0, rx / safe, 1.0), ay / safe
-    cpsi, spsi = ux * ca - uy * sa, ux * sa + uy * ca
-    bx, by = d + c * cpsi - ax, c * spsi - ay
+        cos_alpha = rho * rho
+        cos_alpha += c * c
+        cos_alpha -= b * b
+        cos_alpha /= safe * (2.0 * c)  # = 2 safe c: doubling is exact
+    valid = np.abs(cos_alpha) <= 1.0 + ASSEMBLY_SLACK
+    valid &= assembles
+    ca = cos_alpha
+    ca[np.isnan(ca)] = 1.0
+    np.clip(ca, -1.0, 1.0, out=ca)
+    sa = 1.0 - ca
+    sa *= 1.0 + ca
+    np.sqrt(sa, out=sa)
+    sa = sign * sa
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ux = np.divide(rx, safe, out=rx)
+    ux[~assembles] = 1.0
+    uy = np.divide(ay, safe, out=safe)
+    cpsi, spsi = ux * ca, ux * sa
+    cpsi -= uy * sa
+    spsi += uy * ca
+    bx = c * cpsi
+    bx += d
+    bx -= ax
+    by = c * spsi
+    by -= ay
     length = np.hypot(bx, by)
-    safe_len = np.where(length > 0.0, length, 1.0)
-    ct, st = np.where(length > 0.0, bx / safe_len, 1.0), by / safe_len
+    long = length > 0.0
+    safe_len = np.where(long, length, 1.0)
+    ct = np.divide(bx, safe_len, out=bx)
+    ct[~long] = 1.0
+    st = np.divide(by, safe_len, out=by)
     shape = ct.shape
     return Frame(cphi=np.broadcast_to(cphi, shape), sphi=np.broadcast_to(sphi, shape), ct=ct, st=st,
                  cpsi=cpsi, spsi=spsi, rho=np.broadcast_to(rho, shape),
