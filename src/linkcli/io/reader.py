@@ -213,6 +213,13 @@ def _line_map(text: str, masked: tuple[str, set[int]] | None = None) -> dict[tup
 
 
 
+def _last_line(text: str) -> int:
+    """The last line of a text as an editor numbers it (a final newline opens no line of
+    its own): where a syntax error "at end of document" is, e.g. a file ending in `x = `
+    or in an unclosed `[table` or array."""
+    return max(1, text.count("\n") + (0 if text.endswith("\n") else 1))
+
+
 def _key_at(lines: dict[tuple[str, ...], int], line: int | None) -> str | None:
     """The key whose value holds `line`: the first key of the nearest line at or above it
     (an array's value may run over several lines), dotted; None if there is none."""
@@ -296,7 +303,7 @@ class Reader:
         except tomllib.TOMLDecodeError as exc:
             msg = str(exc)
             m = re.search(r"\(at line (\d+), column (\d+)\)", msg)
-            line = int(m.group(1)) if m else None
+            line = int(m.group(1)) if m else _last_line(text) if "(at end of document)" in msg else None
             msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", msg)
             if m:
                 msg += f" (column {m.group(2)})"
@@ -334,8 +341,18 @@ class Reader:
 
     def error(self, path: tuple[str, ...], expected: str, got=MISSING, *, raw_got: str | None = None) -> None:
         found = _one_line(raw_got) if raw_got is not None else describe(got)
-        self.errors.append(SchemaError(expected, found, path=self.path, line=self.line_of(path),
+        line = self.line_of(path)
+        if line is None and got is MISSING and raw_got is None:
+            line = self._missing_line(path)
+        self.errors.append(SchemaError(expected, found, path=self.path, line=line,
                                        key=_one_line(".".join(path)) or None))
+
+    def _missing_line(self, path: tuple[str, ...]) -> int | None:
+        """The line of a missing key that has no table line to fall back on: line 1 when
+        what is missing is a top-level key or table (the file has no line of it: the top
+        level starts at line 1); None when a table above it exists on no line this reader
+        knows (an element of an array of tables it cannot tell apart: not guessed)."""
+        return 1 if path and path[0] not in self.data else None
 
     def table(self, name: str | tuple[str, ...], required: bool = False) -> "Table | None":
         path = (name,) if isinstance(name, str) else tuple(name)
