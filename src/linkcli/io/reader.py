@@ -19,7 +19,7 @@ from typing import NamedTuple
 
 from linkcli.errors import MAX_LISTED, InputError, InputErrors, SchemaError, TomlSyntaxError
 from linkcli.io.safe_read import read_problem_bytes
-from linkcli.io.terminal_text import shown as _one_line  # escaped, one line, at most 200 characters
+from linkcli.io.terminal_text import one_line as _one_line  # escaped, one line (bounded by errors.InputError)
 from linkcli.io.misplaced_keys import top_level_hint
 from linkcli.io.link_names import link_name_hint
 from linkcli.io.header_lines import with_parent_lines
@@ -63,9 +63,8 @@ def describe(value) -> str:
         if isinstance(value, float) and not math.isfinite(value):
             text = "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
         return text
-    if isinstance(value, str):
-        short = value if len(value) <= 60 else value[:57] + "..."
-        return f'"{_one_line(short)}" (string)'
+    if isinstance(value, str):  # a long one is cut where the error is made (errors.InputError)
+        return f'"{_one_line(value)}" (string)'
     if isinstance(value, list):
         text = _short_literal(value)
         return f"an array of {len(value)}" + (f": {text}" if text and value else "")
