@@ -99,6 +99,44 @@ def test_a_file_name_with_escapes_is_shown_escaped_in_errors(tmp_path):
     assert err.startswith(str(p).replace("\x1b", "\\x1b") + ":1: type: expected one of")
 
 
+NAMES = {"an escape": "red\x1b[31m.toml", "a newline": "two\nlines.toml", "a bell and markup": "b\x07[bold]x.toml"}
+
+
+@pytest.mark.parametrize("case", NAMES)
+def test_a_file_name_with_control_characters_is_escaped_in_every_status_and_error_line(tmp_path, case):
+    # `check`'s "FILE: ok" wrote the name raw (its escape sequence obeyed by the terminal, a
+    # newline splitting the verdict in two); every error and status line is escaped alike
+    import shutil
+    good, bad = tmp_path / ("good " + NAMES[case]), tmp_path / ("bad " + NAMES[case])
+    shutil.copy(ROOT / "problems" / "firedoor.toml", good)
+    shutil.copy(ROOT / "tests" / "bad" / "zero_length.toml", bad)
+    shown = {f: str(f).replace("\x1b", "\\x1b").replace("\n", "\\n").replace("\x07", "\\x07") for f in (good, bad)}
+    for command in ("check", "synth"):
+        code, out, err = _cli(command, str(good), str(bad))
+        assert code == 2
+        assert not any(c in out + err for c in "\x1b\x07"), (out, err)
+        lines = err.splitlines()
+        assert lines[0].startswith(shown[bad] + ":3: linkage.ground: expected a positive length"), lines
+        if command == "check":
+            assert out == f"{shown[good]}: ok\n"
+        else:
+            assert len(lines) == 2 and lines[1].startswith("2 files: 1 solved")
+
+
+def test_the_progress_display_shows_a_file_name_escaped_and_not_as_markup():
+    from rich.console import Console
+    from linkcli.cli import _solving
+    console = Console(record=True, width=200, color_system=None)
+    console.print(_solving("a\x1b[31m[bold]b\n.toml"))
+    assert console.export_text() == "solving a\\x1b[31m[bold]b\\n.toml\n"
+
+
+def test_the_plot_and_export_lines_are_escaped(capsys):
+    from linkcli import plot
+    plot._err("x\x1b[2J.png: expected a writable picture, found a\nnewline")
+    assert capsys.readouterr().err == "x\\x1b[2J.png: expected a writable picture, found a\\nnewline\n"
+
+
 LONG_ECHOES = {  # a long name echoed in each part of a line: the key path, the found value,
     # a hint in the expected part, a list of the file's own names in the expected part
     "an unknown key in a table": lambda k: FIREDOOR.replace("[linkage]", f"[linkage]\n{k} = 1", 1),

@@ -3,7 +3,7 @@
 A title, a file name, a key or a value read from a file may hold terminal escapes
 ("\\u001b[2J" clears the screen) or newlines. `one_line` writes every non-printable
 character as Python writes it in a string literal (`\\x1b`, `\\n`, `\\u2028`), so the text
-is shown, never obeyed; `shown` also cuts it to a given length with "..."; `terminal_safe`
+is shown, never obeyed; `line` makes an error or status line of it; `shown` also cuts it to a given length with "..."; `terminal_safe`
 applies `one_line` to every string (keys and values) of a report before it is printed as a
 table.
 
@@ -34,6 +34,14 @@ def one_line(text: str) -> str:
     if text.isprintable():
         return text
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+
+
+def line(text: str) -> str:
+    """One line of terminal output -- an error line, a status line (`FILE: ok`) -- with
+    its newline: every control character escaped (one_line), so a file name holding
+    "\\x1b[31m" or a newline is shown, never obeyed, and stays on its line. Every line
+    linkcli writes to stderr, and `check`'s status lines, are made by this."""
+    return one_line(text.rstrip("\n")) + "\n"
 
 
 def shown(text: str, limit: int = SHOWN_LIMIT) -> str:
