@@ -282,6 +282,7 @@ class Reader:
         self.errors: list[InputError] = []
         self._seen: dict[tuple[str, ...], set[str]] = {}
         self._tables: dict[tuple[str, ...], dict] = {}
+        self._expected: list[tuple[tuple[str, ...], dict, frozenset]] = []  # tables of a fixed vocabulary
         if text is None:
             text = read_problem_bytes(path)
         if isinstance(text, bytes):
@@ -378,6 +379,13 @@ class Reader:
         self._tables[path] = data
         self._seen.setdefault(path, set())
 
+    def expect(self, path: tuple[str, ...], data: dict, keys: frozenset) -> None:
+        """A table whose keys are a fixed vocabulary, `keys` (a result file's output
+        section, judged by what the report writer writes): its other keys are unknown keys
+        for finish(), reported as any table's. `keys` is shared, not copied: the 100,000
+        rows of a motion study cost a tuple each."""
+        self._expected.append((path, data, keys))
+
     def finish(self) -> None:
         """Report unknown keys of every table read, then raise everything collected, in
         the order of their lines (at most MAX_LISTED listed: InputErrors). Linear in the
@@ -386,6 +394,8 @@ class Reader:
         unknown = []  # (path, key, allowed) of each unknown key
         for path, data in self._tables.items():
             allowed = self._allowed.get(path, set()) | self._seen.get(path, set())
+            unknown.extend((path, key, allowed) for key in data if key not in allowed)
+        for path, data, allowed in self._expected:
             unknown.extend((path, key, allowed) for key in data if key not in allowed)
         if not self.errors and not unknown:
             return
