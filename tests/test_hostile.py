@@ -99,16 +99,94 @@ def test_a_file_name_with_escapes_is_shown_escaped_in_errors(tmp_path):
     assert err.startswith(str(p).replace("\x1b", "\\x1b") + ":1: type: expected one of")
 
 
-def test_a_100k_character_key_gives_a_short_line(tmp_path):
-    from linkcli.io.terminal_text import SHOWN_LIMIT
-    p = tmp_path / "longkey.toml"
-    key = "k" * 100_000
-    p.write_text((ROOT / "problems" / "firedoor.toml").read_text().replace("[linkage]", f"[linkage]\n{key} = 1", 1))
+NAMES = {"an escape": "red\x1b[31m.toml", "a newline": "two\nlines.toml", "a bell and markup": "b\x07[bold]x.toml"}
+
+
+@pytest.mark.parametrize("case", NAMES)
+def test_a_file_name_with_control_characters_is_escaped_in_every_status_and_error_line(tmp_path, case):
+    # `check`'s "FILE: ok" wrote the name raw (its escape sequence obeyed by the terminal, a
+    # newline splitting the verdict in two); every error and status line is escaped alike
+    import shutil
+    good, bad = tmp_path / ("good " + NAMES[case]), tmp_path / ("bad " + NAMES[case])
+    shutil.copy(ROOT / "problems" / "firedoor.toml", good)
+    shutil.copy(ROOT / "tests" / "bad" / "zero_length.toml", bad)
+    shown = {f: str(f).replace("\x1b", "\\x1b").replace("\n", "\\n").replace("\x07", "\\x07") for f in (good, bad)}
+    for command in ("check", "synth"):
+        code, out, err = _cli(command, str(good), str(bad))
+        assert code == 2
+        assert not any(c in out + err for c in "\x1b\x07"), (out, err)
+        lines = err.splitlines()
+        assert lines[0].startswith(shown[bad] + ":3: linkage.ground: expected a positive length"), lines
+        if command == "check":
+            assert out == f"{shown[good]}: ok\n"
+        else:
+            assert len(lines) == 2 and lines[1].startswith("2 files: 1 solved")
+
+
+def test_the_progress_display_shows_a_file_name_escaped_and_not_as_markup():
+    from rich.console import Console
+    from linkcli.cli import _solving
+    console = Console(record=True, width=200, color_system=None)
+    console.print(_solving("a\x1b[31m[bold]b\n.toml"))
+    assert console.export_text() == "solving a\\x1b[31m[bold]b\\n.toml\n"
+
+
+def test_the_plot_and_export_lines_are_escaped(capsys):
+    from linkcli import plot
+    plot._err("x\x1b[2J.png: expected a writable picture, found a\nnewline")
+    assert capsys.readouterr().err == "x\\x1b[2J.png: expected a writable picture, found a\\nnewline\n"
+
+
+LONG_ECHOES = {  # a long name echoed in each part of a line: the key path, the found value,
+    # a hint in the expected part, a list of the file's own names in the expected part
+    "an unknown key in a table": lambda k: FIREDOOR.replace("[linkage]", f"[linkage]\n{k} = 1", 1),
+    "an unknown key also at the top level (the hint names it)":
+        lambda k: f"{k} = 1\n" + FIREDOOR.replace("[linkage]", f"[linkage]\n{k} = 2", 1),
+    "a string value": lambda k: FIREDOOR + f'[units]\nlength = "{k}"\n',
+    "a quoted key of short words": lambda k: FIREDOOR.replace("[linkage]", f'[linkage]\n"{" ".join(k[:len(k) // 2])}" = 1', 1),
+    "a link name listed as the known keys": lambda k: SHAPER.replace("crank = [", f"{k} = [").replace(
+        "crank = {", f"{k} = {{") + "[tolerance]\nlengths = { zzz = 0.1 }\nsamples = 10\n",
+    "a joint name in a key path and a hint": lambda k: SHAPER + f"[joints.{k}]\ndiameter = 1\n",
+}
+FIREDOOR = (ROOT / "problems" / "firedoor.toml").read_text()
+SHAPER = (ROOT / "problems" / "drawn_shaper.toml").read_text()
+
+
+@pytest.mark.parametrize("size", [3000, 100_000])
+@pytest.mark.parametrize("case", LONG_ECHOES)
+def test_a_long_name_is_echoed_cut_to_60_characters_and_its_length(tmp_path, case, size):
+    # one rule for every error line (terminal_text.bounded, applied where an error is made):
+    # a 3000-character key was echoed whole in a hint and in lists of known keys (lines of
+    # 3 to 40 KB); each echoed word longer than 80 characters keeps 60 and says its length
+    from linkcli.io.terminal_text import ECHO_LIMIT, KEY_LIMIT, PART_LIMIT
+    p = tmp_path / "long.toml"
+    p.write_text(LONG_ECHOES[case]("k" * size))
     code, _, err = run_cli("check", str(p))
     assert code == 2
     lines = err.splitlines()
-    assert all(len(l) < len(str(p)) + 3 * SHOWN_LIMIT for l in lines), [len(l) for l in lines]
-    assert any(("k" * (SHOWN_LIMIT - 20) + "...: expected") in l for l in lines), lines
+    assert lines and all(len(line) <= len(str(p)) + 10 + KEY_LIMIT + 2 * PART_LIMIT + 30 for line in lines), \
+        [len(line) for line in lines]
+    assert all(len(line) < len(str(p)) + 400 for line in lines), [len(line) for line in lines]
+    import re
+    told = [int(n) for n in re.findall(r'\.\.\."? \((\d+) characters\)', err)]
+    assert told and max(told) >= size - 1, lines  # the length of what was cut is said
+    assert "k" * (ECHO_LIMIT + 1) not in err
+
+
+def test_cutting_an_error_line_twice_changes_nothing():
+    # an error rebuilt from its fields (unpickled from a --jobs worker, or gathered into
+    # InputErrors) keeps its text
+    import pickle
+    from linkcli.errors import InputErrors, SchemaError
+    from linkcli.io.terminal_text import bounded
+    texts = ['unknown key "' + "k" * 3000 + '"', "a." + "b" * 500, " ".join(["word"] * 400),
+             '"' + "q" * 81 + '"?', "x" * 81, "x" * 80, "one of: " + ", ".join(f"n{i}" for i in range(300))]
+    for text in texts:
+        once = bounded(text)
+        assert bounded(once) == once and len(once) <= max(len(text), 300)
+    error = SchemaError(texts[-1], texts[0], path="f.toml", line=3, key=texts[1])
+    again = pickle.loads(pickle.dumps(InputErrors([error])))
+    assert again.lines() == InputErrors([error]).lines() == [str(error)]
 
 
 # -- 4. a design that misses a position is infeasible --------------------------------

@@ -285,3 +285,35 @@ def test_a_problem_file_named_result_is_not_a_batch():
         load_for_analysis("f.toml", text)
     (err,) = info.value.errors
     assert err.key == "result" and "unknown key" in err.got
+
+
+# ---------------------------------------------------------------- located: end of file, missing keys
+
+@pytest.mark.parametrize("text, line", [
+    ('type = "linkage"\n[linkage]\nground = 50\nx = ', 4),  # a value never written
+    ('type = "linkage"\n[linkage]\nground = 50\n[sect', 4),  # a header never closed
+    ('type = "linkage"\n[linkage]\nground = 50\ninput = [1,\n  2,\n', 5),  # an array never closed
+    ('type = "linkage"\ntitle = """never closed\n\n', 3),  # a multi-line string never closed
+])
+def test_a_syntax_error_at_the_end_of_the_file_names_its_last_line(text, line):
+    # tomllib says "at end of document" instead of a line and column: the end is the last line
+    with pytest.raises(InputError) as info:
+        Reader("f.toml", text)
+    assert info.value.line == line
+    assert str(info.value).startswith(f"f.toml:{line}: expected valid TOML, found a syntax error: ")
+    assert str(info.value).endswith("(at end of document)")
+
+
+@pytest.mark.parametrize("text, key, line", [
+    ("", "type", 1),  # an empty file: its first line
+    ("[linkage]\nground = 50\n", "type", 1),  # a top-level key: line 1
+    ('type = "precision-position"\n' + LINKAGE, "positions", 1),  # a top-level table
+    ('type = "linkage"\n\n\n' + LINKAGE.replace("coupler = 57.2363\n", ""), "linkage.coupler", 4),  # its header
+    ('type = "linkage"\n' + LINKAGE + "[motion]\nsteps = 10\n[tolerance]\nlengths = 0.05\n"
+     "max_failure_probability = 0.01\n", "tolerance.allowed_error", 9),  # its header, below another table
+])
+def test_a_missing_key_names_the_line_of_its_table_or_line_1(text, key, line):
+    errors = errors_of(text)
+    (err,) = [e for e in errors if e.key == key]
+    assert err.got == "nothing (the key is missing)"
+    assert err.line == line

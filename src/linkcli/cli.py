@@ -58,11 +58,11 @@ def main_callback(
 
 
 def _err(line: str) -> None:
-    """One line on stderr (escaped: one_line); a stderr that cannot take it is ignored, as
+    """One line on stderr (escaped: terminal_text.line); a stderr that cannot take it is ignored, as
     there is nowhere left to say so."""
-    from linkcli.io.terminal_text import one_line
+    from linkcli.io.terminal_text import line as terminal_line
     try:
-        sys.stderr.write(one_line(line.rstrip("\n")) + "\n")
+        sys.stderr.write(terminal_line(line))
     except (OSError, AttributeError, ValueError):  # closed, full, or None
         pass
 
@@ -78,6 +78,14 @@ def _progress(total: int):
     return Progress(SpinnerColumn(), TextColumn("{task.description}"), BarColumn(),
                     MofNCompleteColumn(), TextColumn("{task.fields[work]}"), TimeElapsedColumn(),
                     console=Console(file=sys.stderr), transient=True)
+
+
+def _solving(name: str) -> str:
+    """The progress display's "solving FILE": the name escaped (terminal_text.one_line) and
+    not read as rich markup (a file named "[bold]x.toml" is shown as named)."""
+    from rich.markup import escape
+    from linkcli.io.terminal_text import one_line
+    return f"solving {escape(one_line(name))}"
 
 
 class _Evaluations:
@@ -198,7 +206,7 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
         from linkcli.pipeline import serial
         from linkcli.search import budget
         prog.start()
-        task = prog.add_task(f"solving {names[0]}", total=len(names), work="")
+        task = prog.add_task(_solving(names[0]), total=len(names), work="")
         counter = _Evaluations(prog, task)
         if execute is serial:  # solves in this process count here (a forked --jobs worker must not
             budget.watch = counter  # touch the display: its lock may have been held at the fork)
@@ -235,7 +243,7 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
                 if prog is not None:
                     done = int(prog.tasks[0].completed) + 1
                     nxt = names[done] if done < len(names) else ""
-                    prog.update(task, advance=1, description=f"solving {nxt}" if nxt else "done")
+                    prog.update(task, advance=1, description=_solving(nxt) if nxt else "done")
                     counter.reset()
                     prog.start()
     except LinkcliError as exc:  # the executor failed (--cluster): no file is to blame
@@ -440,13 +448,14 @@ def analyze(files: List[str] = FILES, format: Format = FORMAT, out: Optional[Pat
 @app.command(cls=PlainUsage)
 def check(files: List[str] = FILES, debug: bool = DEBUG) -> None:
     """Validate problem files without solving (exit 2 on any error)."""
+    from linkcli.io.terminal_text import line as terminal_line
     from linkcli.pipeline import Request, serial
     worst = 0
     for f, outcome in zip(files, serial([str(f) for f in files], Request(mode="check", debug=debug))):
         for line in outcome.errors:
             _err(line)
-        if outcome.exit_code == 0:
-            sys.stdout.write(f"{f}: ok\n")  # the verdict is output; errors stay on stderr
+        if outcome.exit_code == 0:  # the verdict is output (escaped as an error line is); errors stay on stderr
+            sys.stdout.write(terminal_line(f"{f}: ok"))
         worst = max(worst, outcome.exit_code)
     raise typer.Exit(worst)
 

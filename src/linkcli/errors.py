@@ -10,12 +10,17 @@
 
 Every error has `exit_code` and `lines()` (its stderr lines). Input errors carry their
 fields (`path`, `line`, `key`, `expected`, `got`) and format them only in `__str__`, as
-`FILE:LINE: key.path: expected ..., found ...`. Every error pickles with its fields
+`FILE:LINE: key.path: expected ..., found ...`. The key, expected and found parts are
+bounded where an error is made (`terminal_text.bounded`, the one rule for every error
+line): a word echoed from the file longer than 80 characters keeps its first 60 and its
+length, so a line stays a few hundred characters long. Every error pickles with its fields
 (`__reduce__`), so it can cross a process boundary. Infeasibility is not an error: it is
 a status of the Solution.
 """
 
 from __future__ import annotations
+
+from linkcli.io.terminal_text import KEY_LIMIT, bounded
 
 
 class LinkcliError(Exception):
@@ -35,12 +40,13 @@ class InputError(LinkcliError):
 
     def __init__(self, expected: str, got: str | None = None, *, path: str | None = None,
                  line: int | None = None, key: str | None = None) -> None:
+        expected = bounded(expected)
         super().__init__(expected)
         self.expected = expected
-        self.got = got
+        self.got = None if got is None else bounded(got)
         self.path = path
         self.line = line
-        self.key = key
+        self.key = bounded(key, KEY_LIMIT) if key else key
 
     def __reduce__(self):
         return (_rebuild, (type(self), (self.expected, self.got),

@@ -75,7 +75,8 @@ def write(results: list, files: int, animate: Path | None, dxf: Path | None, deb
         try:
             targets = output_paths(reports, files, Path(path), rules["formats"], rules["folder_format"], rules["what"])
         except PlotError as exc:
-            sys.stderr.write(f"{exc}\n")
+            from linkcli.io.terminal_text import line as terminal_line
+            sys.stderr.write(terminal_line(str(exc)))
             worst = max(worst, exc.exit_code)
             continue
         worst = max(worst, write_each(results, targets, write_one, debug, doing))

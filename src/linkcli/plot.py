@@ -21,7 +21,8 @@ FOLDER_FORMAT = ".png"
 
 
 def _err(line: str) -> None:
-    sys.stderr.write(line.rstrip("\n") + "\n")
+    from linkcli.io.terminal_text import line as terminal_line
+    sys.stderr.write(terminal_line(line))
 
 
 def plot_command(results: list, files: int, plot_path, debug: bool, digits: int = 6) -> int:

@@ -19,7 +19,7 @@ from typing import NamedTuple
 
 from linkcli.errors import MAX_LISTED, InputError, InputErrors, SchemaError, TomlSyntaxError
 from linkcli.io.safe_read import read_problem_bytes
-from linkcli.io.terminal_text import shown as _one_line  # escaped, one line, at most 200 characters
+from linkcli.io.terminal_text import one_line as _one_line  # escaped, one line (bounded by errors.InputError)
 from linkcli.io.misplaced_keys import top_level_hint
 from linkcli.io.link_names import link_name_hint
 from linkcli.io.header_lines import with_parent_lines
@@ -63,9 +63,8 @@ def describe(value) -> str:
         if isinstance(value, float) and not math.isfinite(value):
             text = "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
         return text
-    if isinstance(value, str):
-        short = value if len(value) <= 60 else value[:57] + "..."
-        return f'"{_one_line(short)}" (string)'
+    if isinstance(value, str):  # a long one is cut where the error is made (errors.InputError)
+        return f'"{_one_line(value)}" (string)'
     if isinstance(value, list):
         text = _short_literal(value)
         return f"an array of {len(value)}" + (f": {text}" if text and value else "")
@@ -213,6 +212,13 @@ def _line_map(text: str, masked: tuple[str, set[int]] | None = None) -> dict[tup
 
 
 
+def _last_line(text: str) -> int:
+    """The last line of a text as an editor numbers it (a final newline opens no line of
+    its own): where a syntax error "at end of document" is, e.g. a file ending in `x = `
+    or in an unclosed `[table` or array."""
+    return max(1, text.count("\n") + (0 if text.endswith("\n") else 1))
+
+
 def _key_at(lines: dict[tuple[str, ...], int], line: int | None) -> str | None:
     """The key whose value holds `line`: the first key of the nearest line at or above it
     (an array's value may run over several lines), dotted; None if there is none."""
@@ -276,6 +282,7 @@ class Reader:
         self.errors: list[InputError] = []
         self._seen: dict[tuple[str, ...], set[str]] = {}
         self._tables: dict[tuple[str, ...], dict] = {}
+        self._expected: list[tuple[tuple[str, ...], dict, frozenset]] = []  # tables of a fixed vocabulary
         if text is None:
             text = read_problem_bytes(path)
         if isinstance(text, bytes):
@@ -296,7 +303,7 @@ class Reader:
         except tomllib.TOMLDecodeError as exc:
             msg = str(exc)
             m = re.search(r"\(at line (\d+), column (\d+)\)", msg)
-            line = int(m.group(1)) if m else None
+            line = int(m.group(1)) if m else _last_line(text) if "(at end of document)" in msg else None
             msg = re.sub(r"\s*\(at line \d+, column \d+\)", "", msg)
             if m:
                 msg += f" (column {m.group(2)})"
@@ -334,8 +341,18 @@ class Reader:
 
     def error(self, path: tuple[str, ...], expected: str, got=MISSING, *, raw_got: str | None = None) -> None:
         found = _one_line(raw_got) if raw_got is not None else describe(got)
-        self.errors.append(SchemaError(expected, found, path=self.path, line=self.line_of(path),
+        line = self.line_of(path)
+        if line is None and got is MISSING and raw_got is None:
+            line = self._missing_line(path)
+        self.errors.append(SchemaError(expected, found, path=self.path, line=line,
                                        key=_one_line(".".join(path)) or None))
+
+    def _missing_line(self, path: tuple[str, ...]) -> int | None:
+        """The line of a missing key that has no table line to fall back on: line 1 when
+        what is missing is a top-level key or table (the file has no line of it: the top
+        level starts at line 1); None when a table above it exists on no line this reader
+        knows (an element of an array of tables it cannot tell apart: not guessed)."""
+        return 1 if path and path[0] not in self.data else None
 
     def table(self, name: str | tuple[str, ...], required: bool = False) -> "Table | None":
         path = (name,) if isinstance(name, str) else tuple(name)
@@ -362,6 +379,13 @@ class Reader:
         self._tables[path] = data
         self._seen.setdefault(path, set())
 
+    def expect(self, path: tuple[str, ...], data: dict, keys: frozenset) -> None:
+        """A table whose keys are a fixed vocabulary, `keys` (a result file's output
+        section, judged by what the report writer writes): its other keys are unknown keys
+        for finish(), reported as any table's. `keys` is shared, not copied: the 100,000
+        rows of a motion study cost a tuple each."""
+        self._expected.append((path, data, keys))
+
     def finish(self) -> None:
         """Report unknown keys of every table read, then raise everything collected, in
         the order of their lines (at most MAX_LISTED listed: InputErrors). Linear in the
@@ -370,6 +394,8 @@ class Reader:
         unknown = []  # (path, key, allowed) of each unknown key
         for path, data in self._tables.items():
             allowed = self._allowed.get(path, set()) | self._seen.get(path, set())
+            unknown.extend((path, key, allowed) for key in data if key not in allowed)
+        for path, data, allowed in self._expected:
             unknown.extend((path, key, allowed) for key in data if key not in allowed)
         if not self.errors and not unknown:
             return

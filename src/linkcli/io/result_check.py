@@ -1,37 +1,43 @@
 """What a result file holds beyond what `analyze` reads back: checked, never ignored.
 
 A result file is linkcli's own output (`synth --format toml`), so what it may hold is
-known: the report's top-level keys (`TOP_KEYS`), a `type` and `status` of their
-vocabularies, strings where the report writes strings, and numbers that are finite (the
+known: the report's top-level keys (`top_keys`), a `type` and `status` of their
+vocabularies, strings where the report writes strings, numbers that are finite (the
 writer leaves a non-finite number out: TOML has no null) in arrays no longer than a
-problem file's (or, for the rows of a motion study, its `steps`). Anything else is an
+problem file's (or, for the rows of a motion study, its `steps`), and in every output
+section ([transmission], [error], [solver], the rows of [[kinematics]], [tolerance] and
+its tables, a type's own sections, ...) the keys the report writer writes there
+(`io.result_keys`, found by running the writer: tests/result_keys_corpus.py), a map keyed
+by the linkage's own names (pins, links, joints) taking any name. Anything else is an
 error on its own line, like an unknown key of a problem file. The sections `analyze`
-reads ([units], [linkage], [motion]'s study, [loads], [masses]) are checked key by key
-where they are read.
+reads (READ: [units], [linkage], [motion]'s study, [loads], [masses]) are checked key by
+key where they are read.
 """
 
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 from linkcli.io.meta import ALL_SECTIONS
 from linkcli.io.reader import MAX_ARRAY, Table
+from linkcli.io.result_keys import KEYS, OPEN, ROWS
 from linkcli.registry import NAMES, problem_type
 
 STATUSES = ("ok", "infeasible", "not-converged")
 MAX_STEPS = 100_000  # [motion] steps: a motion study's rows (kinematics, forces.rows, ...)
 MAX_VALUE_ERRORS = 100  # a file of garbage: the first ones are enough
-_TYPE_SECTIONS = ("target", "structural_error", "robust", "timing", "defects", "design",
-                  "tradeoff", "candidates", "candidate_counts", "burmester", "family",
-                  "cylinder", "pareto")  # a type's own sections (its solver's Solution.sections)
+READ = ("units", "linkage", "motion", "loads", "masses")  # read back by result_file.parse
 _REPORT_KEYS = ("file", "title", "type", "status", "message", "units", "notes", "linkage",
                 "loads", "masses")
 
 
 def top_keys() -> tuple[str, ...]:
-    """Every top-level key a result file of any type may hold."""
+    """Every top-level key a result file of any type may hold: the report's own, every
+    section a type can be asked for, and every section the writer writes (io.result_keys:
+    a type's own sections, its solver's Solution.sections)."""
     typed = (s for name in NAMES for s in problem_type(name).sections)
-    return tuple(dict.fromkeys((*_REPORT_KEYS, *ALL_SECTIONS, *typed, *_TYPE_SECTIONS)))
+    return tuple(dict.fromkeys((*_REPORT_KEYS, *ALL_SECTIONS, *typed, *KEYS)))
 
 
 def check_header(root: Table) -> bool:
@@ -77,3 +83,53 @@ def check_values(root: Table) -> None:
             stack.extend((head + (f"{last}[{i}]",), v) for i, v in reversed(list(enumerate(value))))
         elif isinstance(value, dict):
             stack.extend((path + (k,), v) for k, v in reversed(list(value.items())))
+
+
+@lru_cache(maxsize=None)
+def key_tree(section: str) -> dict:
+    """The keys the writer writes in `section` as a tree (io.result_keys: dotted paths):
+    {key: subtree}, {} under a value; ROWS: the rows of an array of tables; OPEN: a map of
+    the linkage's own names. Each table's keys are a frozenset under the key None (no
+    TOML key: shared by every row judged by them)."""
+    tree: dict = {}
+    for path in KEYS.get(section, ()):
+        node = tree
+        for part in path.split("."):
+            node = node.setdefault(part, {})
+    return _frozen(tree)
+
+
+def _frozen(tree: dict) -> dict:
+    out = {key: _frozen(sub) for key, sub in tree.items()}
+    if tree:
+        out[None] = frozenset(key for key in tree if key not in (ROWS, OPEN))
+    return out
+
+
+def check_sections(root: Table) -> None:
+    """Every key of the output sections (all but READ) one the report writer writes there:
+    an unknown key is an error on its line (Reader.expect, reported by Reader.finish as an
+    unknown key of a problem file, with its "did you mean")."""
+    for section, value in root.data.items():
+        if section in KEYS and section not in READ:
+            _judge(root.reader, (section,), value, key_tree(section))
+
+
+def _judge(reader, path: tuple[str, ...], value, tree: dict) -> None:
+    """`value` at `path` against its key tree; iterative over rows (100,000 of them)."""
+    stack = [(path, value, tree)]
+    while stack:
+        path, value, tree = stack.pop()
+        if isinstance(value, list):  # rows: each judged by the keys of ROWS
+            rows = tree.get(ROWS)
+            if rows:
+                head, last = path[:-1], path[-1]
+                stack.extend((head + (f"{last}[{i}]",), item, rows) for i, item in enumerate(value)
+                             if isinstance(item, dict))
+        elif isinstance(value, dict) and tree:  # (a table where the writer writes a value: not judged here)
+            if OPEN in tree:  # a map of names: any name, each judged by the same keys
+                stack.extend((path + (name,), item, tree[OPEN]) for name, item in value.items())
+                continue
+            reader.expect(path, value, tree[None])
+            stack.extend((path + (key,), item, tree[key]) for key, item in value.items()
+                         if key in tree and tree[key])

@@ -2,8 +2,9 @@
 
 Only `title`, `[units]`, `[linkage]`, `[motion]`'s study and `[loads]`/`[masses]` are read; the rest of a result file is linkcli's
 own output (status, tables): it is checked, not read (io.result_check: known top-level
-keys, `type` and `status` of their vocabularies, finite numbers, bounded arrays), and
-unknown keys of the tables read are errors, as in a problem file. A batch
+keys, `type` and `status` of their vocabularies, finite numbers, bounded arrays, the keys
+the report writer writes in each output section), and unknown keys of the tables read are
+errors, as in a problem file. A batch
 written by `synth A B --format toml` (`[[result]]` tables) is refused with a clear line:
 `analyze` makes one report per file, so each result must be in a file of its own.
 """
@@ -41,7 +42,7 @@ def has_linkage(data: dict) -> bool:
 def parse(reader: Reader) -> LinkageProblem | None:
     from linkcli.io.loads import read_loads
     from linkcli.io.meta import MAX_LENGTH, read_units
-    from linkcli.io.result_check import check_header, check_values
+    from linkcli.io.result_check import check_header, check_sections, check_values
     from linkcli.io.result_motion import motion_study
     from linkcli.mechanisms.schema import read_linkage
     from linkcli.model import LinkageProblem, Meta
@@ -57,6 +58,7 @@ def parse(reader: Reader) -> LinkageProblem | None:
     if not check_header(root):  # a wrong type: nothing else can be judged
         return None
     check_values(root)
+    check_sections(root)
     if not has_linkage(reader.data):
         kind = reader.data.get("type")
         what = f'a {kind} result without one' if isinstance(kind, str) else "a result without one"

@@ -3,14 +3,30 @@
 A title, a file name, a key or a value read from a file may hold terminal escapes
 ("\\u001b[2J" clears the screen) or newlines. `one_line` writes every non-printable
 character as Python writes it in a string literal (`\\x1b`, `\\n`, `\\u2028`), so the text
-is shown, never obeyed; `shown` also cuts it to SHOWN_LIMIT characters with "..." (a
-100 000-character key is not a useful line); `terminal_safe` applies `one_line` to every
-string (keys and values) of a report before it is printed as a table.
+is shown, never obeyed; `line` makes an error or status line of it; `shown` also cuts it to a given length with "..."; `terminal_safe`
+applies `one_line` to every string (keys and values) of a report before it is printed as a
+table.
+
+`bounded` is the one rule for the length of an error line (errors.InputError applies it to
+the key, the expected and the found part of every error): a 100,000-character key is not
+a useful line, and a key is echoed in several parts of one line (its path, `unknown key
+"..."`, a hint). Every echoed word longer than WORD_LIMIT characters -- a run without
+spaces, or a quoted "..." -- keeps its first ECHO_LIMIT characters and says how long it was
+(`kkkk... (3000 characters)`); a part still longer than its limit (a quoted key of many
+short words, a list of hundreds of names) is cut the same way.
 """
 
 from __future__ import annotations
 
-SHOWN_LIMIT = 200  # characters of a key or value quoted in an error line
+import re
+
+SHOWN_LIMIT = 200  # characters of a text `shown` keeps by default
+ECHO_LIMIT = 60  # characters kept of one echoed key or value cut in an error line
+WORD_LIMIT = 80  # an echoed word (a run without spaces, or a quoted "...") longer than this is cut
+KEY_LIMIT = 120  # characters of an error line's key path
+PART_LIMIT = 300  # characters of an error line's expected or found part
+
+_LONG = re.compile(r'"([^"]{%d,})"|[^\s"]{%d,}' % (WORD_LIMIT + 1, WORD_LIMIT + 1))
 
 
 def one_line(text: str) -> str:
@@ -18,6 +34,14 @@ def one_line(text: str) -> str:
     if text.isprintable():
         return text
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+
+
+def line(text: str) -> str:
+    """One line of terminal output -- an error line, a status line (`FILE: ok`) -- with
+    its newline: every control character escaped (one_line), so a file name holding
+    "\\x1b[31m" or a newline is shown, never obeyed, and stays on its line. Every line
+    linkcli writes to stderr, and `check`'s status lines, are made by this."""
+    return one_line(text.rstrip("\n")) + "\n"
 
 
 def shown(text: str, limit: int = SHOWN_LIMIT) -> str:
@@ -36,3 +60,27 @@ def terminal_safe(node):
         items = [terminal_safe(v) for v in node]
         return node.like(items) if hasattr(node, "like") else items  # report.Elided keeps its class
     return node
+
+
+def _cut_word(m: re.Match) -> str:
+    """A long word's first ECHO_LIMIT characters, "...", and its length (a quoted word: its
+    content, inside its quotes): at most WORD_LIMIT long, so never cut again."""
+    inner = m.group(1)
+    if inner is not None:
+        return f'"{inner[:ECHO_LIMIT]}..." ({len(inner)} characters)'
+    word = m.group()
+    return f"{word[:ECHO_LIMIT]}... ({len(word)} characters)"
+
+
+def bounded(text: str, limit: int = PART_LIMIT) -> str:
+    """`text` (already one line) with every word longer than WORD_LIMIT cut to its first
+    ECHO_LIMIT characters, "..." and its length, then, if still longer than `limit`, cut to exactly
+    `limit` characters the same way. Idempotent (bounded(bounded(t)) == bounded(t)): an
+    error rebuilt from its fields (unpickled, or collected into InputErrors) keeps its text."""
+    if len(text) <= WORD_LIMIT:
+        return text
+    text = _LONG.sub(_cut_word, text)
+    if len(text) > limit:
+        tail = f" ... ({len(text)} characters)"
+        text = text[:max(0, limit - len(tail))] + tail
+    return text
