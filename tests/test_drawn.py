@@ -234,6 +234,18 @@ def test_a_drawn_result_file_is_refused_by_analyze_with_one_line(tmp_path):
     assert "reads a drawn linkage from its problem file" in err
 
 
+def test_a_drawn_result_file_with_loads_is_refused_with_one_line_too(tmp_path):
+    """A drawn result keeps its [loads] and [masses] but not its drawing: their link and
+    joint names are not judged against a drawing that is not there (six more lines before,
+    each blaming a correct name)."""
+    code, out, _ = run_cli("synth", "problems/watt_strength.toml", "--format", "toml")
+    assert code == 0 and "[masses" in out
+    path = write(tmp_path, out, "result.toml")
+    code, _, err = run_cli("analyze", path)
+    assert code == 2 and err.count("\n") == 1
+    assert "reads a drawn linkage from its problem file" in err
+
+
 @pytest.mark.parametrize("speed", ["5e-324", "1e-300", "-1e-10"])
 def test_a_vanishing_drive_speed_is_one_located_line(tmp_path, speed):
     """A drive's |speed| below 1e-9 (a denormal was read as 0 by the speed ratios: a

@@ -372,10 +372,15 @@ def read_load_case(root: Table, kind: str):
         return None
     raw_links = root.data.get("links")
     raw_joints = root.data.get("joints")
-    links = [k for k in raw_links] if isinstance(raw_links, dict) else []
-    joints = [k for k in raw_joints] if isinstance(raw_joints, dict) else []
-    sliders = [k for k, v in raw_joints.items() if isinstance(v, dict) and "slider" in v] \
-        if isinstance(raw_joints, dict) else []
+    if not (isinstance(raw_joints, dict) and isinstance(raw_links, dict)):  # no drawing to name the
+        # links and joints (its absence is its own line; a result file keeps none): judged against
+        # nothing, every name was one more line
+        for name in ("loads", "masses"):
+            if name in root:
+                root.raw(name)
+        return None
+    links, joints = list(raw_links), list(raw_joints)
+    sliders = [k for k, v in raw_joints.items() if isinstance(v, dict) and "slider" in v]
     errors = len(root.reader.errors)
     given: dict = {}
     loads = Loads()
