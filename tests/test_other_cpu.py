@@ -4,7 +4,8 @@ Two machines differ in the OpenBLAS kernel that numpy's matrix products and `np.
 run (chosen by CPU; OPENBLAS_CORETYPE forces one) and in numpy's own vector paths for
 sin, cos, sums and friends (chosen by CPU; NPY_DISABLE_CPU_FEATURES narrows them). Every
 example in problems/ (and bench/log_generator_grashof.toml, whose status once followed the
-kernel, and a seven-pose motion search that starts from four-pose curves) is solved three times in subprocesses: as this environment runs it, under a
+kernel, a seven-pose motion search that starts from four-pose curves, and a twelve-pose one whose settle walks
+first) is solved three times in subprocesses: as this environment runs it, under a
 second OpenBLAS kernel, and with numpy's dispatched vector paths all disabled; each
 output must equal the first byte for byte (JSON, every number and status), but for the
 solver's evaluation count (machine_fields.py), with the same exit code and stderr.
@@ -27,7 +28,8 @@ from machine_fields import MASK, masked
 
 FILES = sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "problems").glob("*.toml")) + [
     "problems/bench/log_generator_grashof.toml",
-    "tests/data/motion_seven_poses_length.toml"]  # motion's four-pose curve starts (SVDs in their polish)
+    "tests/data/motion_seven_poses_length.toml",  # motion's four-pose curve starts (SVDs in their polish)
+    "tests/data/motion_window_long_valley.toml"]  # motion's walk to the optimum (BLAS and NNLS steps)
 KERNELS = ("Prescott", "Sandybridge", "Haswell")  # x86-64 kernels, oldest first: another one runs
 MACHINE = ("OPENBLAS_CORETYPE", "NPY_DISABLE_CPU_FEATURES")
 

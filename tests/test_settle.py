@@ -324,3 +324,42 @@ def test_stalled_curvature_costs_nothing_where_gauss_newton_converges():
         return len(calls)
 
     assert run("stalled") == run(False) < run(True)
+
+
+def _jittered_valley(calls):
+    """f = 1 + (x0^2 + 1e-8 x1^2) / 2 on x = u - 1/2, with Gauss-Newton's h exact and a
+    deterministic jitter of 1e-15 on the gradient (the slopes' round-off): Newton's steps
+    along the flat direction are the jitter over 1e-8, about 1e-7, and never fall below
+    STEP_TOL; the model gains 1e-22 along them, round-off of f = 1."""
+
+    def point(u):
+        calls.append(1)
+        x = np.asarray(u, float) - 0.5
+        h = np.diag([1.0, 1e-8])
+        jitter = 1e-15 * np.array([0.0, math.sin(1e9 * float(u[1]) + 7.0 * len(calls))])
+        return kkt.Point(1.0 + 0.5 * float(x @ h @ x), h @ x + jitter, np.zeros(0), np.zeros((0, 2)), h=h)
+
+    return point
+
+
+def test_settle_ends_where_its_model_gains_only_round_off():
+    # the steps hover at the jitter's ~1e-7 (each a new draw); the rescue stops at the first
+    # iterate whose step is within PRINTED and whose model gains below ROUND_OFF of f, and
+    # that point is the minimum to the flat direction's jitter (1e-15 / 1e-8)
+    calls = []
+    start = np.array([0.5 + 1e-3, 0.5 + 2e-7])
+    out = kkt.settle(_jittered_valley(calls), start)
+    assert out.converged
+    assert abs(out.u[0] - 0.5) <= 1e-12 and abs(out.u[1] - 0.5) <= 1e-6
+    assert out.f == pytest.approx(1.0, rel=1e-14, abs=0.0)
+
+
+def test_the_round_off_rescue_needs_a_small_model_gain():
+    # the same valley with f's constant 1 taken away: f itself is now 1e-22 at the start's
+    # flat offset, so the model's gain is not round-off of f, and the jitter's steps fail
+    def point(u, base=_jittered_valley([])):
+        p = base(u)
+        return kkt.Point(p.f - 1.0, p.g, p.c, p.a, h=p.h)
+
+    out = kkt.settle(point, np.array([0.5 + 1e-3, 0.5 + 2e-7]))
+    assert not out.converged

@@ -43,6 +43,9 @@ ITERATIONS = 30  # Newton steps per active set
 ROUNDS = 6  # active sets tried
 STEP_TOL = 1e-10  # unit box: a Newton step this small has converged (round-off of the
 # slopes leaves steps of 1e-12 on a well-posed problem; six printed digits need 1e-7)
+PRINTED = 1e-7  # unit box: a Newton step this small whose model gains only round-off of f is the
+# root to the printed digits, where an ill-conditioned Hessian leaves the slopes' round-off a jitter
+# above STEP_TOL (`_newton`'s rescue)
 NEAR = 1e-4  # unit box: a step this small is taken whole (no line search: the merit no
 # longer resolves it, while Newton converges quadratically from here)
 AGAIN = 3  # settles from the last one's end, while they lower f: the binding set read at a
@@ -203,6 +206,7 @@ def _newton(opts: Options, u, p: Point, active, fixed):
         lam = linalg.solve(linalg.gram(af.T), linalg.matvec(af, p.g[free]))
         lam = np.where(np.isfinite(lam), lam, 0.0)
     full, last = False, np.inf  # curvature: the differenced Hessian in use; the last step's size
+    rest = None  # (u, p, lambda) of the first iterate where the model had only round-off left to gain
     for _ in range(ITERATIONS):
         if p.h is None or (curvature and full):
             h = _lagrangian_hessian(many, u, rows, lam, hessian_step, groups=groups)
@@ -212,9 +216,11 @@ def _newton(opts: Options, u, p: Point, active, fixed):
             h = p.h
         step, lam_new = _kkt_step(h, p.g, p.a[rows], p.c[rows], free)
         if step is None:
-            return u, p, lam, False
+            return (*rest, True) if rest else (u, p, lam, False)
         lam = lam_new
         size = float(np.max(np.abs(step)))
+        if rest is None and size <= PRINTED and _at_round_off(p, h, step, rows, lam):
+            rest = (u, p, lam)
         if curvature and size <= NEAR:  # Newton's region: steps that shrink only linearly say
             # the model misses curvature (a large residual's): the differenced Hessian then;
             # steps that grow under it say it is worse (round-off in a flat valley): back
@@ -241,11 +247,27 @@ def _newton(opts: Options, u, p: Point, active, fixed):
                 break
             t *= 0.5
         else:
-            return u, p, lam, size < 1e-9  # round-off size: the root to working precision
+            if size < 1e-9:  # round-off size: the root to working precision
+                return u, p, lam, True
+            return (*rest, True) if rest else (u, p, lam, False)
         u, p = trial, q
-    else:
-        return u, p, lam, False  # still moving after ITERATIONS steps: not settled
+    else:  # still moving after ITERATIONS steps: not settled, unless an iterate was at round-off
+        return (*rest, True) if rest else (u, p, lam, False)
     return u, p, lam, True
+
+
+def _at_round_off(p: Point, h, step, rows, lam) -> bool:
+    """Whether Newton's model at p gains only round-off of f along `step` (its slope
+    |grad L . s| and curvature |s^T H s| / 2, below ROUND_OFF |f|) with the active
+    constraints met (within FEASIBLE). `_newton` ends there, the root to the printed digits,
+    when its steps do not shrink below the step tolerance: the slopes' round-off, divided by
+    a Hessian's smallest eigenvalue (a flat valley), moves the root by more (motion study case
+    39, one length at its bound: steps of 1.5e-8 to 3e-8 that grew, f constant to 1e-15)."""
+    if len(rows) and float(np.max(np.abs(p.c[rows]))) > FEASIBLE:
+        return False
+    grad_l = p.g - linalg.matvec(p.a[rows].T, lam) if len(rows) else p.g
+    gain = abs(linalg.dot(grad_l, step)) + 0.5 * abs(linalg.dot(step, linalg.matvec(h, step)))
+    return gain <= ROUND_OFF * abs(p.f)
 
 
 def slopes(values: Callable[[np.ndarray], np.ndarray], u: np.ndarray, step: float = SLOPE_STEP):
