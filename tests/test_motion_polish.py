@@ -305,19 +305,25 @@ def test_a_settle_that_fails_far_from_the_optimum_walks_there_first():
     every round's penalty polish stops at 0.020466, where the window binds at two poses and
     the reduced gradient is 0.084 along a valley whose reduced Hessian spans 0.02 to 5e5; the
     Newton settle there fails (its steps on a fixed active set overshoot), and the search
-    ended `not-converged` at 0.020466 on every seed. The walk (search.polish.gauss_newton)
-    follows the valley 0.63 of the unit box to the optimum. Reference, independent of the
-    search: scipy's SLSQP from the polished design on the same residuals and constraints
-    ends at 0.0120499906 (6.7e-11 outside the window, which lowers f by about 2e-11)."""
-    from dataclasses import replace
+    ended `not-converged` at 0.020466 on every seed. The walk (search.polish.gauss_newton,
+    on the house NNLS: scipy stays unloaded) follows the valley 0.63 of the unit box to the
+    optimum. Reference, independent of the search: scipy's SLSQP from the polished design
+    on the same residuals and constraints ends at 0.0120499906 (6.7e-11 outside the window,
+    which lowers f by about 2e-11)."""
+    import json
+    import subprocess
+    import sys
     from pathlib import Path
 
-    from linkcli.io.load import load
-    from linkcli.pipeline import solve
-
     path = Path(__file__).parent / "data" / "motion_window_long_valley.toml"
-    problem = load(str(path), path.read_text())
-    problem = replace(problem, meta=replace(problem.meta, solver=replace(problem.meta.solver, seed=0)))
-    solution = solve(problem)
-    assert solution.status.value == "ok"
-    assert solution.objective == pytest.approx(0.0120499906, rel=1e-8)
+    code = ("import json, sys\n"
+            "from linkcli.io.load import load\n"
+            "from linkcli.pipeline import solve\n"
+            f"path = {str(path)!r}\n"
+            "solution = solve(load(path, open(path).read()))\n"
+            "print(json.dumps([solution.status.value, solution.objective, 'scipy' in sys.modules]))\n")
+    out = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True).stdout
+    status, objective, scipy_loaded = json.loads(out)
+    assert status == "ok"
+    assert objective == pytest.approx(0.0120499906, rel=1e-8)
+    assert not scipy_loaded

@@ -23,6 +23,13 @@ sign (lambda_i < 0: the constraint does not bind) or an inactive constraint that
 breaks changes the active set, and Newton starts again (at most ROUNDS times). The linear
 algebra is `linalg` (no BLAS): the same steps on every machine.
 
+A Newton pass also ends, converged, at the first iterate where its model has only round-off
+of f left to gain (`_at_round_off`: a step within PRINTED whose slope and curvature terms
+are below ROUND_OFF |f|), when its steps never fall below the step tolerance: in a flat
+valley the slopes' round-off over a small eigenvalue of the Hessian keeps them above it.
+A settle that fails far from a KKT point is the caller's to mend (motion generation walks
+there first with linkcli.search.polish's constrained Levenberg-Marquardt).
+
 The end point is only offered: the caller keeps it when it is at least as good under its
 own ranking (`settle` returns it with its f and worst violation).
 """

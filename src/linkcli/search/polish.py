@@ -55,13 +55,15 @@ def polish(problem, u0: np.ndarray, gauss_newton_first: bool = True) -> bool:
         return False
 
 
-def least_distance(g: np.ndarray, h: np.ndarray) -> np.ndarray | None:
+def least_distance(g: np.ndarray, h: np.ndarray, nnls=None) -> np.ndarray | None:
     """min |w| subject to g w >= h, or None when the constraints are inconsistent.
 
     Lawson & Hanson (1974), ch. 23: with E = [g^T; h^T] and f = (0, ..., 0, 1), solve the
     NNLS problem min |E y - f|, y >= 0; the residual r = E y - f vanishes only if no w
-    exists, else w = -r[:n] / r[n]."""
-    from scipy.optimize import nnls
+    exists, else w = -r[:n] / r[n]. `nnls`: the NNLS solver (scipy.optimize.nnls when None;
+    linkcli.search.nnls.nnls keeps scipy unloaded)."""
+    if nnls is None:
+        from scipy.optimize import nnls
     n = g.shape[1]
     e = np.vstack([g.T, h[None, :]])
     f = np.zeros(n + 1)
@@ -76,8 +78,8 @@ def least_distance(g: np.ndarray, h: np.ndarray) -> np.ndarray | None:
     return -r[:n] / r[n]
 
 
-def gauss_newton(problem, u0: np.ndarray) -> np.ndarray:
-    """Stage 1; returns the last accepted point.
+def gauss_newton(problem, u0: np.ndarray, nnls=None) -> np.ndarray:
+    """Stage 1; returns the last accepted point (`nnls`: least_distance's solver).
 
     At u, with J = dr/du and A = dc/du (the box among the constraints), the step solves
 
@@ -120,7 +122,7 @@ def gauss_newton(problem, u0: np.ndarray) -> np.ndarray:
             g = a @ r_inv
             if not _finite(b, g, g @ b):
                 return u
-            w = least_distance(g, -c + g @ b)
+            w = least_distance(g, -c + g @ b, nnls)
             if w is None:
                 return u
             step = r_inv @ (w - b)
@@ -132,7 +134,7 @@ def gauss_newton(problem, u0: np.ndarray) -> np.ndarray:
             ratio = (m_u - m_trial) / predicted
             if ratio <= ACCEPT and len(cons):
                 shifted = np.concatenate([problem.value(trial)[1] - jc @ step, u, 1.0 - u])
-                w = least_distance(g, -shifted + g @ b)
+                w = least_distance(g, -shifted + g @ b, nnls)
                 if w is not None:
                     corrected = np.clip(u + r_inv @ (w - b), 0.0, 1.0)
                     m_corr = merit(corrected)

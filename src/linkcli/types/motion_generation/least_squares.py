@@ -691,14 +691,15 @@ def _walk(values, m: int, u0, scale: float):
     the unit box away, and Newton's steps on a fixed active set overshoot there). The
     exact penalty's weight: 20 sqrt(f) L, ten times the size of a multiplier (a unit change
     of a constraint, c is dimensionless, moves the residuals by about L, and f by about
-    2 sqrt(f) L). Its steps use numpy's BLAS and scipy's NNLS; the Newton settle after it
-    brings the end to the same digits on every machine."""
+    2 sqrt(f) L). Its steps use numpy's BLAS and LAPACK (the house NNLS: scipy stays
+    unloaded); the Newton settle after it brings the end to the same digits on every machine."""
     from linkcli.search import polish
+    from linkcli.search.nnls import nnls
     f0 = float(np.sum(values(np.asarray(u0, float)[None, :])[0, :m] ** 2))
     problem = _Walk(values, m, len(u0), 20.0 * math.sqrt(max(f0, 0.0)) * scale + 1e-300)
     try:
         with np.errstate(all="ignore"):
-            return polish.gauss_newton(problem, u0)
+            return polish.gauss_newton(problem, u0, nnls=nnls)
     except (ArithmeticError, ValueError, np.linalg.LinAlgError):  # a model that overflowed: no walk
         return u0
 
