@@ -22,7 +22,7 @@ from dataclasses import replace
 from typing import Iterator, NamedTuple
 
 from linkcli.errors import LinkcliError
-from linkcli.io.terminal_text import line as terminal_line, one_line
+from linkcli.io.terminal_text import one_line, write_error
 
 COLUMNS = ("problem", "method", "budget", "seed", "seconds", "evaluations", "objective",
            "best_known", "gap", "status")
@@ -182,11 +182,11 @@ def command(files: list[str], fmt: str, seeds: int, precision: int, debug: bool,
         if debug:
             raise
         for line in exc.lines():
-            sys.stderr.write(terminal_line(line))
+            write_error(line)
         return max(worst, exc.exit_code)
     for path in dict.fromkeys(files):  # a file named twice: its runs ran twice, in rows_of
         for line in errors[path]:
-            sys.stderr.write(terminal_line(line))
+            write_error(line)
     rows = [row for path in dict.fromkeys(files) if not errors[path] for row in rows_of[path]]
     columns = SUMMARY_COLUMNS if summary_only else COLUMNS
     shown = summary(rows) if summary_only else rows

@@ -58,13 +58,9 @@ def main_callback(
 
 
 def _err(line: str) -> None:
-    """One line on stderr (escaped: terminal_text.line); a stderr that cannot take it is ignored, as
-    there is nowhere left to say so."""
-    from linkcli.io.terminal_text import line as terminal_line
-    try:
-        sys.stderr.write(terminal_line(line))
-    except (OSError, AttributeError, ValueError):  # closed, full, or None
-        pass
+    """One line on stderr (terminal_text.write_error)."""
+    from linkcli.io.terminal_text import write_error
+    write_error(line)
 
 
 def _progress(total: int):

@@ -75,8 +75,8 @@ def write(results: list, files: int, animate: Path | None, dxf: Path | None, deb
         try:
             targets = output_paths(reports, files, Path(path), rules["formats"], rules["folder_format"], rules["what"])
         except PlotError as exc:
-            from linkcli.io.terminal_text import line as terminal_line
-            sys.stderr.write(terminal_line(str(exc)))
+            from linkcli.io.terminal_text import write_error
+            write_error(str(exc))
             worst = max(worst, exc.exit_code)
             continue
         worst = max(worst, write_each(results, targets, write_one, debug, doing))

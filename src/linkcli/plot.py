@@ -11,7 +11,6 @@ fixed metadata and a fixed SVG hash salt give identical bytes from run to run.
 from __future__ import annotations
 
 import io
-import sys
 from pathlib import Path
 
 from linkcli.errors import LinkcliError, PlotError
@@ -21,8 +20,8 @@ FOLDER_FORMAT = ".png"
 
 
 def _err(line: str) -> None:
-    from linkcli.io.terminal_text import line as terminal_line
-    sys.stderr.write(terminal_line(line))
+    from linkcli.io.terminal_text import write_error
+    write_error(line)
 
 
 def plot_command(results: list, files: int, plot_path, debug: bool, digits: int = 6) -> int:

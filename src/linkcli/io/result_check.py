@@ -32,6 +32,7 @@ _REPORT_KEYS = ("file", "title", "type", "status", "message", "units", "notes", 
                 "loads", "masses")
 
 
+@lru_cache(maxsize=None)
 def top_keys() -> tuple[str, ...]:
     """Every top-level key a result file of any type may hold: the report's own, every
     section a type can be asked for, and every section the writer writes (io.result_keys:

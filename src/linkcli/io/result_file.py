@@ -81,7 +81,7 @@ def parse(reader: Reader) -> LinkageProblem | None:
         reader.finish()  # raises them, with the unknown keys
         return None
     sections = LINKAGE.default_sections + (("forces",) if loads is not None else ())
-    meta = Meta(path=reader.path, type="linkage", title=title if isinstance(title, str) else None,
+    meta = Meta(path=reader.path, type="linkage", title=title,  # a string or None: check_header judged it
                 units=units, sections=sections, loads=loads)
     problem = motion_study(root, LinkageProblem(meta=meta, linkage=fourbar, input_speed=units.to_rad(1.0), steps=360))
     reader.finish()  # unknown keys of the tables read (and of the top level): errors

@@ -44,6 +44,16 @@ def line(text: str) -> str:
     return one_line(text.rstrip("\n")) + "\n"
 
 
+def write_error(text: str) -> None:
+    """`line(text)` on stderr; a stderr that cannot take it (closed, full, or None) is
+    ignored, as there is nowhere left to say so. Every error line linkcli writes goes here."""
+    import sys
+    try:
+        sys.stderr.write(line(text))
+    except (OSError, AttributeError, ValueError):
+        pass
+
+
 def shown(text: str, limit: int = SHOWN_LIMIT) -> str:
     """`one_line(text)`, cut to `limit` characters with a trailing "..." when longer."""
     text = one_line(text)
