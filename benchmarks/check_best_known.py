@@ -253,16 +253,11 @@ def fd_jac(fun, u, h):
     return (F[:k] - F[k:]).T / (2 * h)
 
 
-def slsqp_path(pp: PathProblem, x0, sign, s, vars_idx=None, maxiter=3000, t_end=None):
-    """SLSQP on the free variables (or `vars_idx`), scaled: lengths and positions by L,
-    angles in rad. Returns the end x."""
-    D = pp.design
-    idx = pp.free if vars_idx is None else vars_idx
-    w = np.array([pp.L if j < 8 else 1.0 for j in idx])
-    struct = pp.structure(x0, s)
-    f0 = max(float(pp.objective(x0[None], sign, s)[0]), 1e-300)
-    fscale = f0 / pp.L ** 2  # residuals are /L: f/L^2
-
+def slsqp_scaled(residuals_of, cons_of, x0, idx, w, lo, hi, fscale, maxiter, t_end):
+    """SLSQP on the variables `idx` of x0, u = (x - x0) / w, within [lo, hi] (full vectors):
+    minimize |residuals_of(X)|^2 / fscale subject to cons_of(X) >= 0 (rows X), slopes by
+    central differences. Returns (the end x, scipy's result); an infeasible end gives way to
+    the lowest iterate that met the constraints."""
     def X_of(U):
         X = np.repeat(x0[None], len(U), axis=0)
         X[:, idx] = x0[idx] + U * w
@@ -276,21 +271,18 @@ def slsqp_path(pp: PathProblem, x0, sign, s, vars_idx=None, maxiter=3000, t_end=
             if t_end is not None and time.time() > t_end:
                 raise TimeUp
             cache.clear()
-            r = pp.residuals(X_of(u[None]), sign, s)[0]
-            J = fd_jac(lambda U: pp.residuals(X_of(U), sign, s), u, 1e-7)
-            g = pp.cons(X_of(u[None]), sign, s, struct)[0]
-            G = fd_jac(lambda U: pp.cons(X_of(U), sign, s, struct), u, 1e-7)
+            r = residuals_of(X_of(u[None]))[0]
+            J = fd_jac(lambda U: residuals_of(X_of(U)), u, 1e-7)
+            g = cons_of(X_of(u[None]))[0]
+            G = fd_jac(lambda U: cons_of(X_of(U)), u, 1e-7)
             cache[key] = (r, J, g, G)
         return cache[key]
 
-    lo = (D.lo[idx] - x0[idx]) / w
-    hi = (D.hi[idx] - x0[idx]) / w
-    best = [np.zeros(len(idx))]
-
+    lo_u, hi_u = (lo[idx] - x0[idx]) / w, (hi[idx] - x0[idx]) / w
     track = [(math.inf, None)]
 
     def cb(u):  # the lowest iterate that meets the own constraints (SLSQP may end infeasible)
-        u = np.clip(u, lo, hi)
+        u = np.clip(u, lo_u, hi_u)
         r, _, g, _ = ev(u)
         f = float(r @ r)
         if g.min() >= -1e-13 and f < track[0][0]:
@@ -298,10 +290,10 @@ def slsqp_path(pp: PathProblem, x0, sign, s, vars_idx=None, maxiter=3000, t_end=
 
     res = minimize(lambda u: float(ev(u)[0] @ ev(u)[0]) / fscale, np.zeros(len(idx)),
                    jac=lambda u: 2 * ev(u)[1].T @ ev(u)[0] / fscale,
-                   bounds=Bounds(lo, hi),
+                   bounds=Bounds(lo_u, hi_u),
                    constraints=[NonlinearConstraint(lambda u: ev(u)[2], 0, np.inf, jac=lambda u: ev(u)[3])],
                    method="SLSQP", options=dict(ftol=1e-15, maxiter=maxiter), callback=cb)
-    u = np.clip(res.x, lo, hi)
+    u = np.clip(res.x, lo_u, hi_u)
     r, _, g, _ = ev(u)
     if g.min() < -1e-13 and track[0][1] is not None:
         u = track[0][1]
@@ -309,12 +301,28 @@ def slsqp_path(pp: PathProblem, x0, sign, s, vars_idx=None, maxiter=3000, t_end=
     return X_of(u[None])[0], res
 
 
+def slsqp_path(pp: PathProblem, x0, sign, s, vars_idx=None, maxiter=3000, t_end=None):
+    """SLSQP on the free variables (or `vars_idx`), scaled: lengths and positions by L,
+    angles in rad. Returns the end x."""
+    D = pp.design
+    idx = pp.free if vars_idx is None else vars_idx
+    w = np.array([pp.L if j < 8 else 1.0 for j in idx])
+    struct = pp.structure(x0, s)
+    f0 = max(float(pp.objective(x0[None], sign, s)[0]), 1e-300)
+    return slsqp_scaled(lambda X: pp.residuals(X, sign, s), lambda X: pp.cons(X, sign, s, struct), x0, idx, w,
+                        D.lo, D.hi, f0 / pp.L ** 2, maxiter, t_end)  # residuals are /L: f/L^2
+
+
+def best_run(entry):
+    """The case's long run with the lowest objective (its design is the best known's)."""
+    good = [r for r in entry["runs"] if r["status"] != "infeasible" and r.get("objective") is not None]
+    return min(good, key=lambda r: r["objective"])
+
+
 def run_path(cid, entry, log):
     t0 = time.time()
     pp = PathProblem(entry["text"])
-    best = entry["best_known"]
-    good = [r for r in entry["runs"] if r["status"] != "infeasible" and r.get("objective") is not None]
-    run = min(good, key=lambda r: r["objective"])
+    best, run = entry["best_known"], best_run(entry)
     x, sign = path_x_from_linkage(pp, run["linkage"])
     D = pp.design
     # ---- reconstruct the timing
@@ -547,56 +555,14 @@ def slsqp_function(fp: FunctionProblem, v0, branch, vars_idx=None, maxiter=3000,
     w = np.array([fp.scale if fp.vars[j] in fgm.LINK_ORDER else 1.0 for j in idx])
     struct = fp.structure(v0)
     f0 = max(float(fp.objective(v0[None], sign)[0]), 1e-300)
-
-    def V_of(U):
-        V = np.repeat(v0[None], len(U), axis=0)
-        V[:, idx] = v0[idx] + U * w
-        return V
-
-    cache = {}
-
-    def ev(u):
-        key = u.tobytes()
-        if key not in cache:
-            if t_end is not None and time.time() > t_end:
-                raise TimeUp
-            cache.clear()
-            r = fp.residuals(V_of(u[None]), sign)[0]
-            J = fd_jac(lambda U: fp.residuals(V_of(U), sign), u, 1e-7)
-            g = fp.cons(V_of(u[None]), struct)[0]
-            G = fd_jac(lambda U: fp.cons(V_of(U), struct), u, 1e-7)
-            cache[key] = (r, J, g, G)
-        return cache[key]
-
-    lo = (fp.lo[idx] - v0[idx]) / w
-    hi = (fp.hi[idx] - v0[idx]) / w
-    track = [(math.inf, None)]
-
-    def cb(u):
-        u = np.clip(u, lo, hi)
-        r, _, g, _ = ev(u)
-        f = float(r @ r)
-        if g.min() >= -1e-13 and f < track[0][0]:
-            track[0] = (f, u.copy())
-
-    res = minimize(lambda u: float(ev(u)[0] @ ev(u)[0]) / f0, np.zeros(len(idx)),
-                   jac=lambda u: 2 * ev(u)[1].T @ ev(u)[0] / f0, bounds=Bounds(lo, hi),
-                   constraints=[NonlinearConstraint(lambda u: ev(u)[2], 0, np.inf, jac=lambda u: ev(u)[3])],
-                   method="SLSQP", options=dict(ftol=1e-15, maxiter=maxiter), callback=cb)
-    u = np.clip(res.x, lo, hi)
-    r, _, g, _ = ev(u)
-    if g.min() < -1e-13 and track[0][1] is not None:
-        u = track[0][1]
-        res.message = str(res.message) + " [end infeasible: best feasible iterate]"
-    return V_of(u[None])[0], res
+    return slsqp_scaled(lambda V: fp.residuals(V, sign), lambda V: fp.cons(V, struct), v0, idx, w,
+                        fp.lo, fp.hi, f0, maxiter, t_end)
 
 
 def run_function(cid, entry, log):
     t0 = time.time()
     fp = FunctionProblem(entry["text"])
-    best = entry["best_known"]
-    good = [r for r in entry["runs"] if r["status"] != "infeasible" and r.get("objective") is not None]
-    run = min(good, key=lambda r: r["objective"])
+    best, run = entry["best_known"], best_run(entry)
     lk = run["linkage"]
     branch = lk["branch"]
     rows = reconstruct_function(fp, lk, best)
