@@ -214,6 +214,10 @@ def _newton(opts: Options, u, p: Point, active, fixed):
         lam = np.where(np.isfinite(lam), lam, 0.0)
     full, last = False, np.inf  # curvature: the differenced Hessian in use; the last step's size
     rest = None  # (u, p, lambda) of the first iterate where the model had only round-off left to gain
+
+    def failed():  # the pass fails, unless an iterate was at round-off (`_at_round_off`): that one
+        return (*rest, True) if rest else (u, p, lam, False)
+
     for _ in range(ITERATIONS):
         if p.h is None or (curvature and full):
             h = _lagrangian_hessian(many, u, rows, lam, hessian_step, groups=groups)
@@ -223,7 +227,7 @@ def _newton(opts: Options, u, p: Point, active, fixed):
             h = p.h
         step, lam_new = _kkt_step(h, p.g, p.a[rows], p.c[rows], free)
         if step is None:
-            return (*rest, True) if rest else (u, p, lam, False)
+            return failed()
         lam = lam_new
         size = float(np.max(np.abs(step)))
         if rest is None and size <= PRINTED and _at_round_off(p, h, step, rows, lam):
@@ -256,10 +260,10 @@ def _newton(opts: Options, u, p: Point, active, fixed):
         else:
             if size < 1e-9:  # round-off size: the root to working precision
                 return u, p, lam, True
-            return (*rest, True) if rest else (u, p, lam, False)
+            return failed()
         u, p = trial, q
-    else:  # still moving after ITERATIONS steps: not settled, unless an iterate was at round-off
-        return (*rest, True) if rest else (u, p, lam, False)
+    else:  # still moving after ITERATIONS steps: not settled
+        return failed()
     return u, p, lam, True
 
 

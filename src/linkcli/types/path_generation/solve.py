@@ -93,7 +93,7 @@ MAX_STALE = 12  # rounds in a row without improvement that end the search (3 sto
 # best with most of the budget left: constrained-variant case 24, seeds 1 and 3, found the
 # optimum in their first round and confirmed it in their fifth and sixth; 6 stopped the tuning half's
 # prescribed-timing cases 8 (seeds 1, 3), 64 (seed 3) and 88 (seed 2) `not-converged` at the best with
-# 0.9 to 1.8 of their 2,000,000 evaluations unspent: one round in nine to fifteen arrives there, and
+# 0.9 to 1.8 million of their 2 million evaluations unspent: one round in nine to fifteen arrives there, and
 # with 12 each is found again, `ok`. Only runs that would end unconfirmed run longer: a run that
 # confirms its best within 6 stale rounds is the same run)
 MEMORY = 4_000_000  # Jacobian elements held at once by the batched stage
