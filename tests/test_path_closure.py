@@ -1,4 +1,4 @@
-"""The path search's loop closure (path_generation.closure.frame) against the four-bar's
+"""The path search's loop closure (four_bar.closure.frame) against the four-bar's
 positions computed here point by point with the math module: the output pivot B0 at (d, 0),
 the crank A = a e^{i phi}, the rocker end B the intersection of the circles |B - A| = b and
 |B - B0| = c on the branch's side of the line A B0, and the coupler direction A -> B."""
@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from linkcli.types.path_generation.closure import frame
+from linkcli.mechanisms.four_bar.closure import frame
 
 
 def positions(a, b, c, d, phi, sign):

@@ -22,6 +22,7 @@ from itertools import permutations
 
 import numpy as np
 
+from linkcli.mechanisms.four_bar import closure
 from linkcli.mechanisms.four_bar import kinematics as kin
 
 from .poses import as_poses, characteristic_length, to_global
@@ -81,20 +82,39 @@ def linkage_from_dyads(poses, input_dyad, output_dyad) -> dict:
     }
 
 
-def body_poses(params, phi, branch) -> tuple[np.ndarray, np.ndarray]:
-    """Body poses (..., 3) reached at input angles phi (rad, local frame) and whether the
-    linkage assembles there. params (..., 10) in PARAM_NAMES order, branch "open",
-    "crossed" or signs (-1/+1); lengths broadcast against phi like four_bar.pose."""
+def body_frames(params, phi, branch):
+    """The body at input angles phi (rad, local frame): its origin (x, y) and the unit vector
+    (ex, ey) of its x axis, global, and the loop's closure (four_bar.closure.Frame: `valid`,
+    `rho`). params (..., 10) in PARAM_NAMES order, branch "open", "crossed" or signs (-1/+1);
+    lengths broadcast against phi like four_bar.pose. With g = e^{i ground_angle},
+
+        x + i y = G + g (A + (coupler_x + i coupler_y) e^{i theta}),
+        ex + i ey = g e^{i coupler_angle} e^{i theta},
+
+    theta the coupler's direction A -> B: no angle computed per point (the searches' scores
+    and residuals; `body_poses` takes the angle)."""
     p = np.asarray(params, float)
     gx, gy, gang, d, a, b, c, px, py, cang = (p[..., k, None] for k in range(10))
-    phi = np.asarray(phi, float)
-    sol = kin.pose(a, b, c, d, phi, branch)
-    lx, ly = sol.coupler_point(a, px, py)
+    fr = closure.frame(a, b, c, d, np.asarray(phi, float), kin.branch_sign(branch))
+    lx, ly = fr.coupler_point(a, px, py)
     cg, sg = np.cos(gang), np.sin(gang)
     x = gx + cg * lx - sg * ly
     y = gy + sg * lx + cg * ly
-    ang = kin.wrap(sol.theta + cang + gang)
-    return np.stack(np.broadcast_arrays(x, y, ang), -1), sol.valid
+    turn = gang + cang
+    cb, sb = np.cos(turn), np.sin(turn)
+    ex = cb * fr.ct - sb * fr.st
+    ey = sb * fr.ct + cb * fr.st
+    return x, y, ex, ey, fr
+
+
+def body_poses(params, phi, branch) -> tuple[np.ndarray, np.ndarray]:
+    """Body poses (..., 3) reached at input angles phi (rad, local frame), the angle in
+    (-pi, pi] (angles.wrap's convention at -pi), and whether the linkage assembles there
+    (`body_frames`)."""
+    x, y, ex, ey, fr = body_frames(params, phi, branch)
+    ang = np.arctan2(ey, ex)
+    ang = np.where(ang <= -np.pi + kin.WRAP_SNAP, ang + TWO_PI, ang)
+    return np.stack(np.broadcast_arrays(x, y, ang), -1), fr.valid
 
 
 def pose_errors(target, achieved):

@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from linkcli.mechanisms.four_bar import kinematics as kin
-from linkcli.types.path_generation import closure
+from linkcli.mechanisms.four_bar import closure
 from linkcli.io.meta import MIN_LENGTH as FILE_MIN_LENGTH
 
 NAMES = ("ground", "input", "coupler", "output", "coupler_point_x", "coupler_point_y",

@@ -1,7 +1,9 @@
-"""The four-bar's loop closure as unit vectors, for the path search (numpy only).
+"""The four-bar's loop closure as unit vectors, for the searches (numpy only): path
+generation's candidates at every target, motion generation's body poses
+(motion_generation.assemble.body_frames).
 
 `four_bar.pose` gives the angles (arccos, two arctan2, then cos and sin of them again for
-the coupler point); the search needs only directions, so this closure keeps them as
+the coupler point); the searches need only directions, so this closure keeps them as
 cosine-sine pairs (the conventions of docs/format.md, the same construction):
 
     A = a e^{i phi},  rho e^{i theta_rho} = A - d,
@@ -50,7 +52,7 @@ class Frame:
 
 def frame(a, b, c, d, phi, sign) -> Frame:
     """The closure at input angles phi on the branch `sign` (-1 open, +1 crossed; arrays
-    broadcast like the lengths). Written in place where it can be (the search calls it on
+    broadcast like the lengths). Written in place where it can be (a search calls it on
     every candidate at every target): the same operations in the same order as the
     equations above, so the same bits, with fewer temporaries."""
     cphi, sphi = np.cos(phi), np.sin(phi)
