@@ -291,3 +291,32 @@ def test_prescribed_timing_fits_exact_data_exactly():
                                             input_angles=phis, seed=1)
     got = reference_poses(res["params"], res["input_angles"], -1.0)
     assert np.max(np.linalg.norm(got[:, :2] - targets[:, :2], axis=1)) < 1e-6
+
+
+def test_burmester_dyads_of_many_sets_side_by_side_are_each_sets_own():
+    """Sets with 0, 2 and 4 real dyads solved side by side: each set's dyads are those the
+    set alone gives (nothing of one set leaks into another), every one solves its own
+    five-pose equations, and the count matches the independent multistart's."""
+    rng = np.random.default_rng(78)
+    sets = [np.c_[rng.normal(size=(5, 2)), rng.uniform(-1.5, 1.5, 5)] for _ in range(6)]
+    params = random_linkage(rng)
+    sets.append(reference_poses(params, np.sort(rng.uniform(0, 2 * np.pi, 5)), -1.0))
+    many = burmester.burmester_dyads_many(np.array(sets))
+    assert len(many) == len(sets) and burmester.burmester_dyads_many(np.zeros((0, 5, 3))) == []
+    for poses, res in zip(sets, many):
+        alone = burmester.burmester_dyads(poses)
+        assert np.array_equal(res.ground, alone.ground) and np.array_equal(res.moving, alone.moving)
+        assert len(multistart_count(poses, seed=1)) == len(res.ground)
+        if len(res.ground):
+            assert np.max(np.abs(dyads.circle_residuals(poses, res.ground[:, None], res.moving[:, None]))) < 1e-8
+    assert {len(r.ground) for r in many} >= {2, 4}
+
+
+def test_roots_of_many_polynomials_are_numpys_roots():
+    rng = np.random.default_rng(9)
+    polys = rng.normal(size=(12, 6))
+    polys[3, 0] = 0.0  # a leading zero: a lower degree
+    polys[5, -1] = 0.0  # a trailing zero: a root at 0
+    polys[7] = 0.0  # no polynomial
+    for mine, numpys in zip(burmester.roots_many(polys), (np.roots(p) for p in polys)):
+        assert np.array_equal(mine, numpys)

@@ -136,8 +136,8 @@ def _gauss_newton(coef, ground, moving, iterations=4):
     """Minimum-norm Gauss-Newton steps on f(G, M) = 0 (vectorized; rows <= 4 unknowns)."""
     for _ in range(iterations):
         f = coef.residuals(ground, moving)
-        jg = coef.g + np.einsum("iba,...b->...ia", coef.B, moving)
-        jm = coef.m + np.einsum("iab,...b->...ia", coef.B, ground)
+        jg = coef.g + np.einsum("...iba,...b->...ia", coef.B, moving)
+        jm = coef.m + np.einsum("...iab,...b->...ia", coef.B, ground)
         jac = np.concatenate([jg, jm], -1)
         bad = ~np.all(np.isfinite(jac), (-1, -2)) | ~np.all(np.isfinite(f), -1)
         jac = np.where(bad[..., None, None], 0.0, jac)
@@ -221,11 +221,12 @@ def _sylvester_det(p, q):
 
 
 def _newton(coef, ground, moving, iterations=12):
-    """Newton on the square system f_2..f_5 = 0 (4 x 4), vectorized over candidates."""
+    """Newton on the square system f_2..f_5 = 0 (4 x 4), vectorized over candidates (each
+    with its own coefficients when `coef` holds one set a candidate: Coefficients.take)."""
     for _ in range(iterations):
         f = coef.residuals(ground, moving)
-        jg = coef.g + np.einsum("iba,...b->...ia", coef.B, moving)
-        jm = coef.m + np.einsum("iab,...b->...ia", coef.B, ground)
+        jg = coef.g + np.einsum("...iba,...b->...ia", coef.B, moving)
+        jm = coef.m + np.einsum("...iab,...b->...ia", coef.B, ground)
         jac = np.concatenate([jg, jm], -1)
         ok = np.abs(np.linalg.det(jac)) > 1e-300
         step = np.linalg.solve(np.where(ok[..., None, None], jac, np.eye(4)),
@@ -235,43 +236,76 @@ def _newton(coef, ground, moving, iterations=12):
     return ground, moving
 
 
-def _lift(npz, coef):
-    """Candidate (G, M) from the real roots of the resultant, in one normalized frame."""
-    kx00 = coef.moving_rows(np.zeros(2))
-    kx = coef.moving_rows(np.array([1.0, 0.0])) - kx00
-    ky = coef.moving_rows(np.array([0.0, 1.0])) - kx00
+def _lift(coef):
+    """Candidate (G, M) from the real roots of the resultant, for a stack of S pose sets in
+    one normalized frame each (`coef`: their coefficients, (S, 4, ...)): the resultants of
+    every set side by side, the roots set by set. Returns (G (C, 2), M (C, 2), the set of
+    each candidate (C,), the resultants' degrees (S,), their root counts (S,))."""
+    sets = len(coef.k)
+    kx00 = coef.moving_rows(np.zeros((sets, 2)))
+    kx = coef.moving_rows(np.tile([1.0, 0.0], (sets, 1))) - kx00
+    ky = coef.moving_rows(np.tile([0.0, 1.0], (sets, 1))) - kx00
     rows_a, rows_b = [0, 1, 2], [0, 1, 3]
 
-    def cubics(x):
-        base = kx00 + x[..., None, None] * kx
-        return (det_pencil(base[..., rows_a, :], ky[rows_a]),
-                det_pencil(base[..., rows_b, :], ky[rows_b]))
+    def cubics(x, own):  # the two cubics in y at x (..., ), each x of the set own (...,)
+        base = kx00[own] + x[..., None, None] * kx[own]
+        return (det_pencil(base[..., rows_a, :], ky[own][..., rows_a, :]),
+                det_pencil(base[..., rows_b, :], ky[own][..., rows_b, :]))
 
     n = 32
     xs = np.exp(2j * np.pi * np.arange(n) / n)
-    pa, pb = cubics(xs)
+    every = np.arange(sets)[:, None]
+    pa, pb = cubics(np.broadcast_to(xs, (sets, n)), np.broadcast_to(every, (sets, n)))
     res = _sylvester_det(pa, pb)
-    coeffs = np.fft.fft(res).real / n  # R(x) = sum coeffs[j] x^j on the unit circle
-    top = np.max(np.abs(coeffs))
-    significant = np.nonzero(np.abs(coeffs) > 1e-9 * top)[0]
-    degree = int(significant[-1]) if len(significant) else 0
-    roots = np.roots(coeffs[:10][::-1]) if top > 0 else np.zeros(0)
-    near_real = np.abs(roots.imag) <= NEAR_REAL * (1 + np.abs(roots))
-    xr = roots.real[near_real]
-    grounds = []
-    ya, _ = cubics(xr)  # the first cubic in y at every real root at once
-    for x, coeffs_y in zip(xr, ya):  # at most 9 roots, 3 y each: a short loop over candidates
-        for y in np.roots(coeffs_y[::-1]):
+    coeffs = np.fft.fft(res).real / n  # R(x) = sum coeffs[j] x^j on the unit circle, a row a set
+    top = np.max(np.abs(coeffs), axis=1)
+    degrees, counts, xr, x_set = np.zeros(sets, int), np.zeros(sets, int), [], []
+    for k, (row, roots) in enumerate(zip(coeffs, roots_many(coeffs[:, :10][:, ::-1]))):
+        significant = np.nonzero(np.abs(row) > 1e-9 * top[k])[0]
+        degrees[k] = int(significant[-1]) if len(significant) else 0
+        roots = roots if top[k] > 0 else np.zeros(0)
+        counts[k] = len(roots)
+        near_real = np.abs(roots.imag) <= NEAR_REAL * (1 + np.abs(roots))
+        xr.append(roots.real[near_real])
+        x_set.append(np.full(int(np.sum(near_real)), k))
+    xr, x_set = np.concatenate(xr), np.concatenate(x_set).astype(int)
+    ya, _ = cubics(xr, x_set)  # the first cubic in y at every real root at once
+    grounds, owner = [], []
+    for x, k, ys in zip(xr, x_set, roots_many(ya[:, ::-1])):  # at most 9 roots a set, 3 y each
+        for y in ys:
             if abs(y.imag) <= NEAR_REAL * (1 + abs(y)):
                 grounds.append([x, y.real])
-    ground = np.array(grounds, float).reshape(-1, 2)
+                owner.append(k)
+    ground, owner = np.array(grounds, float).reshape(-1, 2), np.array(owner, int)
     if len(ground) == 0:
-        return ground, ground.copy(), degree, len(roots)
-    k = coef.moving_rows(ground)
+        return ground, ground.copy(), owner, degrees, counts
+    k = coef.take(owner).moving_rows(ground)
     v = np.linalg.svd(k)[2][:, -1, :]
     with np.errstate(divide="ignore", invalid="ignore"):
         moving = v[:, :2] / v[:, 2:3]
-    return ground, moving, degree, len(roots)
+    return ground, moving, owner, degrees, counts
+
+
+def roots_many(polys) -> list[np.ndarray]:
+    """np.roots of each row of polys (P, N), highest power first: the eigenvalues of the
+    companion matrices, as np.roots forms them, of every row whose first and last
+    coefficients are not 0 in one LAPACK call on their stack (the same matrices, so the
+    same roots); the others by np.roots itself (it trims their zeros)."""
+    polys = np.asarray(polys)
+    out = [None] * len(polys)
+    plain = (polys[:, 0] != 0) & (polys[:, -1] != 0) if polys.shape[1] > 1 else np.zeros(len(polys), bool)
+    for k in np.flatnonzero(~plain):
+        out[k] = np.roots(polys[k])
+    rows = np.flatnonzero(plain)
+    if len(rows):
+        p = polys[rows]
+        size = p.shape[1] - 1
+        companion = np.zeros((len(rows), size, size), p.dtype)
+        companion[:, np.arange(1, size), np.arange(size - 1)] = 1
+        companion[:, 0, :] = -p[:, 1:] / p[:, :1]
+        for k, roots in zip(rows, np.linalg.eigvals(companion)):
+            out[k] = roots
+    return out
 
 
 def burmester_dyads(poses) -> BurmesterResult:
@@ -279,33 +313,59 @@ def burmester_dyads(poses) -> BurmesterResult:
     poses = as_poses(poses)
     if len(poses) != 5:
         raise ValueError("burmester_dyads needs exactly five poses")
-    found_g, found_m, degree, nroots = [], [], 0, 0
-    pole_roots = 0
+    return burmester_dyads_many(poses[None])[0]
+
+
+def burmester_dyads_many(pose_sets) -> list[BurmesterResult]:
+    """`burmester_dyads` of each of S five-pose sets (S, 5, 3): the sets' resultants, lifts
+    and Newton polishes side by side (one numpy call for all where the previous set-by-set
+    calls were many), their roots and merges set by set."""
+    sets = np.asarray(pose_sets, float)
+    if sets.ndim != 3 or sets.shape[1:] != (5, 3):
+        raise ValueError("burmester_dyads needs sets of exactly five poses")
+    count = len(sets)
+    if count == 0:
+        return []
+    found_g, found_m = [[] for _ in range(count)], [[] for _ in range(count)]
+    degree, nroots, pole_roots = np.zeros(count, int), np.zeros(count, int), np.zeros(count, int)
     for turn in GENERIC_ANGLES:
-        frame = normal_frame(poses, turn)
-        npz = frame.poses(poses)
+        frames = [normal_frame(p, turn) for p in sets]
+        npz = np.stack([frame.poses(p) for frame, p in zip(frames, sets)])
         coef = coefficients(npz)
-        g0, m0, deg, nr = _lift(npz, coef)
-        degree, nroots = max(degree, deg), max(nroots, nr)
+        g0, m0, owner, deg, nr = _lift(coef)
+        degree, nroots = np.maximum(degree, deg), np.maximum(nroots, nr)
         if turn == GENERIC_ANGLES[0]:
-            shared = np.array([pole(npz[i], npz[j]) for i, j in ((0, 1), (0, 2), (1, 2))])
-            pole_roots = int(np.sum(np.any(np.linalg.norm(
-                g0[:, None, :] - shared[None], axis=-1) < 1e-6, 0))) if len(g0) else 0
+            for k in range(count):
+                shared = np.array([pole(npz[k, i], npz[k, j]) for i, j in ((0, 1), (0, 2), (1, 2))])
+                mine = g0[owner == k]
+                pole_roots[k] = int(np.sum(np.any(np.linalg.norm(
+                    mine[:, None, :] - shared[None], axis=-1) < 1e-6, 0))) if len(mine) else 0
         ok0 = np.all(np.isfinite(m0), -1)
-        g, m = _newton(coef, g0[ok0], m0[ok0])
-        f = np.max(np.abs(coef.residuals(g, m)), -1) if len(g) else np.zeros(0)
+        own = owner[ok0]
+        g, m = _newton(coef.take(own), g0[ok0], m0[ok0])
+        f = np.max(np.abs(coef.take(own).residuals(g, m)), -1) if len(g) else np.zeros(0)
         good = np.isfinite(f) & (f <= SOLVE_TOL)
-        gw, mw = frame.to_world(g[good], m[good])
-        found_g.append(gw)
-        found_m.append(mw)
+        for k in range(count):
+            mine = good & (own == k)
+            gw, mw = frames[k].to_world(g[mine], m[mine])
+            found_g[k].append(gw)
+            found_m[k].append(mw)
+    return [_merged(sets[k], found_g[k], found_m[k], int(degree[k]), int(nroots[k]), int(pole_roots[k]))
+            for k in range(count)]
+
+
+def _merged(poses, found_g, found_m, degree, nroots, pole_roots) -> BurmesterResult:
+    """One set's dyads from both frames, each once (SAME_DYAD), ordered by ground pivot."""
     ground = np.concatenate(found_g).reshape(-1, 2)
     moving = np.concatenate(found_m).reshape(-1, 2)
     scale = characteristic_length(poses)
+    key = np.concatenate([ground, moving], -1)
+    diff = key[:, None, :] - key[None, :, :]
+    apart = np.sqrt(np.einsum("ijk,ijk->ij", diff, diff)) > (
+        SAME_DYAD * scale * (1 + np.sqrt(np.einsum("ik,ik->i", key, key)) / scale))[:, None]
     keep = []
-    for i in range(len(ground)):
-        key = np.concatenate([ground[i], moving[i]])
-        if all(np.linalg.norm(key - np.concatenate([ground[j], moving[j]])) > SAME_DYAD * scale
-               * (1 + np.linalg.norm(key) / scale) for j in keep):
+    for i in range(len(ground)):  # each dyad apart from every one kept before it (a few a set)
+        if apart[i, keep].all():
             keep.append(i)
     ground, moving = ground[keep], moving[keep]
     order = np.lexsort((ground[:, 1], ground[:, 0]))

@@ -38,37 +38,45 @@ class Coefficients:
     def residuals(self, ground, moving) -> np.ndarray:
         """f_i for G (..., 2) and M (..., 2): shape (..., n-1)."""
         ground, moving = np.asarray(ground, float), np.asarray(moving, float)
-        bg = np.einsum("iab,...b->...ia", self.B, ground)
-        return (self.k + np.einsum("ia,...a->...i", self.g, ground)
-                + np.einsum("ia,...a->...i", self.m, moving)
+        bg = np.einsum("...iab,...b->...ia", self.B, ground)
+        return (self.k + np.einsum("...ia,...a->...i", self.g, ground)
+                + np.einsum("...ia,...a->...i", self.m, moving)
                 + np.einsum("...a,...ia->...i", moving, bg))
 
     def moving_rows(self, ground) -> np.ndarray:
         """Rows [m_i + B_i G, k_i + g_i . G] of the system that is linear in (M, 1): (..., n-1, 3)."""
         ground = np.asarray(ground, float)
-        lin = self.m + np.einsum("iab,...b->...ia", self.B, ground)
-        const = self.k + np.einsum("ia,...a->...i", self.g, ground)
+        lin = self.m + np.einsum("...iab,...b->...ia", self.B, ground)
+        const = self.k + np.einsum("...ia,...a->...i", self.g, ground)
         return np.concatenate([lin, const[..., None]], -1)
 
     def ground_rows(self, moving) -> np.ndarray:
         """Rows [g_i + B_i^T M, k_i + m_i . M] of the system linear in (G, 1): (..., n-1, 3)."""
         moving = np.asarray(moving, float)
-        lin = self.g + np.einsum("iba,...b->...ia", self.B, moving)
-        const = self.k + np.einsum("ia,...a->...i", self.m, moving)
+        lin = self.g + np.einsum("...iba,...b->...ia", self.B, moving)
+        const = self.k + np.einsum("...ia,...a->...i", self.m, moving)
         return np.concatenate([lin, const[..., None]], -1)
+
+    def take(self, sets) -> "Coefficients":
+        """The coefficients of a stack of pose sets (`coefficients` of (S, n, 3)) picked by
+        `sets`: one pose set a point, whose leading axes the points' then match."""
+        return Coefficients(self.k[sets], self.g[sets], self.m[sets], self.B[sets])
 
 
 def coefficients(poses) -> Coefficients:
-    """The bilinear coefficients of f_i (module docstring) for poses (n, 3)."""
-    poses = as_poses(poses)
-    o, ang = poses[:, :2], poses[:, 2]
+    """The bilinear coefficients of f_i (module docstring) for poses (n, 3), or a stack of
+    pose sets (..., n, 3) (each array then with the stack's leading axes)."""
+    poses = np.asarray(poses, dtype=float)
+    if poses.ndim < 2 or poses.shape[-1] != 3:
+        raise ValueError(f"poses must have shape (n, 3), got {poses.shape}")
+    o, ang = poses[..., :2], poses[..., 2]
     c, s = np.cos(ang), np.sin(ang)
-    rt_o = np.stack([c * o[:, 0] + s * o[:, 1], -s * o[:, 0] + c * o[:, 1]], -1)  # R^T o
+    rt_o = np.stack([c * o[..., 0] + s * o[..., 1], -s * o[..., 0] + c * o[..., 1]], -1)  # R^T o
     rot = np.stack([np.stack([c, -s], -1), np.stack([s, c], -1)], -2)
-    k = np.sum(o[1:] ** 2, -1) - np.sum(o[0] ** 2)
-    g = -2.0 * (o[1:] - o[0])
-    m = 2.0 * (rt_o[1:] - rt_o[0])
-    B = -2.0 * np.swapaxes(rot[1:] - rot[0], -1, -2)
+    k = np.sum(o[..., 1:, :] ** 2, -1) - np.sum(o[..., 0, :] ** 2, -1)[..., None]
+    g = -2.0 * (o[..., 1:, :] - o[..., :1, :])
+    m = 2.0 * (rt_o[..., 1:, :] - rt_o[..., :1, :])
+    B = -2.0 * np.swapaxes(rot[..., 1:, :, :] - rot[..., :1, :, :], -1, -2)
     return Coefficients(k, g, m, B)
 
 
