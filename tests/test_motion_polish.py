@@ -274,13 +274,13 @@ def test_no_two_rounds_take_one_five_pose_subset(monkeypatch):
     the third, whose starts then come from four-pose subsets, each taken once too), and a
     round draws only among those left."""
     seen = []
-    original = LS.burmester_dyads
+    original = LS.burmester_dyads_many
 
-    def recorded(poses):
-        seen[-1].append(tuple(np.round(poses.ravel(), 12)))
-        return original(poses)
+    def recorded(pose_sets):
+        seen[-1].extend(tuple(np.round(poses.ravel(), 12)) for poses in pose_sets)
+        return original(pose_sets)
 
-    monkeypatch.setattr(LS, "burmester_dyads", recorded)
+    monkeypatch.setattr(LS, "burmester_dyads_many", recorded)
     poses, _ = poses_of(7, noise=0.01, seed=4)
     lo, hi = LS.default_bounds(poses)
     search = LS.Search(poses, (lo, hi), "either", "free", None, (0.0, 0.0), None, None, None, 180, Budget(10**9))
@@ -327,3 +327,37 @@ def test_a_settle_that_fails_far_from_the_optimum_walks_there_first():
     assert status == "ok"
     assert objective == pytest.approx(0.0120499906, rel=1e-8)
     assert not scipy_loaded
+
+
+def test_starts_that_end_at_one_design_are_one_design():
+    """Rows of one design (angles a turn apart, lengths within SAME_DESIGN of the scale)
+    take the first such row; another branch, another length or a chain's far end do not
+    merge by themselves, and a chain ends at its first row."""
+    x = np.tile(np.concatenate([PARAMS, [0.5, 1.0]]), (7, 1))
+    sign = np.array([-1.0, -1.0, 1.0, -1.0, -1.0, -1.0, -1.0])
+    x[1, [2, 9, 10]] += 2 * np.pi  # the same linkage, its angles a turn on
+    x[1, 4] += 0.5e-6  # within SAME_DESIGN (scale 1)
+    x[3, 5] += 1e-3  # another coupler length
+    x[4, 5] += 1e-3 + 0.9e-6  # near row 3
+    x[5, 5] += 1e-3 + 1.8e-6  # near row 4, not row 3: chained to row 3
+    x[6, 11] -= 2 * np.pi  # an input angle a turn back
+    assert LS.one_design(x, sign, 1.0).tolist() == [0, 0, 2, 3, 3, 3, 0]
+    assert LS.one_design(x, sign, 1e-3).tolist() == [0, 1, 2, 3, 4, 5, 0]  # lengths in the scale, angles not
+    assert LS.one_design(x, sign, 1e3).tolist() == [0, 0, 2, 0, 0, 0, 0]  # 1e-3 of 1000: one design
+
+
+def test_a_rounds_rows_of_its_settled_design_take_the_settled_result():
+    """Without constraints only a round's best is settled. Eleven poses (constrained-variant
+    study case 123, seed 4): a round's best settled at 7.75379802084734e-06 while another of
+    its rows, the same design polished, stood a few 1e-17 lower; left unsettled, that row
+    was the round's best and the search ended `not-converged` at the optimum. Every row of
+    a settled design now takes the settled result."""
+    from pathlib import Path
+
+    from linkcli.io.load import load
+    from linkcli.pipeline import solve
+
+    path = Path(__file__).parent / "data" / "motion_round_off_twins.toml"
+    solution = solve(load(str(path), path.read_text()))
+    assert solution.status.value == "ok"
+    assert solution.objective == pytest.approx(7.753798020843e-06, rel=1e-9)  # the study's best known

@@ -11,11 +11,13 @@ Method: (1) a global stage evaluated on a whole population at once: a Latin hype
 over the bounds, the linkages of the Burmester dyads of five-pose subsets (of four-pose
 centre-point curves' best-fitting dyads once those run out: curve_dyads.py) and of 3-pose
 inversions (moving pivots for sampled ground pivots), each scored with its best phi_i
-from a grid (free timing; the inner minimization is exact up to the grid; with many poses
-the rows are ranked on a few of them first); (2) the best distinct starts polished all at
+from a grid (free timing: on every third grid angle, then about each pose's best for the
+best rows; with many poses the rows are ranked on a few of them first); the body poses
+from the loop closed as unit vectors (four_bar.closure); (2) the best distinct starts polished all at
 once by the batched Levenberg-Marquardt (linkcli.search.levenberg_marquardt, bounds, a
 step gaining less than 1e-15 of the cost ends a row) on the residual vector, without the
-constraints first, then at stiffer penalties on the rows that break one; with free timing
+constraints first, then at stiffer penalties on the rows that break one, one row a design
+(`one_design`: starts that ended in one basin share its penalty polish); with free timing
 its normal equations are an arrow (each pose's angle moves that pose's residuals alone:
 linkcli.search.arrow), solved in O(n); (3) the best polished design that has no branch or
 order defect and meets the constraints is returned, (4) after a final Newton settle to
@@ -37,7 +39,7 @@ from linkcli.search.sampling import latin_hypercube
 
 from . import assemble
 from . import constraints as design_constraints
-from .burmester import burmester_dyads
+from .burmester import burmester_dyads_many
 from .curve_dyads import fitting_dyads
 from .dyads import moving_pivots_for_ground
 from .poses import as_poses, characteristic_length
@@ -46,6 +48,9 @@ PENALTY = 10.0  # weight of the assembly violation (a length) in the residual ve
 SCORE_ELEMENTS = 100_000  # (row, grid angle, pose) triples scored at once: each of the score's dozen
 # elementwise passes then works on 0.8 MB arrays that stay in the cache (1_000_000: 8 MB arrays from memory;
 # `_scored` of five tuning motion cases 1.70 -> 1.13-1.21 s, the same bits: the rows are independent)
+REFINE = 3  # free timing: rows scored on every REFINE-th angle of the grid first (`_scored`)
+REFINE_OFFSETS = np.array([-2, -1, 1, 2])  # ... then on these grid steps about each pose's best,
+REFINE_ROWS = 512  # for this many rows, the best so scored (a round polishes the best few dozen's distinct ones)
 SCREEN_POSES = 12  # free timing with more poses: the rows ranked on this many first,
 SCREEN_ROWS = 256  # and the best this many scored on every pose
 SETTLE_STEP = 1e-5  # unit box: the final polish's difference step (kkt.slopes); at 3e-5 the slopes'
@@ -74,11 +79,13 @@ ITERATIONS = 400  # Levenberg-Marquardt steps of a polish, at most
 PENALTY_ITERATIONS = 100  # ... of a penalty pass: it has to find the constraints that bind and
 # come near the optimum along them, the final KKT polish holding them exactly (30 left case 35 of the
 # constrained-variant study, a transmission window, 0.4 of the unit box from it: the settle's Newton
-# steps did not converge, 5 seeds of 5 `not-converged`; 100: 5 `ok`; 400: 5 `ok`, 50 % slower)
+# steps did not converge, 5 seeds of 5 `not-converged`; 100: 5 `ok`; 400: 5 `ok`, 50 % slower; 50, now that a
+# failed settle walks to the optimum first (`_walk`), kept every verdict of the study's 150 motion runs, but
+# its settles, from farther, took twice the time: problems/bench/motion_many_window.toml 22 -> 49 ms a settle)
 GAIN = 1e-15  # a polish has converged when a step gains less than this share of the cost
-CONSTRAINT_WEIGHTS = (1e1, 1e3, 1e5)  # penalty weights of a Grashof or window violation in the
+CONSTRAINT_WEIGHTS = (1e1, 1e3)  # penalty weights of a Grashof or window violation in the
 # residual vector, each stiffer pass only while the polish leaves one (then the settle holds
-# the binding ones exactly)
+# the binding ones exactly; a third pass at 1e5 changed no verdict of the study's motion cases)
 
 
 def default_bounds(poses):
@@ -98,7 +105,7 @@ def box_sample(rng, count, lo, hi):
     return lo + latin_hypercube(rng, count, len(lo)) * (hi - lo)
 
 
-def _scores(params, poses, signs, phi_grid, weight, input_angles):
+def _scores(params, poses, signs, phi_grid, weight, input_angles, counter=None):
     """Objective of each population row with its best phi per pose from phi_grid (free
     timing) or its prescribed angles; returns (objective (N,), phi (N, n)). With more than
     SCREEN_POSES poses (free timing) the rows are ranked on SCREEN_POSES of them, evenly
@@ -107,73 +114,113 @@ def _scores(params, poses, signs, phi_grid, weight, input_angles):
     scored SCORE_ELEMENTS (row, grid angle, pose) triples at a time: bounded memory
     whatever the number of poses. An input angle where the row does not assemble scores
     inf; the angle error is |wrapped difference| = min(|d|, 2 pi - |d|) for d the
-    difference of two angles in (-pi, pi]."""
+    difference of two angles in (-pi, pi]. `counter` (a search.budget.Budget, or None)
+    is charged one evaluation a row at an input angle scored against every pose (`_scored`)."""
     n = len(poses)
     free = input_angles is None
     if free and n > SCREEN_POSES:  # ranked on a few poses first, the best rows on all of them
         few = np.unique(np.linspace(0, n - 1, SCREEN_POSES).round().astype(int))
-        rough, _ = _scored(params, poses[few], signs, phi_grid, weight, None)
+        rough, _ = _scored(params, poses[few], signs, phi_grid, weight, None, counter)
         keep = np.argsort(rough, kind="stable")[:SCREEN_ROWS]
         keep = np.sort(keep[np.isfinite(rough[keep])])
         obj, best_phi = np.full(len(params), np.inf), np.zeros((len(params), n))
-        obj[keep], best_phi[keep] = _scored(params[keep], poses, signs, phi_grid, weight, None)
+        obj[keep], best_phi[keep] = _scored(params[keep], poses, signs, phi_grid, weight, None, counter)
         return obj, best_phi
-    return _scored(params, poses, signs, phi_grid, weight, input_angles)
+    return _scored(params, poses, signs, phi_grid, weight, input_angles, counter)
 
 
-def _scored(params, poses, signs, phi_grid, weight, input_angles):
-    """`_scores` of every row on every pose."""
+def _scored(params, poses, signs, phi_grid, weight, input_angles, counter=None):
+    """`_scores` of every row on every pose. Free timing: each row's body poses on every
+    REFINE-th grid angle against every pose; then, for the REFINE_ROWS rows best so scored,
+    each pose's best refined on the grid angles between it and its two coarse neighbours
+    (a row's best grid angle unless its cost curve has another, lower dip within 2 REFINE
+    grid steps of no coarse angle); the other rows keep their coarse scores (a start is
+    taken among the best few dozen). Charged to `counter`: a row at its prescribed angles one
+    evaluation, a row at a coarse angle one, a refined row one an offset."""
     n = len(poses)
-    free = input_angles is None
-    phis = phi_grid if free else input_angles
+    charge = counter.add if counter is not None else (lambda count: None)
     target_angle = kin.wrap(poses[:, 2])
-    obj = np.empty(len(params))
-    best_phi = np.empty((len(params), n))
-    chunk = max(1, SCORE_ELEMENTS // (len(phis) * n if free else n))
-    for start in range(0, len(params), chunk):
-        p = params[start:start + chunk]
-        ach, valid = assemble.body_poses(p, phis, signs)  # (N, K, 3): K grid angles, or the n poses'
-        x = np.where(valid, ach[..., 0], np.inf)  # no assembly there: no score
-        if free:  # every grid angle against every pose: (N, K, n)
-            x, y, ang = x[:, :, None], ach[:, :, None, 1], ach[:, :, None, 2]
-        else:  # pose i at its own angle: (N, n)
-            y, ang = ach[..., 1], ach[..., 2]
-        cost = x - poses[:, 0]
-        cost *= cost
-        dy = y - poses[:, 1]
-        dy *= dy
-        cost += dy
-        d = np.abs(ang - target_angle)
-        np.minimum(d, kin.TWO_PI - d, out=d)
-        d *= weight
-        d *= d
-        cost += d
-        rows = slice(start, start + len(p))
-        if free:
-            k = np.argmin(cost, 1)
-            obj[rows] = np.sum(np.take_along_axis(cost, k[:, None, :], 1)[:, 0], -1)
-            best_phi[rows] = phi_grid[k]
-        else:
-            obj[rows] = np.sum(cost, -1)
-            best_phi[rows] = input_angles
-    return np.where(np.isfinite(obj), obj, np.inf), best_phi
+    if input_angles is not None:  # pose i at its own angle: (N, n)
+        obj = np.empty(len(params))
+        for rows in _chunks(len(params), n):
+            obj[rows] = np.sum(_pose_costs(params[rows], input_angles, signs, poses, target_angle, weight), -1)
+        charge(len(params))
+        return np.where(np.isfinite(obj), obj, np.inf), np.broadcast_to(input_angles, (len(params), n)).copy()
+    coarse = np.arange(0, len(phi_grid), REFINE)
+    k = np.empty((len(params), n), int)
+    cost = np.empty((len(params), n))
+    for rows in _chunks(len(params), len(coarse) * n):
+        every = _pose_costs(params[rows], phi_grid[coarse], signs, poses, target_angle, weight, every=True)
+        k[rows] = np.argmin(every, 1)  # (N, n): each pose's best coarse angle
+        cost[rows] = np.take_along_axis(every, k[rows][:, None, :], 1)[:, 0]
+    chosen = coarse[k]
+    obj = np.sum(cost, -1)
+    best = np.sort(np.argsort(obj, kind="stable")[:REFINE_ROWS])
+    charge(len(params) * len(coarse) + len(best) * len(REFINE_OFFSETS))
+    for part in _chunks(len(best), len(REFINE_OFFSETS) * n):
+        rows = best[part]
+        at = chosen[rows][..., None] + REFINE_OFFSETS  # (N, n, r): the grid angles about each best
+        at %= len(phi_grid)
+        fine = _pose_costs(params[rows], phi_grid[at].reshape(len(rows), -1), signs, poses, target_angle, weight,
+                           own=len(REFINE_OFFSETS))  # (N, n, r)
+        both = np.concatenate([cost[rows][..., None], fine], -1)
+        j = np.argmin(both, -1)  # (N, n): 0 the coarse angle, else an offset's
+        obj[rows] = np.sum(np.take_along_axis(both, j[..., None], -1)[..., 0], -1)
+        chosen[rows] = np.where(j == 0, chosen[rows], np.take_along_axis(at, np.maximum(j - 1, 0)[..., None], -1)[..., 0])
+    return np.where(np.isfinite(obj), obj, np.inf), phi_grid[chosen]
+
+
+def _chunks(count: int, per_row: int):
+    """Slices of `count` rows, SCORE_ELEMENTS (row, angle, pose) triples at a time."""
+    size = max(1, SCORE_ELEMENTS // max(1, per_row))
+    return [slice(start, min(start + size, count)) for start in range(0, count, size)]
+
+
+def _pose_costs(p, phis, signs, poses, target_angle, weight, every: bool = False, own: int = 0):
+    """Squared pose errors |P - T|^2 + (w dangle)^2 of rows p at input angles phis (inf
+    where the row does not assemble): pose i at the i-th angle ((N, n)), every angle against
+    every pose (`every`: (N, K, n)), or the i-th `own` angles against pose i (`own`:
+    phis (N, n own) -> (N, n, own)). dangle = min(|d|, 2 pi - |d|), d the difference of two
+    angles in [-pi, pi]."""
+    x, y, ex, ey, fr = assemble.body_frames(p, phis, signs)  # (N, K)
+    x = np.where(fr.valid, x, np.inf)  # no assembly there: no score
+    ang = np.arctan2(ey, ex)
+    tx, ty, ta = poses[:, 0], poses[:, 1], target_angle
+    if every:
+        x, y, ang = x[:, :, None], y[:, :, None], ang[:, :, None]
+    elif own:
+        x, y, ang = (v.reshape(len(p), -1, own) for v in (x, y, ang))
+        tx, ty, ta = tx[:, None], ty[:, None], ta[:, None]
+    cost = x - tx
+    cost *= cost
+    dy = y - ty
+    dy *= dy
+    cost += dy
+    d = np.abs(ang - ta)
+    np.minimum(d, kin.TWO_PI - d, out=d)
+    d *= weight
+    d *= d
+    cost += d
+    return cost
 
 
 def residuals(x_full, poses, sign, weight, timing_angles):
     """Residual vectors [dx_i, dy_i, w dangle_i, PENALTY * violation_i] of designs
     x_full (..., 10 + n) (free timing: the n input angles) or (..., 11) (prescribed: one
-    offset added to timing_angles); vectorized over the leading axes."""
+    offset added to timing_angles); vectorized over the leading axes. The angle error is
+    the direction of the body's axis e seen from the target's t, atan2(t x e, t . e), wrapped
+    in [-pi, pi] (`assemble.body_frames`); the violation is rho's distance outside
+    [|b - c|, b + c]."""
     x_full = np.asarray(x_full, float)
     p = x_full[..., :10]
     phi = x_full[..., 10:] if timing_angles is None else timing_angles + x_full[..., 10:11]
-    ach, _ = assemble.body_poses(p, phi, sign)
-    a, b, c, d = (p[..., k, None] for k in (4, 5, 6, 3))
-    rho = kin.ground_distance(a, d, phi)
-    viol = np.maximum(0.0, np.maximum(rho - (b + c), np.abs(b - c) - rho))
-    dpos = ach[..., :2] - poses[:, :2]
-    dang = kin.wrap(ach[..., 2] - poses[:, 2])
-    lead = x_full.shape[:-1]
-    return np.concatenate([dpos.reshape(lead + (-1,)), weight * dang, PENALTY * viol], -1)
+    x, y, ex, ey, fr = assemble.body_frames(p, phi, sign)
+    b, c = p[..., 5, None], p[..., 6, None]
+    viol = np.maximum(0.0, np.maximum(fr.rho - (b + c), np.abs(b - c) - fr.rho))
+    tx, ty = np.cos(poses[:, 2]), np.sin(poses[:, 2])
+    dang = np.arctan2(tx * ey - ty * ex, tx * ex + ty * ey)
+    return np.concatenate([np.stack([x - poses[:, 0], y - poses[:, 1]], -1).reshape(x.shape[:-1] + (-1,)),
+                           weight * dang, PENALTY * viol], -1)
 
 
 def _starts(poses, lo, hi, rng, population, signs, spread: bool = True, taken: set | None = None):
@@ -189,10 +236,8 @@ def _starts(poses, lo, hi, rng, population, signs, spread: bool = True, taken: s
         drawn = _subsets(rng, n, SUBSETS, frozenset(taken))
         subsets += drawn
         taken.update(tuple(sub.tolist()) for sub in subsets)
-        dyads = []
-        for sub in subsets:
-            res = burmester_dyads(poses[sub])
-            dyads.append((res.ground, res.moving))
+        dyads = [(res.ground, res.moving)
+                 for res in burmester_dyads_many(np.array([poses[sub] for sub in subsets]).reshape(-1, 5, 3))]
         if len(drawn) < SUBSETS:  # the five-pose subsets run out: four-pose curves' best dyads instead
             fours = _subsets(rng, n, SUBSETS - len(drawn), frozenset(taken), size=4)
             taken.update(tuple(sub.tolist()) for sub in fours)
@@ -352,14 +397,12 @@ class Search:
                 offs = np.linspace(ob[0], ob[1], 9 if ob[1] > ob[0] else 1)
                 best = None
                 for off in offs:
-                    sc, ph = _scores(starts, self.poses, sign, None, self.weight, self.t_angles + off)
+                    sc, ph = _scores(starts, self.poses, sign, None, self.weight, self.t_angles + off, self.counter)
                     best = (sc, np.full(len(sc), off)) if best is None else (
                         np.where(sc < best[0], sc, best[0]), np.where(sc < best[0], off, best[1]))
-                    self.counter.add(len(starts))
                 score, extra = best[0], best[1][:, None]
             else:
-                score, extra = _scores(starts, self.poses, sign, self.phi_grid, self.weight, None)
-                self.counter.add(len(starts) * len(self.phi_grid))
+                score, extra = _scores(starts, self.poses, sign, self.phi_grid, self.weight, None, self.counter)
             order = np.argsort(score, kind="stable")[:polish * 4]
             chosen = []
             width = self.hi - self.lo + 1e-300
@@ -401,12 +444,15 @@ class Search:
         just outside a binding constraint, which the settle holds. A start that reached a
         design settled already takes its settled result (they are one design, listed once),
         not a settle again; one whose settle failed is not tried again (the same start
-        fails the same way, and would spend the SETTLES tries the others need)."""
+        fails the same way, and would spend the SETTLES tries the others need). Without
+        constraints only the round's best is settled, and every other row of its design takes
+        the settled result too: left polished, one ending a few 1e-17 below the settled value
+        would be the round's best, unsettled (the motion study's tuning case 123, seed 4)."""
         results = list(results)
         key = (lambda r: (not (r["feasible"] or r["penalized"]), r["objective"])) if self.m_cons else _key
         order = sorted(range(len(results)), key=lambda i: key(results[i]))
         first = True  # the round's best is settled whatever the count
-        for i in (order if self.m_cons else order[:1]):
+        for i in order:
             if not (results[i]["feasible"] or self.m_cons):
                 continue
             p = results[i]["params"]
@@ -416,7 +462,7 @@ class Search:
                 if same[0] is not None:
                     results[i], first = dict(same[0]), False
                 continue  # one that failed to settle fails again: no try spent on it
-            if self.tries >= SETTLES and not first:
+            if not (first or self.m_cons) or (self.tries >= SETTLES and not first):
                 continue  # the worse designs stay unsettled, and unlisted
             self.tries, first = self.tries + 1, False
             settled = _settle(self.counter, *self._setup(results[i]))
@@ -521,6 +567,7 @@ class PoseFit:
         self.lo, self.hi, self.budget = lo[mask], hi[mask], budget
         self.constraint_values, self.m_cons = constraint_values, m_cons
         self.window_at_poses = window_at_poses  # the window's 2n rows, one per pose and edge, last
+        self.scale = characteristic_length(poses)
         self.n_link = int(np.sum(mask[:10]))
         self.penalty = None
         self.x0 = self.sign = None
@@ -586,9 +633,13 @@ class PoseFit:
         x, converged = x0.copy(), np.zeros(len(x0), dtype=bool)
         penalized = np.zeros(len(x0), dtype=bool)
         todo = np.arange(len(x0))
+        owner = todo
         span = self.hi - self.lo
         for penalty in [None] + (list(CONSTRAINT_WEIGHTS) if self.m_cons else []):
             if penalty is not None:
+                if penalty == CONSTRAINT_WEIGHTS[0]:  # one penalty polish a design
+                    owner = one_design(x, sign, self.scale)
+                    todo = todo[owner[todo] == todo]
                 todo = todo[np.any(self.constraint_values(x[todo]) > 0.0, axis=1)]
                 penalized[todo] = True
             if not len(todo):
@@ -600,7 +651,28 @@ class PoseFit:
             x[np.ix_(todo, np.flatnonzero(self.mask))] = z
             converged[todo] = conv
         self.penalty = None
-        return x, converged, penalized
+        return x[owner], converged[owner], penalized[owner]
+
+
+def one_design(x, sign, scale: float) -> np.ndarray:
+    """Each row's representative among designs x (N, 10 + t) polished without the
+    constraints: the first row of its sign whose lengths and pivots lie within SAME_DESIGN
+    scale and whose angles (ground, coupler, input or offset) lie within SAME_DESIGN rad,
+    round the circle, of its own (a row's representative is a representative: a chain
+    ends at its first row). Starts that ended in one basin are one design: its penalty
+    passes from there are run once (the motion study's windows: 48 rows of three rounds
+    end at 6 or 7 designs)."""
+    angle = np.zeros(x.shape[1], dtype=bool)
+    angle[[2, 9]] = True
+    angle[10:] = True
+    diff = x[:, None, :] - x[None, :, :]
+    diff[..., angle] = kin.wrap(diff[..., angle])
+    diff[..., ~angle] /= scale
+    near = (np.max(np.abs(diff), axis=-1) <= SAME_DESIGN) & (sign[:, None] == sign[None, :])
+    owner = np.argmax(near, axis=1)  # the first row near each (itself at the latest)
+    while np.any(owner[owner] != owner):
+        owner = owner[owner]
+    return owner
 
 
 def _settle(counter, fun, cons, x, mask, lo, hi, sign, scale, free_timing: bool):
