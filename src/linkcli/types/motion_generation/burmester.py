@@ -136,9 +136,7 @@ def _gauss_newton(coef, ground, moving, iterations=4):
     """Minimum-norm Gauss-Newton steps on f(G, M) = 0 (vectorized; rows <= 4 unknowns)."""
     for _ in range(iterations):
         f = coef.residuals(ground, moving)
-        jg = coef.g + np.einsum("...iba,...b->...ia", coef.B, moving)
-        jm = coef.m + np.einsum("...iab,...b->...ia", coef.B, ground)
-        jac = np.concatenate([jg, jm], -1)
+        jac = coef.jacobian(ground, moving)
         bad = ~np.all(np.isfinite(jac), (-1, -2)) | ~np.all(np.isfinite(f), -1)
         jac = np.where(bad[..., None, None], 0.0, jac)
         step = -np.einsum("...ij,...j->...i", np.linalg.pinv(jac), np.where(bad[..., None], 0.0, f))
@@ -225,9 +223,7 @@ def _newton(coef, ground, moving, iterations=12):
     with its own coefficients when `coef` holds one set a candidate: Coefficients.take)."""
     for _ in range(iterations):
         f = coef.residuals(ground, moving)
-        jg = coef.g + np.einsum("...iba,...b->...ia", coef.B, moving)
-        jm = coef.m + np.einsum("...iab,...b->...ia", coef.B, ground)
-        jac = np.concatenate([jg, jm], -1)
+        jac = coef.jacobian(ground, moving)
         ok = np.abs(np.linalg.det(jac)) > 1e-300
         step = np.linalg.solve(np.where(ok[..., None, None], jac, np.eye(4)),
                                np.where(ok[..., None], f, 0.0)[..., None])[..., 0]
@@ -342,8 +338,9 @@ def burmester_dyads_many(pose_sets) -> list[BurmesterResult]:
                     mine[:, None, :] - shared[None], axis=-1) < 1e-6, 0))) if len(mine) else 0
         ok0 = np.all(np.isfinite(m0), -1)
         own = owner[ok0]
-        g, m = _newton(coef.take(own), g0[ok0], m0[ok0])
-        f = np.max(np.abs(coef.take(own).residuals(g, m)), -1) if len(g) else np.zeros(0)
+        mine_coef = coef.take(own)  # each candidate's set's coefficients
+        g, m = _newton(mine_coef, g0[ok0], m0[ok0])
+        f = np.max(np.abs(mine_coef.residuals(g, m)), -1) if len(g) else np.zeros(0)
         good = np.isfinite(f) & (f <= SOLVE_TOL)
         for k in range(count):
             mine = good & (own == k)

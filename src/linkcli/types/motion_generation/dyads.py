@@ -57,6 +57,13 @@ class Coefficients:
         const = self.k + np.einsum("...ia,...a->...i", self.m, moving)
         return np.concatenate([lin, const[..., None]], -1)
 
+    def jacobian(self, ground, moving) -> np.ndarray:
+        """d f_i / d(G, M) at G (..., 2) and M (..., 2): rows [g_i + B_i^T M, m_i + B_i G],
+        shape (..., n-1, 4)."""
+        jg = self.g + np.einsum("...iba,...b->...ia", self.B, moving)
+        jm = self.m + np.einsum("...iab,...b->...ia", self.B, ground)
+        return np.concatenate([jg, jm], -1)
+
     def take(self, sets) -> "Coefficients":
         """The coefficients of a stack of pose sets (`coefficients` of (S, n, 3)) picked by
         `sets`: one pose set a point, whose leading axes the points' then match."""

@@ -462,7 +462,7 @@ class Search:
                 if same[0] is not None:
                     results[i], first = dict(same[0]), False
                 continue  # one that failed to settle fails again: no try spent on it
-            if not (first or self.m_cons) or (self.tries >= SETTLES and not first):
+            if not first and (not self.m_cons or self.tries >= SETTLES):
                 continue  # the worse designs stay unsettled, and unlisted
             self.tries, first = self.tries + 1, False
             settled = _settle(self.counter, *self._setup(results[i]))
