@@ -155,10 +155,10 @@ SHAPER = (ROOT / "problems" / "drawn_shaper.toml").read_text()
 @pytest.mark.parametrize("size", [3000, 100_000])
 @pytest.mark.parametrize("case", LONG_ECHOES)
 def test_a_long_name_is_echoed_cut_to_60_characters_and_its_length(tmp_path, case, size):
-    # one rule for every error line (terminal_text.bounded, applied where an error is made):
+    # one rule for every error line (errors.bounded, applied where an error is made):
     # a 3000-character key was echoed whole in a hint and in lists of known keys (lines of
     # 3 to 40 KB); each echoed word longer than 80 characters keeps 60 and says its length
-    from linkcli.io.terminal_text import ECHO_LIMIT, KEY_LIMIT, PART_LIMIT
+    from linkcli.errors import ECHO_LIMIT, KEY_LIMIT, PART_LIMIT
     p = tmp_path / "long.toml"
     p.write_text(LONG_ECHOES[case]("k" * size))
     code, _, err = run_cli("check", str(p))
@@ -178,7 +178,7 @@ def test_cutting_an_error_line_twice_changes_nothing():
     # InputErrors) keeps its text
     import pickle
     from linkcli.errors import InputErrors, SchemaError
-    from linkcli.io.terminal_text import bounded
+    from linkcli.errors import bounded
     texts = ['unknown key "' + "k" * 3000 + '"', "a." + "b" * 500, " ".join(["word"] * 400),
              '"' + "q" * 81 + '"?', "x" * 81, "x" * 80, "one of: " + ", ".join(f"n{i}" for i in range(300))]
     for text in texts:

@@ -11,7 +11,7 @@
 Every error has `exit_code` and `lines()` (its stderr lines). Input errors carry their
 fields (`path`, `line`, `key`, `expected`, `got`) and format them only in `__str__`, as
 `FILE:LINE: key.path: expected ..., found ...`. The key, expected and found parts are
-bounded where an error is made (`terminal_text.bounded`, the one rule for every error
+bounded where an error is made (`bounded`, the one rule for every error
 line): a word echoed from the file longer than 80 characters keeps its first 60 and its
 length, so a line stays a few hundred characters long. Every error pickles with its fields
 (`__reduce__`), so it can cross a process boundary. Infeasibility is not an error: it is
@@ -20,7 +20,38 @@ a status of the Solution.
 
 from __future__ import annotations
 
-from linkcli.io.terminal_text import KEY_LIMIT, bounded
+import re
+
+ECHO_LIMIT = 60  # characters kept of one echoed key or value cut in an error line
+WORD_LIMIT = 80  # an echoed word (a run without spaces, or a quoted "...") longer than this is cut
+KEY_LIMIT = 120  # characters of an error line's key path
+PART_LIMIT = 300  # characters of an error line's expected or found part
+
+_LONG = re.compile(r'"([^"]{%d,})"|[^\s"]{%d,}' % (WORD_LIMIT + 1, WORD_LIMIT + 1))
+
+
+def _cut_word(m: re.Match) -> str:
+    """A long word's first ECHO_LIMIT characters, "...", and its length (a quoted word: its
+    content, inside its quotes): at most WORD_LIMIT long, so never cut again."""
+    inner = m.group(1)
+    if inner is not None:
+        return f'"{inner[:ECHO_LIMIT]}..." ({len(inner)} characters)'
+    word = m.group()
+    return f"{word[:ECHO_LIMIT]}... ({len(word)} characters)"
+
+
+def bounded(text: str, limit: int = PART_LIMIT) -> str:
+    """`text` (already one line) with every word longer than WORD_LIMIT cut to its first
+    ECHO_LIMIT characters, "..." and its length, then, if still longer than `limit`, cut to exactly
+    `limit` characters the same way. Idempotent (bounded(bounded(t)) == bounded(t)): an
+    error rebuilt from its fields (unpickled, or collected into InputErrors) keeps its text."""
+    if len(text) <= WORD_LIMIT:
+        return text
+    text = _LONG.sub(_cut_word, text)
+    if len(text) > limit:
+        tail = f" ... ({len(text)} characters)"
+        text = text[:max(0, limit - len(tail))] + tail
+    return text
 
 
 class LinkcliError(Exception):

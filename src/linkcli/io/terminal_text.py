@@ -7,26 +7,12 @@ is shown, never obeyed; `line` makes an error or status line of it; `shown` also
 applies `one_line` to every string (keys and values) of a report before it is printed as a
 table.
 
-`bounded` is the one rule for the length of an error line (errors.InputError applies it to
-the key, the expected and the found part of every error): a 100,000-character key is not
-a useful line, and a key is echoed in several parts of one line (its path, `unknown key
-"..."`, a hint). Every echoed word longer than WORD_LIMIT characters -- a run without
-spaces, or a quoted "..." -- keeps its first ECHO_LIMIT characters and says how long it was
-(`kkkk... (3000 characters)`); a part still longer than its limit (a quoted key of many
-short words, a list of hundreds of names) is cut the same way.
+The length of an error line is bounded where the error is made (`errors.bounded`).
 """
 
 from __future__ import annotations
 
-import re
-
 SHOWN_LIMIT = 200  # characters of a text `shown` keeps by default
-ECHO_LIMIT = 60  # characters kept of one echoed key or value cut in an error line
-WORD_LIMIT = 80  # an echoed word (a run without spaces, or a quoted "...") longer than this is cut
-KEY_LIMIT = 120  # characters of an error line's key path
-PART_LIMIT = 300  # characters of an error line's expected or found part
-
-_LONG = re.compile(r'"([^"]{%d,})"|[^\s"]{%d,}' % (WORD_LIMIT + 1, WORD_LIMIT + 1))
 
 
 def one_line(text: str) -> str:
@@ -70,27 +56,3 @@ def terminal_safe(node):
         items = [terminal_safe(v) for v in node]
         return node.like(items) if hasattr(node, "like") else items  # report.Elided keeps its class
     return node
-
-
-def _cut_word(m: re.Match) -> str:
-    """A long word's first ECHO_LIMIT characters, "...", and its length (a quoted word: its
-    content, inside its quotes): at most WORD_LIMIT long, so never cut again."""
-    inner = m.group(1)
-    if inner is not None:
-        return f'"{inner[:ECHO_LIMIT]}..." ({len(inner)} characters)'
-    word = m.group()
-    return f"{word[:ECHO_LIMIT]}... ({len(word)} characters)"
-
-
-def bounded(text: str, limit: int = PART_LIMIT) -> str:
-    """`text` (already one line) with every word longer than WORD_LIMIT cut to its first
-    ECHO_LIMIT characters, "..." and its length, then, if still longer than `limit`, cut to exactly
-    `limit` characters the same way. Idempotent (bounded(bounded(t)) == bounded(t)): an
-    error rebuilt from its fields (unpickled, or collected into InputErrors) keeps its text."""
-    if len(text) <= WORD_LIMIT:
-        return text
-    text = _LONG.sub(_cut_word, text)
-    if len(text) > limit:
-        tail = f" ... ({len(text)} characters)"
-        text = text[:max(0, limit - len(tail))] + tail
-    return text
