@@ -25,7 +25,7 @@ import difflib
 import weakref
 from dataclasses import dataclass
 
-from linkcli.io.meta import MAX_LENGTH, bounded_length, bounded_point
+from linkcli.io.bounds import MAX_LENGTH, bounded_length, bounded_point
 from linkcli.io.reader import Table, describe
 
 MAX_JOINTS = 1000
@@ -153,6 +153,6 @@ def _checked_fit(t: Table, fit: str, diameter, units):
 
 
 def _size(t: Table, key: str, what: str):
-    """A pin's length within [MIN_LENGTH, MAX_LENGTH] (`meta.bounded_length`); None when
+    """A pin's length within [MIN_LENGTH, MAX_LENGTH] (`io.bounds.bounded_length`); None when
     absent or bad (error recorded)."""
     return bounded_length(t, key, None, what)

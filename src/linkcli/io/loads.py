@@ -147,7 +147,7 @@ def mass_center(t: Table):
     """A link's centre of mass [x, y] (length unit, the link's frame; default [0, 0]), each
     coordinate at most MAX_LENGTH in magnitude as every coordinate a file holds (1e308
     made the loads' equations singular); None when bad."""
-    from linkcli.io.meta import MAX_LENGTH
+    from linkcli.io.bounds import MAX_LENGTH
     center = t.number_list("center", [0.0, 0.0], length=2, what="coordinates [x, y] in the link's frame")
     if center is not None and max(abs(v) for v in center) > MAX_LENGTH:
         t.error("center", f"coordinates [x, y] in the link's frame of magnitude at most {MAX_LENGTH:g}",

@@ -6,7 +6,8 @@ from __future__ import annotations
 import math
 
 from linkcli.model import Meta, Reference, SolverOptions
-from linkcli.io.reader import MAX_ARRAY, MISSING, Table
+from linkcli.io.bounds import MAX_LENGTH
+from linkcli.io.reader import MAX_ARRAY, Table
 from linkcli.registry import ProblemType
 from linkcli.units import ANGLE_UNITS, LENGTH_TO_MM, Units
 
@@ -15,16 +16,6 @@ ALL_SECTIONS = ("lengths", "grashof", "transmission", "motion", "kinematics", "p
 MAX_BUDGET = 10**9
 MAX_SAMPLES = 1_000_000  # a tolerance study: more gains nothing but minutes
 MIN_FAILURES = 10  # inverse mode: expected failures at the level, for a stable bisection
-MIN_LENGTH, MAX_LENGTH = 1e-9, 1e9  # file's unit: beyond, squares of lengths lose all precision
-MAX_RATIO = 1e6  # longest over shortest link: beyond, double precision cannot resolve the angles
-
-
-def over_ratio(lengths: dict[str, float]) -> tuple[str, str] | None:
-    """(longest, shortest) names when the longest length exceeds MAX_RATIO times the
-    shortest, else None."""
-    longest, shortest = max(lengths, key=lengths.get), min(lengths, key=lengths.get)
-    return (longest, shortest) if lengths[longest] > MAX_RATIO * lengths[shortest] else None
-
 
 ANGLE_FIELDS = ("ground_angle", "coupler_angle")  # a linkage's fields that are not sizes
 
@@ -78,27 +69,6 @@ def in_motion_order(angles: list[float]) -> list[float]:
             out.append(out[-1] + s)
         return out
     return list(angles)
-
-
-def bounded_length(t: Table, key: str, default=MISSING, what: str | None = None):
-    """A positive length within [MIN_LENGTH, MAX_LENGTH] (a link's, a pin's, a section's: 1e-300
-    gave infinite stresses and a buckling load of 0); `default` when absent (MISSING: required),
-    None when bad (error recorded, said as `what` when given)."""
-    value = t.number(key, default, positive=True, what=what or "a positive length")
-    if value is not None and not MIN_LENGTH <= value <= MAX_LENGTH:
-        span = f"within [{MIN_LENGTH:g}, {MAX_LENGTH:g}]"
-        t.error(key, f"{what}, {span}" if what else f"a length {span}", value)
-        return None
-    return value
-
-
-def bounded_point(t: Table, key: str, default):
-    """Coordinates [x, y], each at most MAX_LENGTH in magnitude; None when bad."""
-    value = t.number_list(key, default, length=2, what="coordinates [x, y]")
-    if value is not None and max(abs(v) for v in value) > MAX_LENGTH:
-        t.error(key, f"coordinates of magnitude at most {MAX_LENGTH:g}", raw_got=str(value))
-        return None
-    return value
 
 
 def read_meta(root: Table, kind: str, spec: ProblemType) -> Meta:

@@ -41,7 +41,8 @@ def has_linkage(data: dict) -> bool:
 
 def parse(reader: Reader) -> LinkageProblem | None:
     from linkcli.io.loads import read_loads
-    from linkcli.io.meta import MAX_LENGTH, read_units
+    from linkcli.io.meta import read_units
+    from linkcli.io.bounds import MAX_LENGTH
     from linkcli.io.result_check import check_header, check_sections, check_values
     from linkcli.io.result_motion import motion_study
     from linkcli.mechanisms.schema import read_linkage

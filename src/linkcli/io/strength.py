@@ -15,7 +15,7 @@ and needs the load cycle ([loads] or [masses]) and at least one sized part.
 
 from __future__ import annotations
 
-from linkcli.io.meta import MAX_LENGTH, bounded_length
+from linkcli.io.bounds import MAX_LENGTH, bounded_length
 from linkcli.io.reader import MISSING, Table
 
 CRITERIA = ("goodman", "gerber", "soderberg", "asme-elliptic")
@@ -169,7 +169,7 @@ def _section(t: Table, line) -> LinkSection | None:
 
 
 def _length(t: Table, key: str, what: str, required: bool = True):
-    """A section's length within [MIN_LENGTH, MAX_LENGTH] (`meta.bounded_length`); None when
+    """A section's length within [MIN_LENGTH, MAX_LENGTH] (`io.bounds.bounded_length`); None when
     bad (recorded) or absent and optional."""
     return bounded_length(t, key, MISSING if required else None, what)
 

@@ -5,24 +5,8 @@ it without numpy).
 
 from __future__ import annotations
 
-from linkcli.io.meta import MAX_RATIO, over_ratio
 from linkcli.io.reader import Table, describe
 from linkcli.mechanisms import DEFAULT, NAMES, module
-
-ASSEMBLY_RTOL = 1e-12  # relative: ranges that only touch close at one position and cannot move
-
-
-def refuse_ratio(t, lengths: dict) -> bool:
-    """A located error (and True) when the longest link is over MAX_RATIO times the shortest:
-    beyond, double precision cannot resolve the linkage's angles."""
-    extremes = over_ratio(lengths)
-    if not extremes:
-        return False
-    longest, shortest = extremes
-    t.error(longest, f"a linkage whose longest link is at most {MAX_RATIO:g} times its shortest "
-            "(beyond, double precision cannot resolve its angles)",
-            raw_got=f"{longest} = {lengths[longest]:g} and {shortest} = {lengths[shortest]:g}")
-    return True
 
 
 def read_mechanism(t: Table, choices: tuple[str, ...] = NAMES) -> str | None:

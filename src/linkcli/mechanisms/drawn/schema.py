@@ -10,7 +10,7 @@ from __future__ import annotations
 import difflib
 import math
 
-from linkcli.io.meta import MAX_LENGTH
+from linkcli.io.bounds import MAX_LENGTH
 from linkcli.io.reader import MISSING, Table, describe
 from linkcli.mechanisms.schema import drive_motion as read_motion  # noqa: F401 ([motion] steps: the linkage type's)
 # .model (its dataclasses) is imported inside the functions that build them: every other

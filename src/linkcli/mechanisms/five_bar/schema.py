@@ -14,9 +14,9 @@ from __future__ import annotations
 
 import math
 
-from linkcli.io.meta import MAX_LENGTH, bounded_length, bounded_point
+from linkcli.io.bounds import MAX_LENGTH, bounded_length, bounded_point
 from linkcli.io.reader import MISSING, MAX_ARRAY, Table, describe
-from linkcli.mechanisms.schema import ASSEMBLY_RTOL, refuse_ratio
+from linkcli.io.bounds import ASSEMBLY_RTOL, refuse_ratio
 # .model (its dataclasses) is imported inside the functions that build them: every other
 # mechanism's [linkage] reads this module for KEYS alone (mechanisms.schema.refuse_foreign)
 

@@ -3,9 +3,9 @@ coupler point and global placement. Pure Python (`check` reads it without numpy)
 
 from __future__ import annotations
 
-from linkcli.io.meta import MAX_LENGTH, bounded_length, bounded_point
+from linkcli.io.bounds import MAX_LENGTH, bounded_length, bounded_point
 from linkcli.io.reader import Table
-from linkcli.mechanisms.schema import ASSEMBLY_RTOL, refuse_ratio
+from linkcli.io.bounds import ASSEMBLY_RTOL, refuse_ratio
 from linkcli.mechanisms.schema import drive_motion as read_motion  # noqa: F401 ([motion]: one drive)
 from linkcli.model import BRANCHES, FourBar
 

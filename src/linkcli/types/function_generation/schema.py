@@ -24,7 +24,7 @@ import math
 
 from linkcli.expr import ExpressionError, compile_expression
 from linkcli.model import LINKS, FunctionGenerationProblem, Meta
-from linkcli.io.meta import MAX_LENGTH, MAX_RATIO, MIN_LENGTH, over_ratio
+from linkcli.io.bounds import MAX_LENGTH, MAX_RATIO, MIN_LENGTH, over_ratio
 from linkcli.io.reader import Table
 from linkcli.io.robust_keys import read_objective
 

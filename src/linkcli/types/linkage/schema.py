@@ -7,7 +7,7 @@ precision-position files and result files alike, and the mechanism's `read_motio
 
 from __future__ import annotations
 
-from linkcli.io.meta import MAX_LENGTH
+from linkcli.io.bounds import MAX_LENGTH
 from linkcli.io.reader import Table
 from linkcli.io.loads import mechanism_of
 from linkcli.mechanisms import module

@@ -16,7 +16,7 @@ phi (K, n) in rad and its branch sign at each pose (K, n) (-1 open, +1 crossed).
   working span (the input's travel from the first pose to the last) or, for a class whose
   input must turn fully (crank-rocker, double-crank), over the full turn, as path-generation;
 * bounds: a length, the ground pivot A0 or the ground angle outside a bound the file gives,
-  or a length or coordinate beyond the sizes any file accepts (io.meta.MAX_LENGTH);
+  or a length or coordinate beyond the sizes any file accepts (io.bounds.MAX_LENGTH);
   branch_choice: not on the branch the file asks for.
 
 `quality` is the worst transmission deviation from 90 deg over the working span (rad,
@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkcli.io.meta import MAX_LENGTH
+from linkcli.io.bounds import MAX_LENGTH
 from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.types.path_generation.model import FULL_TURN, rho2_extremes
 

@@ -30,7 +30,7 @@ import math
 
 import numpy as np
 
-from linkcli.io.meta import MAX_LENGTH
+from linkcli.io.bounds import MAX_LENGTH
 from linkcli.model import FourBar
 from linkcli.noise import first_min
 from linkcli.search.budget import Budget

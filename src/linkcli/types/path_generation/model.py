@@ -31,7 +31,7 @@ import numpy as np
 
 from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.mechanisms.four_bar import closure
-from linkcli.io.meta import MIN_LENGTH as FILE_MIN_LENGTH
+from linkcli.io.bounds import MIN_LENGTH as FILE_MIN_LENGTH
 
 NAMES = ("ground", "input", "coupler", "output", "coupler_point_x", "coupler_point_y",
          "ground_pivot_x", "ground_pivot_y", "ground_angle")
@@ -238,7 +238,7 @@ def build(problem) -> Design:
     scale = float(max(ext.max(), 1e-300))
     lengths = [problem.lengths[k] for k in ("ground", "input", "coupler", "output")]
     # a lower bound of 0 becomes MIN_LENGTH x its upper bound, and never less than the
-    # smallest length a file may hold (io.meta.MIN_LENGTH, absolute): targets 1e-9 apart
+    # smallest length a file may hold (io.bounds.MIN_LENGTH, absolute): targets 1e-9 apart
     # must not give a ground of 5e-10 that no file could state
     lo = [max(l, MIN_LENGTH * h, ABSOLUTE_MIN_LENGTH) if l < h else l for l, h in lengths]
     hi = [h for _, h in lengths]

@@ -16,7 +16,8 @@ from __future__ import annotations
 import math
 
 from linkcli.model import LINKS, Meta, PathGenerationProblem
-from linkcli.io.meta import MAX_LENGTH, MIN_LENGTH, in_motion_order
+from linkcli.io.meta import in_motion_order
+from linkcli.io.bounds import MAX_LENGTH, MIN_LENGTH
 from linkcli.io.loads import mechanism_of
 from linkcli.io.robust_keys import read_objective
 from linkcli.io.reader import MISSING, Table, describe

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 
-from linkcli.io.meta import MAX_LENGTH, bounded_length
+from linkcli.io.bounds import MAX_LENGTH, bounded_length
 from linkcli.io.reader import Table
 from linkcli.model import Meta, QuickReturnProblem
 
