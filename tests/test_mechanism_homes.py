@@ -53,9 +53,10 @@ def test_every_home_implements_the_protocol_and_the_light_modules(name):
     home = mechanisms.module(name, "home").HOME
     assert issubclass(home, Mechanism) and not getattr(home, "__abstractmethods__", None)
     assert home.name == name
-    schema = mechanisms.module(name, "schema")
-    for key in ("KEYS", "JOINTS", "LINKS", "TOLERANCED", "PLAYS", "OUTPUT", "MASSES", "POINT_MASSES",
-                "OUTPUT_LOAD"):
-        assert hasattr(schema, key), f"{name}'s schema has no {key}"
-    assert callable(schema.read) and callable(schema.known_lengths)
-    assert callable(mechanisms.module(name, "layout").class_block)
+    from linkcli.mechanisms.schema import Schema
+    schema = mechanisms.schema_of(name)
+    assert isinstance(schema, Schema) and schema.name == name
+    assert type(schema).read is not Schema.read, f"{name}'s schema reads no [linkage]"
+    assert type(schema).class_block is not Schema.class_block, f"{name}'s schema lays out no class table"
+    assert schema.output in ("angle", "length") and schema.class_keys
+    assert set(schema.masses) >= set(schema.point_masses)

@@ -39,8 +39,8 @@ def known_lengths(problem) -> tuple[dict[str, float], bool]:
     """(link -> length, complete) of the lengths a problem fixes before solving."""
     linkage = getattr(problem, "linkage", None)
     if linkage is not None:  # a given linkage: its mechanism says which lengths it has
-        from linkcli.mechanisms import module
-        return module(linkage.mechanism, "schema").known_lengths(linkage), True
+        from linkcli.mechanisms import schema_of
+        return schema_of(linkage.mechanism).known_lengths(linkage), True
     if hasattr(problem, "fixed") and isinstance(problem.fixed, dict):  # function generation
         return {k: float(v) for k, v in problem.fixed.items() if k in LINKS}, False
     bounds = getattr(problem, "lengths", None)

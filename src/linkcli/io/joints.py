@@ -5,12 +5,12 @@
     O2 = { at = [0, 0], ground = true }                                # a drawn linkage's drawing
     S  = { at = [90, 52], slider = 0 }
 
-Part sizes (any mechanism; the names are the mechanism's joints, `JOINTS` in its schema):
+Part sizes (any mechanism; the names are the mechanism's joints, `joints` of its schema):
 `diameter` (pin diameter, length unit), `width` (bearing width, length unit), `shear`
 ("single" or "double": the pin's shear planes), `fit` (an ISO 286 hole/shaft fit such as
 "H7/g6" at the joint's diameter: a clearance fit of ISO 286, standards.iso286; checked here,
 its limits drawn where the fit is used). The drawing (a mechanism whose
-schema has `JOINTS = None`: any names, the drawing's own): `at` (the joint's place in the
+schema `draws`: any names, the drawing's own): `at` (the joint's place in the
 drawn assembly, [x, y] length unit), `ground` (fixed to the ground), `slider` (a slider on
 a ground guide through `at`, at this angle, the file's angle unit), `guide` (the link whose
 guide the slider runs on, when not the ground's). Pure Python (`check` reads it without
@@ -68,11 +68,12 @@ def read_joints(root: Table, mechanism: str, units) -> tuple[JointSpec, ...] | N
 
 
 def _read_joints(root: Table, mechanism: str, units) -> tuple[JointSpec, ...] | None:
-    from linkcli.mechanisms import module
+    from linkcli.mechanisms import schema_of
     t = root.table("joints")
     if t is None:
         return ()
-    names = module(mechanism, "schema").JOINTS  # None: the drawing names its own joints
+    schema = schema_of(mechanism)
+    names = None if schema.draws else schema.joints  # a drawing names its own joints
     errors = len(root.reader.errors)
     entries = named_tables(t, names, "joint", mechanism, "{ diameter = 8, width = 10 }")
     if entries is None:

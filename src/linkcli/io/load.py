@@ -53,7 +53,7 @@ def refuse_unknown_mechanism(reader: Reader, root) -> None:
     (joints, links, drives, [motion]): judged as another mechanism's, a misspelled "drawn"
     gave eleven more lines, each blaming a correct key."""
     from linkcli.mechanisms import NAMES as MECHANISMS
-    from linkcli.mechanisms.schema import read_mechanism
+    from linkcli.reading.linkage import read_mechanism
     link = root.data.get("linkage")
     if isinstance(link, dict) and "mechanism" in link and link["mechanism"] not in MECHANISMS:
         read_mechanism(root.table("linkage"))  # records the line

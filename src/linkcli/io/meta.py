@@ -200,14 +200,6 @@ def read_sections(root: Table, default: tuple[str, ...], allowed: tuple[str, ...
     return tuple(s for s in ALL_SECTIONS if s in value)
 
 
-def drawn_joint_names(root: Table) -> tuple[str, ...]:
-    """The joint names of a drawn linkage's top-level [joints], unchecked (they are checked
-    where the drawing is read); () when it is missing or not a table (`joints = 1`: that
-    error is recorded there, once)."""
-    joints = root.data.get("joints")
-    return tuple(joints) if isinstance(joints, dict) else ()
-
-
 MIN_LEVEL = MIN_FAILURES / MAX_SAMPLES  # the least max_failure_probability: 1e-05
 
 
@@ -240,30 +232,30 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
         return None
     from linkcli.io.loads import mechanism_of
     from linkcli.io.tolerance_keys import check_cost_bounds, read_clearance, read_cost, read_lengths, read_schemes
-    from linkcli.mechanisms import NAMES, module
+    from linkcli.mechanisms import NAMES, schema_of
     from linkcli.model import InverseTolerance, Tolerance
     path_type = root.raw("type") == "path-generation"
     mechanism = mechanism_of(root)
-    own = module(mechanism, "schema")
-    links = own.TOLERANCED if own.TOLERANCED is not None else own.toleranced(root)  # None: the drawing's links
-    per_link = links + (("coupler_point",) if path_type and "coupler_point" in own.KEYS else ())
+    own = schema_of(mechanism)
+    links = own.toleranced_names(root)
+    per_link = links + (("coupler_point",) if path_type and "coupler_point" in own.keys else ())
     raw = t.raw("lengths", None)
     got = read_lengths(t, "lengths", links, per_link)
     lengths, general = got if got is not None and got[0] is not None else ({k: 0.0 for k in links}, {})
     distribution = t.string("distribution", "uniform", choices=("uniform", "normal"))
     clearance, clearance_fits = read_clearance(t)
     clearance_slider = 0.0
-    if "clearance_slider" in own.PLAYS:
+    if "clearance_slider" in own.plays:
         clearance_slider = t.number("clearance_slider", 0.0, nonnegative=True,
                                     what="a radial play of the slider in its guide >= 0 (length unit)")
     lock_play = 0.0
-    if "lock_play" in own.PLAYS:
+    if "lock_play" in own.plays:
         lock_play = t.number("lock_play", 0.0, lo=0.0, hi=units.from_rad(math.pi / 2),
                              what="an angular play of a held drive's lock (angle unit)")
     refused = set()
     for name in NAMES:
-        for key, what in module(name, "schema").PLAYS.items():
-            if key not in own.PLAYS and key in t and key not in refused:  # once, naming the first home
+        for key, what in schema_of(name).plays.items():
+            if key not in own.plays and key in t and key not in refused:  # once, naming the first home
                 refused.add(key)
                 t.allow(key)
                 t.error(key, f'no {key} for a {mechanism} ({what}: only with [linkage] mechanism = "{name}")',
@@ -271,14 +263,13 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     samples = t.number("samples", 20000, integer=True, lo=1, hi=MAX_SAMPLES)
     allowed = t.number("allowed_error", None, positive=True)
     if allowed is not None:
-        allowed = units.to_rad(allowed) if not (path_type or own.OUTPUT == "length") else allowed
+        allowed = units.to_rad(allowed) if not (path_type or own.output == "length") else allowed
     level = read_level(t)
     if level is not None and allowed is None and "allowed_error" not in t:
         t.error("allowed_error", "a positive number (needed by max_failure_probability: a "
                 "sample fails when its error exceeds allowed_error)")
-    joint_names = own.JOINTS if own.JOINTS is not None else drawn_joint_names(root)
-    cost = read_cost(t, per_link, joint_names)
-    schemes = read_schemes(t, links, per_link, own.JOINTS)
+    cost = read_cost(t, per_link, own.joint_names(root))
+    schemes = read_schemes(t, links, per_link, None if own.draws else own.joints)
     if cost is not None and level is None and "max_failure_probability" not in t:
         t.error("max_failure_probability", "a probability strictly between 0 and 1 with [tolerance.cost] "
                 "(the limit the least-cost tolerances must meet)")

@@ -247,20 +247,7 @@ def render(report: dict, digits: int = 6) -> Group:
     if "error" in r:
         parts.append(_kv("Error", [(k.replace("_", " "), v) for k, v in r["error"].items()], digits))
     if "kinematics" in r:
-        heads = {"input": f"input ({au})", "coupler": f"coupler ({au})", "output": f"output ({au})",
-                 "transmission": f"mu ({au})", "coupler_velocity": f"w coupler ({au}/s)",
-                 "output_velocity": f"w output ({au}/s)", "coupler_acceleration": f"a coupler ({au}/s2)",
-                 "output_acceleration": f"a output ({au}/s2)",
-                 "slider": f"slider ({lu})", "slider_velocity": f"v slider ({lu}/s)",
-                 "slider_acceleration": f"a slider ({lu}/s2)",
-                 "coupler_point_x": f"P x ({lu})", "coupler_point_y": f"P y ({lu})",
-                 "coupler_point_vx": f"P vx ({lu}/s)", "coupler_point_vy": f"P vy ({lu}/s)",
-                 "coupler_point_ax": f"P ax ({lu}/s2)", "coupler_point_ay": f"P ay ({lu}/s2)",
-                 "input2": f"input2 ({au})", "point": f"P ({lu})", "dpoint_dinput": f"dP/d input ({lu}/{au})",
-                 "dpoint_dinput2": f"dP/d input2 ({lu}/{au})", "velocity": f"v P ({lu}/s)",
-                 "acceleration": f"a P ({lu}/s2)", "transmission_left": f"mu A ({au})",
-                 "transmission_right": f"mu B ({au})", "margin": f"margin ({au})"}
-        heads.update(_drawn_heads(r["kinematics"], lu, au))
+        heads = _kinematics_heads(r["kinematics"], lu, au)
         parts.append(_rows("Kinematics", r["kinematics"], digits, heads))
     if "loads" in r:
         units = {"coupler_force": "N", "output_torque": "N m", "output_force": "N", "gravity": "m/s2",
@@ -289,26 +276,14 @@ def render(report: dict, digits: int = 6) -> Group:
     return Group(*parts)
 
 
-def _drawn_heads(rows: list[dict], lu: str, au: str) -> dict[str, str]:
-    """Headings of a drawn linkage's nested kinematics columns (flattened by `_rows`): a link's
-    angle and rates, a slider's place and rates, a closure's transmission angle, a point's
-    coordinates and rates, another drive's value."""
-    heads = {}
-    units = {("links", "angle"): ("", au), ("links", "velocity"): (" w", f"{au}/s"),
-             ("links", "acceleration"): (" a", f"{au}/s2"), ("sliders", "position"): ("", lu),
-             ("sliders", "velocity"): (" v", f"{lu}/s"), ("sliders", "acceleration"): (" a", f"{lu}/s2")}
-    for row in rows[:1]:
-        for group, inner in row.items():
-            if not isinstance(inner, dict):
-                continue
-            for name, value in inner.items():
-                if not isinstance(value, dict):
-                    heads[f"{group} {name}"] = f"mu {name} ({au})" if group == "transmission" else f"{name}"
-                    continue
-                for part in value:
-                    mark, unit = units.get((group, part), (f" {part}", lu if part in ("x", "y") else
-                                           f"{lu}/s" if part.startswith("v") else f"{lu}/s2"))
-                    heads[f"{group} {name} {part}"] = f"{name}{mark} ({unit})"
+def _kinematics_heads(rows: list[dict], lu: str, au: str) -> dict[str, str]:
+    """Headings of the kinematics columns, with their units: what each mechanism's schema
+    declares of its own columns (mechanisms.schema.Schema.kinematics_headings), in the order of
+    mechanisms.NAMES (a report holds rows, not a linkage: any home's columns are known)."""
+    from linkcli.mechanisms import NAMES, schema_of
+    heads: dict[str, str] = {}
+    for name in NAMES:
+        heads.update(schema_of(name).kinematics_headings(rows, lu, au))
     return heads
 
 
@@ -325,20 +300,23 @@ def _linkage_rows(lk: dict, lu: str, au: str) -> list[tuple[str, object]]:
 
 
 def _class_table(g: dict, digits: int) -> Table:
-    """The class section as its mechanism lays it out (mechanisms.layout_of), else key by key."""
-    from linkcli.mechanisms import layout_of
-    layout = layout_of(g)
-    if layout is None:
+    """The class section as its mechanism lays it out (mechanisms.of_class_section), else key by key."""
+    from linkcli.mechanisms import of_class_section
+    schema = of_class_section(g)
+    if schema is None:
         return _kv("Class", [(k.replace("_", " "), v) for k, v in g.items()], digits)
-    title, rows = layout.class_block(g, lambda v: fmt(v, digits))
+    title, rows = schema.class_block(g, lambda v: fmt(v, digits))
     return _kv(title, rows, digits)
 
 
 def _motion_units(lu: str, au: str) -> dict[str, str]:
-    """The unit of each Motion row that has one (time ratio, steps and yes/no have none)."""
-    return {"input_range": au, "output_range": au, "output_swing": au, "slider_range": lu,
-            "stroke": lu, "input_speed": f"{au}/s", "input2_range": au, "x_range": lu, "y_range": lu,
-            "input_speeds": f"{au}/s", "input_accelerations": f"{au}/s2"}
+    """The unit of each Motion row that has one (time ratio, steps and yes/no have none): what
+    each mechanism's schema declares (Schema.motion_units), in the order of mechanisms.NAMES."""
+    from linkcli.mechanisms import NAMES, schema_of
+    units: dict[str, str] = {}
+    for name in NAMES:
+        units.update(schema_of(name).motion_units(lu, au))
+    return units
 
 
 def _angle_units(section: dict, au: str) -> dict[str, str]:
@@ -353,9 +331,9 @@ def _position_heads(r: dict, lu: str, au: str) -> dict[str, str]:
     error are points or slider positions (length) for path generation and a slider-crank,
     output angles for a four-bar's function, poses (x, y, angle) for motion generation,
     with a position error (length) and an angle error."""
-    from linkcli.mechanisms import DEFAULT, module
+    from linkcli.mechanisms import DEFAULT, schema_of
     mechanism = r.get("linkage", {}).get("mechanism", DEFAULT)
-    length_output = module(mechanism, "schema").OUTPUT == "length"  # a slider's position
+    length_output = schema_of(mechanism).output == "length"  # a slider's position
     unit = lu if r["type"] == "path-generation" or length_output else au
     heads = {"input": f"input ({au})", "position_error": f"position error ({lu})",
              "angle_error": f"angle error ({au})"}

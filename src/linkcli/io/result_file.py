@@ -45,7 +45,7 @@ def parse(reader: Reader) -> LinkageProblem | None:
     from linkcli.io.bounds import MAX_LENGTH
     from linkcli.io.result_check import check_header, check_sections, check_values
     from linkcli.io.result_motion import motion_study
-    from linkcli.mechanisms.schema import read_linkage
+    from linkcli.reading.linkage import read_linkage
     from linkcli.model import LinkageProblem, Meta
     from linkcli.types.linkage import TYPE as LINKAGE
     root = reader.root()

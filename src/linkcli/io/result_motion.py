@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from linkcli.mechanisms import module
+from linkcli.mechanisms import schema_of
 
 REPORTED = ("input_full_turn", "input_range", "output_full_turn", "output_range",
             "output_swing", "time_ratio")  # linkcli's own output in [motion]: not read back
@@ -18,12 +18,12 @@ REPORTED = ("input_full_turn", "input_range", "output_full_turn", "output_range"
 
 def motion_study(root, problem):
     """`problem` with input_speed (rad/s) and steps from the result's [motion] table (and,
-    for a mechanism with its own [motion], its rows: the mechanism's `read_motion`), or
+    for a mechanism with its own [motion], its rows: its schema's `read_motion`), or
     None when they are bad (errors recorded on the reader)."""
-    own = module(problem.linkage.mechanism, "schema")
+    own = schema_of(problem.linkage.mechanism)
     mot = root.table("motion")
     if mot is not None:
-        mot.allow(*REPORTED, *own.REPORTED_MOTION)
+        mot.allow(*REPORTED, *own.reported_motion)
     study = own.read_motion(root, problem.meta, problem.linkage)
     if study is None:
         return None

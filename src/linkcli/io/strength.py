@@ -117,14 +117,15 @@ def read_material(t: Table) -> StrengthSpec | None:
 
 
 def read_link_sections(root: Table, mechanism: str) -> dict[str, LinkSection]:
-    """[sections]: one cross-section per link the mechanism has (`LINKS` of its schema; None:
-    the drawing names its links, checked when analysed)."""
+    """[sections]: one cross-section per link the mechanism has (`links` of its schema; a
+    drawing names its own links, checked when analysed)."""
     t = root.table("sections")
     if t is None:
         return {}
     from linkcli.io.joints import named_tables
-    from linkcli.mechanisms import module
-    entries = named_tables(t, module(mechanism, "schema").LINKS, "link", mechanism,
+    from linkcli.mechanisms import schema_of
+    schema = schema_of(mechanism)
+    entries = named_tables(t, None if schema.draws else schema.links, "link", mechanism,
                            "{ width = 12, thickness = 4 } or { diameter = 10 }")
     out = {}
     for link, section in entries or ():

@@ -1,6 +1,6 @@
 """Mechanism homes: one package per mechanism, `mechanisms/<package>/`, holding everything
 specific to it (kinematics, its [linkage] keys, report sections, loads, made parts, drawing)
-behind one protocol (`protocol.Mechanism`). Shared code calls `of(linkage)` and the protocol;
+behind one protocol: `protocol.Mechanism` (a linkage's numbers) and `schema.Schema` (its tables). Shared code calls `of(linkage)` and the protocol;
 it never asks which mechanism it holds. A new mechanism is one package and one line here.
 
 Light (no numpy): `check` reads the names and the schemas through it.
@@ -30,12 +30,13 @@ def of(linkage):
     return module(linkage.mechanism, "home").HOME(linkage)
 
 
-def layout_of(class_section: dict):
-    """The `layout` module of the mechanism whose class section has these keys (a report
-    holds sections, not linkages: its tables are laid out from what they hold)."""
+def schema_of(name: str):
+    """The `mechanisms.schema.Schema` of the mechanism `name` (its vocabulary and readers)."""
+    return module(name, "schema").SCHEMA
+
+
+def of_class_section(class_section: dict):
+    """The Schema of the mechanism whose class section has these keys, None for none (a
+    report holds sections, not linkages: its tables are laid out from what they hold)."""
     keys = tuple(class_section)
-    for name in NAMES:
-        layout = module(name, "layout")
-        if keys == layout.CLASS_KEYS:
-            return layout
-    return None
+    return next((schema_of(name) for name in NAMES if schema_of(name).class_keys == keys), None)

@@ -12,24 +12,79 @@ import math
 
 from linkcli.io.bounds import MAX_LENGTH
 from linkcli.io.reader import MISSING, Table, describe
-from linkcli.mechanisms.schema import drive_motion as read_motion  # noqa: F401 ([motion] steps: the linkage type's)
+from linkcli.mechanisms.schema import Schema
 # .model (its dataclasses) is imported inside the functions that build them: every other
-# mechanism's [linkage] reads this module for KEYS alone (mechanisms.schema.refuse_foreign)
+# mechanism's [linkage] reads this module for its keys alone (reading.linkage.refuse_foreign)
 
-KEYS: tuple[str, ...] = ()  # [linkage] holds only `mechanism`: the drawing is in its own tables
-JOINTS = None  # [joints] names are the drawing's own
-LINKS = None  # [sections] names are the drawing's links (checked when the strength section runs)
-TOLERANCED = None  # [tolerance] lengths per link of the drawing: `toleranced(root)`
-PLAYS = {"clearance_slider": "radial play of each slider block in its guide (length unit)"}
-OUTPUT = "length"  # a tolerance error is a point's deviation
-MASSES = None  # [masses] per link (and slider block) of the drawing: `read_load_case`
-POINT_MASSES: tuple[str, ...] = ()
-OUTPUT_LOAD = None  # [loads] by name: `read_load_case`
-REPORTED_MOTION: tuple[str, ...] = ()  # (analyze refuses a drawn result)
 MAX_LINKS = 1000
 MAX_SPAN_TURNS = 2.0  # a turning drive's span: at most two turns either way
 MAX_SPEED = 1e9
 MIN_SPEED = 1e-9  # a drive's |speed|: below, the speed ratios over- or underflow (a denormal is 0)
+
+
+class DrawnSchema(Schema):
+    """A drawn linkage's vocabulary (mechanisms.schema.Schema): `[linkage]` holds only
+    `mechanism`; the drawing names its own joints, links (each toleranced, and the ground
+    between two ground joints or more) and loads (`read_load_case`); a slider block has a play
+    in its guide; a tolerance error is a point's deviation."""
+
+    name = "drawn"
+    draws = True
+    plays = {"clearance_slider": "radial play of each slider block in its guide (length unit)"}
+    output = "length"
+    class_keys = ("class", "mobility", "drives", "links", "sliders", "groups")
+
+    def read(self, t: Table, units) -> Drawn | None:
+        return _read(t, units)
+
+    def joint_names(self, root: Table) -> tuple[str, ...]:
+        """The joint names of the drawing's [joints], unchecked (they are checked where the
+        drawing is read); () when it is missing or not a table (`joints = 1`: that error is
+        recorded there, once)."""
+        joints = root.data.get("joints")
+        return tuple(joints) if isinstance(joints, dict) else ()
+
+    def toleranced_names(self, root: Table) -> tuple[str, ...]:
+        return toleranced(root)
+
+    def known_lengths(self, linkage) -> dict[str, float]:
+        return known_lengths(linkage)
+
+    def read_load_case(self, root: Table, kind: str):
+        return read_load_case(root, kind)
+
+    def class_block(self, g: dict, fmt) -> tuple[str, list[tuple[str, object]]]:
+        """("Structure", rows): the class, the mobility against the drives, and the plan's groups
+        one per row (the Assur groups in solve order)."""
+        rows = [("class", g["class"]), ("mobility (drives)", f"{g['mobility']} ({g['drives']})"),
+                ("links, sliders", f"{g['links']}, {g['sliders']}")]
+        rows += [("solved" if k == 0 else "then", group) for k, group in enumerate(g["groups"])]
+        return "Structure", rows
+
+    def kinematics_headings(self, rows, length, angle) -> dict[str, str]:
+        """Headings of the nested kinematics columns (flattened by the report): a link's angle
+        and rates, a slider's place and rates, a closure's transmission angle, a point's
+        coordinates and rates, another drive's value."""
+        heads = {"input": f"input ({angle})"}
+        units = {("links", "angle"): ("", angle), ("links", "velocity"): (" w", f"{angle}/s"),
+                 ("links", "acceleration"): (" a", f"{angle}/s2"), ("sliders", "position"): ("", length),
+                 ("sliders", "velocity"): (" v", f"{length}/s"), ("sliders", "acceleration"): (" a", f"{length}/s2")}
+        for row in rows[:1]:
+            for group, inner in row.items():
+                if not isinstance(inner, dict):
+                    continue
+                for name, value in inner.items():
+                    if not isinstance(value, dict):
+                        heads[f"{group} {name}"] = f"mu {name} ({angle})" if group == "transmission" else f"{name}"
+                        continue
+                    for part in value:
+                        mark, unit = units.get((group, part), (f" {part}", length if part in ("x", "y") else
+                                               f"{length}/s" if part.startswith("v") else f"{length}/s2"))
+                        heads[f"{group} {name} {part}"] = f"{name}{mark} ({unit})"
+        return heads
+
+    def motion_units(self, length, angle) -> dict[str, str]:
+        return {"input_range": angle, "input_speed": f"{angle}/s"}
 
 
 def known_lengths(linkage) -> dict[str, float]:
@@ -56,7 +111,7 @@ def toleranced(root: Table) -> tuple[str, ...]:
     return (("ground",) if grounded >= 2 else ()) + tuple(n for n in names if n != "ground")
 
 
-def read(t: Table, units) -> Drawn | None:
+def _read(t: Table, units) -> Drawn | None:
     """The drawing ([joints], [links], [drive], [motion]) of a `mechanism = "drawn"` [linkage];
     None when in error (every error recorded, structural ones naming the joints)."""
     from linkcli.mechanisms.drawn.model import Drawn
@@ -366,7 +421,7 @@ def read_load_case(root: Table, kind: str):
     """[loads] (gravity, torques by link, forces by joint) and [masses] (by link; a slider
     joint's block: mass only) of a drawn linkage: a model.LoadCase, or None when absent or
     in error (errors recorded)."""
-    from linkcli.io.loads import MAX_LOAD, link_mass, pair
+    from linkcli.io.quantities import MAX_LOAD, link_mass, pair
     from linkcli.model import LoadCase, Loads, Masses
     if "loads" not in root and "masses" not in root:
         return None
@@ -442,3 +497,6 @@ def _named(t: Table, key: str, names: list[str], what: str, read_one) -> dict:
         if value is not None:
             out[name] = value
     return out
+
+
+SCHEMA = DrawnSchema()

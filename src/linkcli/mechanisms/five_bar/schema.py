@@ -14,45 +14,76 @@ from __future__ import annotations
 
 import math
 
-from linkcli.io.bounds import MAX_LENGTH, bounded_length, bounded_point
+from linkcli.io.bounds import ASSEMBLY_RTOL, MAX_LENGTH, bounded_length, bounded_point, refuse_ratio
 from linkcli.io.reader import MISSING, MAX_ARRAY, Table, describe
-from linkcli.io.bounds import ASSEMBLY_RTOL, refuse_ratio
+from linkcli.mechanisms.schema import Schema
 # .model (its dataclasses) is imported inside the functions that build them: every other
-# mechanism's [linkage] reads this module for KEYS alone (mechanisms.schema.refuse_foreign)
+# mechanism's [linkage] reads this module for its keys alone (reading.linkage.refuse_foreign)
 
-KEYS = ("ground", "input", "input2", "coupler", "coupler2", "branch", "ground_pivot", "ground_angle")
-JOINTS = ("A0", "A", "P", "B", "B0")  # its pins, as [joints] names them
-TOLERANCED = ("ground", "input", "input2", "coupler", "coupler2")  # [tolerance] lengths, table keys
-PLAYS = {"lock_play": "the angular play of a held drive's lock, taken up when its phase ends"}
-OUTPUT = "length"  # what its output is: an allowed_error is a distance of P
-MASSES = None  # its loads are not modelled: [loads] and [masses] are refused (read_load_case)
-POINT_MASSES: tuple[str, ...] = ()
-OUTPUT_LOAD = None
-LINKS = ("input", "input2", "coupler", "coupler2")  # its moving links, as [sections] would name them
+TOLERANCED = ("ground", "input", "input2", "coupler", "coupler2")  # its lengths, [tolerance] table keys
 MOTION_KEYS = ("inputs", "path", "modes", "input_speeds", "input_accelerations", "phases")
-REPORTED_MOTION = ("rows", "input_range", "input2_range", "x_range", "y_range")  # its output in [motion]
 MAX_ROWS = MAX_ARRAY
 MIN_PATH = 2  # points of a path
 ROW_ELEMENTS = 2**23  # tolerance samples x rows: per-row statistics keep every sample's error
 TURN_RTOL = 1e-9  # a held drive's angle: equal within this share of a turn
 
 
-def read_load_case(root: Table, kind: str):
-    """[loads] and [masses] of a five-bar: refused, one located line each (its inverse
-    dynamics is not modelled); None."""
-    for name in ("loads", "masses"):
-        if name in root:
-            root.raw(name)
-            root.error(name, f"no [{name}] for a five-bar (its loads are not modelled)", raw_got=f"a [{name}] table")
-    return None
+class FiveBarSchema(Schema):
+    """The five-bar's vocabulary (mechanisms.schema.Schema): its output is the point P (an
+    allowed_error is a distance); a held drive's lock has a play of its own; its loads are not
+    modelled ([loads] and [masses] are refused); its [motion] is rows of both drives."""
+
+    name = "five-bar"
+    keys = ("ground", "input", "input2", "coupler", "coupler2", "branch", "ground_pivot", "ground_angle")
+    joints = ("A0", "A", "P", "B", "B0")
+    links = ("input", "input2", "coupler", "coupler2")
+    toleranced = TOLERANCED
+    plays = {"lock_play": "the angular play of a held drive's lock, taken up when its phase ends"}
+    output = "length"
+    reported_motion = ("rows", "input_range", "input2_range", "x_range", "y_range")
+    class_keys = ("class", "shortest", "longest", "two_shortest_plus_longest", "other_two", "phases")
+
+    def read(self, t: Table, units) -> FiveBar | None:
+        return _read(t, units)
+
+    def read_motion(self, root: Table, meta, linkage: FiveBar | None):
+        return _read_motion(root, meta, linkage)
+
+    def read_load_case(self, root: Table, kind: str):
+        """[loads] and [masses] of a five-bar: refused, one located line each (its inverse
+        dynamics is not modelled); None."""
+        for name in ("loads", "masses"):
+            if name in root:
+                root.raw(name)
+                root.error(name, f"no [{name}] for a five-bar (its loads are not modelled)", raw_got=f"a [{name}] table")
+        return None
+
+    def class_block(self, g: dict, fmt) -> tuple[str, list[tuple[str, object]]]:
+        """("Five-bar class", rows): Ting's class, the two shortest and the longest link, the two
+        sums, then each phase's four-bar class (its ground: driven pivot to held elbow)."""
+        sl, pq = g["two_shortest_plus_longest"], g["other_two"]
+        rel = "vs" if sl is None or pq is None else "<" if sl < pq else ("=" if sl == pq else ">")
+        rows = [("class", g["class"]), ("shortest", " and ".join(g["shortest"])), ("longest", g["longest"]),
+                ("s1 + s2 + l vs p + q", f"{fmt(sl)} {rel} {fmt(pq)}")]
+        for ph in g["phases"]:
+            first, last = ph["rows"]
+            rows.append((f"phase rows {first}..{last} ({ph['locked']} held)",
+                         f"four-bar {ph['class']}, {ph['branch']}, ground {fmt(ph['ground'])}"))
+        return "Five-bar class (Ting)", rows
+
+    def kinematics_headings(self, rows, length, angle) -> dict[str, str]:
+        return {"input": f"input ({angle})", "input2": f"input2 ({angle})", "point": f"P ({length})",
+                "dpoint_dinput": f"dP/d input ({length}/{angle})", "dpoint_dinput2": f"dP/d input2 ({length}/{angle})",
+                "velocity": f"v P ({length}/s)", "acceleration": f"a P ({length}/s2)", "transmission": f"mu ({angle})",
+                "transmission_left": f"mu A ({angle})", "transmission_right": f"mu B ({angle})",
+                "margin": f"margin ({angle})"}
+
+    def motion_units(self, length, angle) -> dict[str, str]:
+        return {"input_range": angle, "input2_range": angle, "x_range": length, "y_range": length,
+                "input_speeds": f"{angle}/s", "input_accelerations": f"{angle}/s2"}
 
 
-def known_lengths(linkage) -> dict[str, float]:
-    """Link -> length the tolerance checks compare against."""
-    return {k: getattr(linkage, k) for k in TOLERANCED}
-
-
-def read(t: Table, units) -> FiveBar | None:
+def _read(t: Table, units) -> FiveBar | None:
     """[linkage] of a five-bar: five lengths, an optional branch (without one: "left" for
     inputs, the path's own for a path), the global placement. It must assemble somewhere:
     |A B| ranges over [max(0, ground - input - input2, |input - input2| - ground), ground +
@@ -190,7 +221,7 @@ def _held(t: Table, inputs, phases, units) -> bool:
     return True
 
 
-def read_motion(root: Table, meta, linkage: FiveBar | None):
+def _read_motion(root: Table, meta, linkage: FiveBar | None):
     """[motion] of a five-bar (module docstring): (the linkage with its motion, the left
     drive's speed rad/s, the rows) or None (errors recorded)."""
     from linkcli.mechanisms.five_bar.model import FiveBarMotion
@@ -238,3 +269,6 @@ def read_motion(root: Table, meta, linkage: FiveBar | None):
     branch = linkage.branch if linkage.branch is not None or path is not None else "left"
     from dataclasses import replace
     return replace(linkage, branch=branch, motion=motion), speeds[0], rows
+
+
+SCHEMA = FiveBarSchema()

@@ -3,30 +3,46 @@ coupler point and global placement. Pure Python (`check` reads it without numpy)
 
 from __future__ import annotations
 
-from linkcli.io.bounds import MAX_LENGTH, bounded_length, bounded_point
+from linkcli.io.bounds import ASSEMBLY_RTOL, MAX_LENGTH, bounded_length, bounded_point, refuse_ratio
 from linkcli.io.reader import Table
-from linkcli.io.bounds import ASSEMBLY_RTOL, refuse_ratio
-from linkcli.mechanisms.schema import drive_motion as read_motion  # noqa: F401 ([motion]: one drive)
+from linkcli.mechanisms.schema import Schema, coupler_point_headings
 from linkcli.model import BRANCHES, FourBar
 
-KEYS = ("ground", "input", "coupler", "output", "branch", "coupler_point", "ground_pivot", "ground_angle")
-JOINTS = ("A0", "A", "B", "B0")  # its pins, as [joints] names them
-LINKS = ("input", "coupler", "output")  # its moving links, as [sections] names them (the strength section)
-TOLERANCED = ("ground", "input", "coupler", "output")  # [tolerance] lengths, table keys
-PLAYS: dict[str, str] = {}  # [tolerance] keys of other plays than the pins' clearance
-REPORTED_MOTION: tuple[str, ...] = ()  # its own output keys a result's [motion] may hold
-OUTPUT = "angle"  # what its output is: an allowed_error is an angle
-MASSES = {"input": "input", "coupler": "coupler", "output": "output"}  # [masses] key -> model.Masses field
-POINT_MASSES: tuple[str, ...] = ()  # bodies that only translate: a mass, no centre or inertia
-OUTPUT_LOAD = ("output_torque", "N m on the output link")  # its [loads] key on the output
+
+class FourBarSchema(Schema):
+    """The four-bar's vocabulary (mechanisms.schema.Schema)."""
+
+    name = "four-bar"
+    keys = ("ground", "input", "coupler", "output", "branch", "coupler_point", "ground_pivot", "ground_angle")
+    joints = ("A0", "A", "B", "B0")
+    links = ("input", "coupler", "output")
+    toleranced = ("ground", "input", "coupler", "output")
+    output = "angle"
+    masses = {"input": "input", "coupler": "coupler", "output": "output"}
+    output_load = ("output_torque", "N m on the output link")
+    class_keys = ("class", "shortest", "longest", "s_plus_l", "p_plus_q")
+
+    def read(self, t: Table, units) -> FourBar | None:
+        return _read(t, units)
+
+    def class_block(self, g: dict, fmt) -> tuple[str, list[tuple[str, object]]]:
+        """("Grashof", rows): the class, the shortest and longest link, s + l against p + q."""
+        sl, pq = g["s_plus_l"], g["p_plus_q"]
+        rel = "vs" if sl is None or pq is None else "<" if sl < pq else ("=" if sl == pq else ">")
+        return "Grashof", [("class", g["class"]), ("shortest", g["shortest"]), ("longest", g["longest"]),
+                           ("s + l vs p + q", f"{fmt(sl)} {rel} {fmt(pq)}")]
+
+    def kinematics_headings(self, rows, length, angle) -> dict[str, str]:
+        return {"input": f"input ({angle})", "coupler": f"coupler ({angle})", "output": f"output ({angle})",
+                "transmission": f"mu ({angle})", "coupler_velocity": f"w coupler ({angle}/s)",
+                "output_velocity": f"w output ({angle}/s)", "coupler_acceleration": f"a coupler ({angle}/s2)",
+                "output_acceleration": f"a output ({angle}/s2)", **coupler_point_headings(length)}
+
+    def motion_units(self, length, angle) -> dict[str, str]:
+        return {"input_range": angle, "output_range": angle, "output_swing": angle, "input_speed": f"{angle}/s"}
 
 
-def known_lengths(linkage) -> dict[str, float]:
-    """Link -> length the tolerance checks compare against."""
-    return {k: getattr(linkage, k) for k in TOLERANCED}
-
-
-def read(t: Table, units) -> FourBar | None:
+def _read(t: Table, units) -> FourBar | None:
     """[linkage] with all four lengths, a branch, and optional placement."""
     lengths = {k: bounded_length(t, k) for k in ("ground", "input", "coupler", "output")}
     branch = t.string("branch", "open", choices=BRANCHES)
@@ -50,3 +66,6 @@ def read(t: Table, units) -> FourBar | None:
         return None
     return FourBar(branch=branch, coupler_point=tuple(cp) if cp else None,
                    ground_pivot=tuple(gp), ground_angle=units.to_rad(ga), **lengths)
+
+
+SCHEMA = FourBarSchema()

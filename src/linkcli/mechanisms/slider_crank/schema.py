@@ -3,30 +3,54 @@ an optional coupler point. Pure Python (`check` reads it without numpy)."""
 
 from __future__ import annotations
 
-from linkcli.io.bounds import MAX_LENGTH, bounded_length, bounded_point
+from linkcli.io.bounds import ASSEMBLY_RTOL, MAX_LENGTH, bounded_length, bounded_point, refuse_ratio
 from linkcli.io.reader import Table
-from linkcli.io.bounds import ASSEMBLY_RTOL, refuse_ratio
-from linkcli.mechanisms.schema import drive_motion as read_motion  # noqa: F401 ([motion]: one drive)
+from linkcli.mechanisms.schema import Schema, coupler_point_headings
 from linkcli.model import BRANCHES, SliderCrank
 
-KEYS = ("input", "coupler", "offset", "branch", "coupler_point")
-JOINTS = ("A0", "A", "B", "guide")  # its pins and the slider's guide, as [joints] names them
-LINKS = ("input", "coupler")  # its moving links, as [sections] names them (the strength section)
-TOLERANCED = ("input", "coupler", "offset")  # [tolerance] lengths, table keys
-PLAYS = {"clearance_slider": "the play of a slider in its guide"}  # [tolerance] keys of other plays
-REPORTED_MOTION = ("slider_range", "stroke", "slow_stroke")  # its own output keys a result's [motion] may hold (sections.motion_section)
-OUTPUT = "length"  # what its output is: an allowed_error is a slider position error (length)
-MASSES = {"input": "input", "coupler": "coupler", "slider": "output"}  # [masses] key -> model.Masses field
-POINT_MASSES = ("slider",)  # bodies that only translate: a mass, no centre or inertia
-OUTPUT_LOAD = ("output_force", "N along the slider axis")  # its [loads] key on the output
+
+class SliderCrankSchema(Schema):
+    """The slider-crank's vocabulary (mechanisms.schema.Schema): `guide` is the slider's guide
+    among its pins; the slider's play in its guide is a play of its own; the slider is a
+    point mass; its output is a slider position (a length)."""
+
+    name = "slider-crank"
+    keys = ("input", "coupler", "offset", "branch", "coupler_point")
+    joints = ("A0", "A", "B", "guide")
+    links = ("input", "coupler")
+    toleranced = ("input", "coupler", "offset")
+    plays = {"clearance_slider": "the play of a slider in its guide"}
+    reported_motion = ("slider_range", "stroke", "slow_stroke")  # sections.motion_section
+    output = "length"
+    masses = {"input": "input", "coupler": "coupler", "slider": "output"}
+    point_masses = ("slider",)
+    output_load = ("output_force", "N along the slider axis")
+    class_keys = ("class", "crank_plus_offset", "coupler")
+
+    def read(self, t: Table, units) -> SliderCrank | None:
+        return _read(t, units)
+
+    def known_lengths(self, linkage) -> dict[str, float]:
+        """Link -> length the tolerance checks compare against (the offset may be 0)."""
+        return {"input": linkage.input, "coupler": linkage.coupler}
+
+    def class_block(self, g: dict, fmt) -> tuple[str, list[tuple[str, object]]]:
+        """("Class", rows): the class and the test a + |e| <= b that decides it."""
+        a_e, b = g["crank_plus_offset"], g["coupler"]
+        rel = "<" if a_e < b else ("=" if a_e == b else ">")
+        return "Class", [("class", g["class"]), ("input + |offset| vs coupler", f"{fmt(a_e)} {rel} {fmt(b)}")]
+
+    def kinematics_headings(self, rows, length, angle) -> dict[str, str]:
+        return {"input": f"input ({angle})", "coupler": f"coupler ({angle})", "transmission": f"mu ({angle})",
+                "coupler_velocity": f"w coupler ({angle}/s)", "coupler_acceleration": f"a coupler ({angle}/s2)",
+                "slider": f"slider ({length})", "slider_velocity": f"v slider ({length}/s)",
+                "slider_acceleration": f"a slider ({length}/s2)", **coupler_point_headings(length)}
+
+    def motion_units(self, length, angle) -> dict[str, str]:
+        return {"input_range": angle, "slider_range": length, "stroke": length, "input_speed": f"{angle}/s"}
 
 
-def known_lengths(linkage) -> dict[str, float]:
-    """Link -> length the tolerance checks compare against (the offset may be 0)."""
-    return {"input": linkage.input, "coupler": linkage.coupler}
-
-
-def read(t: Table, units) -> SliderCrank | None:
+def _read(t: Table, units) -> SliderCrank | None:
     """[linkage] of a slider-crank: input (crank a), coupler (rod b), signed offset e, branch,
     optional coupler_point. It must assemble over a range of crank angles: |e| < a + b
     (|e - a sin(phi)| <= b for some phi; at |e| = a + b only at one angle, a structure)."""
@@ -49,3 +73,6 @@ def read(t: Table, units) -> SliderCrank | None:
         return None
     return SliderCrank(input=a, coupler=b, offset=offset, branch=branch,
                        coupler_point=tuple(cp) if cp else None)
+
+
+SCHEMA = SliderCrankSchema()

@@ -2,41 +2,23 @@
 
 `[linkage] mechanism = "four-bar"` (the default), `"slider-crank"` (SPEC, "Slider-crank —
 the second mechanism") or `"five-bar"`; `read_linkage` dispatches on it for linkage files,
-precision-position files and result files alike, and the mechanism's `read_motion` reads
-[motion] (one drive at a constant speed, or the five-bar's rows)."""
+precision-position files and result files alike, and the mechanism's schema reads [motion]
+(`read_motion`: one drive at a constant speed, or the five-bar's rows)."""
 
 from __future__ import annotations
 
-from linkcli.io.bounds import MAX_LENGTH
 from linkcli.io.reader import Table
 from linkcli.io.loads import mechanism_of
-from linkcli.mechanisms import module
-from linkcli.mechanisms.schema import read_linkage
+from linkcli.mechanisms import schema_of
+from linkcli.reading.linkage import read_linkage
 from linkcli.model import Meta
-
-MAX_STEPS = 100_000
-
-
-def read_motion(root: Table) -> tuple[float | None, int | None]:
-    """[motion] of a kinematics study: input_speed (angle unit per second, non-zero,
-    default 1) and steps (2 .. MAX_STEPS, default 360); None for a value in error."""
-    mot = root.table("motion")
-    speed, steps = 1.0, 360
-    if mot is not None:
-        speed = mot.number("input_speed", 1.0, lo=-MAX_LENGTH, hi=MAX_LENGTH,
-                           what="a non-zero number (angle unit per second)")
-        if speed == 0.0:
-            mot.error("input_speed", "a non-zero number (angle unit per second)", 0.0)
-            speed = None
-        steps = mot.number("steps", 360, integer=True, lo=2, hi=MAX_STEPS)
-    return speed, steps
 
 
 def parse(root: Table, meta: Meta) -> LinkageProblem | None:
     from linkcli.model import LinkageProblem
     link = root.table("linkage", required=True)
     linkage = read_linkage(link, meta.units) if link else None
-    study = module(mechanism_of(root), "schema").read_motion(root, meta, linkage)  # its [motion]
+    study = schema_of(mechanism_of(root)).read_motion(root, meta, linkage)  # its [motion]
     if linkage is None or study is None:
         return None
     linkage, speed, steps = study

@@ -11,8 +11,8 @@ from linkcli.errors import SchemaError
 from linkcli.io.reader import Table
 from linkcli.types.precision_position.system import position_problem
 from linkcli.types.precision_position.slider_system import slider_position_problem
-from linkcli.mechanisms.schema import read_mechanism, refuse_foreign
-from linkcli.types.linkage.schema import read_motion
+from linkcli.reading.linkage import read_mechanism, refuse_foreign
+from linkcli.mechanisms.schema import read_drive_motion
 
 MAX_POSITIONS = 1000
 SYNTHESIZED = ("four-bar", "slider-crank")  # the mechanisms precision positions can design
@@ -34,7 +34,7 @@ def parse(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
         if phi is not None and psi is not None and len(phi) != len(psi):
             pos.error("output", f"one output angle per input angle ({len(phi)})", psi)
             return None
-    speed, steps = read_motion(root)  # [motion]: the kinematics section's speed and steps
+    speed, steps = read_drive_motion(root)  # [motion]: the kinematics section's speed and steps
     if mechanism is None or ground is None or phi is None or psi is None or speed is None or steps is None:
         return None
     u = meta.units
@@ -97,7 +97,7 @@ def _parse_slider(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
             return None
         if s is not None and not within_sizes(pos, s):
             return None
-    speed, steps = read_motion(root)
+    speed, steps = read_drive_motion(root)
     if phi is None or s is None or speed is None or steps is None:
         return None
     u = meta.units
