@@ -22,7 +22,7 @@ import sys
 import time
 from dataclasses import replace
 
-from linkcli.io.load import load
+from linkcli.reading.load import load
 from linkcli.io.safe_read import read_problem_bytes
 from linkcli.pipeline import solve
 from linkcli.registry import problem_type

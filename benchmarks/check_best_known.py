@@ -40,7 +40,7 @@ import numpy as np  # noqa: E402
 from scipy.optimize import minimize, NonlinearConstraint, Bounds  # noqa: E402
 
 import constrained_variants as cv  # noqa: E402
-from linkcli.io.load import load  # noqa: E402
+from linkcli.reading.load import load  # noqa: E402
 from linkcli.bench import printed_objective  # noqa: E402
 from linkcli.search.budget import Budget  # noqa: E402
 from linkcli.solution import Status  # noqa: E402

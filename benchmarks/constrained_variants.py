@@ -407,7 +407,7 @@ def solve_text(text: str, method: str = "auto", budget: int | None = None, seed:
     """Solve a problem text with a method, budget (or a multiple of the method's default)
     and seed: status, printed objective, evaluations, solve seconds, report."""
     from linkcli.bench import printed_objective
-    from linkcli.io.load import load
+    from linkcli.reading.load import load
     from linkcli.pipeline import analyse, solve
     problem = load("case.toml", text)
     if multiple is not None:

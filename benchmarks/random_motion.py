@@ -21,7 +21,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from linkcli.io.load import load
+from linkcli.reading.load import load
 from linkcli.pipeline import solve
 from linkcli.types.motion_generation import assemble
 

@@ -32,7 +32,7 @@ import scipy  # noqa: E402
 
 from linkcli import __version__
 from linkcli.bench import SUMMARY_COLUMNS, markdown, outcomes, runs_of, summary
-from linkcli.io.report import fmt
+from linkcli.report import fmt
 
 README_COLUMNS = ("problem", "type", "median s", "median evaluations", "best objective",
                   "best known", "within 1e-6", "worst gap")
@@ -44,7 +44,7 @@ def machine() -> str:
 
 
 def problem_type(path: str) -> str:
-    from linkcli.io.load import load
+    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
     return load(path, read_problem_bytes(path)).meta.type
 

@@ -101,7 +101,7 @@ ANALYSABLE = sorted(p.name for p in __import__("pathlib").Path("problems").glob(
 @pytest.mark.parametrize("name", ANALYSABLE)
 def test_every_genuine_result_file_is_accepted_unchanged(tmp_path, name):
     """Every key `synth --format toml` writes is one `analyze` accepts (result files are
-    checked, io.result_check), for every example whose result has a [linkage]."""
+    checked, reading.result_check), for every example whose result has a [linkage]."""
     code, _, err = run_cli("synth", f"problems/{name}", "--format", "toml", "--out", str(tmp_path))
     assert code in (0, 1), err
     code, _, err = run_cli("analyze", str(tmp_path / name), "--format", "json")

@@ -67,7 +67,7 @@ def test_seven_poses_confirmed_after_the_five_pose_subsets_run_out():
     from dataclasses import replace
 
     from linkcli.bench import printed_objective
-    from linkcli.io.load import load
+    from linkcli.reading.load import load
     from linkcli.pipeline import solve
 
     best_known = 5.8291811848064084e-05
@@ -87,7 +87,7 @@ def test_an_exact_fit_is_converged_whatever_its_polish_said():
     converge to, so the status is `ok` (as in path generation), not `not-converged`."""
     from dataclasses import replace
 
-    from linkcli.io.load import load
+    from linkcli.reading.load import load
     from linkcli.pipeline import solve
 
     path = DATA / "motion_six_poses_turning.toml"

@@ -16,7 +16,7 @@ import pytest
 
 from conftest import ROOT, run_cli
 from linkcli import mechanisms
-from linkcli.io.load import load
+from linkcli.reading.load import load
 
 HOLY = {"a": 38.0, "b": 41.5, "c": 39.3, "d": 40.1, "e": 55.8, "f": 39.4, "g": 36.7, "h": 65.7,
         "i": 49.0, "j": 50.0, "k": 61.9, "l": 7.8, "m": 15.0}  # Jansen, The Great Pretender (2007)

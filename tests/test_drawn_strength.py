@@ -176,7 +176,7 @@ def test_every_links_loads_are_in_equilibrium(case, tmp_path):
     is zero at every row; its first loads are its joints', in [links] order."""
     from linkcli import mechanisms
     from linkcli.analysis.forces import metres_per_unit
-    from linkcli.io.load import load
+    from linkcli.reading.load import load
     text, bodies, extra = equilibrium_cases()[case]
     text += f"[loads]\ngravity = [0.4, -9.81]\n{extra}\n[masses]\n{masses_of(bodies)}\n"
     problem = load(write(tmp_path, text))

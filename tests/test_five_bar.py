@@ -341,7 +341,7 @@ def test_plot_draws_the_workspace_and_the_path(tmp_path):
 
 def _model(path="problems/five_bar_line.toml"):
     from linkcli import mechanisms
-    from linkcli.io.load import load
+    from linkcli.reading.load import load
     problem = load(path)
     mech = mechanisms.of(problem.linkage)
     return mech.tolerance_model(problem, None)

@@ -21,7 +21,7 @@ import pytest
 from conftest import run_cli
 from linkcli.pipeline import analyse
 from linkcli.types.flipper_cylinder.statics import Statics
-from linkcli.io.load import load
+from linkcli.reading.load import load
 from linkcli.pipeline import solve
 from linkcli.textnum import render
 

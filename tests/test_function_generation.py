@@ -32,7 +32,7 @@ import tomli_w
 from conftest import run_cli
 from linkcli.errors import InputError
 from linkcli.expr import ExpressionError, compile_expression
-from linkcli.io.load import load
+from linkcli.reading.load import load
 from linkcli.pipeline import solve
 
 CRANK_ROCKER = "problems/crank_rocker.toml"
@@ -831,7 +831,7 @@ def test_auto_claims_a_best_only_after_claim_rounds(monkeypatch):
     rounds only once CLAIM_ROUNDS (2) have run, and is then `ok`; an exact fit ends them at
     once."""
     from conftest import ROOT
-    from linkcli.io.load import load
+    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
     from linkcli.pipeline import solve
     from linkcli.types.function_generation import auto as fg_auto

@@ -19,7 +19,7 @@ import tomli_w
 from conftest import ROOT
 from linkcli.pipeline import Request, run
 from linkcli.io.export import to_json, to_toml
-from linkcli.io.report import render_text
+from linkcli.report import render_text
 
 EXAMPLES = sorted((ROOT / "problems").glob("*.toml"))
 REPLACEMENTS = [

@@ -346,7 +346,7 @@ def test_a_transmission_a_rounding_error_outside_the_band_gives_no_warning(monke
 
     from linkcli.mechanisms.four_bar import sections as analyse
     from linkcli.mechanisms.four_bar.kinematics import Motion
-    from linkcli.model import FourBar
+    from linkcli.mechanisms.four_bar.model import FourBar
     from linkcli.units import Units
     fb = FourBar(ground=50, input=20, coupler=50, output=20, branch="open")
     for mx, warned in ((140.00000000000006, False), (140.001, True)):

@@ -72,7 +72,7 @@ def test_an_angle_without_rows_is_refused():
 def field_of(constraints: str, seed: int):
     """Rows of the path field for a free-timing problem of 44 targets on a crank-rocker's
     coupler curve, some with their lengths scaled so that penalties bind."""
-    from linkcli.io.load import load
+    from linkcli.reading.load import load
     from linkcli.search.budget import Budget
     from linkcli.types.path_generation import starts
     from linkcli.types.path_generation.model import build

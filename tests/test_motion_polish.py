@@ -317,7 +317,7 @@ def test_a_settle_that_fails_far_from_the_optimum_walks_there_first():
 
     path = Path(__file__).parent / "data" / "motion_window_long_valley.toml"
     code = ("import json, sys\n"
-            "from linkcli.io.load import load\n"
+            "from linkcli.reading.load import load\n"
             "from linkcli.pipeline import solve\n"
             f"path = {str(path)!r}\n"
             "solution = solve(load(path, open(path).read()))\n"
@@ -354,7 +354,7 @@ def test_a_rounds_rows_of_its_settled_design_take_the_settled_result():
     a settled design now takes the settled result."""
     from pathlib import Path
 
-    from linkcli.io.load import load
+    from linkcli.reading.load import load
     from linkcli.pipeline import solve
 
     path = Path(__file__).parent / "data" / "motion_round_off_twins.toml"

@@ -563,7 +563,7 @@ def test_jacobian_next_to_a_dead_point_matches_a_fine_difference():
     coupler must match a central difference 10,000 times finer (computed here)."""
     import numpy as np
 
-    from linkcli.io.load import load
+    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
     from linkcli.search.budget import Budget
     from linkcli.types.path_generation.model import build

@@ -19,7 +19,7 @@ PROBLEMS = ["kunjur5", "lin10_closed", "closed18_timed", "cabrera6_line", "arc6_
 
 
 def design_of(name: str):
-    from linkcli.io.load import load
+    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
     from linkcli.types.path_generation.model import build
 
@@ -190,7 +190,7 @@ CONSTRAINED = {
 
 
 def constrained_design(tmp_path, grashof, window, timing):
-    from linkcli.io.load import load
+    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
     from linkcli.types.path_generation.model import build
 

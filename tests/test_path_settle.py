@@ -11,7 +11,7 @@ from conftest import ROOT
 
 
 def _solved():
-    from linkcli.io.load import load
+    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
     from linkcli.search.budget import Budget
     from linkcli.types.path_generation import solve as path_solve

@@ -166,7 +166,7 @@ def handed(report: dict, problem=None):
     linkage the report describes (the same hand-made numbers, angles in radians)."""
     from types import SimpleNamespace
 
-    from linkcli.model import FourBar
+    from linkcli.mechanisms.four_bar.model import FourBar
     from linkcli.pipeline import Result
     from linkcli.solution import Solution, Status
     from linkcli.units import Units
@@ -206,7 +206,7 @@ CASES = {
 
 def _problem(spec, report):
     if spec == "load":
-        from linkcli.io.load import load_for_analysis
+        from linkcli.reading.load import load_for_analysis
         return load_for_analysis(report["file"])
     return spec
 
@@ -378,7 +378,7 @@ def test_missing_matplotlib_is_bad_input_with_the_install_hint(monkeypatch, tmp_
 def test_plot_module_and_check_do_not_import_matplotlib():
     """Nor the animation's and the CAD export's libraries (Pillow, imageio-ffmpeg, ezdxf),
     for check and for --help."""
-    code = ("import sys; import linkcli.plot, linkcli.plots, linkcli.plots.angle_function, linkcli.types.path_generation.plot, linkcli.types.precision_position.plot, "
+    code = ("import sys; import linkcli.plot, linkcli.plots, linkcli.mechanisms.four_bar.angle_plot, linkcli.types.path_generation.plot, linkcli.types.precision_position.plot, "
             "linkcli.types.flipper_cylinder.plot, linkcli.types.linkage.plot, linkcli.exports, linkcli.animate, linkcli.cad\n"
             "from linkcli.cli import app\n"
             "for args in (['check', 'problems/firedoor.toml'], ['synth', '--help'], ['analyze', '--help']):\n"

@@ -17,7 +17,7 @@ import pytest
 
 from conftest import run_cli
 from linkcli.errors import InputError
-from linkcli.io.load import load
+from linkcli.reading.load import load
 from linkcli.pipeline import solve
 
 

@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 
 from conftest import ROOT, run_cli
 from linkcli.errors import InputError, InputErrors
-from linkcli.io.load import load, load_for_analysis
+from linkcli.reading.load import load, load_for_analysis
 from linkcli.io.reader import Reader, _line_map
 
 LINKAGE = """[linkage]

@@ -10,7 +10,7 @@ import re
 from rich.console import Console
 
 from conftest import run_cli
-from linkcli.io.report import _emit, render
+from linkcli.report import _emit, render
 
 PARALLELOGRAM = """type = "linkage"
 [linkage]

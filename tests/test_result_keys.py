@@ -1,8 +1,8 @@
 """The output sections of a result file (`analyze RESULT.toml`): every key in them is one the
-report writer writes there (io.result_keys, found by running the writer:
+report writer writes there (reading.result_keys, found by running the writer:
 tests/result_keys_corpus.py), else one located line, as an unknown key of a problem file.
 
-`pytest tests/test_result_keys.py --update-goldens` rewrites src/linkcli/io/result_keys.py
+`pytest tests/test_result_keys.py --update-goldens` rewrites src/linkcli/reading/result_keys.py
 from the writer after a deliberate change of it; review the diff as a golden's."""
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ import pytest
 from conftest import ROOT, run_cli
 from result_keys_corpus import module_text
 
-MODULE = ROOT / "src" / "linkcli" / "io" / "result_keys.py"
+MODULE = ROOT / "src" / "linkcli" / "reading" / "result_keys.py"
 
 
 def test_the_known_keys_are_those_the_writer_writes(update_goldens):
@@ -22,7 +22,7 @@ def test_the_known_keys_are_those_the_writer_writes(update_goldens):
     if update_goldens:
         MODULE.write_text(text, encoding="utf-8")
     assert MODULE.read_text(encoding="utf-8") == text, (
-        "the report writer writes other keys than io/result_keys.py knows: run pytest "
+        "the report writer writes other keys than reading/result_keys.py knows: run pytest "
         "tests/test_result_keys.py --update-goldens and review the diff")
 
 

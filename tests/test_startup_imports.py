@@ -20,8 +20,8 @@ MUST_NOT_LOAD = (
     "linkcli.model.linkage", "linkcli.model.path_generation", "linkcli.model.motion_generation",
     "linkcli.model.function_generation", "linkcli.model.flipper_cylinder", "linkcli.model.quick_return",
     "linkcli.mechanisms.five_bar.model", "linkcli.mechanisms.drawn.model",  # other mechanisms
-    "linkcli.io.joints", "linkcli.io.tolerance_keys",  # [joints], [sections], [tolerance]
-    "linkcli.io.result_motion",  # analyze of a result file
+    "linkcli.io.joints", "linkcli.reading.tolerance_keys",  # [joints], [sections], [tolerance]
+    "linkcli.reading.result_motion",  # analyze of a result file
     "linkcli.analysis.forces", "linkcli.analysis.loads", "linkcli.analysis.tolerance",
     "linkcli.analysis.strength", "linkcli.mechanisms.four_bar.loads", "linkcli.mechanisms.four_bar.tolerance",
     "linkcli.search", "linkcli.plot",

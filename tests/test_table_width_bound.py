@@ -1,4 +1,4 @@
-"""The table view's shortcut (io.report._surely_fits): a table it calls narrow enough is
+"""The table view's shortcut (linkcli.report._surely_fits): a table it calls narrow enough is
 never wider than the console by rich's own measure (_width), which print_table then skips.
 The reference is rich's Measurement of the same table, on real reports and on made-up
 tables with markup, styled text, wide characters, fixed and minimum column widths."""
@@ -14,7 +14,7 @@ from rich.table import Table
 from rich.text import Text
 
 from conftest import run_cli
-from linkcli.io.report import _surely_fits, _width, render
+from linkcli.report import _surely_fits, _width, render
 
 
 def _console(width: int) -> Console:

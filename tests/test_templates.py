@@ -12,7 +12,7 @@ import pytest
 
 from conftest import run_cli
 from linkcli.errors import InputErrors
-from linkcli.io.load import load
+from linkcli.reading.load import load
 from linkcli.registry import NAMES as TYPES
 from linkcli.templates import template_names, template_text
 

@@ -13,7 +13,7 @@ import pytest
 from rich.console import Console
 
 from conftest import run_cli
-from linkcli.io.report import _emit, print_table, render
+from linkcli.report import _emit, print_table, render
 
 NUMBER = re.compile(r"^-?\d+(\.\d+)?(e[-+]\d+)?$")
 

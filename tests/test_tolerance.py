@@ -22,8 +22,9 @@ from numpy.testing import assert_allclose
 from linkcli.analysis import inverse_search, tolerance as tolmod
 from linkcli.mechanisms.four_bar import tolerance as fourbar_tolerance
 from linkcli.errors import InputErrors
-from linkcli.model import LINKS, FourBar, InverseTolerance, Meta, SolverOptions, Tolerance
-from linkcli.io.load import load
+from linkcli.model import InverseTolerance, Meta, SolverOptions, Tolerance
+from linkcli.mechanisms.four_bar.model import LINKS, FourBar
+from linkcli.reading.load import load
 from linkcli.solution import Positions, Solution, Status
 from linkcli.pipeline import solve
 from linkcli.units import Units
@@ -496,7 +497,7 @@ def test_path_table_may_hold_the_coupler_point():
 lengths = { input = 0.02, coupler_point = 0.1 }
 allowed_error = 0.3
 """
-    from linkcli.io.meta import read_tolerance
+    from linkcli.reading.meta import read_tolerance
     from linkcli.io.reader import Reader
     reader = Reader("p.toml", text)
     got = read_tolerance(reader.root(), Units())

@@ -310,7 +310,7 @@ def test_inverse_search_equals_a_plain_bisection_on_the_same_draws():
     from linkcli.analysis import inverse_search, tolerance as tolmod
     from linkcli.analysis.made_parts import Parts
     from linkcli.mechanisms.four_bar import tolerance as four_bar
-    from linkcli.model import FourBar
+    from linkcli.mechanisms.four_bar.model import FourBar
     from linkcli.solution import Positions, Solution, Status
     fb = FourBar(**FIRE, branch="open")
     psi = np.radians([52.0, 82.0, 112.0])

@@ -35,7 +35,7 @@ def best(fn, repeats: int = REPEATS) -> float:
 def plan_rows():
     """Seconds for positions, velocities and accelerations of every joint at 10,000 rows."""
     from linkcli import mechanisms
-    from linkcli.io.load import load
+    from linkcli.reading.load import load
     out = {}
     for name in ("drawn_watt", "drawn_stephenson", "drawn_jansen", "drawn_shaper"):
         home = mechanisms.of(load(str(ROOT / "problems" / f"{name}.toml")).linkage)
@@ -49,7 +49,7 @@ def plan_rows():
 def watt_3600():
     """Seconds for the Watt six-bar over 3600 rows: positions only, and with rates."""
     from linkcli import mechanisms
-    from linkcli.io.load import load
+    from linkcli.reading.load import load
     kin = mechanisms.of(load(str(ROOT / "problems" / "drawn_watt.toml")).linkage).solved.kin
     q = np.arange(3600) * (2 * math.pi / 3600)
     return {"positions": best(lambda: kin.run(q, rates=False)), "with rates": best(lambda: kin.run(q, rates=True)),
@@ -58,7 +58,7 @@ def watt_3600():
 
 def analysis():
     """Seconds for load -> solve -> report of the six-bar (3600 steps, loads) and the four-bar."""
-    from linkcli.io.load import load
+    from linkcli.reading.load import load
     from linkcli.mechanisms.drawn.home import solved
     from linkcli.pipeline import analyse, solve
     out = {}

@@ -62,7 +62,7 @@ def runs_of(path: str, seeds: int, debug: bool = False, text: str | None = None)
     """Every setting x seed of one problem file (`text`: its content, when it is not read
     from `path`, as for the packaged bench set; loaded here to learn its settings);
     InputError if the file is bad."""
-    from linkcli.io.load import load
+    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
     source = read_problem_bytes(path) if text is None else text
     problem = load(path, source)
@@ -93,7 +93,7 @@ def run_failed(run: Run, description: str) -> RunOutcome:
 def solve_run(run: Run) -> dict:
     """The bench row of one run (its columns: docs/format.md, Commands)."""
     from linkcli.analysis.sections import gap
-    from linkcli.io.load import load
+    from linkcli.reading.load import load
     from linkcli.pipeline import solve
     problem = load(run.path, run.source)
     import scipy.optimize  # noqa: F401  imported before any timing, so that no row pays for it
@@ -200,7 +200,7 @@ def command(files: list[str], fmt: str, seeds: int, precision: int, debug: bool,
         from linkcli.io.export import to_toml
         sys.stdout.write(to_toml({"summary" if summary_only else "bench": shown}, precision))
     else:
-        from linkcli.io.report import console, print_table
+        from linkcli.report import console, print_table
         out = console(width=None if sys.stdout.isatty() else 400)  # tables are as wide as their cells
         if not summary_only:
             print_table(out, _table("linkcli bench: run time against error", rows, COLUMNS, precision))
@@ -214,8 +214,8 @@ def _table(title: str, rows: list[dict], columns: tuple[str, ...], precision: in
     from rich import box
     from rich.table import Table
 
-    from linkcli.io.report import fmt as fmt_value
-    from linkcli.io.report import _compact
+    from linkcli.report import fmt as fmt_value
+    from linkcli.report import _compact
     t = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
     for c in columns:
         t.add_column(c, justify="left" if c in ("problem", "method", "status") else "right")
@@ -275,7 +275,7 @@ def summary(rows: list[dict]) -> list[dict]:
 
 def markdown(rows: list[dict], precision: int = 4, columns: tuple[str, ...] = COLUMNS) -> str:
     """A markdown table of bench rows (for the README)."""
-    from linkcli.io.report import fmt as fmt_value
+    from linkcli.report import fmt as fmt_value
     head = "| " + " | ".join(columns) + " |\n|" + "---|" * len(columns) + "\n"
     body = "".join("| " + " | ".join(fmt_value(r[c], precision) if r[c] is not None else "-"
                                      for c in columns) + " |\n" for r in rows)

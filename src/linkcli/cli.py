@@ -231,7 +231,7 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
                     if fmt is Format.csv and out is None:
                         worst = max(worst, _print_csv(report, table, precision))
                     if fmt is Format.table and out is None:
-                        from linkcli.io.report import print_reports
+                        from linkcli.report import print_reports
                         print_reports([report], precision)
                         if printed < len(names):
                             sys.stdout.write("\n")
@@ -279,7 +279,7 @@ def _fail(exc, debug: bool) -> int:
 
 
 def _plot_problem(plot: Path, names: list[str]) -> bool:
-    from linkcli.plots.precheck import plot_path_problem
+    from linkcli.plot import plot_path_problem
     line = plot_path_problem(plot, names)
     if line:
         _err(line)
@@ -344,7 +344,7 @@ def _print_csv(report: dict, table: Optional[str], precision: int) -> int:
 
 def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int, table: Optional[str] = None) -> int:
     from linkcli.io.export import result_stems, to_toml, write_json
-    from linkcli.io.report import render_text
+    from linkcli.report import render_text
     for rep, stem in zip(reports, result_stems([rep["file"] for rep in reports])):
         if fmt is Format.csv:  # one file per row table: <stem>.<table>.csv
             from linkcli.io.csv_tables import write_csv

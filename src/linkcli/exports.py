@@ -49,7 +49,7 @@ def library_problem(path: Path, fmt: str, option: str) -> str | None:
 
 def problems(animate: Path | None, dxf: Path | None, names: list[str]) -> list[str]:
     """Error lines for --animate and --dxf paths that cannot work (before solving)."""
-    from linkcli.plots.precheck import plot_path_problem
+    from linkcli.plot import plot_path_problem
     lines = []
     for path, rules, option in ((animate, ANIMATE, "--animate"), (dxf, DXF, "--dxf")):
         if path is None:

@@ -70,7 +70,7 @@ def load(path: str, mode: str, source: bytes | InputError | None = None):
     """The frozen problem of one file: any problem type for synth and check, a linkage
     or a result file for analyze. `source`: the file's bytes read elsewhere (a cluster
     client), or the InputError reading them raised there; None reads `path` here."""
-    from linkcli.io.load import load as load_problem, load_for_analysis
+    from linkcli.reading.load import load as load_problem, load_for_analysis
     if isinstance(source, InputError):
         raise source
     return load_for_analysis(path, source) if mode == "analyze" else load_problem(path, source)
@@ -114,7 +114,7 @@ def run(path: str, request: Request, source: bytes | InputError | None = None) -
         with quiet_numerics():
             solution = solve(problem)
         seconds = time.perf_counter() - started
-        from linkcli.io.meta import refuse_oversized
+        from linkcli.reading.meta import refuse_oversized
         refuse_oversized(problem, solution.linkage)  # a result no file could hold
         report = analyse(problem, solution)
         if request.timing and "solver" in report:
@@ -144,7 +144,7 @@ def drawing_report(problem, report: dict) -> dict:
     needs (or when the file asked for them and the solution has none: the plot says so);
     otherwise the problem solved and analysed again with those sections asked for
     (deterministic: the same problem and seed)."""
-    from linkcli.io.meta import ALL_SECTIONS
+    from linkcli.reading.meta import ALL_SECTIONS
     from linkcli.registry import problem_type
     needs = problem_type(problem.meta.type).module("plot").NEEDS
     if all(k in report for k in needs) or not report.get("file"):
@@ -178,7 +178,7 @@ def processes(jobs: int):
         from concurrent.futures import ProcessPoolExecutor
         context = None
         if "fork" in multiprocessing.get_all_start_methods():
-            import linkcli.io.load  # noqa: F401  (numpy and the reader, shared by the forks)
+            import linkcli.reading.load  # noqa: F401  (numpy and the reader, shared by the forks)
             context = multiprocessing.get_context("fork")
         chunk = max(1, len(files) // (jobs * CHUNKS_PER_JOB))
         with ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:

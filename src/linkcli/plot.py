@@ -171,3 +171,31 @@ def write_bytes(target: Path, data: bytes) -> None:
     except OSError as exc:
         raise PlotError(f"{target}: expected a file name that can be written, "
                         f"found {exc.strerror or type(exc).__name__}") from None
+
+
+def plot_path_problem(plot: Path, names: list[str], **rules) -> str | None:
+    """`--plot PATH` checked before any solve (as `--out` is: a long batch must not fail at
+    its very end on a name it could have refused at once): the same rules as the plot itself
+    (`output_paths`), and the folder that will hold the picture must be creatable: its nearest
+    existing ancestor must be a folder (`afile/x.png` is refused) that takes a file (a probe
+    file is made there and removed; nothing else is created). The error line for a --plot
+    PATH that cannot work, or None. `rules`: another
+    option's formats, folder_format and what (plot.output_paths), and `noun` (the line's
+    "a plot path")."""
+    noun = rules.pop("noun", "a plot path")
+    try:
+        output_paths([], len(names), plot, **rules)
+    except PlotError as exc:
+        return str(exc)
+    folder = plot.parent if len(names) <= 1 else plot
+    probe = folder
+    while not probe.exists() and probe != probe.parent:
+        probe = probe.parent
+    if probe.exists() and not probe.is_dir():
+        return f"{plot}: expected {noun} inside a folder, found {probe} is a file"
+    if probe.is_dir():  # the folder that will hold the picture (or be made in) must take a file
+        from linkcli.io.output_guard import refuses_files
+        why = refuses_files(probe)
+        if why:
+            return f"{plot}: expected {noun} in a folder that can be written, found {probe}: {why}"
+    return None

@@ -7,7 +7,7 @@ from enum import Enum
 
 import numpy as np
 
-from linkcli.model import FourBar
+from linkcli.model import Linkage
 
 
 class Status(str, Enum):
@@ -68,7 +68,7 @@ class SolverRecord:
 @dataclass
 class Solution:
     status: Status
-    linkage: FourBar | None = None
+    linkage: Linkage | None = None  # the designed linkage, its home's record (model.Linkage)
     message: str = ""
     positions: Positions | None = None
     objective: float | None = None  # rad^2 for angle errors, length^2 for paths

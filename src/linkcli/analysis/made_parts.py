@@ -112,7 +112,7 @@ def fit_zones(names: tuple[str, ...], fits: dict, problem, what: str, where) -> 
             raise SolveInputError(f"a fit for every {what} ({', '.join(names)}): {name} = "
                                   f'{{ diameter = ..., fit = "H7/g6" }} in [joints]',
                                   f"none for {name}", path=meta.path, line=where[1], key=where[0])
-        fit = iso286.limits(text, joint.diameter * mm)  # checked when read (io.tolerance_keys)
+        fit = iso286.limits(text, joint.diameter * mm)  # checked when read (reading.tolerance_keys)
         to_unit = UM_TO_MM / mm
         texts.append(text)
         mid.append(((fit.hole.lower + fit.hole.upper) - (fit.shaft.lower + fit.shaft.upper)) / 2 * to_unit)

@@ -142,7 +142,7 @@ def _pin(name, force, joint, spec, inputs, valid, metres, force_scale) -> _Part:
 
 def _link(name, loads, shape, spec, inputs, valid, metres, force_scale) -> _Part:
     """Axial force, bending, fibre stresses and buckling of one binary link."""
-    from linkcli.io.strength import describe_section
+    from linkcli.reading.strength import describe_section
     beam = internal_forces(loads, valid)
     props = properties(shape, metres)
     axial = snap(np.where(valid[:, None], beam.axial, 0.0), force_scale)

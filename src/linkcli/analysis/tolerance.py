@@ -56,7 +56,7 @@ class Model(Protocol):
     inputs: (M,) the targets' drive angles (none: the nominal linkage never assembles,
     `no_assembly` says so); scale: the errors' noise-floor scale; cap: the largest common
     tolerance (a larger one can make a length <= 0); known: link -> length for the
-    tolerance checks (tolerance_input).
+    tolerance checks (reading.tolerance_lengths).
 
     Optional (read with defaults, so that a Model written before them keeps working):
     pin_names and play_names, the [joints] names of the pins and plays in the order of
@@ -399,7 +399,7 @@ def wilson(k: int, n: int, z: float = Z95) -> tuple[float, float]:
 def analyse(problem, solution) -> dict:
     """The `tolerance` report section of a solved linkage: output-ready (plain floats, angles
     in the file's unit, lengths in its length unit)."""
-    from linkcli.analysis.tolerance_input import check_lengths
+    from linkcli.reading.tolerance_lengths import check_lengths
     from linkcli.mechanisms import of
     model = of(solution.linkage).tolerance_model(problem, solution)
     check_lengths(problem.meta, model.known, complete=True)

@@ -72,7 +72,7 @@ def rounded(obj, digits: int):
 def _flat_encoder(level: int):
     """The json module's encoder (C when available) for a container at indent `level`
     holding no container: its items separated as `indent=2` separates them at that depth."""
-    import json  # here: the table view (io.report) uses this module for `rounded` alone
+    import json  # here: the table view (linkcli.report) uses this module for `rounded` alone
     separator = ",\n" + "  " * (level + 1)
     encoder = json.JSONEncoder(ensure_ascii=False, check_circular=False, separators=(separator, ": "))
     make = getattr(json.encoder, "c_make_encoder", None)

@@ -57,22 +57,22 @@ class JointSpec:
 _READ: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()  # reader -> {mechanism: joints}
 
 
-def read_joints(root: Table, mechanism: str, units) -> tuple[JointSpec, ...] | None:
+def read_joints(root: Table, schema, units) -> tuple[JointSpec, ...] | None:
     """Every joint of [joints] (in file order), () without the table, None when in error
-    (errors recorded). `mechanism` names the [linkage] mechanism whose joints they are.
-    Read once per file and mechanism (module docstring)."""
+    (errors recorded). `schema` (mechanisms.schema.Schema) is the [linkage] mechanism's whose
+    joints they are: its `joints` names them, or its drawing (`draws`). Read once per file and
+    mechanism (module docstring)."""
     done = _READ.setdefault(root.reader, {})
-    if mechanism not in done:
-        done[mechanism] = _read_joints(root, mechanism, units)
-    return done[mechanism]
+    if schema.name not in done:
+        done[schema.name] = _read_joints(root, schema, units)
+    return done[schema.name]
 
 
-def _read_joints(root: Table, mechanism: str, units) -> tuple[JointSpec, ...] | None:
-    from linkcli.mechanisms import schema_of
+def _read_joints(root: Table, schema, units) -> tuple[JointSpec, ...] | None:
     t = root.table("joints")
     if t is None:
         return ()
-    schema = schema_of(mechanism)
+    mechanism = schema.name
     names = None if schema.draws else schema.joints  # a drawing names its own joints
     errors = len(root.reader.errors)
     entries = named_tables(t, names, "joint", mechanism, "{ diameter = 8, width = 10 }")
@@ -140,13 +140,13 @@ def _joint(t: Table, name: str, *, drawing: bool, mechanism: str, units, line) -
 
 def _checked_fit(t: Table, fit: str, diameter, units):
     """The fit when it is an ISO 286 clearance fit at the joint's diameter (a running joint
-    needs clearance); None after recording why not (io.tolerance_keys.fit_problem)."""
-    from linkcli.io.tolerance_keys import fit_problem
+    needs clearance); None after recording why not (standards.iso286.clearance_fit_problem)."""
+    from linkcli.standards.iso286 import clearance_fit_problem
     if diameter is None:
         if "diameter" not in t:
             t.error("diameter", "a pin diameter > 0 (length unit): the nominal size of the fit", raw_got=f'fit "{fit}" and no diameter')
         return None
-    problem = fit_problem(fit, diameter * units.mm_per_length)
+    problem = clearance_fit_problem(fit, diameter * units.mm_per_length)
     if problem is not None:
         t.error("fit", problem[0], raw_got=problem[1])
         return None

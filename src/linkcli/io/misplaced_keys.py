@@ -1,17 +1,9 @@
-"""Hints for keys in the wrong place: a result file given to synth, a top-level key
-written under a [table] header (TOML puts every key after `[units]` into `units`)."""
+"""Hints for keys in the wrong place: a top-level key written under a [table] header (TOML
+puts every key after `[units]` into `units`)."""
 
 from __future__ import annotations
 
 from linkcli.errors import SchemaError
-
-
-def refuse_result_file(reader) -> None:
-    """synth/check of a result file of `synth --format toml`: one line, not one per key."""
-    from linkcli.io.result_file import is_result
-    if is_result(reader.data):
-        raise SchemaError("a problem file", "a result file of linkcli synth (analyse it with "
-                          "linkcli analyze)", path=reader.path, line=reader.line_of(("status",)))
 
 
 def top_level_hint(path: tuple[str, ...], key: str, top_level_keys: set[str]) -> str | None:

@@ -1,5 +1,5 @@
 """Table layouts a problem type may ask of the table report (`report_tables` of its
-sections.py), described without rich: linkcli.io.report draws them."""
+sections.py), described without rich: linkcli.report draws them."""
 
 from __future__ import annotations
 

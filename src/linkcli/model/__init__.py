@@ -1,10 +1,11 @@
-"""Frozen dataclasses: units, the four-bar, and one class per problem type (a tagged union).
+"""Frozen dataclasses: what every problem has, and one class per problem type (a tagged union).
 
 Inside, lengths are in the file's length unit and angles in radians; `Units` converts
 angles back for output. Problem classes hold validated data only: no numerics here.
 
-What every problem has (Meta, its solver options, the four-bar and the slider-crank) is
-defined here; the records of optional tables ([tolerance], [loads]/[masses], [sections]/
+What every problem has (Meta, its solver options, the `Linkage` protocol every mechanism's
+record follows) is defined here; each mechanism's own record lives in its home
+(`mechanisms/<home>/model.py`); the records of optional tables ([tolerance], [loads]/[masses], [sections]/
 [material]) and each problem type's class live in a submodule of their own, made on first
 use: `from linkcli.model import Tolerance` works as before, but a run that never touches
 a tolerance does not pay for building its classes (each frozen dataclass compiles six
@@ -14,7 +15,7 @@ methods when defined, 0.5 to 1 ms apiece: the bulk of this package's import).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import ClassVar
+from typing import ClassVar, Protocol
 
 from linkcli.units import Units
 
@@ -45,28 +46,6 @@ def __getattr__(name: str):
 
 def __dir__() -> list[str]:
     return sorted(set(globals()) | set(HOMES))
-
-
-LINKS = ("ground", "input", "coupler", "output")
-BRANCHES = ("open", "crossed")
-
-
-@dataclass(frozen=True)
-class SliderCrank:
-    """An offset slider-crank: lengths in the length unit; coupler_point (px, py) in the
-    coupler frame (origin A, x along A -> B), as the four-bar's (the conventions of docs/format.md)."""
-
-    mechanism: ClassVar[str] = "slider-crank"  # its home: linkcli.mechanisms
-    input: float
-    coupler: float
-    offset: float
-    branch: str = "open"
-    coupler_point: tuple[float, float] | None = None
-
-    @property
-    def abe(self) -> tuple[float, float, float]:
-        """(crank, rod, offset)."""
-        return self.input, self.coupler, self.offset
 
 
 @dataclass(frozen=True)
@@ -101,22 +80,9 @@ class Meta:
     strength: StrengthSpec | None = None  # [material] / [strength]: the strength section
 
 
-@dataclass(frozen=True)
-class FourBar:
-    """A planar four-bar (the conventions of docs/format.md). Lengths in the length unit, angles in radians."""
+class Linkage(Protocol):
+    """What every mechanism's linkage record is (each home defines its own frozen dataclass:
+    mechanisms/<home>/model.py): it names its mechanism, whose home (linkcli.mechanisms) knows
+    the rest."""
 
-    mechanism: ClassVar[str] = "four-bar"  # its home: linkcli.mechanisms
-    ground: float
-    input: float
-    coupler: float
-    output: float
-    branch: str = "open"
-    coupler_point: tuple[float, float] | None = None
-    ground_pivot: tuple[float, float] = (0.0, 0.0)
-    ground_angle: float = 0.0
-    coupler_angle: float | None = None  # motion generation: the body's x axis from A -> B, rad
-
-    @property
-    def abcd(self) -> tuple[float, float, float, float]:
-        """Seed-paper letters: a = input, b = coupler, c = output, d = ground."""
-        return (self.input, self.coupler, self.output, self.ground)
+    mechanism: ClassVar[str]

@@ -7,9 +7,10 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True)
 class LinkageProblem:
-    """Analysis of a given four-bar driven at a constant input speed."""
+    """Analysis of a given linkage of any mechanism, driven at a constant input speed (or, for
+    the five-bar, through its rows)."""
 
     meta: Meta
-    linkage: FourBar
+    linkage: Linkage  # its home's record (model.Linkage)
     input_speed: float = 1.0  # rad/s
     steps: int = 360

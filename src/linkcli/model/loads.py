@@ -1,4 +1,4 @@
-"""[loads] and [masses] of a problem file (io.loads, docs/loads.md): what the `forces`
+"""[loads] and [masses] of a problem file (reading.loads, docs/loads.md): what the `forces`
 section needs."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""[sections], [material] and [strength] of a problem file (io.strength, docs/strength.md)."""
+"""[sections], [material] and [strength] of a problem file (reading.strength, docs/strength.md)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""[tolerance] of a problem file (io.meta.read_tolerance, io.tolerance_keys): the tolerances,
+"""[tolerance] of a problem file (reading.meta.read_tolerance, reading.tolerance_keys): the tolerances,
 clearances, cost models and schemes of a Monte Carlo precision study."""
 
 from __future__ import annotations

@@ -236,3 +236,19 @@ def limits(text: str, size: float) -> Fit:
         raise FitError(f"a shaft letter of ISO 286 in linkcli's tables ({', '.join(SHAFTS)}), "
                        f'found "{shaft_letter}" in "{text}"')
     return Fit(text, size, hole(hole_letter, hole_grade, size), shaft(shaft_letter, shaft_grade, size))
+
+
+def clearance_fit_problem(text: str, diameter_mm: float) -> tuple[str, str] | None:
+    """(expected, found) when `text` is no clearance fit of ISO 286 at that diameter (a
+    running joint needs clearance: hole at least as large as the shaft), else None."""
+    try:
+        fit = limits(text, diameter_mm)
+    except FitError as exc:
+        expected, _, found = str(exc).partition(", found ")
+        return expected, found
+    least, largest = fit.clearance
+    if fit.kind != "clearance":
+        return (f"a clearance fit for a running joint (least clearance >= 0), e.g. \"H7/g6\"",
+                f'"{text}" at {diameter_mm:g} mm, a{"n" if fit.kind == "interference" else ""} '
+                f"{fit.kind} fit (clearance {least:g}..{largest:g} um)")
+    return None

@@ -125,7 +125,7 @@ def _read(t: Table, units) -> Drawn | None:
         t.allow(*t.keys())  # its echo of the links: that one line says it all
         _skip(root)
         return None
-    specs = read_joints(root, "drawn", units)  # records a `joints` that is not a table
+    specs = read_joints(root, SCHEMA, units)  # records a `joints` that is not a table
     joint_table = root.table("joints", required=True) if isinstance(root.data.get("joints", {}), dict) else None
     if specs is None or joint_table is None:
         _skip(root)

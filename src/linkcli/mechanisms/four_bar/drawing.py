@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from linkcli.mechanisms.four_bar import kinematics as kin
-from linkcli.model import FourBar
+from linkcli.mechanisms.four_bar.model import FourBar
 from linkcli.noise import snap
 from linkcli.plots.common import LINK_COLORS, ground_mark, num
 from linkcli.units import Units

@@ -6,9 +6,9 @@ from __future__ import annotations
 from linkcli.io.bounds import ASSEMBLY_RTOL, MAX_LENGTH, bounded_length, bounded_point, refuse_ratio
 from linkcli.io.reader import Table
 from linkcli.mechanisms.schema import Schema, coupler_point_headings
-from linkcli.model import BRANCHES, FourBar
 
 
+from linkcli.mechanisms.four_bar.model import BRANCHES, FourBar
 class FourBarSchema(Schema):
     """The four-bar's vocabulary (mechanisms.schema.Schema)."""
 

@@ -40,7 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from linkcli.mechanisms.four_bar import kinematics as kin
-from linkcli.model import LINKS, FourBar
+from linkcli.mechanisms.four_bar.model import LINKS, FourBar
 
 COLUMNS = LINKS + ("coupler_point_x", "coupler_point_y")  # the toleranced dimensions, draw order
 GRID = 36  # inputs over the range of motion for a problem without targets

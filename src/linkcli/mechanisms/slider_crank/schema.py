@@ -6,9 +6,9 @@ from __future__ import annotations
 from linkcli.io.bounds import ASSEMBLY_RTOL, MAX_LENGTH, bounded_length, bounded_point, refuse_ratio
 from linkcli.io.reader import Table
 from linkcli.mechanisms.schema import Schema, coupler_point_headings
-from linkcli.model import BRANCHES, SliderCrank
 
 
+from linkcli.mechanisms.slider_crank.model import BRANCHES, SliderCrank
 class SliderCrankSchema(Schema):
     """The slider-crank's vocabulary (mechanisms.schema.Schema): `guide` is the slider's guide
     among its pins; the slider's play in its guide is a play of its own; the slider is a

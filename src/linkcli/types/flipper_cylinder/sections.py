@@ -196,7 +196,7 @@ def report_tables(name: str, section, length_unit: str, angle_unit: str) -> list
         heads = {"angle": f"platform angle ({au})", "force": "force (N)", "arm": f"moment arm ({lu})",
                  "length": f"length C-A ({lu})"}
         full = section.get("forces_full") or []
-        full = getattr(full, "total", len(full))  # the table view may hold it cut (io.report.Elided)
+        full = getattr(full, "total", len(full))  # the table view may hold it cut (linkcli.report.Elided)
         note = f" ({full} angles in JSON/TOML: forces_full)" if full else ""
         blocks.append(Rows(f"Cylinder force over the sweep{note}", table, heads))
     return blocks

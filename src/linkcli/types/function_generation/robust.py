@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from linkcli.mechanisms.four_bar import kinematics as kin
-from linkcli.model import FourBar
+from linkcli.mechanisms.four_bar.model import FourBar
 from linkcli.solution import Positions, Solution, Status
 from linkcli.types.function_generation.model import BRANCH_SIGN, Model
 

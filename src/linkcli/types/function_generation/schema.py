@@ -8,7 +8,7 @@
     [bounds]       a range [lo, hi] for every length not fixed; input_start / output_start
                    ranges make the start angles free
     [constraints]  transmission = [lo, hi], grashof, branch; defect_free (robust design)
-    [objective]    minimize = "error" | "failure-probability" (io.robust_keys)
+    [objective]    minimize = "error" | "failure-probability" (reading.robust_keys)
 
 Choices where the format leaves a choice: a length (or start angle) is either fixed or bounded, never
 both (an error names both keys); a bound given as one number, or as [v, v], fixes the
@@ -23,10 +23,11 @@ from __future__ import annotations
 import math
 
 from linkcli.expr import ExpressionError, compile_expression
-from linkcli.model import LINKS, FunctionGenerationProblem, Meta
+from linkcli.model import FunctionGenerationProblem, Meta
+from linkcli.mechanisms.four_bar.model import LINKS
 from linkcli.io.bounds import MAX_LENGTH, MAX_RATIO, MIN_LENGTH, over_ratio
 from linkcli.io.reader import Table
-from linkcli.io.robust_keys import read_objective
+from linkcli.reading.robust_keys import read_objective
 
 GRASHOF = ("any", "crank-rocker", "double-crank", "rocker-crank", "double-rocker", "triple-rocker")
 BRANCHES = ("either", "open", "crossed")
@@ -361,7 +362,7 @@ def read_constraints(root: Table, u):
     con = root.table("constraints")
     if con is None:
         return None, "any", "either"
-    con.allow("transmission", "grashof", "branch", "defect_free")  # defect_free: io.robust_keys
+    con.allow("transmission", "grashof", "branch", "defect_free")  # defect_free: reading.robust_keys
     window, ok = None, True
     if "transmission" in con:
         top = u.from_rad(math.pi)

@@ -18,7 +18,7 @@ DENSE = 1001  # points of the structural-error summary over the sweep
 
 
 def report_tables(name: str, section, length_unit: str, angle_unit: str) -> list:
-    """No tailored tables: the generic layout of linkcli.io.report serves these sections."""
+    """No tailored tables: the generic layout of linkcli.report serves these sections."""
     return []
 
 

@@ -33,7 +33,8 @@ import numpy as np
 from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.errors import SolveInputError
 from linkcli.types.function_generation.printed_digits import digits_note
-from linkcli.model import FourBar, FunctionGenerationProblem
+from linkcli.model import FunctionGenerationProblem
+from linkcli.mechanisms.four_bar.model import FourBar
 from linkcli.solution import Positions, Solution, SolverRecord, Status
 from linkcli.search import kkt, linalg
 from linkcli.search.budget import BudgetSpent

@@ -31,7 +31,7 @@ import math
 import numpy as np
 
 from linkcli.io.bounds import MAX_LENGTH
-from linkcli.model import FourBar
+from linkcli.mechanisms.four_bar.model import FourBar
 from linkcli.noise import first_min
 from linkcli.search.budget import Budget
 from linkcli.search.sampling import latin_hypercube

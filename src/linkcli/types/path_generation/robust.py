@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkcli.model import FourBar
+from linkcli.mechanisms.four_bar.model import FourBar
 from linkcli.solution import Positions, Solution, Status
 from linkcli.types.path_generation.model import N_LINK, Design
 

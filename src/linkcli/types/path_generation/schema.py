@@ -6,7 +6,7 @@
     [bounds]       ground, input, coupler, output, ground_angle, input_offset: a number
                    (fixed) or [lo, hi]; coupler_point, ground_pivot: { x = ..., y = ... }
     [constraints]  grashof, transmission = [lo, hi], branch; defect_free (robust design)
-    [objective]    minimize = "error" | "failure-probability" (io.robust_keys)
+    [objective]    minimize = "error" | "failure-probability" (reading.robust_keys)
 
 A missing bound defaults to a box scaled on the targets (see DEFAULT_SPAN). No numerics.
 """
@@ -15,11 +15,12 @@ from __future__ import annotations
 
 import math
 
-from linkcli.model import LINKS, Meta, PathGenerationProblem
-from linkcli.io.meta import in_motion_order
+from linkcli.model import Meta, PathGenerationProblem
+from linkcli.mechanisms.four_bar.model import LINKS
+from linkcli.reading.meta import in_motion_order
 from linkcli.io.bounds import MAX_LENGTH, MIN_LENGTH
-from linkcli.io.loads import mechanism_of
-from linkcli.io.robust_keys import read_objective
+from linkcli.reading.loads import mechanism_of
+from linkcli.reading.robust_keys import read_objective
 from linkcli.io.reader import MISSING, Table, describe
 
 GRASHOF = ("any", "crank-rocker", "double-crank", "rocker-crank", "double-rocker", "triple-rocker")

@@ -33,7 +33,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from linkcli.mechanisms.four_bar import kinematics as kin
-from linkcli.model import FourBar
+from linkcli.mechanisms.four_bar.model import FourBar
 from linkcli.search.budget import Budget, BudgetSpent
 from linkcli.solution import Positions, Solution, SolverRecord, Status
 from linkcli.types.path_generation import starts

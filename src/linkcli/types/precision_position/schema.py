@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 from linkcli.model import Meta, PrecisionPositionProblem
-from linkcli.io.meta import in_motion_order
+from linkcli.reading.meta import in_motion_order
 from linkcli.io.bounds import MAX_LENGTH, bounded_length
 from linkcli.errors import SchemaError
 from linkcli.io.reader import Table

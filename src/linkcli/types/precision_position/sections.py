@@ -5,5 +5,5 @@ from __future__ import annotations
 
 
 def report_tables(name: str, section, length_unit: str, angle_unit: str) -> list:
-    """No tailored tables: the generic layout of linkcli.io.report serves these sections."""
+    """No tailored tables: the generic layout of linkcli.report serves these sections."""
     return []

@@ -22,7 +22,7 @@ import numpy as np
 
 from linkcli.errors import SolveInputError
 from linkcli.mechanisms.four_bar.kinematics import ground_distance, pose, wrap
-from linkcli.model import FourBar
+from linkcli.mechanisms.four_bar.model import FourBar
 from linkcli.solution import Positions, Solution, SolverRecord, Status
 from linkcli.types.precision_position.starts import (closure_gap, freudenstein_system, lengths_of, make_starts,
                                               physical_angles, refine, travels)

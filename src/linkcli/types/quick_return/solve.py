@@ -16,7 +16,8 @@ family shows (no member within [bounds] or the link ratio) are exit 2 with the f
 from __future__ import annotations
 
 from linkcli.errors import SchemaError, SolveInputError
-from linkcli.model import FourBar, SliderCrank
+from linkcli.mechanisms.slider_crank.model import SliderCrank
+from linkcli.mechanisms.four_bar.model import FourBar
 from linkcli.search.budget import Budget
 from linkcli.solution import Solution, SolverRecord, Status
 from linkcli.textnum import num

@@ -1,7 +1,7 @@
 """Result files written by `linkcli synth --format toml`, read back as a linkage to analyse.
 
 Only `title`, `[units]`, `[linkage]`, `[motion]`'s study and `[loads]`/`[masses]` are read; the rest of a result file is linkcli's
-own output (status, tables): it is checked, not read (io.result_check: known top-level
+own output (status, tables): it is checked, not read (reading.result_check: known top-level
 keys, `type` and `status` of their vocabularies, finite numbers, bounded arrays, the keys
 the report writer writes in each output section), and unknown keys of the tables read are
 errors, as in a problem file. A batch
@@ -13,10 +13,18 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from linkcli.errors import SchemaError
 from linkcli.io.reader import Reader
 
 # what parse() reads with is imported there: synth and check import this module for
-# is_result() alone (io.misplaced_keys.refuse_result_file)
+# refuse_result_file() alone
+
+
+def refuse_result_file(reader) -> None:
+    """synth/check of a result file of `synth --format toml`: one line, not one per key."""
+    if is_result(reader.data):
+        raise SchemaError("a problem file", "a result file of linkcli synth (analyse it with "
+                          "linkcli analyze)", path=reader.path, line=reader.line_of(("status",)))
 
 
 def is_result(data: dict) -> bool:
@@ -40,14 +48,14 @@ def has_linkage(data: dict) -> bool:
 
 
 def parse(reader: Reader) -> LinkageProblem | None:
-    from linkcli.io.loads import read_loads
-    from linkcli.io.meta import read_units
+    from linkcli.reading.loads import read_loads
+    from linkcli.reading.meta import read_units
     from linkcli.io.bounds import MAX_LENGTH
-    from linkcli.io.result_check import check_header, check_sections, check_values
-    from linkcli.io.result_motion import motion_study
+    from linkcli.reading.result_check import check_header, check_sections, check_values
+    from linkcli.reading.result_motion import motion_study
     from linkcli.reading.linkage import read_linkage
     from linkcli.model import LinkageProblem, Meta
-    from linkcli.types.linkage import TYPE as LINKAGE
+    from linkcli.registry import problem_type
     root = reader.root()
     count = batch_size(reader.data)
     if count:
@@ -81,7 +89,7 @@ def parse(reader: Reader) -> LinkageProblem | None:
     if reader.errors or fourbar is None:
         reader.finish()  # raises them, with the unknown keys
         return None
-    sections = LINKAGE.default_sections + (("forces",) if loads is not None else ())
+    sections = problem_type("linkage").default_sections + (("forces",) if loads is not None else ())
     meta = Meta(path=reader.path, type="linkage", title=title,  # a string or None: check_header judged it
                 units=units, sections=sections, loads=loads)
     problem = motion_study(root, LinkageProblem(meta=meta, linkage=fourbar, input_speed=units.to_rad(1.0), steps=360))

@@ -224,22 +224,6 @@ def read_schemes(t: Table, links: tuple[str, ...], per_link: tuple[str, ...],
 
 # ---------------------------------------------------------------- fits against [joints]
 
-def fit_problem(text: str, diameter_mm: float) -> tuple[str, str] | None:
-    """(expected, found) when `text` is no clearance fit of ISO 286 at that diameter (a
-    running joint needs clearance: hole at least as large as the shaft), else None."""
-    try:
-        fit = iso286.limits(text, diameter_mm)
-    except iso286.FitError as exc:
-        expected, _, found = str(exc).partition(", found ")
-        return expected, found
-    least, largest = fit.clearance
-    if fit.kind != "clearance":
-        return (f"a clearance fit for a running joint (least clearance >= 0), e.g. \"H7/g6\"",
-                f'"{text}" at {diameter_mm:g} mm, a{"n" if fit.kind == "interference" else ""} '
-                f"{fit.kind} fit (clearance {least:g}..{largest:g} um)")
-    return None
-
-
 def check_fits(root: Table, tolerance, joints: tuple, units) -> None:
     """Each scheme's fits name joints with a diameter in [joints] and are clearance fits at
     it; clearance = "fits" or schemes want [joints] diameters."""
@@ -254,7 +238,7 @@ def check_fits(root: Table, tolerance, joints: tuple, units) -> None:
                 root.reader.error(path, f"a diameter for {joint} in [joints] (the fit's nominal size), "
                                   f"e.g. {joint} = {{ diameter = 10 }}", raw_got=f'fit "{text}" and no diameter')
                 continue
-            problem = fit_problem(text, sizes[joint] * mm)
+            problem = iso286.clearance_fit_problem(text, sizes[joint] * mm)
             if problem is not None:
                 root.reader.error(path, problem[0], raw_got=problem[1])
     if tolerance.clearance_fits and not any(j.fit for j in joints):

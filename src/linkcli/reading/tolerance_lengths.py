@@ -1,7 +1,7 @@
 """[tolerance] against the link lengths a file already fixes: a length tolerance must be
 smaller than its link, the clearance smaller than every link (anything larger is a typing
 error, not a workshop). Pure Python, so that `linkcli check` finds what `synth` would
-(io.load runs it on every problem; analysis.tolerance runs it again on the solved linkage).
+(reading.load runs it on every problem; analysis.tolerance runs it again on the solved linkage).
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ writer leaves a non-finite number out: TOML has no null) in arrays no longer tha
 problem file's (or, for the rows of a motion study, its `steps`), and in every output
 section ([transmission], [error], [solver], the rows of [[kinematics]], [tolerance] and
 its tables, a type's own sections, ...) the keys the report writer writes there
-(`io.result_keys`, found by running the writer: tests/result_keys_corpus.py), a map keyed
+(`reading.result_keys`, found by running the writer: tests/result_keys_corpus.py), a map keyed
 by the linkage's own names (pins, links, joints) taking any name. Anything else is an
 error on its own line, like an unknown key of a problem file. The sections `analyze`
 reads (READ: [units], [linkage], [motion]'s study, [loads], [masses]) are checked key by
@@ -19,9 +19,9 @@ from __future__ import annotations
 import math
 from functools import lru_cache
 
-from linkcli.io.meta import ALL_SECTIONS
+from linkcli.reading.meta import ALL_SECTIONS
 from linkcli.io.reader import MAX_ARRAY, Table
-from linkcli.io.result_keys import KEYS, OPEN, ROWS
+from linkcli.reading.result_keys import KEYS, OPEN, ROWS
 from linkcli.registry import NAMES, problem_type
 
 STATUSES = ("ok", "infeasible", "not-converged")
@@ -35,7 +35,7 @@ _REPORT_KEYS = ("file", "title", "type", "status", "message", "units", "notes", 
 @lru_cache(maxsize=None)
 def top_keys() -> tuple[str, ...]:
     """Every top-level key a result file of any type may hold: the report's own, every
-    section a type can be asked for, and every section the writer writes (io.result_keys:
+    section a type can be asked for, and every section the writer writes (reading.result_keys:
     a type's own sections, its solver's Solution.sections)."""
     typed = (s for name in NAMES for s in problem_type(name).sections)
     return tuple(dict.fromkeys((*_REPORT_KEYS, *ALL_SECTIONS, *typed, *KEYS)))
@@ -88,7 +88,7 @@ def check_values(root: Table) -> None:
 
 @lru_cache(maxsize=None)
 def key_tree(section: str) -> dict:
-    """The keys the writer writes in `section` as a tree (io.result_keys: dotted paths):
+    """The keys the writer writes in `section` as a tree (reading.result_keys: dotted paths):
     {key: subtree}, {} under a value; ROWS: the rows of an array of tables; OPEN: a map of
     the linkage's own names. Each table's keys are a frozenset under the key None (no
     TOML key: shared by every row judged by them)."""

@@ -84,7 +84,7 @@ def read_meta(root: Table, kind: str, spec: ProblemType) -> Meta:
     joints = read_joint_table(root, kind, spec, units)
     link_sections, strength = read_strength_tables(root, kind, spec, sections, loads, joints)
     if tolerance is not None and joints is not None:  # fits of schemes and clearance = "fits"
-        from linkcli.io.tolerance_keys import check_fits
+        from linkcli.reading.tolerance_keys import check_fits
         check_fits(root, tolerance, joints, units)
     if loads is not None and "forces" not in sections:
         sections = sections + ("forces",)  # on when [loads] or [masses] is given (as tolerance)
@@ -105,10 +105,10 @@ def read_meta(root: Table, kind: str, spec: ProblemType) -> Meta:
 
 
 def read_load_case(root: Table, kind: str, spec: ProblemType, sections: tuple[str, ...]):
-    """[loads] / [masses] (linkcli.io.loads) on a type that can report `forces`; refused,
+    """[loads] / [masses] (linkcli.reading.loads) on a type that can report `forces`; refused,
     located, on one that cannot (no linkage); the `forces` section asked for by name
     without them is an error too (an empty section would pass for a result)."""
-    from linkcli.io.loads import read_loads, refuse_loads
+    from linkcli.reading.loads import read_loads, refuse_loads
     from linkcli.registry import NAMES, problem_type
     if "forces" not in spec.sections:
         refuse_loads(root, kind, tuple(n for n in NAMES if "forces" in problem_type(n).sections))
@@ -123,7 +123,7 @@ def read_load_case(root: Table, kind: str, spec: ProblemType, sections: tuple[st
 def read_joint_table(root: Table, kind: str, spec: ProblemType, units: Units):
     """[joints] (linkcli.io.joints) on a type whose result is a linkage; refused, located, on
     one that has none."""
-    from linkcli.io.loads import mechanism_of
+    from linkcli.reading.loads import mechanism_of
     from linkcli.registry import NAMES, problem_type
     if "forces" not in spec.sections:
         if "joints" in root:
@@ -135,15 +135,16 @@ def read_joint_table(root: Table, kind: str, spec: ProblemType, units: Units):
     if "joints" not in root:
         return ()  # what read_joints gives without the table, without importing io.joints
     from linkcli.io.joints import read_joints
-    return read_joints(root, mechanism_of(root), units)
+    from linkcli.mechanisms import schema_of
+    return read_joints(root, schema_of(mechanism_of(root)), units)
 
 
 def read_strength_tables(root: Table, kind: str, spec: ProblemType, sections: tuple[str, ...],
                          loads, joints):
-    """[sections], [material], [strength] (linkcli.io.strength): (link sections, the strength
+    """[sections], [material], [strength] (linkcli.reading.strength): (link sections, the strength
     spec or None)."""
-    from linkcli.io.loads import mechanism_of
-    from linkcli.io.strength import read_parts
+    from linkcli.reading.loads import mechanism_of
+    from linkcli.reading.strength import read_parts
     has_loads = loads is not None or "loads" in root or "masses" in root
     return read_parts(root, kind, spec.sections, sections, has_loads, mechanism_of(root), joints)
 
@@ -226,12 +227,12 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     `allowed_error` (angle unit, or length unit for a path), the inverse mode's
     `max_failure_probability` (which then wants a single tolerance or none, unless
     [tolerance.cost] allocates them), [tolerance.cost] and [[tolerance.schemes]]
-    (io.tolerance_keys)."""
+    (reading.tolerance_keys)."""
     t = root.table("tolerance")
     if t is None:
         return None
-    from linkcli.io.loads import mechanism_of
-    from linkcli.io.tolerance_keys import check_cost_bounds, read_clearance, read_cost, read_lengths, read_schemes
+    from linkcli.reading.loads import mechanism_of
+    from linkcli.reading.tolerance_keys import check_cost_bounds, read_clearance, read_cost, read_lengths, read_schemes
     from linkcli.mechanisms import NAMES, schema_of
     from linkcli.model import InverseTolerance, Tolerance
     path_type = root.raw("type") == "path-generation"

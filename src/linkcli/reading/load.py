@@ -13,10 +13,11 @@ from dataclasses import replace
 
 from linkcli.errors import InputErrors
 from linkcli.io.angle_units import angle_unit_note
-from linkcli.io.meta import read_meta
+from linkcli.reading.meta import read_meta
 from linkcli.io.reader import MISSING, Reader
 from linkcli.registry import NAMES, problem_type
-from linkcli.io.misplaced_keys import refuse_misplaced_type, refuse_result_file
+from linkcli.io.misplaced_keys import refuse_misplaced_type
+from linkcli.reading.result_file import refuse_result_file
 
 
 def load(path: str, text: str | bytes | None = None):
@@ -39,7 +40,7 @@ def load(path: str, text: str | bytes | None = None):
     if problem is None:  # a parser returns None only after recording errors
         raise AssertionError(f"{kind} parser returned no problem and no error")
     if meta.tolerance is not None:  # what synth would refuse once solved, if the file fixes it
-        from linkcli.analysis.tolerance_input import check_lengths, known_lengths
+        from linkcli.reading.tolerance_lengths import check_lengths, known_lengths
         check_lengths(meta, *known_lengths(problem))
     note = angle_unit_note(reader.data, meta.units.angle)
     if note:
@@ -62,7 +63,7 @@ def refuse_unknown_mechanism(reader: Reader, root) -> None:
 
 def load_for_analysis(path: str, text: str | bytes | None = None):
     """`linkcli analyze`: a `type = "linkage"` file or a result file of `synth --format toml`."""
-    from linkcli.io import result_file
+    from linkcli.reading import result_file
     from linkcli.errors import SchemaError
     reader = Reader(path, text)
     if result_file.is_result(reader.data):
