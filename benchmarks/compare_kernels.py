@@ -8,7 +8,7 @@ numpy's own vector paths for sin, cos, sums and friends (narrowed here to numpy'
 with NPY_DISABLE_CPU_FEATURES, every dispatched feature this CPU has; alone and with the
 Prescott kernel). Each variant's output is compared with the machine's default;
 `solver.evaluations` and times are removed first, since they are the only fields allowed
-to differ between machines (README, "Same numbers on every machine"). Prints one line per
+to differ between machines (docs/determinism.md). Prints one line per
 variant and per differing file; exits 1 if any output differs. A variant this CPU cannot
 run (SkylakeX needs AVX-512; nothing to narrow on a CPU with numpy's baseline only) is
 reported and skipped. The variants run `--jobs` at a time (default 2).

@@ -2,14 +2,14 @@
 
     python3 benchmarks/random_motion.py [--problems 30] [--seeds 2] [--out rows.json]
 
-Problem k is drawn with numpy.random.default_rng(777) in turn (the README's figures): lengths
-uniform in [0.5, 4], the ground pivot, coupler point and angles at random, 6 or 7 input
+Problem k is drawn with numpy.random.default_rng(777) in turn (benchmarks/RESULTS.md's
+figures): lengths uniform in [0.5, 4], the ground pivot, coupler point and angles at random, 6 or 7 input
 angles over a travel of at most 2.5 rad on one branch (the linkage must assemble along all
 of it), and N(0, 0.01) noise on the pose origins, so that the optimum is a least-squares
 fit, not an exact one; default bounds, no constraint. Each problem is solved with seeds
 0..seeds-1 and a row printed (status, objective, evaluations, seconds); with no long-run
 best known, compare two versions' rows by the better of their objectives per problem (the
-README's motion change did so).
+motion change in benchmarks/RESULTS.md did so).
 """
 
 from __future__ import annotations

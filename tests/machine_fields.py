@@ -1,6 +1,6 @@
 """The one printed field that may differ between machines, masked for golden comparisons.
 
-README, "Same numbers on every machine": only `solver.evaluations` (and `solver.seconds`,
+docs/determinism.md: only `solver.evaluations` (and `solver.seconds`,
 printed with `--timing` only) may differ from one CPU, BLAS kernel or SIMD setting to
 another. The golden files keep every other byte; that value is written as MASK there, and
 an output is masked the same way before it is compared. Masking checks what it masks:

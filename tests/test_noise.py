@@ -4,9 +4,12 @@ each against a plain reference written here."""
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 from hypothesis import given, strategies as st
+
+from conftest import ROOT
 
 from linkcli.noise import NOISE_FLOOR, TIE, first_max, first_min, same, snap, snap_series
 from linkcli.textnum import num, render
@@ -51,7 +54,15 @@ def test_equal_peaks_that_differ_by_round_off_go_to_the_first_in_order():
     assert first_max(push_first) == 0 and first_max(pull_first) == 0
     assert first_max([1.0, 1.0 + 2e-9]) == 1  # beyond the tie: the larger wins
     assert same(1.0, 1.0 + 0.5e-9) and not same(1.0, 1.0 + 2e-9) and same(math.inf, math.inf)
-    assert NOISE_FLOOR == 1e-9 and TIE == 1e-9  # the README states both
+
+
+def test_docs_state_the_constants_the_code_uses():
+    """docs/determinism.md ("Noise floor", "Ties") states both constants: they are what it says."""
+    text = (ROOT / "docs" / "determinism.md").read_text(encoding="utf-8")
+    floor = re.search(r"`NOISE_FLOOR = ([0-9.e+-]+)`", text)
+    tie = re.search(r"`TIE = ([0-9.e+-]+)`", text)
+    assert floor and tie
+    assert float(floor.group(1)) == NOISE_FLOOR == 1e-9 and float(tie.group(1)) == TIE == 1e-9
 
 
 def test_first_max_along_rows_and_never_nan():

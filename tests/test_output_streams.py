@@ -1,6 +1,6 @@
 """Where the output goes (issue 28): a full device or a closed stdout is one line and exit
-2, a reader that closes the pipe ends the command quietly with exit 141 (documented in the
-README), a closed stderr is no crash; on a terminal the progress display counts the solve's
+2, a reader that closes the pipe ends the command quietly with exit 141 (documented in
+docs/format.md), a closed stderr is no crash; on a terminal the progress display counts the solve's
 evaluations on stderr, and nothing of it reaches a pipe or the JSON."""
 
 from __future__ import annotations

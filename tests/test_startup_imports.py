@@ -3,7 +3,8 @@ closed-form problem printed as a table needs no optional table's records, no oth
 mechanism's or problem type's classes, no forces, tolerance or strength analysis, no
 scipy, no JSON or CSV writer, no progress display (stderr is not a terminal) and no
 rich help formatting. Checked in a fresh process by the modules it holds at exit; no
-timing here (the README's start-up table is measured by hand)."""
+timing here (docs/performance.md's start-up rows are measured with
+benchmarks/compare_commands.py)."""
 
 from __future__ import annotations
 

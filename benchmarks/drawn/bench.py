@@ -5,9 +5,12 @@ analysis with loads against the four-bar's, in process.
     python benchmarks/drawn/bench.py --peers    # also pylinkage (if importable), the same six-bar
 
 Times are the best of REPEATS runs (time.perf_counter), on whatever the machine is doing:
-state the machine's load with the figures. The whole-process comparison (start-up included)
-is `farm-bench --vs 'linkcli synth benchmarks/drawn/four_bar_3600.toml' -- linkcli synth
-benchmarks/drawn/six_bar_3600.toml`.
+state the machine's load with the figures. The whole-process comparison (start-up included),
+CPU time of interleaved runs:
+
+    python3 benchmarks/compare_commands.py --runs 7 -- \
+        'linkcli synth benchmarks/drawn/four_bar_3600.toml --format json' \
+        'linkcli synth benchmarks/drawn/six_bar_3600.toml --format json'
 """
 
 from __future__ import annotations

@@ -274,7 +274,7 @@ def summary(rows: list[dict]) -> list[dict]:
 
 
 def markdown(rows: list[dict], precision: int = 4, columns: tuple[str, ...] = COLUMNS) -> str:
-    """A markdown table of bench rows (for the README)."""
+    """A markdown table of bench rows (for benchmarks/RESULTS.md)."""
     from linkcli.report import fmt as fmt_value
     head = "| " + " | ".join(columns) + " |\n|" + "---|" * len(columns) + "\n"
     body = "".join("| " + " | ".join(fmt_value(r[c], precision) if r[c] is not None else "-"

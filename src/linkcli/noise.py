@@ -14,7 +14,7 @@ digit or a decision:
   documented order (sweep order for peaks, generation order for candidates) wins:
   `same(a, b)`, `first_max(values)`, `first_min(values)`.
 
-Both constants are relative and stated in the README ("Same numbers on every machine").
+Both constants are relative and stated in docs/determinism.md (a test reads them there).
 """
 
 from __future__ import annotations

@@ -5,7 +5,8 @@ Three ways the output goes: the reader closes the pipe (`linkcli synth ... | hea
 EPIPE), the device refuses it (`> /dev/full`: ENOSPC), or there is none (`>&-`: Python's
 sys.stdout is None). `Guarded` wraps sys.stdout and turns any of them into `OutputLost`,
 which no other handler catches (typer would turn an EPIPE into exit 1, and an ENOSPC into a
-traceback). `exit_code(lost)` then decides, as the README's Output section documents:
+traceback). `exit_code(lost)` then decides, as docs/format.md documents (Exit codes; Choices,
+"Where the output goes"):
 
 - a closed pipe: the reader has what it wanted; nothing more is solved or written, nothing
   is said, and the exit code is 141 (128 + SIGPIPE, as for a command the signal ends, like

@@ -3,7 +3,7 @@
 printed 6 digits and entered again as fixed lengths may violate that constraint by more
 than the solver's feasibility tolerance (0.0003 deg for problems/crank_rocker.toml).
 
-Rule (README "Printed digits"): the free values (lengths in the length unit, start angles
+Rule (docs/format.md, "Printed digits of an optimum"): the free values (lengths in the length unit, start angles
 in the angle unit) rounded to D significant digits, D = 1 .. 17, are evaluated again on
 the design's branch. When the rounding to DEFAULT_DIGITS (the default --precision) violates
 a constraint by more than FEASIBLE (the solver's own feasibility tolerance), a note says so,

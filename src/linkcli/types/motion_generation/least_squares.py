@@ -687,8 +687,9 @@ def _settle(counter, fun, cons, x, mask, lo, hi, sign, scale, free_timing: bool)
     two gradients for all of them instead of two each (scaling.py's 100 poses: the settles
     15.6 -> 2.8 s). The Hessian is Gauss-Newton's, and the differenced one of the whole
     Lagrangian only where the steps stall (kkt, curvature="stalled"): the constraints'
-    curvature added at every step cost 10 % of a run's time (farm-bench, tuning cases 3,
-    19, 35, 67, 91, 123: 0.90) for the same verdicts on the tuning half."""
+    curvature added at every step cost 10 % of a run's time (interleaved whole runs of tuning
+    cases 3, 19, 35, 67, 91, 123 timed by benchmarks/compare_commands.py: 0.90) for the same
+    verdicts on the tuning half."""
     from linkcli.search import kkt
     from linkcli.search.budget import BudgetSpent
 

@@ -66,7 +66,8 @@ REFINE_ALL = 1500  # ... for every pick left unconverged, however far from the b
 # within 1,500 projected steps (polished on every variable they stopped at 1.01 to 1.1 times it), and
 # its five seeds ended `not-converged` 0.08 to 7 % above it. Tuning half, free timing: 35 -> 56 of
 # 60 runs `ok`; prescribed timing (only its later rounds change): cases 8, 64, 88 8 -> 11 of 15. In
-# every round of prescribed timing it cost 1.25 times the time of ten typical cases (farm-bench).
+# every round of prescribed timing it cost 1.25 times the time of ten typical cases (interleaved
+# whole runs, benchmarks/compare_commands.py).
 MAX_DRAWS = {"free": 600, "prescribed": 2000}
 SCAN_SHARE = 0.6  # share of a round's budget for the draws
 ROUND_BUDGET = 500_000  # evaluations of a round of the multistart, at most
