@@ -140,7 +140,7 @@ def test_csv_has_the_bytes_of_the_reference_writer(rows, digits):
 def test_a_long_table_formats_a_bounded_number_of_cells(monkeypatch):
     # the table view of a long row table costs the same for 1,000 rows and for 30,000:
     # the cells formatted are counted (report.fmt), not timed
-    from linkcli.report import report as view
+    from linkcli import report as view
     row = {"input": 1.25, "coupler": 2.5, "output": -3.75}
     calls = []
     real = view.fmt
@@ -159,7 +159,7 @@ def test_a_long_table_formats_a_bounded_number_of_cells(monkeypatch):
 
 
 def test_a_table_of_at_most_max_rows_is_shown_whole():
-    from linkcli.report import report as view
+    from linkcli import report as view
     report = {"file": "short.toml", "type": "linkage", "status": "ok", "message": "",
               "units": {"length": "mm", "angle": "deg"},
               "kinematics": [{"input": float(k), "output": 2.0 * k} for k in range(view.MAX_ROWS)]}
