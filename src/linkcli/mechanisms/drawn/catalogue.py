@@ -22,9 +22,8 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 from linkcli.mechanisms.drawn.chains import FREE, TIMED, Inversion, inversions
+from linkcli.mechanisms.drawn.topology import ANY_SIX_BAR, SIX_BARS, topologies
 
-SIX_BARS = ("watt-i", "watt-ii", "stephenson-i", "stephenson-ii", "stephenson-iii")
-ANY_SIX_BAR = "any six-bar"
 BASELINE = "four-bar"
 TASKS = ("path", "motion", "function")
 TIMINGS = (TIMED, FREE)  # "prescribed", "any"
@@ -67,10 +66,8 @@ def _inversion(name: str) -> Inversion:
 
 def topology_names(value: str) -> tuple[str, ...]:
     """The inversions a `topology` value stands for ("any six-bar": all five)."""
-    if value == ANY_SIX_BAR:
-        return SIX_BARS
-    if value in SIX_BARS or value == BASELINE:
-        return (value,)
+    if value in SIX_BARS + (ANY_SIX_BAR, BASELINE):
+        return topologies(value)
     raise ValueError(f"a topology of {', '.join(SIX_BARS + (ANY_SIX_BAR, BASELINE))}, not {value!r}")
 
 
