@@ -73,8 +73,9 @@ def topology_names(value: str) -> tuple[str, ...]:
 
 def choices(topology: str, task: str, timing: str = TIMED) -> tuple[Choice, ...]:
     """Every choice of drive and target of `topology` (an inversion's name, "any six-bar",
-    or "four-bar") for `task`, in catalogue order; with timing = "any" (free timing) only
-    those that go beyond the four-bar without prescribed timing."""
+    or "four-bar") for `task`, in catalogue order; with timing = "any" (free timing of a path
+    or a motion) only those that go beyond the four-bar without prescribed timing (a
+    function is timed by nature: its timing is not a filter)."""
     if task not in TASKS:
         raise ValueError(f"a task of {', '.join(TASKS)}, not {task!r}")
     if timing not in TIMINGS:
@@ -86,7 +87,7 @@ def choices(topology: str, task: str, timing: str = TIMED) -> tuple[Choice, ...]
             plan = ("four-bar" if inv.chain.links == 4 else
                     "four-bar and dyad" if inv.loop_with(drive) is not None else "triad")
             for target, how in inv.targets(drive, task):
-                if timing == FREE and how != FREE:
+                if timing == FREE and how != FREE and task != "function":
                     continue
                 names = link_names(inv, drive, target, task)
                 crank = "ternary" if inv.chain.degree(drive) == 3 else "binary"
