@@ -36,7 +36,7 @@ import tomli_w
 from conftest import ROOT
 
 from linkcli.errors import InputErrors
-from linkcli.io.load import load
+from linkcli.reading.load import load
 from linkcli.io.reader import Reader
 from linkcli.mechanisms.drawn import catalogue, chains
 from linkcli.mechanisms.drawn.motion import closure_vectors, reach, transmission
