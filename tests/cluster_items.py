@@ -1,4 +1,4 @@
-"""Top-level item functions for tests/test_cluster.py (Dask workers import them by name).
+"""Top-level item functions for tests/cli/test_cluster.py (Dask workers import them by name).
 
 An item is `(name, seed)` or `(name, seed, options)`; each function returns what the CLI's
 run_one returns, `(exit code, report or None, error lines)`, and reports bad input in its

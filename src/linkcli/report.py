@@ -434,7 +434,7 @@ def _surely_fits(con: Console, table: Table) -> bool:
     min_width. rich's measure (_width) is never more than that (markup and emoji codes
     only shorten a cell), so a False from here only means "measure it": the result of
     print_table is the same, and the common case skips a measure of every cell
-    (tests/test_table_width_bound.py holds the bound against rich's measure)."""
+    (tests/cli/test_table_width_bound.py holds the bound against rich's measure)."""
     if table.width is not None or not table.columns:
         return False
     _, right, _, left = table.padding

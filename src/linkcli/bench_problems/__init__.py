@@ -2,7 +2,7 @@
 that it runs from any folder (and from an installed wheel).
 
 `problems/bench/` in the repository is the user-visible copy of these files; a test keeps
-the two identical (tests/test_newcomer.py). Read with importlib.resources. No numerics.
+the two identical (tests/cli/test_newcomer.py). Read with importlib.resources. No numerics.
 """
 
 from __future__ import annotations

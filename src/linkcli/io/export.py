@@ -10,7 +10,7 @@ rounds at the leaves as it writes (no rounded copy of the report) and hands ever
 container that holds only numbers, strings, booleans and nulls -- a row, a pin's force, a
 point -- to the json module's C encoder, with the separators of its depth, so that the
 bytes are exactly those of `json.dumps(rounded(report, digits), indent=2,
-ensure_ascii=False)` (tests/test_export.py holds them against that reference); only the
+ensure_ascii=False)` (tests/io/test_export.py holds them against that reference); only the
 few containers that hold containers are walked in Python. The text is written in pieces
 as it is made.
 """

@@ -3,7 +3,7 @@
 Each template is package data, `<type>.toml` beside this module, read with
 importlib.resources so that it works from a source tree, an installed wheel or a zip.
 Every template is a small realistic problem that passes `linkcli check` and solves
-with `linkcli synth` (tests/test_templates.py). No numerics here.
+with `linkcli synth` (tests/reading/test_templates.py). No numerics here.
 """
 
 from __future__ import annotations

@@ -1,0 +1,284 @@
+"""Drawn linkages (`mechanism = "drawn"`, docs/drawn.md) through the command line: the span
+that stops at a dead point (exit 1, the rows reached), two drives (a five-bar against its
+closed form written here), `check` without numpy, hostile drawings in bounded time, the
+linkage template's six-bar, CSV rows, the plot, the tolerance study, and the plan's
+structure (mobility, groups) on drawings built here."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from conftest import ROOT, run_cli
+
+DOUBLE_ROCKER = """type = "linkage"
+[linkage]
+mechanism = "drawn"
+[joints]
+A0 = {{ at = [0, 0], ground = true }}
+B0 = {{ at = [30, 0], ground = true }}
+A = {{ at = [6.945927106677214, 39.39231012048832] }}
+B = {{ at = [24.39, 44.6] }}
+[links]
+input = ["A0", "A"]
+coupler = ["A", "B"]
+output = ["B0", "B"]
+[drive]
+input = {{ speed = 10 }}
+[motion]
+steps = {steps}
+{span}
+"""
+
+
+def write(tmp_path, text: str, name: str = "drawn.toml"):
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return str(path)
+
+
+def test_a_span_the_drawing_cannot_cover_stops_at_the_dead_point_with_exit_1(tmp_path):
+    path = write(tmp_path, DOUBLE_ROCKER.format(steps=41, span="span = [-200, 200]"))
+    code, out, err = run_cli("synth", path, "--format", "json")
+    assert code == 1, err
+    rep = json.loads(out)
+    assert rep["status"] == "infeasible"
+    assert "cannot move over the asked span" in rep["message"] and "dead point at B" in rep["message"]
+    rows = rep["kinematics"]
+    assert 2 <= len(rows) < 41  # the rows reached, every one assembled
+    assert all(r["links"]["output"]["angle"] is not None for r in rows)
+    lo, hi = rep["motion"]["input_range"]
+    start = math.degrees(math.atan2(39.39231012048832, 6.945927106677214))
+    assert all(lo - 1e-9 <= r["input"] <= hi + 1e-9 for r in rows)
+    assert rows[0]["input"] >= start - 200 - 1e-9
+    # inside the reach, the same span is a clean run over every step
+    path = write(tmp_path, DOUBLE_ROCKER.format(steps=41, span="span = [-5, 5]"), "inside.toml")
+    code, out, _ = run_cli("synth", path, "--format", "json")
+    rep = json.loads(out)
+    assert code == 0 and len(rep["kinematics"]) == 41
+    assert rep["kinematics"][0]["input"] == pytest.approx(start - 5, abs=1e-3)
+    assert rep["kinematics"][-1]["input"] == pytest.approx(start + 5, abs=1e-3)
+
+
+FIVE_BAR = """type = "linkage"
+[linkage]
+mechanism = "drawn"
+[joints]
+A0 = { at = [0, 0], ground = true }
+B0 = { at = [60, 0], ground = true }
+A = { at = [0, 40] }
+B = { at = [60, 40] }
+P = { at = [30, 86.09772228646444] }
+[links]
+left = ["A0", "A"]
+right = ["B0", "B"]
+left_distal = ["A", "P"]
+right_distal = ["B", "P"]
+[drive]
+left = { speed = 20 }
+right = { speed = -20 }
+[motion]
+steps = 12
+span = [-30, 30]
+points = ["P"]
+"""
+
+
+def test_two_drives_move_together_and_place_the_five_bars_point(tmp_path):
+    """The right crank turns at minus the left's speed (a symmetric five-bar): P stays on the
+    symmetry line x = 30, at the height of the circles' upper intersection (written here)."""
+    code, out, err = run_cli("synth", write(tmp_path, FIVE_BAR), "--format", "json", "--precision", "12")
+    assert code == 0, err
+    rep = json.loads(out)
+    assert rep["grashof"]["mobility"] == 2 and rep["grashof"]["drives"] == 2
+    for row in rep["kinematics"]:
+        phi1 = math.radians(row["input"])
+        phi2 = math.radians(row["drives"]["right"])
+        assert phi1 + phi2 == pytest.approx(math.pi, abs=1e-5)  # mirror images
+        a = np.array([40 * math.cos(phi1), 40 * math.sin(phi1)])
+        b = np.array([60 + 40 * math.cos(phi2), 40 * math.sin(phi2)])
+        half = np.linalg.norm(b - a) / 2
+        height = math.sqrt(55 ** 2 - half ** 2)
+        mid = (a + b) / 2
+        up = np.array([-(b - a)[1], (b - a)[0]]) / (2 * half)
+        p = mid + height * up
+        assert row["points"]["P"]["x"] == pytest.approx(p[0], abs=1e-9)
+        assert row["points"]["P"]["y"] == pytest.approx(p[1], rel=1e-10)
+
+
+def test_check_of_a_drawing_imports_neither_numpy_nor_scipy():
+    code = ("import sys; from linkcli.cli import app\n"
+            "try:\n    app(['check', 'problems/drawn_stephenson.toml', 'tests/bad/drawn_not_rigid.toml'], "
+            "prog_name='linkcli')\nexcept SystemExit as e:\n    assert e.code == 2, e.code\n"
+            "heavy = [m for m in ('numpy', 'scipy') if m in sys.modules]\n"
+            "assert not heavy, heavy")
+    subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, cwd=ROOT)
+
+
+def chain(n: int) -> str:
+    """A crank followed by n - 1 four-bar loops in series (each rocker drives the next): 2n + 1
+    joints, 2n links."""
+    lines = ['type = "linkage"', "[linkage]", 'mechanism = "drawn"', "[joints]",
+             "G0 = { at = [0, 0], ground = true }", "M0 = { at = [0, 10] }"]
+    links = ['crank = ["G0", "M0"]']
+    for k in range(1, n):
+        lines.append(f"G{k} = {{ at = [{40 * k}, 0], ground = true }}")
+        lines.append(f"M{k} = {{ at = [{40 * k}, 30] }}")
+        links.append(f'c{k} = ["M{k - 1}", "M{k}"]')
+        links.append(f'r{k} = ["G{k}", "M{k}"]')
+    return "\n".join(lines + ["[links]"] + links + ["[drive]", "crank = { speed = 1 }",
+                                                     "[motion]", "steps = 8"]) + "\n"
+
+
+def test_hostile_drawings_are_answered_in_bounded_time(tmp_path):
+    """A chain of 300 loops checks (its plan is 300 dyads), and 1000 joints on one link are
+    refused with located lines: no traceback, no blow-up (the plan's search is budgeted)."""
+    code, out, err = run_cli("check", write(tmp_path, chain(300)))
+    assert code == 0, err
+    joints = "\n".join(f"J{k} = {{ at = [{k}, {k % 7}] }}" for k in range(999))
+    text = ('type = "linkage"\n[linkage]\nmechanism = "drawn"\n[joints]\nG = { at = [0, -1], ground = true }\n'
+            + joints + "\n[links]\nplate = [" + ", ".join(f'"J{k}"' for k in range(999))
+            + ', "G"]\nloose = ["J1", "J2"]\n[drive]\nplate = { speed = 1 }\n')
+    code, out, err = run_cli("check", write(tmp_path, text, "wide.toml"))
+    assert code == 2 and "Traceback" not in err
+    assert err.count("\n") <= 3
+
+
+def test_the_linkage_template_shows_a_drawn_six_bar_that_solves(tmp_path):
+    from linkcli.templates import template_text
+    text = template_text("linkage")
+    assert 'mechanism = "drawn"' in text
+    block = [line[4:] if line.startswith("#   ") else None for line in text.splitlines()]
+    start = text.splitlines().index(next(line for line in text.splitlines() if "A drawn linkage instead" in line))
+    drawn = [b for b in block[start + 1:] if b is not None]
+    assert any("Watt" in line or "six-bar" in line for line in text.splitlines()[start:start + 3])
+    problem = 'type = "linkage"\n' + "\n".join(drawn) + "\n"
+    code, out, err = run_cli("synth", write(tmp_path, problem), "--format", "json")
+    assert code == 0, err
+    assert json.loads(out)["grashof"]["class"].startswith("six-bar")
+
+
+def test_csv_rows_of_a_drawing_flatten_links_points_and_closures():
+    code, out, err = run_cli("synth", "problems/drawn_shaper.toml", "--format", "csv")
+    assert code == 0, err
+    header = out.splitlines()[0].split(",")
+    for column in ("input", "links.rocker.angle", "sliders.C.velocity", "transmission.C", "points.C.ax"):
+        assert column in header
+
+
+@pytest.mark.slow
+def test_plot_draws_a_drawing(tmp_path):
+    pytest.importorskip("matplotlib")
+    target = tmp_path / "jansen.png"
+    code, _, err = run_cli("synth", "problems/drawn_jansen.toml", "--plot", str(target))
+    assert code == 0, err
+    assert target.stat().st_size > 10_000
+
+
+@pytest.mark.slow
+def test_tolerance_of_a_drawing_grows_with_the_tolerance(tmp_path):
+    """The study runs over every distance (ground's included), and a looser tolerance gives a
+    larger deviation; exact parts deviate by 0."""
+    base = (ROOT / "problems" / "drawn_watt.toml").read_text(encoding="utf-8")
+    means = []
+    for t in (0.0, 0.02, 0.2):
+        text = base.replace("lengths = 0.05", f"lengths = {t}").replace("clearance = 0.02", "clearance = 0.0")
+        code, out, err = run_cli("synth", write(tmp_path, text, f"t{t}.toml"), "--format", "json")
+        assert code in (0, 1), err
+        tol = json.loads(out)["tolerance"]
+        means.append(tol["error_mean"])
+        assert "ground O2-O4" in tol["sensitivity"] and "rocker B-C" in tol["sensitivity"]
+    assert means[0] == 0.0 and 0 < means[1] < means[2]
+    assert means[2] == pytest.approx(10 * means[1], rel=0.05)  # first order in the tolerance
+
+
+def test_a_six_bar_with_a_slider_on_a_moving_link_and_a_linear_drive(tmp_path):
+    """An actuator (a driven slider on a cylinder pivoted at C0) lifts a rocker: the rocker's
+    angle is the triangle's closed form (law of cosines), written here."""
+    guide = math.degrees(math.atan2(34.64101615137754, -40.0))  # C0 -> P
+    text = f"""type = "linkage"
+[linkage]
+mechanism = "drawn"
+[joints]
+O = {{ at = [0, 0], ground = true }}
+C0 = {{ at = [60, 0], ground = true }}
+P = {{ at = [20, 34.64101615137754], slider = {guide!r}, guide = "cylinder" }}
+[links]
+arm = ["O", "P"]
+cylinder = ["C0", "P"]
+[drive]
+P = {{ speed = 5 }}
+[motion]
+steps = 5
+span = [-10, 10]
+"""
+    code, out, err = run_cli("synth", write(tmp_path, text), "--format", "json")
+    assert code == 0, err
+    rep = json.loads(out)
+    for row in rep["kinematics"]:
+        s = row["input"]  # the slider's place along the cylinder's guide from its frame origin
+        length = s  # C0 is the cylinder's origin and the guide runs through it
+        cos_angle = (40 ** 2 + 60 ** 2 - length ** 2) / (2 * 40 * 60)
+        assert row["links"]["arm"]["angle"] == pytest.approx(math.degrees(math.acos(cos_angle)), rel=1e-5)
+
+
+def test_a_drawn_result_file_is_refused_by_analyze_with_one_line(tmp_path):
+    code, out, _ = run_cli("synth", "problems/drawn_shaper.toml", "--format", "toml")
+    assert code == 0
+    path = write(tmp_path, out, "result.toml")
+    code, _, err = run_cli("analyze", path)
+    assert code == 2 and err.count("\n") == 1
+    assert "reads a drawn linkage from its problem file" in err
+
+
+def test_a_drawn_result_file_with_loads_is_refused_with_one_line_too(tmp_path):
+    """A drawn result keeps its [loads] and [masses] but not its drawing: their link and
+    joint names are not judged against a drawing that is not there (six more lines before,
+    each blaming a correct name)."""
+    code, out, _ = run_cli("synth", "problems/watt_strength.toml", "--format", "toml")
+    assert code == 0 and "[masses" in out
+    path = write(tmp_path, out, "result.toml")
+    code, _, err = run_cli("analyze", path)
+    assert code == 2 and err.count("\n") == 1
+    assert "reads a drawn linkage from its problem file" in err
+
+
+@pytest.mark.parametrize("speed", ["5e-324", "1e-300", "-1e-10"])
+def test_a_vanishing_drive_speed_is_one_located_line(tmp_path, speed):
+    """A drive's |speed| below 1e-9 (a denormal was read as 0 by the speed ratios: a
+    singular group blamed on `links` under `<input>`, and a numpy warning) is refused at
+    load on its line, naming drive.<name>.speed."""
+    text = open("problems/drawn_stephenson.toml").read().replace("crank = { speed = 30 }",
+                                                              f"crank = {{ speed = {speed} }}")
+    assert f"speed = {speed}" in text
+    path = write(tmp_path, text, "slow.toml")
+    line = text.splitlines().index(f"crank = {{ speed = {speed} }}") + 1
+    for command in ("check", "synth"):
+        code, out, err = run_cli(command, path)
+        assert code == 2 and out == ""
+        assert err == (f"{path}:{line}: drive.crank.speed: expected a non-zero number of magnitude "
+                       "1e-09 to 1e+09 (angle unit/s for a link, length unit/s for a slider), "
+                       f"found {float(speed)!r}\n"), err
+
+
+def test_an_error_raised_while_solving_names_the_file_and_prints_no_warning(tmp_path, monkeypatch, capfd):
+    """A SolveInputError raised deep in a solve (drawn groups) knows its key, not its file:
+    the pipeline gives it the file's name (never `<input>`), and numpy's warnings of the
+    solve stay off stderr."""
+    from linkcli import pipeline
+    from linkcli.errors import SolveInputError
+
+    def solve(problem):
+        np.array([0.0]) / np.array([0.0])  # a RuntimeWarning, were numpy not quieted
+        raise SolveInputError("links determined by the drawing", "a singular group", key="links")
+    monkeypatch.setattr(pipeline, "solve", solve)
+    outcome = pipeline.run("problems/drawn_stephenson.toml", pipeline.Request())
+    assert outcome.exit_code == 2
+    assert outcome.errors == ("problems/drawn_stephenson.toml: links: expected links determined "
+                              "by the drawing, found a singular group",)
+    assert "Warning" not in capfd.readouterr().err
