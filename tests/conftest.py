@@ -3,11 +3,20 @@
 from __future__ import annotations
 
 import os
+import sys
 from pathlib import Path
 
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
+
+# the tests live in folders that mirror the packages; some take an independent reference from
+# another test module (test_batch from test_kinematics, test_motion_scoring from
+# test_path_closure): every folder is importable, whichever is collected first
+for _folder in sorted(p for p in Path(__file__).resolve().parent.iterdir()
+                      if p.is_dir() and p.name not in ("golden", "bad", "data", "__pycache__")):
+    if str(_folder) not in sys.path:
+        sys.path.append(str(_folder))
 
 from linkcli.pipeline import single_threaded_blas  # noqa: E402
 
