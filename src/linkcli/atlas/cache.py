@@ -72,8 +72,13 @@ def cache_dir() -> str:
     return platformdirs.user_cache_dir("linkcli", appauthor=False)
 
 
+def atlas_path(size: int, seed: int) -> str:
+    """The cache's file for an atlas of `size` four-bars drawn with `seed`."""
+    return os.path.join(cache_dir(), f"atlas-v{store.VERSION}-{size}-{seed}.bin")
+
+
 def default_path() -> str:
-    return os.path.join(cache_dir(), f"atlas-v{store.VERSION}-{DEFAULT_SIZE}-{DEFAULT_SEED}.bin")
+    return atlas_path(DEFAULT_SIZE, DEFAULT_SEED)
 
 
 def say(text: str) -> None:
