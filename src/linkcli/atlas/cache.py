@@ -121,7 +121,7 @@ def _find() -> Atlas | None:
     path = default_path()
     try:
         return load(path)
-    except FileNotFoundError:
+    except (FileNotFoundError, NotADirectoryError):
         why = "not built yet"
     except store.AtlasFileError as exc:
         why = exc.reason

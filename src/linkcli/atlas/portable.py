@@ -66,7 +66,7 @@ def atan2(y, x) -> np.ndarray:
     a = 4.0 * (t + (t * t2) * _horner(t2, _ATAN))
     a = np.where(swap, HALF_PI - a, a)
     a = np.where(x < 0.0, PI - a, a)
-    return np.where(y < 0.0, -a, a)
+    return np.where(np.signbit(y), -a, a)
 
 
 def acos(c) -> np.ndarray:
