@@ -149,3 +149,17 @@ def test_the_atlas_is_loaded_by_free_timing_alone(args, loads):
     loaded = set(res.stderr.rsplit("LOADED ", 1)[1].split())
     assert ("linkcli.atlas.cache" in loaded) == loads
     assert ("linkcli.atlas.lookup" in loaded) == loads
+
+
+def test_bench_runs_free_timing_with_and_without_the_atlas():
+    from linkcli.bench import Run, settings_for, solve_run
+    from linkcli.io.load import load
+    from linkcli.io.safe_read import read_problem_bytes
+    path = "problems/bench/closed_curve12.toml"
+    source = read_problem_bytes(path)
+    settings = settings_for(load(path, source))
+    assert settings[:2] == [("auto", None, None), ("auto", None, False)]
+    assert ("auto", None, False) not in settings_for(load("problems/bench/closed18_timed.toml",
+                                                          read_problem_bytes("problems/bench/closed18_timed.toml")))
+    row = solve_run(Run(path, source, "auto", 30_000, 0, atlas=False))
+    assert row["method"] == "auto (no atlas)" and row["objective"] is not None

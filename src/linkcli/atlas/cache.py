@@ -32,9 +32,11 @@ _said: set[str] = set()
 
 class Atlas:
     """A loaded atlas: its four-bars (float64 copies of the stored float32 values), the
-    `closed` count (closed curves first), and both descriptor tables as float32 (integer
-    values, descriptors.QUANT: their products and sums below 2^24 are exact) with the
-    reciprocals of their norms (float32, IEEE-rounded: the same on every CPU)."""
+    `closed` count (closed curves first), and both descriptor tables, transposed (one
+    contiguous row per descriptor component, so that a lookup's elementwise work runs along
+    contiguous rows) as float32 (integer values, descriptors.QUANT: their products and sums
+    below 2^24 are exact), with the reciprocals of their norms (float32, IEEE-rounded: the
+    same on every CPU)."""
 
     def __init__(self, header: dict, arrays: dict[str, np.ndarray], path: str) -> None:
         from linkcli.atlas.family import Linkages
@@ -44,8 +46,8 @@ class Atlas:
         self.closed = int(header["closed"])
         self.linkages = Linkages(arrays["lengths"].astype(float), arrays["point"].astype(float),
                                  arrays["sign"].astype(float), arrays["kind"].astype(np.int8))
-        self.loops = arrays["loops"].astype(np.float32)
-        self.arcs = arrays["arcs"].astype(np.float32)
+        self.loops = np.ascontiguousarray(arrays["loops"].T, dtype=np.float32)
+        self.arcs = np.ascontiguousarray(arrays["arcs"].T, dtype=np.float32)
         self.loop_scale = _reciprocal_norms(self.loops)
         self.arc_scale = _reciprocal_norms(self.arcs)
 
@@ -57,9 +59,11 @@ class Atlas:
 
 
 def _reciprocal_norms(table: np.ndarray) -> np.ndarray:
-    """1 / |row|^2 (0 for a zero row): the squared norms are integer sums below 2^24, exact
-    in float32 whatever the order of the sum."""
-    norms = np.einsum("ij,ij->i", table, table)
+    """1 / |X|^2 of each descriptor (a column of the transposed table; 0 for a zero one):
+    the squared norms are integer sums below 2^24, exact in float32."""
+    norms = np.zeros(table.shape[1], dtype=np.float32)
+    for row in table:
+        norms += row * row
     with np.errstate(divide="ignore"):
         return np.where(norms > 0, np.float32(1.0) / norms, np.float32(0.0)).astype(np.float32)
 

@@ -93,20 +93,18 @@ def _columns(desc: np.ndarray, sense: int) -> tuple[np.ndarray, float]:
 
 
 def _similar(table: np.ndarray, scale: np.ndarray, queries: list, allowed_rows: np.ndarray):
-    """Per row the best of the queries: (|<X, Y>|^2 / (|X|^2 |Y|^2), which query), 0 where
-    the row is not allowed. The inner products are exact (integers below 2^24 in one
-    float32 product); the rest is elementwise float32, rounded alike on every CPU."""
+    """(score of each query and descriptor (q, rows), best score of each descriptor (rows,)):
+    |<X, Y>|^2 / (|X|^2 |Y|^2), 0 where the descriptor's curve is not allowed. The inner
+    products are exact (integers below 2^24 in one float32 product of the transposed
+    table); the rest is elementwise float32, rounded alike on every CPU."""
     cols = np.concatenate([c for c, _ in queries], axis=1).astype(np.float32)
-    dots = table @ cols
-    re, im = dots[:, 0::2], dots[:, 1::2]
+    dots = cols.T @ table  # (2 q, rows)
+    re, im = dots[0::2], dots[1::2]
     score = re * re
     score += im * im
-    score *= np.array([s for _, s in queries], dtype=np.float32)[None, :]
-    which = np.argmax(score, axis=1) if score.shape[1] > 1 else np.zeros(len(score), dtype=np.int64)
-    best = np.take_along_axis(score, which[:, None], axis=1)[:, 0]
-    best *= scale
-    best[~allowed_rows] = 0.0
-    return best, which
+    score *= np.array([s for _, s in queries], dtype=np.float32)[:, None]
+    score *= scale * allowed_rows
+    return score, score.max(axis=0)
 
 
 BLOCK = 64  # rows per block of the first pass of `_best`
@@ -129,7 +127,8 @@ def _best(score: np.ndarray, count: int) -> np.ndarray:
 
 
 def _rows_allowed(atlas: Atlas, ok: np.ndarray, table: str) -> np.ndarray:
-    """`ok` per curve, spread over the rows of the `loops` or `arcs` table."""
+    """`ok` per curve (1 or 0, float32), spread over the descriptors of the `loops` or `arcs` table."""
+    ok = ok.astype(np.float32)
     if table == "loops":
         return np.repeat(ok[:atlas.closed], LOOPS)
     return np.concatenate([np.repeat(ok[:atlas.closed], LOOP_REST), np.repeat(ok[atlas.closed:], OPEN_COUNT)])
@@ -141,21 +140,21 @@ def hits(design: Design, atlas: Atlas, ok: np.ndarray):
     each target (H, n))."""
     senses = {"ccw": (1,), "cw": (-1,)}.get(design.direction, (1, -1))
     desc, frac = descriptors.target_descriptors(design.targets, closed=False)
-    arc_score, arc_which = _similar(atlas.arcs, atlas.arc_scale, [_columns(desc[0], s) for s in senses],
+    arc_scores, arc_best = _similar(atlas.arcs, atlas.arc_scale, [_columns(desc[0], s) for s in senses],
                                     _rows_allowed(atlas, ok, "arcs"))
     plans = [[(s, frac, 0.0) for s in senses]]
-    scores, whiches = [arc_score], [arc_which]
+    scores, bests = [arc_scores], [arc_best]
     if looks_closed(design.targets):
         ring, ring_frac = descriptors.target_descriptors(design.targets, closed=True, shifts=LOOP_SHIFTS)
         plans.append([(s, ring_frac, j / LOOP_SHIFTS) for j in range(LOOP_SHIFTS) for s in senses])
-        loop_score, loop_which = _similar(atlas.loops, atlas.loop_scale,
+        loop_scores, loop_best = _similar(atlas.loops, atlas.loop_scale,
                                           [_columns(ring[j], s) for j in range(LOOP_SHIFTS) for s in senses],
                                           _rows_allowed(atlas, ok, "loops"))
-        scores.append(loop_score)
-        whiches.append(loop_which)
-    picked = _best(np.concatenate(scores), HITS)
-    in_arcs = picked < len(arc_score)
-    table_row = np.where(in_arcs, picked, picked - len(arc_score))
+        scores.append(loop_scores)
+        bests.append(loop_best)
+    picked = _best(np.concatenate(bests), HITS)
+    in_arcs = picked < len(arc_best)
+    table_row = np.where(in_arcs, picked, picked - len(arc_best))
     curve = np.zeros(len(picked), dtype=np.int64)
     slot = np.zeros(len(picked), dtype=np.int64)
     for name, mine in (("arcs", in_arcs), ("loops", ~in_arcs)):
@@ -172,7 +171,8 @@ def hits(design: Design, atlas: Atlas, ok: np.ndarray):
     sense = np.zeros(len(picked))
     shares = np.zeros((len(picked), design.n_targets))
     for i, (arc, row) in enumerate(zip(in_arcs, table_row)):
-        s, f, shift = plans[0 if arc else 1][int((whiches[0] if arc else whiches[1])[row])]
+        which = int(np.argmax(scores[0 if arc else 1][:, row]))  # the first best query: ties alike everywhere
+        s, f, shift = plans[0 if arc else 1][which]
         position = f if arc else np.mod(f - shift, 1.0)
         sense[i] = s
         shares[i] = position if s > 0 else 1.0 - position
