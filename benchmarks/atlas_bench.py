@@ -58,10 +58,14 @@ def run(path: str, seed: int, env: dict) -> dict:
     wall = time.perf_counter() - t0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    report = json.loads(res.stdout)
-    return {"wall": wall, "cpu": cpu, "rss_mb": after.ru_maxrss / 1024, "status": report["status"],
-            "objective": report["error"]["objective"], "evaluations": report["solver"]["evaluations"],
-            "stderr": res.stderr.strip()}
+    try:
+        report = json.loads(res.stdout)
+        status, objective = report["status"], report["error"]["objective"]
+        evaluations = report["solver"]["evaluations"]
+    except (ValueError, KeyError, TypeError):
+        status, objective, evaluations = f"error (exit {res.returncode})", float("inf"), None
+    return {"wall": wall, "cpu": cpu, "status": status, "objective": objective, "evaluations": evaluations,
+            "stderr": res.stderr.strip()[-300:]}
 
 
 def main() -> None:
@@ -91,10 +95,10 @@ def main() -> None:
                              at_best=best is not None and r["objective"] <= max(best * (1 + 1e-6), floor))
                     rows.append(r)
                     print(f"{r['problem']:16s} {label:8s} seed {seed}: {r['wall']:6.2f} s wall {r['cpu']:6.2f} s cpu "
-                          f"{r['rss_mb']:5.0f} MB {r['status']:13s} {r['objective']:.6g} (best {best})"
+                          f"{r['status']:13s} {r['objective']:.10g} (best {best})"
                           + (f"  [{r['stderr']}]" if r["stderr"] else ""), flush=True)
     print()
-    print("| problem | points | setting | runs ok at best | median s | max s | median cpu s | peak MB |")
+    print("| problem | points | setting | runs ok at best | median s | max s | median cpu s | max cpu s |")
     print("|---|---|---|---|---|---|---|---|")
     for problem in dict.fromkeys(r["problem"] for r in rows):
         for label in ("atlas", "no atlas"):
@@ -102,7 +106,7 @@ def main() -> None:
             ok = sum(r["status"] == "ok" and r["at_best"] for r in rs)
             print(f"| {problem} | {rs[0]['points']} | {label} | {ok}/{len(rs)} | {statistics.median(r['wall'] for r in rs):.2f} | "
                   f"{max(r['wall'] for r in rs):.2f} | {statistics.median(r['cpu'] for r in rs):.2f} | "
-                  f"{max(r['rss_mb'] for r in rs):.0f} |")
+                  f"{max(r['cpu'] for r in rs):.2f} |")
     for label in ("atlas", "no atlas"):
         rs = [r for r in rows if r["setting"] == label]
         print(f"{label}: median {statistics.median(r['wall'] for r in rs):.2f} s, max {max(r['wall'] for r in rs):.2f} s "

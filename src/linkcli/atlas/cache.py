@@ -32,11 +32,11 @@ _said: set[str] = set()
 
 class Atlas:
     """A loaded atlas: its four-bars (float64 copies of the stored float32 values), the
-    `closed` count (closed curves first), and both descriptor tables, transposed (one
-    contiguous row per descriptor component, so that a lookup's elementwise work runs along
-    contiguous rows) as float32 (integer values, descriptors.QUANT: their products and sums
-    below 2^24 are exact), with the reciprocals of their norms (float32, IEEE-rounded: the
-    same on every CPU)."""
+    `closed` count (closed curves first), and both descriptor tables as float32 blocks
+    (store.read: (blocks, 10, store.BLOCK_ROWS), each block's descriptors as contiguous
+    columns, zero-padded) of integer values (descriptors.QUANT: their products and sums
+    below 2^24 are exact), with the reciprocals of their norms (blocks, BLOCK_ROWS)
+    (float32, IEEE-rounded: the same on every CPU; 0 for padding), and the real row counts."""
 
     def __init__(self, header: dict, arrays: dict[str, np.ndarray], path: str) -> None:
         from linkcli.atlas.family import Linkages
@@ -46,24 +46,28 @@ class Atlas:
         self.closed = int(header["closed"])
         self.linkages = Linkages(arrays["lengths"].astype(float), arrays["point"].astype(float),
                                  arrays["sign"].astype(float), arrays["kind"].astype(np.int8))
-        self.loops = np.ascontiguousarray(arrays["loops"].T, dtype=np.float32)
-        self.arcs = np.ascontiguousarray(arrays["arcs"].T, dtype=np.float32)
+        self.loops = arrays["loops"]  # store.read(..., as_float32=True): float32 blocks
+        self.arcs = arrays["arcs"]
+        shapes = {s["name"]: s["shape"] for s in header["sections"]}
+        self.loop_rows, self.arc_rows = int(shapes["loops"][0]), int(shapes["arcs"][0])
+        # (size, 6) ground 1, input, coupler, output, coupler point: each four-bar at its own size
+        self.shapes = np.concatenate([np.ones((self.size, 1)), self.linkages.lengths, self.linkages.point], axis=1)
         self.loop_scale = _reciprocal_norms(self.loops)
         self.arc_scale = _reciprocal_norms(self.arcs)
 
     @property
     def nbytes(self) -> int:
         return sum(a.nbytes for a in (self.linkages.lengths, self.linkages.point, self.linkages.sign,
-                                      self.linkages.kind, self.loops, self.arcs, self.loop_scale,
+                                      self.linkages.kind, self.shapes, self.loops, self.arcs, self.loop_scale,
                                       self.arc_scale))
 
 
 def _reciprocal_norms(table: np.ndarray) -> np.ndarray:
-    """1 / |X|^2 of each descriptor (a column of the transposed table; 0 for a zero one):
-    the squared norms are integer sums below 2^24, exact in float32."""
-    norms = np.zeros(table.shape[1], dtype=np.float32)
-    for row in table:
-        norms += row * row
+    """1 / |X|^2 of each descriptor (blocks, BLOCK_ROWS) (0 for a zero one: padding): the
+    squared norms are integer sums below 2^24, exact in float32."""
+    norms = np.zeros((table.shape[0], table.shape[2]), dtype=np.float32)
+    for k in range(table.shape[1]):
+        norms += table[:, k] * table[:, k]
     with np.errstate(divide="ignore"):
         return np.where(norms > 0, np.float32(1.0) / norms, np.float32(0.0)).astype(np.float32)
 
@@ -95,7 +99,7 @@ def say(text: str) -> None:
 
 
 def load(path: str) -> Atlas:
-    header, arrays = store.read(path)
+    header, arrays = store.read(path, as_float32=True)
     return Atlas(header, arrays, path)
 
 

@@ -67,8 +67,7 @@ def allowed(design: Design, atlas: Atlas) -> np.ndarray:
         ok &= lk.kind == CLASS_CODES[design.grashof]
     if design.branch != "either":
         ok &= lk.sign == (-1.0 if design.branch == "open" else 1.0)
-    x = normalized(atlas, np.arange(len(lk)), N_LINK)
-    lo, hi = path_starts.scale_interval(design, x)
+    lo, hi = path_starts.scale_interval(design, atlas.shapes)
     ok &= lo <= hi
     if design.window is not None:
         a, b, c = lk.lengths.T
@@ -92,19 +91,38 @@ def _columns(desc: np.ndarray, sense: int) -> tuple[np.ndarray, float]:
     return np.stack([np.concatenate([re, im]), np.concatenate([-im, re])], axis=1), 1.0 / max(size, 1.0)
 
 
-def _similar(table: np.ndarray, scale: np.ndarray, queries: list, allowed_rows: np.ndarray):
-    """(score of each query and descriptor (q, rows), best score of each descriptor (rows,)):
-    |<X, Y>|^2 / (|X|^2 |Y|^2), 0 where the descriptor's curve is not allowed. The inner
-    products are exact (integers below 2^24 in one float32 product of the transposed
-    table); the rest is elementwise float32, rounded alike on every CPU."""
-    cols = np.concatenate([c for c, _ in queries], axis=1).astype(np.float32)
+def _scores(table: np.ndarray, scale: np.ndarray, cols: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+    """(q, rows) |<X, Y>|^2 / (|X|^2 |Y|^2) of descriptors `table` (10, rows) and the q
+    queries (`cols` (10, 2 q) and 1 / their squared norms `sizes`), `scale` the descriptors'
+    1 / |X|^2 (0 for a curve not allowed). The inner products are exact (integers below
+    2^24 in one float32 product); the rest is elementwise float32, rounded alike on every CPU."""
     dots = cols.T @ table  # (2 q, rows)
     re, im = dots[0::2], dots[1::2]
     score = re * re
     score += im * im
-    score *= np.array([s for _, s in queries], dtype=np.float32)[:, None]
-    score *= scale * allowed_rows
-    return score, score.max(axis=0)
+    score *= sizes[:, None]
+    score *= scale
+    return score
+
+
+def _similar(table: np.ndarray, scale: np.ndarray, rows: int, queries: list, allowed_rows: np.ndarray):
+    """The best score of each of the `rows` descriptors over the queries (`_scores`), block
+    by block of the atlas's tables (cache.Atlas), and a function giving every query's
+    score of given rows."""
+    cols = np.concatenate([c for c, _ in queries], axis=1).astype(np.float32)
+    sizes = np.array([s for _, s in queries], dtype=np.float32)
+    width = table.shape[2]
+    allowed = np.zeros(table.shape[0] * width, dtype=np.float32)
+    allowed[:rows] = allowed_rows
+    masked = scale * allowed.reshape(scale.shape)
+    best = np.empty(masked.shape, dtype=np.float32)
+    for b in range(table.shape[0]):
+        best[b] = _scores(table[b], masked[b], cols, sizes).max(axis=0)
+
+    def of(picked: np.ndarray) -> np.ndarray:
+        blk, col = np.divmod(picked, width)
+        return _scores(table[blk, :, col].T, masked[blk, col], cols, sizes)
+    return best.ravel()[:rows], of
 
 
 BLOCK = 64  # rows per block of the first pass of `_best`
@@ -140,14 +158,15 @@ def hits(design: Design, atlas: Atlas, ok: np.ndarray):
     each target (H, n))."""
     senses = {"ccw": (1,), "cw": (-1,)}.get(design.direction, (1, -1))
     desc, frac = descriptors.target_descriptors(design.targets, closed=False)
-    arc_scores, arc_best = _similar(atlas.arcs, atlas.arc_scale, [_columns(desc[0], s) for s in senses],
+    arc_best, arc_scores = _similar(atlas.arcs, atlas.arc_scale, atlas.arc_rows,
+                                    [_columns(desc[0], s) for s in senses],
                                     _rows_allowed(atlas, ok, "arcs"))
     plans = [[(s, frac, 0.0) for s in senses]]
     scores, bests = [arc_scores], [arc_best]
     if looks_closed(design.targets):
         ring, ring_frac = descriptors.target_descriptors(design.targets, closed=True, shifts=LOOP_SHIFTS)
         plans.append([(s, ring_frac, j / LOOP_SHIFTS) for j in range(LOOP_SHIFTS) for s in senses])
-        loop_scores, loop_best = _similar(atlas.loops, atlas.loop_scale,
+        loop_best, loop_scores = _similar(atlas.loops, atlas.loop_scale, atlas.loop_rows,
                                           [_columns(ring[j], s) for j in range(LOOP_SHIFTS) for s in senses],
                                           _rows_allowed(atlas, ok, "loops"))
         scores.append(loop_scores)
@@ -171,7 +190,7 @@ def hits(design: Design, atlas: Atlas, ok: np.ndarray):
     sense = np.zeros(len(picked))
     shares = np.zeros((len(picked), design.n_targets))
     for i, (arc, row) in enumerate(zip(in_arcs, table_row)):
-        which = int(np.argmax(scores[0 if arc else 1][:, row]))  # the first best query: ties alike everywhere
+        which = int(np.argmax(scores[0 if arc else 1](np.array([row]))[:, 0]))  # the first best query: ties alike everywhere
         s, f, shift = plans[0 if arc else 1][which]
         position = f if arc else np.mod(f - shift, 1.0)
         sense[i] = s

@@ -107,9 +107,17 @@ def read_header(handle) -> dict:
     return header
 
 
-def read(path: str) -> tuple[dict, dict[str, np.ndarray]]:
+TABLES = ("loops", "arcs")  # the descriptor tables: `read(..., as_float32=True)` converts them
+BLOCK_ROWS = 1 << 16  # descriptor rows read, checked and converted at a time: one block
+
+
+def read(path: str, as_float32: bool = False) -> tuple[dict, dict[str, np.ndarray]]:
     """(header, {section name: array}) of the atlas at `path`; AtlasFileError when it is
-    not a usable atlas of this version (OSError when it cannot be read)."""
+    not a usable atlas of this version (OSError when it cannot be read). With `as_float32`
+    the descriptor tables come as float32 blocks (what a lookup uses): (blocks, width,
+    BLOCK_ROWS), block b holding rows b BLOCK_ROWS .. transposed (each a contiguous matrix
+    for one product), the last padded with zeros; converted block by block as they are
+    read, so that the file's int16 copy is never held whole."""
     with open(path, "rb") as handle:
         header = read_header(handle)
         try:
@@ -120,27 +128,36 @@ def read(path: str) -> tuple[dict, dict[str, np.ndarray]]:
         except (KeyError, TypeError, ValueError):
             raise AtlasFileError("damaged header") from None
         sizes = [dt.itemsize * int(np.prod(shape)) for _, dt, shape in specs]
-        if sum(sizes) != expected or any(dt.kind not in "fi" for _, dt, _ in specs):
+        if (sum(sizes) != expected or any(dt.kind not in "fi" for _, dt, _ in specs)
+                or any(len(shape) != 2 for name, _, shape in specs if name in TABLES)):
             raise AtlasFileError("damaged header")
-        payload = bytearray(expected)
-        view = memoryview(payload)
-        got, check = 0, 0
-        while got < expected:
-            n = handle.readinto(view[got:got + READ_BLOCK])
-            if not n:
-                break
-            check = zlib.crc32(view[got:got + n], check)
-            got += n
-        if got < expected:
-            raise AtlasFileError(f"truncated ({got:,} of its {expected:,} bytes of tables)")
+        arrays, got, check = {}, 0, 0
+        for (name, dt, shape), nbytes in zip(specs, sizes):
+            if as_float32 and name in TABLES:
+                rows, width = shape
+                out = np.zeros((max(1, -(-rows // BLOCK_ROWS)), width, BLOCK_ROWS), dtype=np.float32)
+                step = BLOCK_ROWS * width * dt.itemsize
+                for block, at in enumerate(range(0, rows, BLOCK_ROWS)):
+                    want = min(step, nbytes - at * width * dt.itemsize)
+                    chunk = handle.read(want)
+                    got += len(chunk)
+                    check = zlib.crc32(chunk, check)
+                    if len(chunk) < want:
+                        raise AtlasFileError(f"truncated ({got:,} of its {expected:,} bytes of tables)")
+                    part = np.frombuffer(chunk, dtype=dt).reshape(-1, width).T
+                    out[block, :, :part.shape[1]] = part
+                arrays[name] = out
+                continue
+            chunk = handle.read(nbytes)
+            got += len(chunk)
+            check = zlib.crc32(chunk, check)
+            if len(chunk) < nbytes:
+                raise AtlasFileError(f"truncated ({got:,} of its {expected:,} bytes of tables)")
+            arrays[name] = np.frombuffer(chunk, dtype=dt).reshape(shape)
         if handle.read(1):
             raise AtlasFileError("longer than its header says")
         if check != crc:
             raise AtlasFileError("checksum mismatch (the file is damaged)")
-    arrays, at = {}, 0
-    for (name, dt, shape), nbytes in zip(specs, sizes):
-        arrays[name] = np.frombuffer(payload, dtype=dt, count=int(np.prod(shape)), offset=at).reshape(shape)
-        at += nbytes
     need = {"lengths", "point", "sign", "kind", "loops", "arcs"}
     if not need <= set(arrays):
         raise AtlasFileError("damaged header (a section is missing)")
