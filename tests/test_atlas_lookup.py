@@ -163,3 +163,45 @@ def test_bench_runs_free_timing_with_and_without_the_atlas():
                                                           read_problem_bytes("problems/bench/closed18_timed.toml")))
     row = solve_run(Run(path, source, "auto", 30_000, 0, atlas=False))
     assert row["method"] == "auto (no atlas)" and row["objective"] is not None
+
+
+STARTS_PROGRAM = """\
+import hashlib, json, sys
+from linkcli.pipeline import single_threaded_blas
+single_threaded_blas()
+from linkcli.atlas import cache, lookup
+from linkcli.io.load import load
+from linkcli.io.safe_read import read_problem_bytes
+from linkcli.types.path_generation.model import build
+out, starts = hashlib.sha256(), []
+atlas = cache.get()
+for path in sys.argv[1:]:
+    design = build(load(path, read_problem_bytes(path)))
+    for a in lookup.hits(design, atlas, lookup.allowed(design, atlas)):
+        out.update(a.tobytes())
+    starts.append(lookup.starts(design, atlas, 96)[0].tolist())
+sys.stdout.write(json.dumps([out.hexdigest(), starts]))
+"""
+
+
+def test_the_same_starts_with_other_cpu_kernels():
+    """The lookup's scores are exact integer products and IEEE-rounded float32 elementwise
+    work: the same stretches found, to the bit, under another OpenBLAS kernel and without
+    numpy's wider vector loops; placed back by the search's own closed forms (numpy's sin,
+    cos and hypot, which follow the CPU in the last bit, as for the draws), the same starts
+    to round-off."""
+    import json
+    import os
+    files = ["problems/bench/free_closed24.toml", "problems/bench/free_open40.toml",
+             "problems/bench/free_rocker30.toml", "problems/straight_line.toml"]
+    found = []
+    for extra in ({}, {"NPY_DISABLE_CPU_FEATURES": "X86_V3,X86_V4,AVX512_ICL,AVX512_SPR"},
+                  {"OPENBLAS_CORETYPE": "Prescott"}):
+        res = subprocess.run([sys.executable, "-c", STARTS_PROGRAM] + files, capture_output=True, text=True,
+                             env=dict(os.environ, **extra), cwd=ROOT)
+        assert res.returncode == 0, res.stderr
+        found.append(json.loads(res.stdout))
+    assert len({digest for digest, _ in found}) == 1
+    for _, starts in found[1:]:
+        for mine, theirs in zip(found[0][1], starts):
+            np.testing.assert_allclose(np.array(theirs), np.array(mine), rtol=1e-9, atol=1e-9)
