@@ -55,3 +55,27 @@ def run_cli(*args: str):
     from linkcli.cli import app
     result = CliRunner().invoke(app, list(args), catch_exceptions=False)
     return result.exit_code, result.stdout, result.stderr
+
+
+TEST_CACHE = ROOT / "build" / "test-cache"  # the atlas the tests' free-timing searches use (git-ignored)
+
+
+def pytest_configure(config):
+    """Every test's free-timing search (and every linkcli it starts) uses one atlas, built
+    once into TEST_CACHE (kept between sessions; under xdist one worker builds it while the
+    others wait on a lock), never the developer's own cache."""
+    os.environ.setdefault("LINKCLI_CACHE_DIR", str(TEST_CACHE))
+    os.environ.pop("LINKCLI_ATLAS", None)
+    folder = Path(os.environ["LINKCLI_CACHE_DIR"])
+    folder.mkdir(parents=True, exist_ok=True)
+    import fcntl
+    with open(folder / ".build-lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        from linkcli.atlas import cache, store
+        path = cache.default_path()
+        try:
+            store.read(path)
+        except (OSError, store.AtlasFileError):
+            from linkcli.atlas.build import build
+            tables = build(cache.DEFAULT_SIZE, cache.DEFAULT_SEED)
+            store.write(path, store.encode(tables, cache.DEFAULT_SIZE, cache.DEFAULT_SEED))

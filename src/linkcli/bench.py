@@ -28,12 +28,23 @@ COLUMNS = ("problem", "method", "budget", "seed", "seconds", "evaluations", "obj
            "best_known", "gap", "status")
 
 
-def settings_for(problem) -> list[tuple[str, int | None]]:
+NO_ATLAS = " (no atlas)"  # the method column of a run with [solver] atlas = false (linkcli.atlas)
+
+
+def settings_for(problem) -> list[tuple[str, int | None, bool | None]]:
+    """(method, budget, atlas) of each setting: the type's settings (atlas as the file
+    says), and for a search that uses the coupler-curve atlas, `auto` once more with
+    atlas = false, so that the bench shows both sides."""
+    from linkcli.atlas import applies
     from linkcli.registry import problem_type
     spec = problem_type(problem.meta.type)
     if spec.bench_settings:
-        return list(spec.bench_settings)
-    return [(m, problem.meta.solver.budget) for m in spec.methods]
+        out = [(m, b, None) for m, b in spec.bench_settings]
+    else:
+        out = [(m, problem.meta.solver.budget, None) for m in spec.methods]
+    if applies(problem):
+        out.insert(1, ("auto", None, False))
+    return out
 
 
 class Run(NamedTuple):
@@ -47,6 +58,7 @@ class Run(NamedTuple):
     budget: int | None
     seed: int
     debug: bool = False
+    atlas: bool | None = None  # [solver] atlas for this run (None: as the file says)
 
 
 class RunOutcome(NamedTuple):
@@ -66,8 +78,8 @@ def runs_of(path: str, seeds: int, debug: bool = False, text: str | None = None)
     from linkcli.io.safe_read import read_problem_bytes
     source = read_problem_bytes(path) if text is None else text
     problem = load(path, source)
-    return [Run(path, source, method, budget, seed, debug)
-            for method, budget in settings_for(problem) for seed in range(seeds)]
+    return [Run(path, source, method, budget, seed, debug, atlas)
+            for method, budget, atlas in settings_for(problem) for seed in range(seeds)]
 
 
 def run_one(run: Run) -> RunOutcome:
@@ -98,14 +110,16 @@ def solve_run(run: Run) -> dict:
     problem = load(run.path, run.source)
     import scipy.optimize  # noqa: F401  imported before any timing, so that no row pays for it
     best = problem.meta.reference.objective if problem.meta.reference else None
-    opts = replace(problem.meta.solver, method=run.method, seed=run.seed, budget=run.budget)
+    opts = replace(problem.meta.solver, method=run.method, seed=run.seed, budget=run.budget,
+                   atlas=problem.meta.solver.atlas if run.atlas is None else run.atlas)
     problem = replace(problem, meta=replace(problem.meta, solver=opts))
     t0 = time.perf_counter()
     sol = solve(problem)
     seconds = time.perf_counter() - t0
     obj = printed_objective(problem, sol)
     return {
-        "problem": run.path, "method": run.method, "budget": run.budget, "seed": run.seed,
+        "problem": run.path, "method": run.method + (NO_ATLAS if run.atlas is False else ""),
+        "budget": run.budget, "seed": run.seed,
         "seconds": seconds, "evaluations": sol.solver.evaluations if sol.solver is not None else None,
         "objective": obj, "best_known": best,
         "gap": gap(obj, best) if (obj is not None and best is not None) else None,

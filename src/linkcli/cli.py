@@ -1,4 +1,4 @@
-"""The command line: synth, analyze, check, bench, new; their options and exit codes.
+"""The command line: synth, analyze, check, bench, new, atlas build; their options and exit codes.
 
 The work is `linkcli.pipeline` (load -> solve -> analyse); this module catches
 `LinkcliError` only and maps it to exit codes (0 solved, 1 infeasible or not
@@ -504,6 +504,26 @@ def new(type_name: str = typer.Argument(..., metavar="TYPE", help="The problem t
         _err(f"{file}: expected a writable new file, found {exc.strerror or exc}")
         raise typer.Exit(2)
     raise typer.Exit(0)
+
+
+atlas_app = typer.Typer(add_completion=False, no_args_is_help=True, rich_markup_mode=None,
+                        pretty_exceptions_enable=False,
+                        help="The coupler-curve atlas that free-timing path searches start from.")
+app.add_typer(atlas_app, name="atlas")
+
+
+@atlas_app.command("build", cls=PlainUsage)
+def atlas_build(out: Optional[Path] = typer.Option(None, "--out", metavar="PATH",
+                                                   help="Write the atlas here (default: the user's cache, "
+                                                        "where searches look for it)."),
+                size: int = typer.Option(100_000, "--size", metavar="N", help="Four-bars in the atlas."),
+                seed: int = typer.Option(0, "--seed", metavar="N", help="Seed of the draws.", min=0, max=2**32 - 1)) -> None:
+    """Build the coupler-curve atlas (deterministic: the same bytes for the same size and
+    seed on every machine)."""
+    from linkcli.atlas.command import build_command
+    with _interruptible():
+        code = build_command(None if out is None else str(out), size, seed)
+    raise typer.Exit(code)
 
 
 def main() -> None:

@@ -33,6 +33,7 @@ class ProblemType(NamedTuple):
     sections: tuple[str, ...]  # every section the type can report
     tolerance: bool  # reads a [tolerance] table
     bench_settings: tuple[tuple[str, int | None], ...] = ()  # (method, budget); () -> each method
+    atlas: bool = False  # reads [solver] atlas (linkcli.atlas: free-timing path starts)
 
     def module(self, name: str):
         """`schema`, `solve`, `sections` or `plot` of this type, imported on demand."""

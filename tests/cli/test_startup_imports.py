@@ -26,6 +26,7 @@ MUST_NOT_LOAD = (
     "linkcli.analysis.forces", "linkcli.analysis.loads", "linkcli.analysis.tolerance",
     "linkcli.analysis.strength", "linkcli.mechanisms.four_bar.loads", "linkcli.mechanisms.four_bar.tolerance",
     "linkcli.search", "linkcli.plot",
+    "linkcli.atlas",  # the coupler-curve atlas: free-timing path searches only
     "rich.progress", "typer.rich_utils",
 )
 

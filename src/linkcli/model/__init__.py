@@ -53,6 +53,7 @@ class SolverOptions:
     method: str = "auto"
     seed: int = 0
     budget: int | None = None
+    atlas: bool | None = None  # [solver] atlas (path generation, free timing): None = the default, on
 
 
 @dataclass(frozen=True)

@@ -76,7 +76,7 @@ def read_meta(root: Table, kind: str, spec: ProblemType) -> Meta:
     against the vocabulary of its type."""
     title = root.string("title", None, max_len=200)
     units = read_units(root)
-    solver = read_solver(root, spec.methods)
+    solver = read_solver(root, spec.methods, spec.atlas)
     reference = read_reference(root)
     tolerance = read_tolerance(root, units) if spec.tolerance else None
     sections = read_sections(root, spec.default_sections, spec.sections)
@@ -158,14 +158,15 @@ def read_units(root: Table) -> Units:
     return Units(length=length or "mm", angle=angle or "deg")
 
 
-def read_solver(root: Table, methods: tuple[str, ...]) -> SolverOptions:
+def read_solver(root: Table, methods: tuple[str, ...], atlas_key: bool = False) -> SolverOptions:
     t = root.table("solver")
     if t is None:
         return SolverOptions()
     method = t.string("method", "auto", choices=methods)
     seed = t.number("seed", 0, integer=True, lo=0, hi=2**32 - 1)
     budget = t.number("budget", None, integer=True, lo=1, hi=MAX_BUDGET)
-    return SolverOptions(method=method or "auto", seed=seed or 0, budget=budget)
+    atlas = t.boolean("atlas", None) if atlas_key else None  # linkcli.atlas, docs/atlas.md
+    return SolverOptions(method=method or "auto", seed=seed or 0, budget=budget, atlas=atlas)
 
 
 def read_reference(root: Table) -> Reference | None:

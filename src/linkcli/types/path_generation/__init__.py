@@ -13,6 +13,7 @@ TYPE = ProblemType(
     sections=("lengths", "grashof", "transmission", "motion", "kinematics", "positions", "error",
               "solver", "tolerance", "forces", "strength"),
     tolerance=True,
+    atlas=True,
     bench_settings=(("auto", None), ("least-squares", 50_000), ("de-polish", 200_000),
                     ("differential-evolution", 20_000), ("differential-evolution", 200_000)),  # (method, budget) for `linkcli bench`; None: the default budget
 )

@@ -1,0 +1,259 @@
+"""Look target points up in the atlas and place the nearest curves back as starts (numpy).
+
+1. Which atlas four-bars may serve (`allowed`): the Grashof class and branch asked for;
+   a shape whose lengths and coupler point some one scale brings inside every bound
+   (`starts.scale_interval`); for an input that must turn fully, the transmission window
+   over the turn (mu at rho = |d - a| and d + a).
+2. The target as a stretch (`descriptors`): as given (its points in order) against every
+   stretch of the `arcs` table; when it looks closed (the gap from its last point back to
+   its first at most CLOSING times its median gap) also as a loop, described from
+   LOOP_SHIFTS starts around itself, against the whole loops. Each direction the input may
+   turn: the target run backwards (X_k (-1)^k) against the curves traced forwards.
+   Similarity |<X, Y>|^2 / (|X|^2 |Y|^2), its inner products exact (integer descriptors,
+   one float32 matrix product); the HITS best (ties: the lower row first).
+3. Each hit placed back: its stretch's start and length give every target an arc-length
+   position on the curve (the target's chord-length share), hence an input angle
+   (interpolated on the curve traced again, `family`); LOCAL hypotheses around it (the
+   start moved by SHIFTS of the stretch, its length scaled by SCALES) are fitted by the
+   closed-form similarity of `starts.similarity` (scale within the bounds, a fixed pivot
+   or ground angle kept), the best kept; then the best per four-bar, best first, and the
+   coupler point and pivot by `starts.fit_linear`.
+
+Returns the design's own variables (path_generation.model): lengths and coupler point
+scaled, ground angle, pivot, first input angle and the increments, with branch signs and
+turning directions, in the target's frame.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from linkcli.atlas import descriptors, family
+from linkcli.atlas.build import LOOP_REST, LOOPS, OPEN_COUNT, stretch_of
+from linkcli.atlas.cache import Atlas
+from linkcli.types.path_generation import starts as path_starts
+from linkcli.types.path_generation.model import N_LINK, SHORTEST, Design
+
+HITS = 160  # nearest stretches placed back
+LOOP_SHIFTS = 4  # a closed target is described from this many starts around itself
+CLOSING = 2.5  # a target whose closing gap is at most this many median gaps may be a loop
+SHIFTS = (-0.12, 0.0, 0.12)  # local hypotheses: the stretch's start moved by these shares of it,
+SCALES = (0.8, 1.0, 1.25)  # and its length scaled by these
+CLASS_CODES = {name: k for k, name in enumerate(family.CLASSES)}
+
+
+def looks_closed(points: np.ndarray) -> bool:
+    gaps = np.sqrt(np.sum(np.diff(points, axis=0) ** 2, axis=1))
+    closing = math.sqrt(float(np.sum((points[-1] - points[0]) ** 2)))
+    return len(points) >= 5 and closing <= CLOSING * float(np.median(gaps))
+
+
+def normalized(atlas: Atlas, rows: np.ndarray, nx: int) -> np.ndarray:
+    """(len(rows), nx) design vectors of atlas four-bars at their own size (ground 1)."""
+    x = np.zeros((len(rows), nx))
+    x[:, 0] = 1.0
+    x[:, 1:4] = atlas.linkages.lengths[rows]
+    x[:, 4:6] = atlas.linkages.point[rows]
+    return x
+
+
+def allowed(design: Design, atlas: Atlas) -> np.ndarray:
+    """(size,) bool: the four-bars that may serve this design (module docstring, 1)."""
+    lk = atlas.linkages
+    ok = np.ones(len(lk), dtype=bool)
+    if design.grashof != "any":
+        ok &= lk.kind == CLASS_CODES[design.grashof]
+    if design.branch != "either":
+        ok &= lk.sign == (-1.0 if design.branch == "open" else 1.0)
+    lo, hi = path_starts.scale_interval(design, atlas.shapes)
+    ok &= lo <= hi
+    if design.window is not None:
+        a, b, c = lk.lengths.T
+        cos_mu = lambda r: (b * b + c * c - r * r) / (2 * b * c)
+        fits = (cos_mu(np.abs(1.0 - a)) <= math.cos(design.window[0])) & (cos_mu(1.0 + a) >= math.cos(design.window[1]))
+        ok &= fits | ~lk.closed
+    return ok
+
+
+def _columns(desc: np.ndarray, sense: int) -> tuple[np.ndarray, float]:
+    """The two query columns (Re, Im of <X, Y> for every row Y) of a target descriptor
+    (unrounded) run in direction `sense`, as integers, and 1 / its squared norm."""
+    q = desc.copy()
+    if sense < 0:
+        q[:descriptors.HARMONICS] *= descriptors.REVERSED
+        q[descriptors.HARMONICS:] *= descriptors.REVERSED
+    q = np.rint(q * descriptors.QUANT)
+    h = descriptors.HARMONICS
+    re, im = q[:h], q[h:]
+    size = float(q @ q)
+    return np.stack([np.concatenate([re, im]), np.concatenate([-im, re])], axis=1), 1.0 / max(size, 1.0)
+
+
+def _scores(table: np.ndarray, scale: np.ndarray, cols: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+    """(q, rows) |<X, Y>|^2 / (|X|^2 |Y|^2) of descriptors `table` (10, rows) and the q
+    queries (`cols` (10, 2 q) and 1 / their squared norms `sizes`), `scale` the descriptors'
+    1 / |X|^2 (0 for a curve not allowed). The inner products are exact (integers below
+    2^24 in one float32 product); the rest is elementwise float32, rounded alike on every CPU."""
+    dots = cols.T @ table  # (2 q, rows)
+    re, im = dots[0::2], dots[1::2]
+    score = re * re
+    score += im * im
+    score *= sizes[:, None]
+    score *= scale
+    return score
+
+
+def _similar(table: np.ndarray, scale: np.ndarray, rows: int, queries: list, allowed_rows: np.ndarray):
+    """The best score of each of the `rows` descriptors over the queries (`_scores`), block
+    by block of the atlas's tables (cache.Atlas), and a function giving every query's
+    score of given rows."""
+    cols = np.concatenate([c for c, _ in queries], axis=1).astype(np.float32)
+    sizes = np.array([s for _, s in queries], dtype=np.float32)
+    width = table.shape[2]
+    allowed = np.zeros(table.shape[0] * width, dtype=np.float32)
+    allowed[:rows] = allowed_rows
+    masked = scale * allowed.reshape(scale.shape)
+    best = np.empty(masked.shape, dtype=np.float32)
+    for b in range(table.shape[0]):
+        best[b] = _scores(table[b], masked[b], cols, sizes).max(axis=0)
+
+    def of(picked: np.ndarray) -> np.ndarray:
+        blk, col = np.divmod(picked, width)
+        return _scores(table[blk, :, col].T, masked[blk, col], cols, sizes)
+    return best.ravel()[:rows], of
+
+
+BLOCK = 64  # rows per block of the first pass of `_best`
+
+
+def _best(score: np.ndarray, count: int) -> np.ndarray:
+    """Indices of the `count` largest positive scores, largest first; ties: lower index
+    first (the same choice on every machine, whatever partition algorithm numpy
+    dispatches). First pass: the maxima of blocks of BLOCK rows; the count-th largest of
+    them, m, is at most the count-th largest score (count blocks hold one score >= m
+    each), so the rows scoring >= m hold the answer: a few, sorted exactly."""
+    count = min(count, int(np.count_nonzero(score > 0.0)))
+    if count == 0:
+        return np.zeros(0, dtype=np.int64)
+    pad = (-len(score)) % BLOCK
+    blocks = np.concatenate([score, np.zeros(pad, dtype=score.dtype)]).reshape(-1, BLOCK).max(axis=1)
+    bound = -np.partition(-blocks, count - 1)[count - 1]
+    sel = np.flatnonzero(score >= max(bound, np.finfo(score.dtype).tiny))
+    return sel[np.lexsort((sel, -score[sel]))][:count]
+
+
+def _rows_allowed(atlas: Atlas, ok: np.ndarray, table: str) -> np.ndarray:
+    """`ok` per curve (1 or 0, float32), spread over the descriptors of the `loops` or `arcs` table."""
+    ok = ok.astype(np.float32)
+    if table == "loops":
+        return np.repeat(ok[:atlas.closed], LOOPS)
+    return np.concatenate([np.repeat(ok[:atlas.closed], LOOP_REST), np.repeat(ok[atlas.closed:], OPEN_COUNT)])
+
+
+def hits(design: Design, atlas: Atlas, ok: np.ndarray):
+    """The HITS most similar stretches: (curve (H,), stretch start (H,), stretch length
+    (H,), sense (H,): +1 forwards, -1 the target run backwards, share of the stretch at
+    each target (H, n))."""
+    senses = {"ccw": (1,), "cw": (-1,)}.get(design.direction, (1, -1))
+    desc, frac = descriptors.target_descriptors(design.targets, closed=False)
+    arc_best, arc_scores = _similar(atlas.arcs, atlas.arc_scale, atlas.arc_rows,
+                                    [_columns(desc[0], s) for s in senses],
+                                    _rows_allowed(atlas, ok, "arcs"))
+    plans = [[(s, frac, 0.0) for s in senses]]
+    scores, bests = [arc_scores], [arc_best]
+    if looks_closed(design.targets):
+        ring, ring_frac = descriptors.target_descriptors(design.targets, closed=True, shifts=LOOP_SHIFTS)
+        plans.append([(s, ring_frac, j / LOOP_SHIFTS) for j in range(LOOP_SHIFTS) for s in senses])
+        loop_best, loop_scores = _similar(atlas.loops, atlas.loop_scale, atlas.loop_rows,
+                                          [_columns(ring[j], s) for j in range(LOOP_SHIFTS) for s in senses],
+                                          _rows_allowed(atlas, ok, "loops"))
+        scores.append(loop_scores)
+        bests.append(loop_best)
+    picked = _best(np.concatenate(bests), HITS)
+    in_arcs = picked < len(arc_best)
+    table_row = np.where(in_arcs, picked, picked - len(arc_best))
+    curve = np.zeros(len(picked), dtype=np.int64)
+    slot = np.zeros(len(picked), dtype=np.int64)
+    for name, mine in (("arcs", in_arcs), ("loops", ~in_arcs)):
+        if mine.any():
+            curve[mine], slot[mine] = stretch_of(atlas.closed, atlas.size, name, table_row[mine])
+    closed = curve < atlas.closed
+    start, length = np.zeros(len(picked)), np.zeros(len(picked))
+    for is_closed in (True, False):
+        mine = closed == is_closed
+        if mine.any():
+            st, ln = descriptors.stretch_starts(curve[mine], is_closed)
+            start[mine] = np.take_along_axis(st, slot[mine][:, None], axis=1)[:, 0]
+            length[mine] = np.take_along_axis(ln, slot[mine][:, None], axis=1)[:, 0]
+    sense = np.zeros(len(picked))
+    shares = np.zeros((len(picked), design.n_targets))
+    for i, (arc, row) in enumerate(zip(in_arcs, table_row)):
+        which = int(np.argmax(scores[0 if arc else 1](np.array([row]))[:, 0]))  # the first best query: ties alike everywhere
+        s, f, shift = plans[0 if arc else 1][which]
+        position = f if arc else np.mod(f - shift, 1.0)
+        sense[i] = s
+        shares[i] = position if s > 0 else 1.0 - position
+    return curve, start, length, sense, shares
+
+
+def starts(design: Design, atlas: Atlas, count: int):
+    """Up to `count` placed starts (x, sign, s, cost), best first (module docstring), and
+    the hypotheses fitted (evaluations); None when no four-bar of the atlas may serve."""
+    ok = allowed(design, atlas)
+    if not ok.any():
+        return None
+    curve, start, length, sense, shares = hits(design, atlas, ok)
+    if not len(curve):
+        return None
+    found = curve
+    closed = curve < atlas.closed
+    # local hypotheses: (hit, shift, scale)
+    shift, scale = (v.ravel() for v in np.meshgrid(SHIFTS, SCALES, indexing="ij"))
+    h = len(shift)
+    lam = np.minimum(np.repeat(length, h) * np.tile(scale, len(found)), 1.0)
+    s0 = np.repeat(start, h) + np.tile(shift, len(found)) * np.repeat(length, h)
+    rep_closed = np.repeat(closed, h)
+    s0 = np.where(rep_closed, np.mod(s0, 1.0), np.clip(s0, 0.0, 1.0 - lam))
+    at = s0[:, None] + lam[:, None] * np.repeat(shares, h, axis=0)
+    at = np.where(rep_closed[:, None], np.mod(at, 1.0), np.clip(at, 0.0, 1.0))
+    # input angles at those arc-length shares: each hit's curve traced again
+    uniq, back = np.unique(curve, return_inverse=True)
+    lk = atlas.linkages.take(uniq)
+    phi_grid = family.input_angles(lk)
+    gx, gy = family.coupler_points(lk, phi_grid, family.angle_sines(lk, phi_grid))
+    frac = descriptors.arc_fractions(gx, gy)
+    rows = np.repeat(back, h)
+    (phi,) = descriptors.interpolate(frac[rows], [phi_grid[rows]], at)
+    x = normalized(atlas, np.repeat(curve, h), design.nx)
+    sign = atlas.linkages.sign[np.repeat(curve, h)]
+    q, valid = path_starts.local_curve(x, sign, phi)
+    s_lo, s_hi = path_starts.scale_interval(design, x)
+    u, g, cost = path_starts.similarity(design, q, s_lo, s_hi, path_starts.fixed_pivot(design),
+                                        path_starts.fixed_angle(design))
+    cost = np.where(valid.all(axis=1) & np.isfinite(cost), cost, np.inf).reshape(len(found), h)
+    pick = np.argmin(cost, axis=1)
+    one = np.arange(len(found)) * h + pick
+    best = cost[np.arange(len(found)), pick]
+    # the best hit of each four-bar, best first (ties: the more similar hit)
+    order = np.lexsort((np.arange(len(found)), best))
+    seen, keep = set(), []
+    for i in order:
+        if np.isfinite(best[i]) and curve[i] not in seen:
+            seen.add(curve[i])
+            keep.append(i)
+    keep = np.array(keep[:count], dtype=int)
+    if not len(keep):
+        return None
+    rows = one[keep]
+    s = np.repeat(sense, h)[rows]
+    x = x[rows]
+    ph = phi[rows]
+    x[:, N_LINK] = ph[:, 0]
+    steps = s[:, None] * np.diff(ph, axis=1)
+    steps = np.where(np.repeat(closed, h)[rows][:, None], np.mod(steps, 2.0 * math.pi), np.maximum(steps, 0.0))
+    x[:, N_LINK + 1:] = steps
+    x = path_starts.apply_similarity(design, x, u[rows], g[rows])
+    x = path_starts.fit_linear(design, x, sign[rows], s)
+    return x, sign[rows], s, best[keep], len(found) * h + len(keep)
