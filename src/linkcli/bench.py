@@ -28,21 +28,20 @@ COLUMNS = ("problem", "method", "budget", "seed", "seconds", "evaluations", "obj
            "best_known", "gap", "status")
 
 
-NO_ATLAS = " (no atlas)"  # the method column of a run with [solver] atlas = false (linkcli.atlas)
+NO_ATLAS = " (no atlas)"  # the method column of a run with [solver] atlas = false (docs/atlas.md)
 
 
 def settings_for(problem) -> list[tuple[str, int | None, bool | None]]:
     """(method, budget, atlas) of each setting: the type's settings (atlas as the file
     says), and for a search that uses the coupler-curve atlas, `auto` once more with
     atlas = false, so that the bench shows both sides."""
-    from linkcli.atlas import applies
     from linkcli.registry import problem_type
     spec = problem_type(problem.meta.type)
     if spec.bench_settings:
         out = [(m, b, None) for m, b in spec.bench_settings]
     else:
         out = [(m, problem.meta.solver.budget, None) for m in spec.methods]
-    if applies(problem):
+    if spec.atlas and spec.module("solve").uses_atlas(problem):
         out.insert(1, ("auto", None, False))
     return out
 

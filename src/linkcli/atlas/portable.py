@@ -5,7 +5,7 @@ loops, each rounding a little differently), and glibc picks FMA or plain variant
 own; the basic operations and sqrt are correctly rounded by IEEE 754 on every CPU, in
 every vector width. The atlas's curves are computed with these functions only, so that
 `linkcli atlas build` writes the same bytes everywhere (checked with
-NPY_DISABLE_CPU_FEATURES and OPENBLAS_CORETYPE in tests/test_atlas_build.py).
+NPY_DISABLE_CPU_FEATURES and OPENBLAS_CORETYPE in tests/atlas/test_atlas_store.py).
 
 * `sincos(x)`: Cody-Waite reduction by pi/2 (fdlibm's two-part constant), then the
   Taylor series of sin to x^17 and cos to x^18 on |r| <= pi/4 (truncation below 1e-17).

@@ -168,6 +168,15 @@ def default_budget(method: str, points: int) -> int:
     return max(1, min(DEFAULT_BUDGET[method], POINT_EVALUATIONS // max(points, 1)))
 
 
+def uses_atlas(problem) -> bool:
+    """Whether this problem's search uses the coupler-curve atlas (a bench runs it with and
+    without): a four-bar design with free timing whose `[solver] atlas` is not false, solved
+    by the multistart."""
+    solver = problem.meta.solver
+    return (getattr(problem, "timing", None) == "free" and problem.mechanism == "four-bar"
+            and solver.method in ("auto", "multistart") and solver.atlas is not False)
+
+
 def exact_objective(design: Design) -> float:
     """An objective this small is an exact fit: rms error EXACT_RMS of the targets' extent."""
     return design.n_targets * (EXACT_RMS * design.scale) ** 2
@@ -417,7 +426,7 @@ def _field_round(proj: Space, fields: list[Field], reserve: int, width, exact: f
 
 
 def atlas_starts(design: Design, budget: Budget):
-    """The atlas's placed starts for a free-timing design (linkcli.atlas), dealt to the
+    """The atlas's placed starts for a free-timing design (atlas_starts), dealt to the
     first ATLAS_ROUNDS rounds in turn (round r: the starts r, r + ATLAS_ROUNDS, ..., so
     that every round has near and far ones and a later round can find the first round's
     optimum from starts of its own): a function of the round's index returning its
@@ -426,7 +435,7 @@ def atlas_starts(design: Design, budget: Budget):
     thousand)."""
     if budget.left < ATLAS_BUDGET:
         return None
-    from linkcli.atlas import starts_for
+    from linkcli.types.path_generation.atlas_starts import starts_for
     found = starts_for(design, ATLAS_STARTS)
     if found is None:
         return None

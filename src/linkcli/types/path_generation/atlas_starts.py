@@ -1,4 +1,5 @@
-"""Look target points up in the atlas and place the nearest curves back as starts (numpy).
+"""Free-timing path starts from the coupler-curve atlas (linkcli.atlas): look the target points
+up and place the nearest curves back as starts (numpy).
 
 1. Which atlas four-bars may serve (`allowed`): the Grashof class and branch asked for;
    a shape whose lengths and coupler point some one scale brings inside every bound
@@ -257,3 +258,15 @@ def starts(design: Design, atlas: Atlas, count: int):
     x = path_starts.apply_similarity(design, x, u[rows], g[rows])
     x = path_starts.fit_linear(design, x, sign[rows], s)
     return x, sign[rows], s, best[keep], len(found) * h + len(keep)
+
+
+def starts_for(design, count: int):
+    """Up to `count` starts for a free-timing path design (path_generation.model.Design)
+    from the atlas, best first: (x, sign, s, cost, evaluations) in the design's own
+    variables and the targets' frame; None without an atlas (said on stderr once) or
+    when none of its four-bars may serve the design's bounds and constraints."""
+    from linkcli.atlas import cache
+    atlas = cache.get()
+    if atlas is None:
+        return None
+    return starts(design, atlas, count)

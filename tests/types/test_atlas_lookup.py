@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 from conftest import ROOT
-from linkcli.atlas import cache, lookup
+from linkcli.atlas import cache
+from linkcli.types.path_generation import atlas_starts as lookup
 
 FRAME = dict(scale=23.0, turn=0.7, move=(40.0, -15.0))
 
@@ -36,7 +37,7 @@ def _problem(tmp_path, points, extra: str = "") -> str:
 
 
 def _design(path):
-    from linkcli.io.load import load
+    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
     from linkcli.types.path_generation.model import build
     problem = load(path, read_problem_bytes(path))
@@ -112,12 +113,12 @@ def test_a_known_four_bar_outside_the_atlas_is_polished_to_an_exact_fit(tmp_path
 
 
 def test_atlas_false_never_asks_the_atlas(tmp_path, monkeypatch, atlas):
-    import linkcli.atlas
     from linkcli.pipeline import solve
+    from linkcli.types.path_generation import atlas_starts
 
     def refuse(*args, **kwargs):
         raise AssertionError("the atlas was asked")
-    monkeypatch.setattr(linkcli.atlas, "starts_for", refuse)
+    monkeypatch.setattr(atlas_starts, "starts_for", refuse)
     targets = _member_targets(atlas, 10, 12, 1.0)
     problem, _ = _design(_problem(tmp_path, targets, "[solver]\natlas = false\n"))
     assert solve(problem).status.value == "ok"
@@ -148,12 +149,12 @@ def test_the_atlas_is_loaded_by_free_timing_alone(args, loads):
     assert res.returncode in (0, 1), res.stderr
     loaded = set(res.stderr.rsplit("LOADED ", 1)[1].split())
     assert ("linkcli.atlas.cache" in loaded) == loads
-    assert ("linkcli.atlas.lookup" in loaded) == loads
+    assert ("linkcli.types.path_generation.atlas_starts" in loaded) == loads
 
 
 def test_bench_runs_free_timing_with_and_without_the_atlas():
     from linkcli.bench import Run, settings_for, solve_run
-    from linkcli.io.load import load
+    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
     path = "problems/bench/closed_curve12.toml"
     source = read_problem_bytes(path)
@@ -169,8 +170,9 @@ STARTS_PROGRAM = """\
 import hashlib, json, sys
 from linkcli.pipeline import single_threaded_blas
 single_threaded_blas()
-from linkcli.atlas import cache, lookup
-from linkcli.io.load import load
+from linkcli.atlas import cache
+from linkcli.types.path_generation import atlas_starts as lookup
+from linkcli.reading.load import load
 from linkcli.io.safe_read import read_problem_bytes
 from linkcli.types.path_generation.model import build
 out, starts = hashlib.sha256(), []
