@@ -41,6 +41,13 @@ def _build(problem, solution: Solution) -> dict:
     mech = None if solution.linkage is None else mechanisms.of(solution.linkage)
     if mech is not None:
         _linkage_sections(rep, problem, solution, mech, want, notes)
+    if mech is not None and "dynamics" in want and meta.dynamics is not None:  # [dynamics]: issue 52
+        from linkcli.dynamics.sections import add_sections
+        short = add_sections(rep, problem, mech, notes)
+        if short and rep["status"] == "ok":
+            rep["status"], rep["message"] = "infeasible", short
+        elif short:
+            notes.append(short)
     if "strength" in rep:
         from linkcli.analysis.strength import shortfall
         below = shortfall(rep["strength"], u.angle)

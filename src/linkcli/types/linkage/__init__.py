@@ -10,7 +10,8 @@ TYPE = ProblemType(
     package="linkage",
     methods=("auto",),
     default_sections=("lengths", "grashof", "transmission", "motion", "kinematics"),
-    sections=("lengths", "grashof", "transmission", "motion", "kinematics", "tolerance", "forces", "strength"),
+    sections=("lengths", "grashof", "transmission", "motion", "kinematics", "tolerance", "forces", "strength",
+              "dynamics"),
     tolerance=True,
     bench_settings=(),  # (method, budget) for `linkcli bench`; None: the default budget
 )
