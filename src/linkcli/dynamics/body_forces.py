@@ -99,75 +99,186 @@ class Layout:
             raise ValueError(f"the body graph is not square: {m} equations, {col + 1} unknowns")
 
 
+class Assembly:
+    """The equations of a body graph at rows of its coefficients: the matrix (forward: the
+    drive's acceleration unknown; inverse: its torque), and the right-hand sides of the known
+    loads (module docstring)."""
+
+    def __init__(self, graph, coef, forward: bool) -> None:
+        self.graph, self.coef, self.forward = graph, coef, forward
+        layout = self.layout = Layout(graph)
+        n, m = len(coef.q), layout.size
+        self.n = n
+        matrix = self.matrix = np.zeros((n, m, m))
+        self.centres, self.rates = {}, {}
+        for body in graph.bodies:
+            r = layout.row[body]
+            mass = graph.masses.get(body)
+            mm = 0.0 if mass is None else mass.mass
+            inertia = 0.0 if mass is None or body in graph.blocks else mass.inertia
+            c, dc, ddc = bodies.centre(graph, coef, body)
+            _, dth, ddth = coef.angle[body]
+            self.centres[body] = c
+            self.rates[body] = (mm, inertia, dc, ddc, dth, ddth)
+            if forward:
+                matrix[:, r:r + 2, layout.drive_col] = -mm * dc
+                if body not in graph.blocks:
+                    matrix[:, r + 2, layout.drive_col] = -inertia * dth
+        if not forward:
+            matrix[:, layout.row[graph.drive] + 2, layout.drive_col] = 1.0
+        self.joint_at = {}
+        for name, joint, exerting, acted in graph.pins:
+            at = bodies.point(graph, coef, joint)[0]
+            self.joint_at[joint] = at
+            col = layout.pin_col[name]
+            _unknown_force(matrix, layout, self.centres, acted, at, col, 1.0)
+            _unknown_force(matrix, layout, self.centres, exerting, at, col, -1.0)
+        self.guide_dir = {}
+        for name, joint, guide, block, local in graph.guides:
+            at = bodies.point(graph, coef, joint)
+            u = bodies.rotated(np.asarray(local, dtype=float), bodies.angle(coef, guide)[0])
+            normal = bodies.perp(u)
+            self.guide_dir[name] = (u, normal, at, guide, block)
+            col = layout.guide_col[name]
+            _unknown_along(matrix, layout, self.centres, block, at[0], normal, col, 1.0)
+            _unknown_along(matrix, layout, self.centres, guide, at[0], normal, col, -1.0)
+
+    def rhs(self, speed=0.0, gravity: bool = True, acceleration=None) -> np.ndarray:
+        """The inertia terms at `speed` (n,) (and the known `acceleration`, inverse) and, with
+        `gravity`, the weights: m (G'' q'^2 [+ G' q''] - g), I (theta'' q'^2 [+ theta' q''])."""
+        layout = self.layout
+        rhs = np.zeros((self.n, layout.size))
+        w2 = np.broadcast_to(np.asarray(speed, dtype=float) ** 2, (self.n,))
+        g = np.asarray(self.graph.gravity, dtype=float) if gravity else np.zeros(2)
+        for body in self.graph.bodies:
+            r = layout.row[body]
+            mm, inertia, dc, ddc, dth, ddth = self.rates[body]
+            rhs[:, r:r + 2] = mm * (ddc * w2[:, None] - g)
+            if body not in self.graph.blocks:
+                rhs[:, r + 2] = inertia * ddth * w2
+            if acceleration is not None:
+                qdd = np.broadcast_to(np.asarray(acceleration, dtype=float), (self.n,))
+                rhs[:, r:r + 2] += mm * dc * qdd[:, None]
+                if body not in self.graph.blocks:
+                    rhs[:, r + 2] += inertia * dth * qdd
+        return rhs
+
+    def add_loads(self, rhs, loads: Loads) -> None:
+        for body, at, force in loads.point_forces:
+            _known_force(rhs, self.layout, self.centres, body, at, force)
+        for body, couple in loads.couples:
+            _known_couple(rhs, self.layout, body, couple)
+
+    def add_drive(self, rhs, torque) -> None:
+        _known_couple(rhs, self.layout, self.graph.drive, torque)
+
+    def add_pin_friction(self, rhs, name: str, couple) -> None:
+        """`couple` on the pin's body acted on, its opposite on the body exerting."""
+        _, joint, exerting, acted = next(p for p in self.graph.pins if p[0] == name)
+        _known_couple(rhs, self.layout, acted, couple)
+        _known_couple(rhs, self.layout, exerting, -couple)
+
+    def add_guide_friction(self, rhs, name: str, along) -> None:
+        """`along` (n,) times the guide's direction on the block at its joint, the opposite on
+        the guide's body."""
+        u, _, at, guide, block = self.guide_dir[name]
+        force = np.asarray(along, dtype=float)[:, None] * u
+        _known_force(rhs, self.layout, self.centres, block, at[0], force)
+        _known_force(rhs, self.layout, self.centres, guide, at[0], -force)
+
+    def rates_at_pins(self, speed) -> tuple[dict, dict]:
+        """(pin name -> relative rotation coefficient theta_acted' - theta_exerting', guide name
+        -> the block's sliding speed coefficient along +u): times q' the friction's rates."""
+        coef = self.coef
+        pins = {name: bodies.angle(coef, acted)[1] - bodies.angle(coef, exerting)[1]
+                for name, joint, exerting, acted in self.graph.pins}
+        guides = {}
+        for name, (u, normal, at, guide, block) in self.guide_dir.items():
+            p, dp, _ = at
+            if guide == bodies.GROUND:
+                carried = np.zeros_like(dp)
+            else:
+                o, do, _ = coef.origin[guide]
+                carried = do + coef.angle[guide][1][:, None] * bodies.perp(p - o)
+            guides[name] = bodies.dot(dp - carried, u)
+        return pins, guides
+
+    def unknowns(self, x) -> tuple[dict, dict, np.ndarray]:
+        """(pins name -> (n, 2), guides name -> (n, 2) normal force vectors, drive (n,))."""
+        layout = self.layout
+        pins = {name: x[:, layout.pin_col[name]:layout.pin_col[name] + 2] for name, *_ in self.graph.pins}
+        guides = {name: x[:, layout.guide_col[name], None] * self.guide_dir[name][1]
+                  for name, *_ in self.graph.guides}
+        return pins, guides, x[:, layout.drive_col]
+
+
 def solve(graph, coef, speed, loads: Loads, *, torque=None, acceleration=None,
           friction: Friction | None = None) -> BodyForces:
     """The pin and guide forces and the drive's acceleration (given `torque`, (n,) N m) or torque
     (given `acceleration`, (n,) rad/s^2) at rows of the coefficients turning at `speed` (n,)."""
-    layout = Layout(graph)
-    n = len(coef.q)
-    m = layout.size
-    w = np.broadcast_to(np.asarray(speed, dtype=float), (n,))
-    w2 = w * w
-    matrix = np.zeros((n, m, m))
-    rhs = np.zeros((n, m))
-    g = np.asarray(graph.gravity, dtype=float)
     forward = torque is not None
-    qdd = None if forward else np.broadcast_to(np.asarray(acceleration, dtype=float), (n,))
-    centres = {}
-    for body in graph.bodies:
-        r = layout.row[body]
-        mass = graph.masses.get(body)
-        mm = 0.0 if mass is None else mass.mass
-        inertia = 0.0 if mass is None or body in graph.blocks else mass.inertia
-        c, dc, ddc = bodies.centre(graph, coef, body)
-        centres[body] = c
-        _, dth, ddth = coef.angle[body]
-        rhs[:, r:r + 2] = mm * (ddc * w2[:, None] - g)
-        if forward:
-            matrix[:, r:r + 2, layout.drive_col] = -mm * dc
-        else:
-            rhs[:, r:r + 2] += mm * dc * qdd[:, None]
-        if body not in graph.blocks:
-            rhs[:, r + 2] = inertia * ddth * w2
-            if forward:
-                matrix[:, r + 2, layout.drive_col] = -inertia * dth
-            else:
-                rhs[:, r + 2] += inertia * dth * qdd
+    a = Assembly(graph, coef, forward)
+    n = a.n
+    w = np.broadcast_to(np.asarray(speed, dtype=float), (n,))
+    rhs = a.rhs(w, acceleration=None if forward else acceleration)
+    a.add_loads(rhs, loads)
     if forward:
-        _known_couple(rhs, layout, graph.drive, torque)
-    else:
-        matrix[:, layout.row[graph.drive] + 2, layout.drive_col] = 1.0
-    for body, at, force in loads.point_forces:
-        _known_force(rhs, layout, centres, body, at, force)
-    for body, couple in loads.couples:
-        _known_couple(rhs, layout, body, couple)
-    joint_at = {}
-    for name, joint, exerting, acted in graph.pins:
-        at = bodies.point(graph, coef, joint)[0]
-        joint_at[joint] = at
-        col = layout.pin_col[name]
-        _unknown_force(matrix, layout, centres, acted, at, col, 1.0)
-        _unknown_force(matrix, layout, centres, exerting, at, col, -1.0)
-    guide_dir = {}
-    for name, joint, guide, block, local in graph.guides:
-        at = bodies.point(graph, coef, joint)
-        theta = bodies.angle(coef, guide)[0]
-        u = bodies.rotated(np.asarray(local, dtype=float), theta)
-        normal = bodies.perp(u)
-        guide_dir[name] = (u, normal, at, guide, block)
-        col = layout.guide_col[name]
-        _unknown_along(matrix, layout, centres, block, at[0], normal, col, 1.0)
-        _unknown_along(matrix, layout, centres, guide, at[0], normal, col, -1.0)
-    x = _solve(matrix, rhs)
+        a.add_drive(rhs, torque)
+    x = _solve(a.matrix, rhs)
     pin_friction = {name: np.zeros(n) for name, *_ in graph.pins}
     guide_friction = {name: np.zeros(n) for name, *_ in graph.guides}
     converged = np.isfinite(x).all(axis=1)
     if friction is not None and friction.mu > 0:
-        x, pin_friction, guide_friction, converged = _with_friction(
-            graph, coef, layout, matrix, rhs, x, w, centres, joint_at, guide_dir, friction)
-    pins = {name: x[:, layout.pin_col[name]:layout.pin_col[name] + 2] for name, *_ in graph.pins}
-    guides = {name: x[:, layout.guide_col[name], None] * guide_dir[name][1] for name, *_ in graph.guides}
-    return BodyForces(pins, guides, x[:, layout.drive_col], pin_friction, guide_friction, converged)
+        x, pin_friction, guide_friction, converged = _with_friction(a, rhs, x, w, friction)
+    pins, guides, drive = a.unknowns(x)
+    return BodyForces(pins, guides, drive, pin_friction, guide_friction, converged)
+
+
+def responses(graph, coef, unit_loads: list) -> tuple[np.ndarray, "Assembly"]:
+    """The pin and guide forces (forward: the drive's torque known) per unit of each load, at the
+    rows: (n, 2 pins + guides, K) with columns q'^2 (the inertia terms), gravity and the
+    constant loads (`unit_loads[0]`), each of `unit_loads[1:]` (a Loads for a unit force of an
+    element), the drive's unit torque, a unit friction couple at each pin, a unit friction force
+    along each guide. The forces at any speed and loads are these columns' combination (the
+    equations are linear): what the integrator's friction reads from a table."""
+    a = Assembly(graph, coef, True)
+    n = a.n
+    columns = [a.rhs(np.ones(n), gravity=False)]
+    constant = a.rhs(np.zeros(n))
+    a.add_loads(constant, unit_loads[0])
+    columns.append(constant)
+    for loads in unit_loads[1:]:
+        b = np.zeros((n, a.layout.size))
+        a.add_loads(b, loads)
+        columns.append(b)
+    b = np.zeros((n, a.layout.size))
+    a.add_drive(b, np.ones(n))
+    columns.append(b)
+    for name, *_ in graph.pins:
+        b = np.zeros((n, a.layout.size))
+        a.add_pin_friction(b, name, np.ones(n))
+        columns.append(b)
+    for name, *_ in graph.guides:
+        b = np.zeros((n, a.layout.size))
+        a.add_guide_friction(b, name, np.ones(n))
+        columns.append(b)
+    b = np.stack(columns, axis=2)
+    x = _solve_many(a.matrix, b)
+    return x[:, :a.layout.drive_col, :], a
+
+
+def _solve_many(matrix, rhs):
+    """As _solve for K right-hand sides at once: rhs (n, m, K)."""
+    n, m, _ = matrix.shape
+    finite = np.isfinite(matrix).all(axis=(1, 2)) & np.isfinite(rhs).all(axis=(1, 2))
+    safe = np.where(finite[:, None, None], matrix, np.eye(m))
+    with np.errstate(all="ignore"):
+        cond = np.linalg.cond(safe)
+    bad = ~finite | ~(cond < 1.0 / SINGULAR_RCOND)
+    safe[bad] = np.eye(m)
+    x = np.linalg.solve(safe, np.where(bad[:, None, None], 0.0, rhs))
+    x[bad] = np.nan
+    return x
 
 
 def _solve(matrix, rhs):
@@ -226,44 +337,28 @@ def _known_couple(rhs, layout, body, couple) -> None:
     rhs[:, layout.row[body] + 2] -= couple
 
 
-def _with_friction(graph, coef, layout, matrix, rhs, x, w, centres, joint_at, guide_dir, friction):
+def _with_friction(a: Assembly, rhs, x, w, friction):
     """Fixed-point iteration of the friction couples and forces (module docstring)."""
+    graph, layout = a.graph, a.layout
     n = len(w)
-    rel = {}
-    for name, joint, exerting, acted in graph.pins:
-        rate = bodies.angle(coef, acted)[1] - bodies.angle(coef, exerting)[1]
-        rel[name] = smooth_sign(rate * w, friction.eps)
-    slide = {}
-    for name, (u, normal, at, guide, block) in guide_dir.items():
-        p, dp, _ = at
-        if guide == bodies.GROUND:
-            carried = np.zeros_like(dp)
-        else:
-            o, do, _ = coef.origin[guide]
-            _, dth, _ = coef.angle[guide]
-            carried = do + dth[:, None] * bodies.perp(p - o)
-        slide[name] = smooth_sign(bodies.dot(dp - carried, u) * w, friction.eps_v)
+    pin_rate, guide_rate = a.rates_at_pins(w)
+    rel = {name: smooth_sign(rate * w, friction.eps) for name, rate in pin_rate.items()}
+    slide = {name: smooth_sign(rate * w, friction.eps_v) for name, rate in guide_rate.items()}
     scale = np.nanmax(np.abs(x), axis=1, initial=0.0)
     done = np.zeros(n, dtype=bool)
-    pin_friction = {}
-    guide_friction = {}
+    pin_friction, guide_friction = {}, {}
     for _ in range(FRICTION_ITERATIONS):
         b = rhs.copy()
-        for name, joint, exerting, acted in graph.pins:
+        for name, *_ in graph.pins:
             col = layout.pin_col[name]
-            size = np.hypot(x[:, col], x[:, col + 1])
-            couple = -friction.mu * friction.radii[name] * size * rel[name]  # on the body acted on
+            couple = -friction.mu * friction.radii[name] * np.hypot(x[:, col], x[:, col + 1]) * rel[name]
             pin_friction[name] = couple
-            _known_couple(b, layout, acted, couple)
-            _known_couple(b, layout, exerting, -couple)
-        for name, (u, normal, at, guide, block) in guide_dir.items():
-            size = np.abs(x[:, layout.guide_col[name]])
-            along = -friction.mu * size * slide[name]  # on the block, along +u
+            a.add_pin_friction(b, name, couple)
+        for name, *_ in graph.guides:
+            along = -friction.mu * np.abs(x[:, layout.guide_col[name]]) * slide[name]
             guide_friction[name] = along
-            force = along[:, None] * u
-            _known_force(b, layout, centres, block, at[0], force)
-            _known_force(b, layout, centres, guide, at[0], -force)
-        new = _solve(matrix, b)
+            a.add_guide_friction(b, name, along)
+        new = _solve(a.matrix, b)
         change = np.nanmax(np.abs(new - x), axis=1, initial=0.0)
         scale = np.maximum(scale, np.nanmax(np.abs(new), axis=1, initial=0.0))
         x = new

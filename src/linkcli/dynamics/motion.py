@@ -81,6 +81,7 @@ def right_hand_side(system, budget: int):
         values, slopes = table.at(q)
         generalized = -slopes[1]
         damping = 0.0
+        forces = []
         for col, angle, winding, base, role, k, free, preload, c, law, torque in items:
             g, dg = values[col], slopes[col]
             if angle:
@@ -95,11 +96,12 @@ def right_hand_side(system, budget: int):
             else:
                 force = -torque
             generalized -= force * dg
+            forces.append(force)
         torque = drive(w)
         generalized += torque
         lost = 0.0
         if friction is not None:
-            q_friction = friction(q, w, generalized, values, slopes)
+            q_friction = friction(q, w, forces, torque)
             generalized += q_friction
             lost = q_friction * w
         return [w, (generalized - 0.5 * slopes[0] * w * w) / values[0], torque * w, damping, lost]
@@ -124,9 +126,10 @@ def scales(system, speed: float) -> tuple[float, float]:
 
 
 def integrate(system, q0: float, w0: float, t_end: float, *, stop=None, marks=(), method="auto",
-              budget: int = DEFAULT_BUDGET, dead_points: bool = True, first_step=None) -> Run:
+              budget: int = DEFAULT_BUDGET, dead_points: bool = True, extremes: bool = False) -> Run:
     """Integrate from (q0, w0) (internal q, rad/s) for at most t_end s; `stop` ends the run at a
-    drive value; `marks` are drive values whose crossings are events."""
+    drive value; `marks` are drive values whose crossings are events; `extremes`: the speed's
+    extremes (q'' = 0) are events too ("extreme")."""
     from scipy.integrate import solve_ivp
     chosen = method_for(system, method)
     rhs, count = right_hand_side(system, budget)
@@ -145,6 +148,8 @@ def integrate(system, q0: float, w0: float, t_end: float, *, stop=None, marks=()
     add(lambda t, y: y[1], "reversal", False)
     for mark in marks:
         add(lambda t, y, m=mark: y[0] - m, "mark", False)
+    if extremes:
+        add(lambda t, y: rhs(t, y)[1], "extreme", False)
     if dead_points and (not system.full_turn
                         or float(np.min(system.node_values[:, system.lock_column])) < 2.0 * system.threshold):
         column = system.lock_column
@@ -154,8 +159,7 @@ def integrate(system, q0: float, w0: float, t_end: float, *, stop=None, marks=()
         add(lambda t, y: y[0] - system.hi, "dead-point", True)
     try:
         solution = solve_ivp(rhs, (0.0, t_end), [q0, w0, 0.0, 0.0, 0.0], method=chosen, rtol=RTOL,
-                             atol=atol, events=events, dense_output=True,
-                             **({"first_step": first_step} if first_step else {}))
+                             atol=atol, events=events, dense_output=True)
     except OutOfBudget:
         return Run(None, "budget", 0.0, [], count[0], chosen)
     found = []

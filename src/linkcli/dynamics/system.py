@@ -73,6 +73,10 @@ class System:
         self.flywheel = dyn.flywheel_inertia
         self._domain()
         self._tabulate()
+        self.friction_rhs = None
+        if dyn.friction:
+            from linkcli.dynamics.friction import FrictionModel
+            self.friction_rhs = FrictionModel(self)
 
     # ------------------------------------------------------------ errors
     def error(self, key: str, expected: str, got: str) -> SolveInputError:

@@ -290,8 +290,8 @@ class Mechanism(ABC):
 
     def counterweights(self, graph: BodyGraph, metres: float) -> dict | None:
         """Counterweights that cancel the shaking force: body -> (mass x radius kg m, angle rad
-        in the body's frame), for the masses of `graph` (its body_graph(case, metres)); None
-        (this default) when the home has no such rule."""
+        in the body's frame, the radius they take by default m), for the masses of `graph`
+        (its body_graph(case, metres)); None (this default) when the home has no such rule."""
         return None
 
     # ------------------------------------------------------------ tolerance

@@ -82,7 +82,7 @@ def counterweights(fb, graph: BodyGraph, metres: float) -> dict:
 
     (a input, b coupler, c output lengths). The counterweight on each is the difference
     between that and the link's own m c: returned as body -> (|m c| kg m, its angle rad in
-    the link's frame)."""
+    the link's frame, the link's length m: the radius a counterweight takes by default)."""
     a, b, c, _ = (v * metres for v in fb.abcd)
     def moment(name):
         mass = graph.masses.get(name)
@@ -90,8 +90,9 @@ def counterweights(fb, graph: BodyGraph, metres: float) -> dict:
     m3 = graph.masses["coupler"].mass if "coupler" in graph.masses else 0.0
     c3 = moment("coupler") / m3 if m3 > 0 else 0j
     need = {"input": m3 * a * (c3 / b - 1.0), "output": -m3 * c * c3 / b}
+    length = {"input": a, "output": c}
     out = {}
     for name, target in need.items():
         extra = target - moment(name)
-        out[name] = (abs(extra), cmath.phase(extra) if abs(extra) > 0 else 0.0)
+        out[name] = (abs(extra), cmath.phase(extra) if abs(extra) > 0 else 0.0, length[name])
     return out
