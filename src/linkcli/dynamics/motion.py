@@ -125,6 +125,18 @@ def scales(system, speed: float) -> tuple[float, float]:
     return max(abs(speed), math.sqrt(2.0 * energy / m_min)), energy
 
 
+NEAR_DEAD_POINT = 4.0  # below this many times the threshold, a dead point's lock is evaluated exactly
+
+
+def dead_point_gap(system, q: float) -> float:
+    """lock - sin(dead_point) at q: from the table far from a dead point, from the home's exact
+    coefficients near one (the lock varies as a square root there, which no spline follows)."""
+    tabulated = system.table.at(q)[0][system.lock_column]
+    if tabulated > NEAR_DEAD_POINT * system.threshold:
+        return tabulated - system.threshold
+    return float(system.exact([q]).lock[0]) - system.threshold
+
+
 def integrate(system, q0: float, w0: float, t_end: float, *, stop=None, marks=(), method="auto",
               budget: int = DEFAULT_BUDGET, dead_points: bool = True, extremes: bool = False) -> Run:
     """Integrate from (q0, w0) (internal q, rad/s) for at most t_end s; `stop` ends the run at a
@@ -152,8 +164,7 @@ def integrate(system, q0: float, w0: float, t_end: float, *, stop=None, marks=()
         add(lambda t, y: rhs(t, y)[1], "extreme", False)
     if dead_points and (not system.full_turn
                         or float(np.min(system.node_values[:, system.lock_column])) < 2.0 * system.threshold):
-        column = system.lock_column
-        add(lambda t, y: system.table.at(float(y[0]))[0][column] - system.threshold, "dead-point", True)
+        add(lambda t, y: dead_point_gap(system, float(y[0])), "dead-point", True)
     if not system.full_turn:
         add(lambda t, y: y[0] - system.lo, "dead-point", True)
         add(lambda t, y: y[0] - system.hi, "dead-point", True)
