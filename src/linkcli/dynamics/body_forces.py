@@ -203,6 +203,9 @@ class Assembly:
             guides[name] = bodies.dot(dp - carried, u)
         return pins, guides
 
+    def inverse(self) -> "_Inverse":
+        return _Inverse(self.matrix)
+
     def unknowns(self, x) -> tuple[dict, dict, np.ndarray]:
         """(pins name -> (n, 2), guides name -> (n, 2) normal force vectors, drive (n,))."""
         layout = self.layout
@@ -224,12 +227,13 @@ def solve(graph, coef, speed, loads: Loads, *, torque=None, acceleration=None,
     a.add_loads(rhs, loads)
     if forward:
         a.add_drive(rhs, torque)
-    x = _solve(a.matrix, rhs)
+    inverse = a.inverse()
+    x = inverse.solve(rhs[..., None])[..., 0]
     pin_friction = {name: np.zeros(n) for name, *_ in graph.pins}
     guide_friction = {name: np.zeros(n) for name, *_ in graph.guides}
     converged = np.isfinite(x).all(axis=1)
     if friction is not None and friction.mu > 0:
-        x, pin_friction, guide_friction, converged = _with_friction(a, rhs, x, w, friction)
+        x, pin_friction, guide_friction, converged = _with_friction(a, inverse, rhs, x, w, friction)
     pins, guides, drive = a.unknowns(x)
     return BodyForces(pins, guides, drive, pin_friction, guide_friction, converged)
 
@@ -268,31 +272,30 @@ def responses(graph, coef, unit_loads: list) -> tuple[np.ndarray, "Assembly"]:
 
 
 def _solve_many(matrix, rhs):
-    """As _solve for K right-hand sides at once: rhs (n, m, K)."""
-    n, m, _ = matrix.shape
-    finite = np.isfinite(matrix).all(axis=(1, 2)) & np.isfinite(rhs).all(axis=(1, 2))
-    safe = np.where(finite[:, None, None], matrix, np.eye(m))
-    with np.errstate(all="ignore"):
-        cond = np.linalg.cond(safe)
-    bad = ~finite | ~(cond < 1.0 / SINGULAR_RCOND)
-    safe[bad] = np.eye(m)
-    x = np.linalg.solve(safe, np.where(bad[:, None, None], 0.0, rhs))
-    x[bad] = np.nan
-    return x
+    """The unknowns for K right-hand sides at once, rhs (n, m, K) (Assembly.solve's rule)."""
+    return _Inverse(matrix).solve(rhs)
 
 
-def _solve(matrix, rhs):
-    """One batched solve; rows whose matrix is near singular (a dead point) or not finite: NaN."""
-    n, m, _ = matrix.shape
-    finite = np.isfinite(matrix).all(axis=(1, 2)) & np.isfinite(rhs).all(axis=1)
-    safe = np.where(finite[:, None, None], matrix, np.eye(m))
-    with np.errstate(all="ignore"):
-        cond = np.linalg.cond(safe)
-    bad = ~finite | ~(cond < 1.0 / SINGULAR_RCOND)
-    safe[bad] = np.eye(m)
-    x = np.linalg.solve(safe, np.where(bad[:, None], 0.0, rhs)[..., None])[..., 0]
-    x[bad] = np.nan
-    return x
+class _Inverse:
+    """The rows' matrices inverted once (their systems are solved several times: friction's
+    fixed point, the unit responses); a row whose matrix is near singular (a dead point, its
+    condition number beyond 1 / SINGULAR_RCOND) or not finite gives NaN."""
+
+    def __init__(self, matrix) -> None:
+        n, m, _ = matrix.shape
+        finite = np.isfinite(matrix).all(axis=(1, 2))
+        safe = np.where(finite[:, None, None], matrix, np.eye(m))
+        with np.errstate(all="ignore"):
+            cond = np.linalg.cond(safe)
+        self.bad = ~finite | ~(cond < 1.0 / SINGULAR_RCOND)
+        safe[self.bad] = np.eye(m)
+        self.inverse = np.linalg.inv(safe)
+
+    def solve(self, rhs):
+        x = np.einsum("nij,njk->nik", self.inverse, np.where(self.bad[:, None, None], 0.0, rhs))
+        bad = self.bad | ~np.isfinite(rhs).all(axis=(1, 2))
+        x[bad] = np.nan
+        return x
 
 
 def _unknown_force(matrix, layout, centres, body, at, col, sign) -> None:
@@ -337,7 +340,7 @@ def _known_couple(rhs, layout, body, couple) -> None:
     rhs[:, layout.row[body] + 2] -= couple
 
 
-def _with_friction(a: Assembly, rhs, x, w, friction):
+def _with_friction(a: Assembly, inverse, rhs, x, w, friction):
     """Fixed-point iteration of the friction couples and forces (module docstring)."""
     graph, layout = a.graph, a.layout
     n = len(w)
@@ -358,7 +361,7 @@ def _with_friction(a: Assembly, rhs, x, w, friction):
             along = -friction.mu * np.abs(x[:, layout.guide_col[name]]) * slide[name]
             guide_friction[name] = along
             a.add_guide_friction(b, name, along)
-        new = _solve(a.matrix, b)
+        new = inverse.solve(b[..., None])[..., 0]
         change = np.nanmax(np.abs(new - x), axis=1, initial=0.0)
         scale = np.maximum(scale, np.nanmax(np.abs(new), axis=1, initial=0.0))
         x = new

@@ -47,9 +47,9 @@ def mean_load(system, speed: float) -> float:
     return float(np.mean(load_torque(system, q, speed)))
 
 
-def running_speed(system, error) -> float:
+def running_speed(system) -> float | None:
     """The motor's running point: the highest speed where its torque equals the mean load, the
-    motor's torque falling through it (module docstring)."""
+    motor's torque falling through it (module docstring); None when there is none."""
     from scipy.optimize import brentq
     law = system.drive.law
     lo, hi = float(law.x[0]), float(law.x[-1])
@@ -59,8 +59,7 @@ def running_speed(system, error) -> float:
     gap = np.array([system.drive.scalar(w) - mean_load(system, w) for w in speeds])
     down = np.nonzero((gap[:-1] > 0) & (gap[1:] <= 0))[0]
     if not len(down):
-        raise error("drive", "a motor whose torque meets the linkage's mean load torque at some speed "
-                    "(a running point)", "none within its curve")
+        return None
     k = down[-1]
     return float(brentq(lambda w: system.drive.scalar(w) - mean_load(system, w), speeds[k], speeds[k + 1],
                         xtol=1e-14 * max(abs(speeds[k + 1]), 1.0), rtol=1e-15, maxiter=200))
@@ -95,7 +94,9 @@ def energy_fluctuation(system, speed: float, mean_torque: float) -> float:
     return float(np.max(values) - np.min(values))
 
 
-def section(system, meta, notes: list) -> dict:
+def section(system, meta, notes: list) -> tuple[dict | None, tuple[str, str] | None]:
+    """(the `flywheel` section, None) or (None, (status, why)) when the motor has no running
+    point."""
     from linkcli.dynamics.model import MOTOR, TORQUE, Drive
     dyn = meta.dynamics
     units = meta.units
@@ -103,7 +104,10 @@ def section(system, meta, notes: list) -> dict:
         raise system.error("fluctuation", "a drive that turns fully for a flywheel (it evens the speed "
                            "over a turn)", "a drive that rocks")
     motor = dyn.drive.kind == MOTOR and dyn.mean_speed is None
-    speed = running_speed(system, system.error) if motor else dyn.mean_speed
+    speed = running_speed(system) if motor else dyn.mean_speed
+    if speed is None:
+        return None, ("infeasible", "the motor cannot drive the linkage: its torque never meets the "
+                      "mean load torque over its curve (no running speed for the flywheel)")
     mean_torque = system.drive.scalar(speed) if motor else mean_load(system, speed)
     d_energy = energy_fluctuation(system, speed, mean_torque)
     cs = dyn.fluctuation
@@ -121,7 +125,7 @@ def section(system, meta, notes: list) -> dict:
     if as_given is None:
         notes.append("flywheel: without the flywheel the linkage finds no steady cycle at this drive "
                      "(it stalls or runs away)")
-    return out
+    return out, None
 
 
 def _said(orbit, units):

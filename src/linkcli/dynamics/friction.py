@@ -8,7 +8,8 @@ forces per unit of each load (body_forces.responses, the drive's acceleration el
 tabulated over the drive's range at the nodes of the equation's own table (dynamics.tables) with
 the pins' relative rotation and the guides' sliding rate coefficients. At each evaluation the
 couples are found by fixed-point iteration on that small linear map (FRICTION_RTOL, at most
-body_forces.FRICTION_ITERATIONS passes), and their generalized force is
+body_forces.FRICTION_ITERATIONS passes, each evaluation starting from the last one's couples:
+the integrator's calls follow one another closely), and their generalized force is
 
     Q_friction = sum_pins tau_j (theta_acted' - theta_exerting') + sum_guides f_g v_g'
 
@@ -77,7 +78,9 @@ class FrictionModel:
         values = np.concatenate([x.reshape(len(q), -1), rates], axis=1)
         self.table = SplineTable(system.lo, system.hi, values, system.full_turn)
         self.loads = 2 + len(system.elements) + 1
-        self.radii = np.array([self.friction.radii[p] for p in self.pins])
+        self.radii_list = [self.friction.radii[p] for p in self.pins]
+        self.last = []  # the amounts of the last evaluation (the next one starts from them)
+        self.lever = max(self.radii_list + [1.0])  # an amount's scale: a force times a radius (m)
 
     def __call__(self, q: float, w: float, forces: list, torque: float) -> float:
         f = self.friction
@@ -86,27 +89,46 @@ class FrictionModel:
         v = ((c[0] * t + c[1]) * t + c[2]) * t + c[3]
         size = self.rows * self.columns
         response = v[:size].reshape(self.rows, self.columns)
-        rates = v[size:]
-        pins, guides = len(self.pins), len(self.guides)
         loads = np.array([w * w, 1.0] + list(forces) + [torque])
-        base = response[:, :self.loads] @ loads
-        per_unit = response[:, self.loads:]
-        x = base
-        pin_sign = rates[:pins] * w / np.sqrt((rates[:pins] * w) ** 2 + f.eps ** 2)
-        guide_sign = rates[pins:] * w / np.sqrt((rates[pins:] * w) ** 2 + f.eps_v ** 2)
-        scale = float(np.max(np.abs(base))) if base.size else 0.0
-        amounts = np.zeros(pins + guides)
+        base = (response[:, :self.loads] @ loads).tolist()
+        per_unit = response[:, self.loads:].T.tolist()  # per amount: its column of forces
+        rates = v[size:].tolist()
+        pins = len(self.pins)
+        weights = []  # -mu r sign~ (pins), -mu sign~ (guides): each amount is weight x |force|
+        for k, rate in enumerate(rates):
+            s_ = rate * w
+            eps = f.eps if k < pins else f.eps_v
+            weights.append(-f.mu * (self.radii_list[k] if k < pins else 1.0) * s_ / math.sqrt(s_ * s_ + eps * eps))
+        scale = 0.0
+        for b in base:
+            scale = max(scale, abs(b))
+        amounts = list(self.last) if len(self.last) == len(rates) else [0.0] * len(rates)
+        x = list(base)  # the forces of the last call's amounts: the iteration starts near its end
+        for a, column in zip(amounts, per_unit):
+            for r in range(len(base)):
+                x[r] += column[r] * a
+        cols, guide_cols, hypot = self.cols, self.guide_cols, math.hypot
+        rows = range(len(base))
         for _ in range(body_forces.FRICTION_ITERATIONS):
-            sizes = np.concatenate([np.hypot(x[self.cols], x[[k + 1 for k in self.cols]]),
-                                    np.abs(x[self.guide_cols])])
-            new = -f.mu * sizes * np.concatenate([self.radii * pin_sign, guide_sign])
-            change = float(np.max(np.abs(new - amounts))) if new.size else 0.0
-            amounts = new
-            x = base + per_unit @ amounts
-            scale = max(scale, float(np.max(np.abs(x))))
-            if change <= FRICTION_RTOL * max(scale, 1e-300) * max(float(np.max(self.radii, initial=0.0)), 1.0):
+            change = 0.0
+            for k, j in enumerate(cols):
+                a = weights[k] * hypot(x[j], x[j + 1])
+                change = max(change, abs(a - amounts[k]))
+                amounts[k] = a
+            for k, j in enumerate(guide_cols, start=pins):
+                a = weights[k] * abs(x[j])
+                change = max(change, abs(a - amounts[k]))
+                amounts[k] = a
+            x = list(base)
+            for a, column in zip(amounts, per_unit):
+                for r in rows:
+                    x[r] += column[r] * a
+            for value in x:
+                scale = max(scale, abs(value))
+            if change <= FRICTION_RTOL * max(scale, 1e-300) * self.lever:
                 break
-        return float(amounts @ rates) if amounts.size else 0.0
+        self.last = amounts
+        return sum(a * r for a, r in zip(amounts, rates))
 
 
 def attach(system) -> None:

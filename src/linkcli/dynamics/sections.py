@@ -22,9 +22,10 @@ BALANCE_FLOOR = 1e-7
 MAX_EVENT_ROWS = 100  # listed events; more are counted
 
 
-def add_sections(rep: dict, problem, mech, notes: list) -> str | None:
-    """Add the asked dynamics sections to `rep`; the shortfall (why the run stops short of what
-    was asked: exit 1), or None."""
+def add_sections(rep: dict, problem, mech, notes: list) -> tuple[str, str] | None:
+    """Add the asked dynamics sections to `rep`; (status, message) when they fall short of what
+    was asked (exit 1: "infeasible", a stop angle not reached or a motor that cannot drive the
+    linkage; "not-converged", an integration over its budget), or None."""
     from linkcli.analysis.forces import metres_per_unit
     from linkcli.dynamics.system import System
     meta = problem.meta
@@ -37,7 +38,10 @@ def add_sections(rep: dict, problem, mech, notes: list) -> str | None:
         shortfall = _simulation(rep, system, meta, notes)
     if dyn.fluctuation is not None:
         from linkcli.dynamics.flywheel import section as flywheel_section
-        rep["flywheel"] = flywheel_section(system, meta, notes)
+        section, short = flywheel_section(system, meta, notes)
+        if section is not None:
+            rep["flywheel"] = section
+        shortfall = shortfall or short
     if dyn.balance:
         from linkcli.dynamics.balance import section as balance_section
         rep["balance"] = balance_section(system, problem, meta, notes)
@@ -55,7 +59,7 @@ def column(values, floor: float = DYNAMICS_FLOOR, scale: float = 0.0) -> list:
     return [x if math.isfinite(x) else None for x in out.tolist()]
 
 
-def _simulation(rep, system, meta, notes) -> str | None:
+def _simulation(rep, system, meta, notes) -> tuple[str, str] | None:
     from linkcli.dynamics import history, motion
     dyn = meta.dynamics
     units = meta.units
@@ -75,7 +79,8 @@ def _simulation(rep, system, meta, notes) -> str | None:
         what = (f"more than {budget} evaluations" if run.end == "budget"
                 else "a step below the integrator's round-off")
         rep["simulation"] = {"method": run.method, "end": run.end}
-        return f"the integration did not finish: it needed {what} (raise [solver] budget, or shorten duration)"
+        return ("not-converged", f"the integration did not finish: it needed {what} (raise [solver] "
+                "budget, or shorten duration)")
     times, y, st = history.at_times(system, run, dyn.steps)
     rep["simulation"] = _summary(system, run, y, dyn, units)
     rep["history"] = _rows(system, times, y, st, units)
@@ -85,14 +90,16 @@ def _simulation(rep, system, meta, notes) -> str | None:
         notes.append("friction locks the linkage at some rows: their pin forces are null")
     if stop is not None and run.end != "stop":
         why = {"dead-point": "a dead point ends the run", "duration": "the run ends at its duration"}[run.end]
-        return (f"the drive does not reach the stop angle {units.from_rad(dyn.stop):.6g} {units.angle}: "
-                f"{why} at {run.t_end:.6g} s, angle {units.from_rad(system.external(y[0, -1])):.6g} {units.angle}")
+        return ("infeasible", f"the drive does not reach the stop angle {units.from_rad(dyn.stop):.6g} "
+                f"{units.angle}: {why} at {run.t_end:.6g} s, angle "
+                f"{units.from_rad(system.external(y[0, -1])):.6g} {units.angle}")
     return None
 
 
 def _summary(system, run, y, dyn, units) -> dict:
     w_scale, _ = _scales(system, y)
-    out = {"method": run.method, "rtol": 1e-10,
+    from linkcli.dynamics.motion import RTOL
+    out = {"method": run.method, "rtol": RTOL[run.method],
            "start": {"angle": float(units.from_rad(dyn.start[0])), "speed": float(units.from_rad(dyn.start[1]))},
            "end": run.end, "end_time": snap(run.t_end, 1.0),
            "end_angle": float(units.from_rad(system.external(y[0, -1]))),

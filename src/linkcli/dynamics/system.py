@@ -81,8 +81,8 @@ class System:
     # ------------------------------------------------------------ errors
     def error(self, key: str, expected: str, got: str) -> SolveInputError:
         line = self.dyn.lines.get(key) or self.dyn.lines.get("dynamics")
-        return SolveInputError(expected, got, path=self.path, line=line, key=key if "." in key or key
-                               in ("dynamics", "springs", "dampers") else f"dynamics.{key}")
+        full = key if key.split(".")[0] in ("dynamics", "springs", "dampers") else f"dynamics.{key}"
+        return SolveInputError(expected, got, path=self.path, line=line, key=full)
 
     # ------------------------------------------------------------ the drive's range
     def _domain(self) -> None:

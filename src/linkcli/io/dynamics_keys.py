@@ -40,16 +40,13 @@ METHODS = ("auto", "DOP853", "RK45", "Radau", "BDF", "LSODA")
 DRIVE_KEYS = ("torque", "torque_speed")
 
 
-def read_dynamics(root: Table, kind: str, has_linkage: bool, sections: tuple[str, ...], units, joints):
+def read_dynamics(root: Table, kind: str, has_linkage: bool, units, joints):
     """The file's Dynamics, or None without any of the three tables (or when they hold errors,
-    recorded on the reader). `has_linkage`: the type's result is a linkage; `sections`: the
-    asked sections (the "dynamics" section asked for without [dynamics] is an error, as an
-    empty section would pass for a result); `joints`: the [joints] specs (pin diameters)."""
+    recorded on the reader). `has_linkage`: the type's result is a linkage; `joints`: the
+    [joints] specs (pin diameters for friction). The dynamics sections are reported when
+    [dynamics] is given (there is no [report] sections name for them)."""
     present = [name for name in TABLES if name in root]
     if not present:
-        if "dynamics" in sections:
-            root.reader.error(("report", "sections"), 'a [dynamics] table for the "dynamics" section '
-                              "(what to simulate)", raw_got="none")
         return None
     masses_given = "masses" in root
     if not has_linkage:
@@ -120,7 +117,7 @@ def read_dynamics(root: Table, kind: str, has_linkage: bool, sections: tuple[str
         if not masses_given and not flywheel:
             t.error("start", "a [masses] table or flywheel_inertia (the simulation needs inertia)",
                     raw_got="neither")
-    else:
+    elif "start" not in t:
         for key in ("stop", "duration", "marks"):
             if key in t:
                 t.error(key, "start = { angle, speed } with it (the simulation it belongs to)",

@@ -11,7 +11,7 @@ from linkcli.registry import ProblemType
 from linkcli.units import ANGLE_UNITS, LENGTH_TO_MM, Units
 
 ALL_SECTIONS = ("lengths", "grashof", "transmission", "motion", "kinematics", "positions",
-                "error", "cylinder", "family", "solver", "tolerance", "forces", "strength", "dynamics")
+                "error", "cylinder", "family", "solver", "tolerance", "forces", "strength")
 MAX_BUDGET = 10**9
 MAX_SAMPLES = 1_000_000  # a tolerance study: more gains nothing but minutes
 MIN_FAILURES = 10  # inverse mode: expected failures at the level, for a stable bisection
@@ -114,7 +114,7 @@ def read_meta(root: Table, kind: str, spec: ProblemType) -> Meta:
     joints = read_joint_table(root, kind, spec, units)
     link_sections, strength = read_strength_tables(root, kind, spec, sections, loads, joints)
     from linkcli.io.dynamics_keys import read_dynamics  # [springs], [dampers], [dynamics]
-    dynamics = read_dynamics(root, kind, "forces" in spec.sections, sections, units, joints)
+    dynamics = read_dynamics(root, kind, "forces" in spec.sections, units, joints)
     if tolerance is not None and joints is not None:  # fits of schemes and clearance = "fits"
         from linkcli.io.tolerance_keys import check_fits
         check_fits(root, tolerance, joints, units)
@@ -131,8 +131,6 @@ def read_meta(root: Table, kind: str, spec: ProblemType) -> Meta:
                           "(the tolerances to study)", raw_got="no [tolerance] table")
     if tolerance is not None and "tolerance" not in sections:
         sections = sections + ("tolerance",)
-    if dynamics is not None and "dynamics" not in sections:
-        sections = sections + ("dynamics",)  # on when [dynamics] is given
     return Meta(path=root.reader.path, type=kind, title=title, units=units, solver=solver,
                 sections=sections, reference=reference, tolerance=tolerance, loads=loads,
                 joints=joints or (), link_sections=link_sections, strength=strength, dynamics=dynamics)

@@ -11,7 +11,7 @@ TYPE = ProblemType(
     methods=("auto", "slsqp", "differential-evolution", "dual-annealing"),
     default_sections=("lengths", "grashof", "transmission", "motion", "positions", "error", "solver"),
     sections=("lengths", "grashof", "transmission", "motion", "kinematics", "positions", "error",
-              "solver", "tolerance", "forces", "strength", "dynamics"),
+              "solver", "tolerance", "forces", "strength"),
     tolerance=True,
     bench_settings=(("auto", None), ("auto", 1000), ("slsqp", None), ("differential-evolution", None),
                     ("dual-annealing", 5000)),  # (method, budget) for `linkcli bench`; None: the default budget (4000 per variable)

@@ -10,8 +10,7 @@ TYPE = ProblemType(
     package="linkage",
     methods=("auto",),
     default_sections=("lengths", "grashof", "transmission", "motion", "kinematics"),
-    sections=("lengths", "grashof", "transmission", "motion", "kinematics", "tolerance", "forces", "strength",
-              "dynamics"),
+    sections=("lengths", "grashof", "transmission", "motion", "kinematics", "tolerance", "forces", "strength"),
     tolerance=True,
     bench_settings=(),  # (method, budget) for `linkcli bench`; None: the default budget
 )

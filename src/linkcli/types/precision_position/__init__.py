@@ -11,7 +11,7 @@ TYPE = ProblemType(
     methods=("auto", "freudenstein"),
     default_sections=("lengths", "grashof", "transmission", "motion", "positions", "error", "solver"),
     sections=("lengths", "grashof", "transmission", "motion", "kinematics", "positions", "error",
-              "solver", "tolerance", "forces", "strength", "dynamics"),
+              "solver", "tolerance", "forces", "strength"),
     tolerance=True,
     bench_settings=(),  # (method, budget) for `linkcli bench`; None: the default budget
 )
