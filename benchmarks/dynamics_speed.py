@@ -1,4 +1,4 @@
-"""How long a forward-dynamics run takes (issue 52: 10 cycles at 1,000 output points a cycle in
+"""How long a forward-dynamics run takes (the target: 10 cycles at 1,000 output points a cycle in
 1 s or less), and how accurate it is.
 
 Usage (from the repository root):
@@ -8,11 +8,12 @@ Usage (from the repository root):
 Runs problems/crank_rocker_motor.toml's linkage at its running speed (start at 690 deg/s,
 no flywheel section) for `--cycles` turns of the crank with `--points` history rows a turn,
 three ways: with its damper (LSODA), without (DOP853, its energy conserved), and with pin
-friction too. Each run is the pipeline's analysis in this process after a warm-up run
-(imports and the first table paid once): the median wall seconds of `--repeats` runs, split
-into building the tables, integrating, and the history (every row's forces); with the energy
-balance's residual relative to the energies (the integration's own error) and, for the run
-without damping, the relative drift of the total energy over the run.
+friction too (the undamped one has no drive: it spins freely). Each run builds the equation's
+tables, integrates and computes the history (every row's forces) in this process after a
+warm-up run (imports paid once): the median CPU seconds (this process's, so that a shared
+machine's other jobs weigh less) of `--repeats` runs, part by part, and the energy balance's
+largest residual over the history relative to the energies (the integration's own error; for
+the free run, the drift of its total energy).
 """
 
 from __future__ import annotations
@@ -55,14 +56,14 @@ def one(text: str) -> dict:
     problem = load("bench.toml", text.encode())
     meta = problem.meta
     dyn = meta.dynamics
-    started = time.perf_counter()
+    started = time.process_time()
     system = System(mechanisms.of(problem.linkage), dyn, meta.loads, meta.units,
                     meta.units.mm_per_length / 1000.0)
-    built = time.perf_counter()
+    built = time.process_time()
     run = motion.integrate(system, dyn.start[0], dyn.start[1], dyn.duration, method=dyn.method)
-    integrated = time.perf_counter()
+    integrated = time.process_time()
     times, y, st = history.at_times(system, run, dyn.steps)
-    done = time.perf_counter()
+    done = time.process_time()
     energy = st.kinetic + (st.potential - st.potential[0]) + st.spring
     works = y[2] + y[3] + y[4]
     scale = max(float(np.max(np.abs(energy))), float(np.max(np.abs(works))), 1e-300)
@@ -81,7 +82,7 @@ def main() -> None:
     cases = {"damper (LSODA)": (True, False), "no damping (DOP853)": (False, False),
              "damper and pin friction": (True, True)}
     one(variant(1, 10, True, False))  # warm-up: imports, caches
-    print(f"{args.cycles} cycles x {args.points} points a cycle; median of {args.repeats} runs (s)")
+    print(f"{args.cycles} cycles x {args.points} points a cycle; median CPU s of {args.repeats} runs")
     print(f"{'case':26s} {'method':7s} {'tables':>7s} {'integr.':>8s} {'history':>8s} {'total':>7s} "
           f"{'evals':>7s} {'residual':>9s}")
     for name, (damper, friction) in cases.items():

@@ -521,3 +521,63 @@ fluctuation = {cs}
     assert fw["inertia"] == pytest.approx(d_energy / (cs * (speed * DEG) ** 2), rel=1e-5)
     assert fw["with_flywheel"]["fluctuation"] == pytest.approx(cs, rel=0.05)
     assert fw["as_given"]["fluctuation"] > 3 * cs
+
+
+# ---------------------------------------------------------------- the equation's two forms
+
+def _system(text: str):
+    from linkcli import mechanisms
+    from linkcli.dynamics.system import System
+    from linkcli.io.load import load
+    problem = load("t.toml", text.encode())
+    meta = problem.meta
+    return System(mechanisms.of(problem.linkage), meta.dynamics, meta.loads, meta.units,
+                  meta.units.mm_per_length / 1000.0)
+
+
+def test_the_tabulated_equation_is_the_exact_one_to_its_tolerance():
+    """The integrator's tables against the home's exact coefficients at drive values between
+    the nodes: the inertia, its derivative and the potential's derivative."""
+    system = _system(f"""type = "linkage"
+[linkage]
+ground = {D}
+input = {A}
+coupler = {B}
+output = {C}
+[loads]
+gravity = [0, -9.81]
+[masses]
+{masses_toml()}
+[dynamics]
+start = {{ angle = 0, speed = 100 }}
+duration = 1
+""")
+    q = np.random.default_rng(1).uniform(0, 2 * math.pi, 200)
+    exact = system.exact(q)
+    values, slopes = system.table.many(q)
+    assert_allclose(values[:, 0], exact.inertia, rtol=1e-10)
+    assert_allclose(slopes[:, 0], exact.d_inertia, rtol=0, atol=1e-7 * np.max(np.abs(exact.d_inertia)))
+    assert_allclose(slopes[:, 1], exact.d_potential, rtol=0, atol=1e-7 * np.max(np.abs(exact.d_potential)))
+
+
+def test_newton_euler_and_the_lagrange_form_give_one_acceleration_on_a_watt_six_bar():
+    """The drawn Watt six-bar (problems/drawn_watt.toml) with a linear spring, a rotary damper
+    and its loads: the acceleration from the equation of motion (virtual work) and from the
+    Newton-Euler equations of every body agree at any state."""
+    from linkcli.dynamics.history import state
+    from conftest import ROOT
+    text = (ROOT / "problems" / "drawn_watt.toml").read_text() + """[springs]
+s = { between = ["O2", "D"], stiffness = 0.8, free_length = 60 }
+[dampers]
+d = { link = "rocker", coefficient = 0.01 }
+[dynamics]
+drive = { torque = 0.3 }
+start = { angle = 60 }
+duration = 1
+"""
+    system = _system(text)
+    rng = np.random.default_rng(2)
+    q = rng.uniform(0, 2 * math.pi, 50)
+    w = rng.uniform(-20, 20, 50)
+    st = state(system, q, w)
+    assert_allclose(st.solved.drive, st.acceleration, rtol=1e-9, atol=1e-9 * np.max(np.abs(st.acceleration)))

@@ -1,7 +1,8 @@
 """Balancing: the shaking force and moment a linkage puts on its frame over a cycle, and the
 counterweights that cancel the shaking force, side by side with the linkage as given.
 
-At a constant drive speed w the frame carries the reaction of every body's inertia (Norton,
+At a constant drive speed w (the motion study's: [motion] input_speed, a drawn linkage's [drive]
+speed) the frame carries the reaction of every body's inertia (Norton,
 Design of Machinery, ch. 12; Berkof & Lowen 1969):
 
     F_shaking = -sum m a_G,     M_shaking = -sum (I alpha + (G - O) x m a_G)     (about O)
@@ -33,6 +34,7 @@ def section(system, problem, meta, notes: list) -> dict:
     dyn = meta.dynamics
     mech, graph, metres = system.mech, system.graph, system.metres
     speed, steps = motion_study(problem, units)
+    speed = mech.study_speed(speed)
     study = mech.study(None if dyn.start is None else dyn.start[0])
     phi, shown = study.rows(steps)
     inputs = study.printed(shown, units)

@@ -49,11 +49,13 @@ def read_dynamics(root: Table, kind: str, has_linkage: bool, units, joints):
     if not present:
         return None
     masses_given = "masses" in root
-    if not has_linkage:
+    if not has_linkage:  # as [loads]: the types whose linkage takes loads and masses
+        from linkcli.registry import NAMES, problem_type
+        takers = ", ".join(n for n in NAMES if "forces" in problem_type(n).sections)
         for name in present:
             root.raw(name)
-            root.error(name, f"a problem whose result is a linkage for [{name}]",
-                       raw_got=f'type = "{kind}", which has no linkage')
+            root.error(name, f"a problem whose result is a linkage that takes [loads] and [masses] "
+                       f"({takers}) for [{name}]", raw_got=f'type = "{kind}"')
         return None
     from linkcli.io.loads import mechanism_of
     from linkcli.mechanisms import NAMES, module

@@ -288,6 +288,11 @@ class Mechanism(ABC):
         the home reports its rows (`Study.rows`), lengths in metres."""
         raise NotImplementedError(f"{self.name} gives no kinematic coefficients")
 
+    def study_speed(self, speed: float) -> float:
+        """The drive's speed (rad/s) of the motion study whose [motion] input speed is `speed`
+        (this default: that speed; a home whose drives carry their own speeds: its drive's)."""
+        return speed
+
     def counterweights(self, graph: BodyGraph, metres: float) -> dict | None:
         """Counterweights that cancel the shaking force: body -> (mass x radius kg m, angle rad
         in the body's frame, the radius they take by default m), for the masses of `graph`

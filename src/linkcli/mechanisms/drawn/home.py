@@ -185,6 +185,10 @@ class DrawnMechanism(Mechanism):
         from linkcli.mechanisms.drawn.members import drawn_members
         return drawn_members(self, self.state(phi), case, metres, rows)
 
+    def study_speed(self, speed):
+        """The leading drive's [drive] speed (rad/s): its kinematics and loads run at it."""
+        return self.linkage.drives[0].speed
+
     def body_graph(self, case, metres):
         """Every link and slider block; pins and guides as drawn.loads names them; None unless
         one turning drive (mechanisms.drawn.dynamics)."""
