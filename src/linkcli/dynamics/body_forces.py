@@ -30,7 +30,7 @@ import numpy as np
 
 from linkcli.dynamics import bodies
 
-FRICTION_RTOL = 1e-13
+FRICTION_RTOL = 1e-15  # to round-off: the couples are then a smooth function of the state
 FRICTION_ITERATIONS = 200
 SINGULAR_RCOND = 1e-13  # a row whose system is this near singular (a dead point) is NaN
 

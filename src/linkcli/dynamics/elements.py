@@ -11,10 +11,10 @@ acting on g:
     damper          F = c v,  or the table F(v)        v = g' q' (the coordinate's rate)
     constant couple T on a link                       energy -T (theta - theta_start)
 
-A damper's table is interpolated linearly between its rows; beyond its ends, its end segments
-continue (linear extrapolation). A table whose speeds are all >= 0 is one half: the other is
-its mirror, F(-v) = -F(v). A motor's torque-speed curve is interpolated the same way (no
-mirror). Angles of links are followed continuously (tables.AngleTrack): a spring wound past a
+A damper's table is interpolated by a monotone piecewise cubic (Law: smooth, no corner at a
+row, never overshooting the rows); beyond its ends its end slopes continue. A table whose
+speeds are all >= 0 is one half: the other is its mirror, F(-v) = -F(v). A motor's
+torque-speed curve is interpolated the same way (no mirror). Angles of links are followed continuously (tables.AngleTrack): a spring wound past a
 turn keeps its whole deflection.
 """
 
@@ -23,6 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import bisect
+import math
 
 import numpy as np
 
@@ -30,8 +31,11 @@ from linkcli.dynamics.model import LINEAR, MOTOR, TORQUE
 
 
 class Law:
-    """A piecewise-linear law y(x) through the rows, continued linearly beyond its ends
-    (module docstring); `mirrored`: rows given for x >= 0 only, odd."""
+    """A smooth monotone law y(x) through the rows: a piecewise cubic Hermite interpolant whose
+    slopes keep each segment's monotony (Fritsch & Carlson, SIAM J. Numer. Anal. 17 (1980)
+    238-246; the end slopes as scipy.interpolate.PchipInterpolator's), continued beyond its
+    ends along its end slopes. Its derivative is continuous: an integrator meets no corner at
+    a row. `mirror`: rows given for x >= 0 only are completed as an odd function."""
 
     def __init__(self, rows, mirror: bool = False) -> None:
         x = [float(r[0]) for r in rows]
@@ -46,27 +50,86 @@ class Law:
         self.y = np.array(y)
         self.xs, self.ys = x, y
         self.slopes = [(y[i + 1] - y[i]) / (x[i + 1] - x[i]) for i in range(len(x) - 1)]
+        self.d = _monotone_slopes(x, self.slopes)
 
     def __call__(self, v):
         v = np.asarray(v, dtype=float)
-        out = np.interp(v, self.x, self.y)
-        lo, hi = self.x[0], self.x[-1]
-        out = np.where(v < lo, self.y[0] + self.slopes[0] * (v - lo), out)
-        return np.where(v > hi, self.y[-1] + self.slopes[-1] * (v - hi), out)
+        x, y, d = self.x, self.y, np.asarray(self.d)
+        i = np.clip(np.searchsorted(x, v, side="right") - 1, 0, len(x) - 2)
+        h = x[i + 1] - x[i]
+        t = (v - x[i]) / h
+        out = _hermite(t, h, y[i], y[i + 1], d[i], d[i + 1])
+        out = np.where(v < x[0], y[0] + d[0] * (v - x[0]), out)
+        return np.where(v > x[-1], y[-1] + d[-1] * (v - x[-1]), out)
 
     def scalar(self, v: float) -> float:
         """The law at one value, in Python floats (the integrator's hot path)."""
+        xs, ys, d = self.xs, self.ys, self.d
+        if v <= xs[0]:
+            return ys[0] + d[0] * (v - xs[0])
+        if v >= xs[-1]:
+            return ys[-1] + d[-1] * (v - xs[-1])
+        i = bisect.bisect_right(xs, v) - 1
+        h = xs[i + 1] - xs[i]
+        return _hermite((v - xs[i]) / h, h, ys[i], ys[i + 1], d[i], d[i + 1])
+
+    def row_phase(self, v: float) -> float:
+        """A continuous function of v that is zero exactly at the rows (and nowhere else):
+        sin(pi r), r = i + (v - x_i) / (x_i+1 - x_i) between rows, continued along its end
+        slopes beyond them."""
         xs = self.xs
         if v <= xs[0]:
-            return self.ys[0] + self.slopes[0] * (v - xs[0])
+            return math.pi * (v - xs[0]) / (xs[1] - xs[0])
+        last = len(xs) - 1
         if v >= xs[-1]:
-            return self.ys[-1] + self.slopes[-1] * (v - xs[-1])
+            return (-1.0 if last % 2 else 1.0) * math.pi * (v - xs[-1]) / (xs[-1] - xs[-2])
         i = bisect.bisect_right(xs, v) - 1
-        return self.ys[i] + self.slopes[i] * (v - xs[i])
+        return math.sin(math.pi * (i + (v - xs[i]) / (xs[i + 1] - xs[i])))
 
     @property
     def scale(self) -> float:
         return float(np.max(np.abs(self.y)))
+
+    @property
+    def steepest(self) -> float:
+        """A bound on |y'|: three times the steepest segment (a monotone cubic's slope within
+        a segment is at most that), or an end slope."""
+        return max([3.0 * abs(s) for s in self.slopes] + [abs(v) for v in self.d])
+
+
+def _hermite(t, h, y0, y1, d0, d1):
+    """The cubic Hermite interpolant on a segment of width h at t in [0, 1]."""
+    t2 = t * t
+    t3 = t2 * t
+    return ((2 * t3 - 3 * t2 + 1) * y0 + (t3 - 2 * t2 + t) * h * d0
+            + (-2 * t3 + 3 * t2) * y1 + (t3 - t2) * h * d1)
+
+
+def _monotone_slopes(x: list, m: list) -> list:
+    """The Fritsch-Carlson slopes at the rows: 0 where the secants change sign or one is flat,
+    else their weighted harmonic mean; at the ends the one-sided three-point slope, kept of the
+    end secant's sign and at most three times it."""
+    n = len(x)
+    if n == 2:
+        return [m[0], m[0]]
+    h = [x[i + 1] - x[i] for i in range(n - 1)]
+    d = [0.0] * n
+    for k in range(1, n - 1):
+        if m[k - 1] * m[k] > 0:
+            w1, w2 = 2 * h[k] + h[k - 1], h[k] + 2 * h[k - 1]
+            d[k] = (w1 + w2) / (w1 / m[k - 1] + w2 / m[k])
+
+    def edge(h0, h1, m0, m1):
+        slope = ((2 * h0 + h1) * m0 - h0 * m1) / (h0 + h1)
+        if slope * m0 <= 0:
+            return 0.0
+        if m0 * m1 < 0 and abs(slope) > 3 * abs(m0):
+            return 3 * m0
+        return slope
+
+    d[0] = edge(h[0], h[1], m[0], m[1])
+    d[-1] = edge(h[-1], h[-2], m[-1], m[-2])
+    return d
 
 
 @dataclass(frozen=True)

@@ -10,7 +10,9 @@ stores the difference of its extremes:
 
     dE = max E - min E,         I = dE / (Cs w_m^2)
 
-(the linkage's own inertia neglected, as the method does). Mean speed: `mean_speed`, the drive
+(the linkage's own inertia neglected, as the method does): the inertia turning with the drive,
+of which [dynamics] flywheel_inertia (a motor's rotor, a pulley) is already there and the rest
+is the flywheel to add. Mean speed: `mean_speed`, the drive
 then delivering T_m constantly; or, for a motor, the speed where its torque equals the mean load
 (T_motor(w) = mean T_L(w), the highest such speed: where the motor's curve falls through the
 load, a stable running point). E(q) is integrated spectrally (the load is periodic: its Fourier
@@ -114,11 +116,12 @@ def section(system, meta, notes: list) -> tuple[dict | None, tuple[str, str] | N
     inertia = d_energy / (cs * speed * speed)
     m = system.node_values[:, 0]
     drive = dyn.drive if motor else Drive(TORQUE, torque=mean_torque)
+    added = max(inertia - dyn.flywheel_inertia, 0.0)
     out = {"fluctuation": cs, "mean_speed": float(units.from_rad(speed)), "mean_torque": mean_torque,
-           "energy_fluctuation": d_energy, "inertia": inertia,
+           "energy_fluctuation": d_energy, "inertia": inertia, "added_inertia": added,
            "linkage_inertia": {"min": float(np.min(m)), "max": float(np.max(m))}}
     as_given = _orbit(system, replace(dyn, drive=drive), speed, system.error)
-    with_flywheel = _orbit(system, replace(dyn, drive=drive, flywheel_inertia=dyn.flywheel_inertia + inertia),
+    with_flywheel = _orbit(system, replace(dyn, drive=drive, flywheel_inertia=dyn.flywheel_inertia + added),
                            speed, system.error)
     out["as_given"] = _said(as_given, units)
     out["with_flywheel"] = _said(with_flywheel, units)

@@ -25,7 +25,7 @@ import numpy as np
 from linkcli.dynamics import bodies, body_forces
 from linkcli.dynamics.tables import SplineTable, nodes
 
-FRICTION_RTOL = 1e-13
+FRICTION_RTOL = 1e-15  # to round-off: the couples are then a smooth function of the state
 
 
 def unit_loads(system, coef) -> list:
@@ -84,9 +84,9 @@ class FrictionModel:
 
     def __call__(self, q: float, w: float, forces: list, torque: float) -> float:
         f = self.friction
-        i, t = self.table._place(q)
-        c = self.table.coef[i]
-        v = ((c[0] * t + c[1]) * t + c[2]) * t + c[3]
+        from linkcli.dynamics.tables import evaluate
+        c, u = self.table.coefficients_at(q)
+        v = evaluate(c, u)
         size = self.rows * self.columns
         response = v[:size].reshape(self.rows, self.columns)
         loads = np.array([w * w, 1.0] + list(forces) + [torque])

@@ -49,10 +49,11 @@ def report_tables(name: str, section, lu: str, au: str) -> list:
     if name == "flywheel" and isinstance(section, dict):
         labels = {"fluctuation": "coefficient of fluctuation Cs", "mean_speed": f"mean speed ({au}/s)",
                   "mean_torque": "mean drive torque (N m)", "energy_fluctuation": "energy fluctuation (J)",
-                  "inertia": "flywheel inertia (kg m2)"}
+                  "inertia": "inertia needed on the drive (kg m2)",
+                  "added_inertia": "flywheel to add (kg m2)"}
         rows = [(labels.get(k, k), v) for k, v in section.items() if not isinstance(v, dict) and v is not None]
         inertia = section.get("linkage_inertia") or {}
-        rows += [(f"linkage's own inertia {k} (kg m2)", v) for k, v in inertia.items()]
+        rows += [(f"generalized inertia M {k} (kg m2)", v) for k, v in inertia.items()]
         for key, title in (("as_given", "as given"), ("with_flywheel", "with the flywheel")):
             run = section.get(key)
             if run is None:

@@ -76,7 +76,7 @@ KEYS = {
         '[].output', '[].parameter', '[].worst_transmission',
     ),
     'flywheel': (
-        'as_given.fluctuation', 'as_given.max_speed', 'as_given.min_speed',
+        'added_inertia', 'as_given.fluctuation', 'as_given.max_speed', 'as_given.min_speed',
         'energy_fluctuation', 'fluctuation', 'inertia', 'linkage_inertia.max',
         'linkage_inertia.min', 'mean_speed', 'mean_torque', 'with_flywheel.fluctuation',
         'with_flywheel.max_speed', 'with_flywheel.min_speed',
