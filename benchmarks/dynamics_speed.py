@@ -7,8 +7,9 @@ Usage (from the repository root):
 
 Runs problems/crank_rocker_motor.toml's linkage at its running speed (start at 690 deg/s,
 no flywheel section) for `--cycles` turns of the crank with `--points` history rows a turn,
-three ways: with its damper (LSODA), without (DOP853, its energy conserved), and with pin
-friction too (the undamped one has no drive: it spins freely). Each run builds the equation's
+four ways: as the example (motor, paddle damper, the rotor's inertia: DOP853), free (no drive,
+no damper: its energy conserved), with pin friction too (smoothed within 10 deg/s of rest), and
+stiff (without the rotor's inertia the paddle relaxes the light linkage in 1e-4 s: LSODA). Each run builds the equation's
 tables, integrates and computes the history (every row's forces) in this process after a
 warm-up run (imports paid once): the median CPU seconds (this process's, so that a shared
 machine's other jobs weigh less) of `--repeats` runs, part by part, and the energy balance's
@@ -27,7 +28,7 @@ ROOT = Path(__file__).resolve().parent.parent
 BASE = (ROOT / "problems" / "crank_rocker_motor.toml").read_text(encoding="utf-8")
 
 
-def variant(cycles: int, points: int, damper: bool, friction: bool) -> str:
+def variant(cycles: int, points: int, damper: bool, friction: bool, rotor: bool = True) -> str:
     speed = 690.0
     duration = cycles * 360.0 / speed
     text = BASE.replace("start = { angle = 0, speed = 0 }     # from rest",
@@ -35,13 +36,16 @@ def variant(cycles: int, points: int, damper: bool, friction: bool) -> str:
     text = text.replace("duration = 2\n", f"duration = {duration!r}\n")
     text = text.replace("steps = 201\n", f"steps = {cycles * points}\n")
     text = text.replace("fluctuation = 0.02                   # the flywheel that holds the speed within +-1 %\n", "")
+    if not rotor:
+        text = text.replace("flywheel_inertia = 3.9", "# flywheel_inertia = 3.9")
     if not damper:
         text = text.replace('paddle = { link = "output", coefficient = 40 }', "")
         text = text.replace("[dampers]\n", "")
         text = text.replace("drive = { torque_speed", "# drive = { torque_speed")
     if friction:
         text = text.replace("[dynamics]\n", "[joints]\nA0 = { diameter = 20 }\nA = { diameter = 12 }\n"
-                            "B = { diameter = 12 }\nB0 = { diameter = 20 }\n[dynamics]\nfriction = 0.1\n", 1)
+                            "B = { diameter = 12 }\nB0 = { diameter = 20 }\n[dynamics]\nfriction = 0.1\n"
+                            "friction_speed = 10\n", 1)
     return text
 
 
@@ -79,18 +83,18 @@ def main() -> None:
     parser.add_argument("--cycles", type=int, default=10)
     parser.add_argument("--points", type=int, default=1000)
     args = parser.parse_args()
-    cases = {"damper (LSODA)": (True, False), "no damping (DOP853)": (False, False),
-             "damper and pin friction": (True, True)}
+    cases = {"the example (motor, paddle)": (True, False, True), "free, no damping": (False, False, True),
+             "with pin friction": (True, True, True), "stiff: no rotor (LSODA)": (True, False, False)}
     one(variant(1, 10, True, False))  # warm-up: imports, caches
     print(f"{args.cycles} cycles x {args.points} points a cycle; median CPU s of {args.repeats} runs")
-    print(f"{'case':26s} {'method':7s} {'tables':>7s} {'integr.':>8s} {'history':>8s} {'total':>7s} "
+    print(f"{'case':28s} {'method':7s} {'tables':>7s} {'integr.':>8s} {'history':>8s} {'total':>7s} "
           f"{'evals':>7s} {'residual':>9s}")
-    for name, (damper, friction) in cases.items():
-        text = variant(args.cycles, args.points, damper, friction)
+    for name, (damper, friction, rotor) in cases.items():
+        text = variant(args.cycles, args.points, damper, friction, rotor)
         runs = [one(text) for _ in range(args.repeats)]
         med = {k: statistics.median(r[k] for r in runs) for k in ("tables", "integrate", "history", "total")}
         last = runs[-1]
-        print(f"{name:26s} {last['method']:7s} {med['tables']:7.3f} {med['integrate']:8.3f} "
+        print(f"{name:28s} {last['method']:7s} {med['tables']:7.3f} {med['integrate']:8.3f} "
               f"{med['history']:8.3f} {med['total']:7.3f} {last['evaluations']:7d} {last['residual']:9.1e}")
 
 
