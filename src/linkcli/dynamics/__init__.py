@@ -6,13 +6,16 @@ Shared code: it holds a mechanism's home (`linkcli.mechanisms.of`) and calls its
 (`body_graph`, `coefficients`, `counterweights`); it never asks which mechanism it holds.
 
     model        the validated [springs], [dampers], [dynamics] (pure Python: `check`)
-    bodies       points, centres, inertia and generalized forces from the coefficients
-    elements     springs, dampers, the drive: forces and energies
-    tables       the equation's coefficients tabulated over the drive's range (splines)
-    motion       the equation of motion M q'' + M' q'^2 / 2 = Q and its integration
-    body_forces  pin forces, guide forces and pin friction (Newton-Euler of every body)
+    bodies       points, centres, the generalized inertia and potential from the coefficients
+    elements     springs, dampers, constant couples and the drive: laws, forces, energies
+    tables       the equation's functions tabulated over the drive's range (quintic splines)
+    system       the equation of motion of one linkage: exact functions and their tables
+    motion       its integration (solve_ivp), events, restarts at a table law's rows
+    stepper      scipy's DOP853 with its sums free of the machine's BLAS
+    friction     pin and guide friction in the integrator (tabulated unit responses)
+    body_forces  pin forces, guide forces and friction: Newton-Euler of every body, all rows
     history      the report's rows at the output times, all at once
     flywheel     steady running: speed fluctuation and the flywheel by the energy method
     balance      shaking force and moment; counterweights
-    sections     the report sections
+    sections     the report sections; layout: their table view
 """
