@@ -583,3 +583,54 @@ duration = 1
     w = rng.uniform(-20, 20, 50)
     st = state(system, q, w)
     assert_allclose(st.solved.drive, st.acceleration, rtol=1e-9, atol=1e-9 * np.max(np.abs(st.acceleration)))
+
+
+@pytest.mark.parametrize("linkage", ["four-bar", "slider-crank"])
+def test_the_integrators_friction_is_the_exact_newton_euler_fixed_point(linkage):
+    """Pin friction (and the slider-crank's guide friction) as the integrator evaluates it, from
+    tabulated unit responses, against the fixed point of the exact Newton-Euler equations of
+    every body at random states: the same generalized friction force and acceleration."""
+    from linkcli.dynamics import motion
+    from linkcli.dynamics.history import state
+    four = linkage == "four-bar"
+    text = f"""type = "linkage"
+{FOUR_BAR if four else SLIDER_CRANK}
+[loads]
+gravity = [0, -9.81]
+[masses]
+input = {{ mass = 0.2, center = [8, 1], inertia = 1e-4 }}
+coupler = {{ mass = 0.5, center = [25, 3], inertia = 2e-3 }}
+{"output = { mass = 0.3, center = [20, -2], inertia = 1e-3 }" if four else "slider = { mass = 0.3 }"}
+[joints]
+A0 = {{ diameter = 10 }}
+A = {{ diameter = 8 }}
+B = {{ diameter = 8 }}
+{"B0 = { diameter = 10 }" if four else ""}
+[dampers]
+d = {{ between = ["A0", "B"], coefficient = 0.02 }}
+[dynamics]
+drive = {{ torque = 0.4 }}
+start = {{ angle = 0, speed = 100 }}
+duration = 1
+friction = 0.15
+"""
+    system = _system(text)
+    rhs, _ = motion.right_hand_side(system, 10**9)
+    rng = np.random.default_rng(3)
+    q = rng.uniform(0, 2 * math.pi, 20)
+    w = rng.uniform(-30, 30, 20)
+    st = state(system, q, w)
+    tabulated = np.array([rhs(0.0, [qq, ww, 0, 0, 0])[1] for qq, ww in zip(q, w)])
+    lost = np.array([rhs(0.0, [qq, ww, 0, 0, 0])[4] for qq, ww in zip(q, w)])
+    assert np.all(st.solved.converged)
+    assert_allclose(tabulated, st.acceleration, rtol=0, atol=1e-8 * np.max(np.abs(st.acceleration)))
+    power = np.zeros(len(q))  # friction's power at the exact fixed point, from its couples and forces
+    from linkcli.dynamics import body_forces
+    a = body_forces.Assembly(system.graph, st.exact.coef, True)
+    pin_rate, guide_rate = a.rates_at_pins(1.0)
+    for name, couple in st.solved.pin_friction.items():
+        power += couple * pin_rate[name] * w
+    for name, force in st.solved.guide_friction.items():
+        power += force * guide_rate[name] * w
+    assert np.all(power <= 0) and np.all(lost <= 0)
+    assert_allclose(lost, power, rtol=0, atol=1e-8 * np.max(np.abs(power)))

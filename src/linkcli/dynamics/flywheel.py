@@ -56,7 +56,7 @@ def running_speed(system) -> float | None:
     law = system.drive.law
     lo, hi = float(law.x[0]), float(law.x[-1])
     span = hi - lo
-    speeds = np.linspace(lo - 0.0 * span, hi + 0.25 * span, 121)
+    speeds = np.linspace(lo, hi + 0.25 * span, 121)  # past the last row: a curve through 0 runs on
     speeds = speeds[np.abs(speeds) > 1e-9 * span]
     gap = np.array([system.drive.scalar(w) - mean_load(system, w) for w in speeds])
     down = np.nonzero((gap[:-1] > 0) & (gap[1:] <= 0))[0]
