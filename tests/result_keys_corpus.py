@@ -36,6 +36,8 @@ NAMED = (
     ("kinematics", ROWS, "drives"), ("kinematics", ROWS, "transmission"),
     ("transmission", "closures"),
     ("tolerance", "lengths"), ("tolerance", "sensitivity"), ("tolerance", "general_tolerances"),
+    ("history", ROWS, "pins"), ("history", ROWS, "elements"), ("history", ROWS, "friction"),
+    ("balance", "unbalanced", "pins"), ("balance", "balanced", "pins"), ("balance", "counterweights"),
 )
 
 VARIANTS = ROOT / "tests" / "data" / "result_keys"

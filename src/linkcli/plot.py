@@ -114,6 +114,9 @@ def figure(result):
         if "strength" in report and report["strength"].get("rows"):
             from linkcli.plots import strength
             panels.append(strength)
+        if "history" in report or "balance" in report:  # [dynamics]
+            from linkcli.plots.dynamics import panels as dynamics_panels
+            panels.extend(dynamics_panels(report))
         if panels:
             heights = [FIGSIZE[1]] + [panel.HEIGHT for panel in panels]
             fig = Figure(figsize=(FIGSIZE[0], sum(heights)), layout="constrained")

@@ -169,11 +169,15 @@ def _tolerance_units(section: dict, lu: str, au: str) -> dict[str, str]:
 def _type_tables(kind: str, name: str, section, digits: int, lu: str, au: str) -> list:
     """The tables a problem type lays out itself (`report_tables` of its sections.py);
     empty when the generic layout serves."""
+    from linkcli.analysis.dynamics.layout import SECTIONS, report_tables as dynamics_tables  # [dynamics]
     from linkcli.io.tables import KeyValues
     from linkcli.registry import PACKAGES, problem_type
-    if kind not in PACKAGES:
+    if name in SECTIONS:
+        blocks = dynamics_tables(name, section, lu, au)
+    elif kind not in PACKAGES:
         return []
-    blocks = problem_type(kind).module("sections").report_tables(name, section, lu, au)
+    else:
+        blocks = problem_type(kind).module("sections").report_tables(name, section, lu, au)
     cut = [section] if isinstance(section, Elided) else [v for v in section.values()
                                                           if isinstance(v, Elided)] if isinstance(section, dict) else []
     return [_kv(b.title, b.rows, digits) if isinstance(b, KeyValues)

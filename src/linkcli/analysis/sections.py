@@ -41,6 +41,13 @@ def _build(problem, solution: Solution) -> dict:
     mech = None if solution.linkage is None else mechanisms.of(solution.linkage)
     if mech is not None:
         _linkage_sections(rep, problem, solution, mech, want, notes)
+    if mech is not None and getattr(meta, "dynamics", None) is not None:  # [dynamics]: docs/dynamics.md
+        from linkcli.analysis.dynamics.sections import add_sections
+        short = add_sections(rep, problem, mech, notes)  # (status, message) when it falls short
+        if short and rep["status"] == "ok":
+            rep["status"], rep["message"] = short
+        elif short:
+            notes.append(short[1])
     if "strength" in rep:
         from linkcli.analysis.strength import shortfall
         below = shortfall(rep["strength"], u.angle)

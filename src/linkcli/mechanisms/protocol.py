@@ -154,6 +154,56 @@ class MemberForces:
     not_bars: dict[str, str] = field(default_factory=dict)
 
 
+@dataclass(frozen=True)
+class BodyGraph:
+    """A linkage as rigid bodies joined by pins and guides, for its dynamics (linkcli.analysis.dynamics:
+    the equations of motion, the pin forces under force elements, balancing). SI: lengths in m.
+
+    bodies: the moving bodies in order (links by their [links]/[sections] names; a slider
+    block by the name [masses] gives it); the ground is "ground". blocks: the bodies that only
+    translate (slider blocks: a point mass at their frame's origin, the joint). masses: body
+    -> LinkMass (centre in the body's own frame, m); a massless body is absent. points: name
+    -> (body, (x, y) in its frame): every joint (and the coupler point), on the moving body a
+    load at that point acts on ("ground" with global coordinates for a joint on the ground
+    only). pins: (report name, joint, body exerting, body acted on), one per pair of bodies a
+    revolute pin joins (its force is reported on the second, as the home's `load_rows`
+    reports it). guides: (report name, joint, guide body, block, (ux, uy) the guide's
+    direction in the guide body's frame). drive: the body the drive turns, whose frame angle
+    is its drawn angle plus the drive value q. forces: constant [loads] forces (point, (Fx, Fy)
+    N); couples: constant [loads] couples (body, N m); gravity (gx, gy) m/s^2."""
+
+    bodies: tuple[str, ...]
+    blocks: tuple[str, ...]
+    masses: dict
+    points: dict
+    pins: tuple[tuple[str, str, str, str], ...]
+    guides: tuple[tuple[str, str, str, str, tuple[float, float]], ...]
+    drive: str
+    forces: tuple[tuple[str, tuple[float, float]], ...] = ()
+    couples: tuple[tuple[str, float], ...] = ()
+    gravity: tuple[float, float] = (0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class Coefficients:
+    """The kinematic coefficients of a one-drive linkage at drive values q (n rows), SI: the
+    velocity ratios of every body with respect to the drive value and their derivatives
+    (Uicker, Pennock & Shigley, Theory of Machines and Mechanisms, ch. 4 and 16, kinematic
+    coefficients; Paul, Kinematics and Dynamics of Planar Machinery, ch. 13). origin: body ->
+    (x, dx/dq, d2x/dq2), each (n, 2) m, of the origin of its frame; angle: body -> (theta,
+    dtheta/dq, d2theta/dq2), each (n,), its frame's angle (global, rad). A point l of a body:
+    p = x + R(theta) l, p' = x' + theta' perp(R l), p'' = x'' + theta'' perp(R l) - theta'^2 R l.
+    valid: (n,) bool, the rows where it assembles; lock: (n,) the smallest |sin| of a
+    transmission angle over its closures (0 at a dead point, where the coefficients grow
+    without bound)."""
+
+    q: np.ndarray
+    origin: dict
+    angle: dict
+    valid: np.ndarray
+    lock: np.ndarray
+
+
 class Mechanism(ABC):
     """One linkage of one mechanism, and everything shared code may ask of it.
 
@@ -224,6 +274,29 @@ class Mechanism(ABC):
         marks singular. Links are named as the home's schema `LINKS`, joints as `JOINTS`.
         None (this default): the home does not give them, and a file asking for the
         strength section is told so (exit 2)."""
+        return None
+
+    # ------------------------------------------------------------ dynamics
+    def body_graph(self, case, metres: float) -> BodyGraph | None:
+        """The linkage as bodies, pins and guides (BodyGraph) with the masses and constant
+        loads of `case` (model.LoadCase; lengths times `metres` are metres). None (this
+        default): the home gives no dynamics, and a file with [dynamics] is told so."""
+        return None
+
+    def coefficients(self, q, metres: float) -> Coefficients:
+        """The kinematic coefficients (Coefficients) at drive values q, the drive's values as
+        the home reports its rows (`Study.rows`), lengths in metres."""
+        raise NotImplementedError(f"{self.name} gives no kinematic coefficients")
+
+    def study_speed(self, speed: float) -> float:
+        """The drive's speed (rad/s) of the motion study whose [motion] input speed is `speed`
+        (this default: that speed; a home whose drives carry their own speeds: its drive's)."""
+        return speed
+
+    def counterweights(self, graph: BodyGraph, metres: float) -> dict | None:
+        """Counterweights that cancel the shaking force: body -> (mass x radius kg m, angle rad
+        in the body's frame, the radius they take by default m), for the masses of `graph`
+        (its body_graph(case, metres)); None (this default) when the home has no such rule."""
         return None
 
     # ------------------------------------------------------------ tolerance

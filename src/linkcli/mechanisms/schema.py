@@ -13,7 +13,7 @@ motion is rows of two drives). Pure Python: `check` reads it without numpy.
 
 from __future__ import annotations
 
-from typing import ClassVar
+from typing import ClassVar, NamedTuple
 
 from linkcli.io.bounds import MAX_LENGTH
 from linkcli.io.quantities import MAX_LOAD, link_mass, pair
@@ -21,6 +21,20 @@ from linkcli.io.reader import Table
 
 MAX_STEPS = 100_000  # rows of a motion study
 SOLVES_COUPLER_POINT = ("path-generation",)  # types whose result always has a coupler point
+
+
+class ForceParts(NamedTuple):
+    """The names a mechanism's home offers force elements (`Schema.force_parts`): points
+    (joint or coupler point -> the links carrying it, "ground" for the frame), links that turn
+    (torsional elements), revolute pins (friction: each needs a diameter), `refused`: why
+    this linkage has no dynamics (None when it has), and the links its counterweights go on
+    (none: its home has no balancing rule)."""
+
+    points: dict
+    links: tuple[str, ...]
+    pins: tuple[str, ...]
+    refused: str | None = None
+    counterweighted: tuple[str, ...] = ()  # links that take counterweights (a balancing rule)
 
 
 class Schema:
@@ -133,6 +147,13 @@ class Schema:
         if len(root.reader.errors) > errors:
             return None
         return LoadCase(loads=loads, masses=masses, given=given)
+
+    # ------------------------------------------------------------ [springs], [dampers], [dynamics]
+    def force_parts(self, root: Table, kind: str) -> ForceParts:
+        """The names force elements and the forward dynamics may use on this linkage (points,
+        turning links, pins, counterweighted links), or why it has no dynamics (`refused`)."""
+        return ForceParts(points={}, links=(), pins=(),
+                          refused=f"a one-drive linkage: the dynamics of a {self.name} are not modelled")
 
     # ------------------------------------------------------------ the table report
     def class_block(self, section: dict, fmt) -> tuple[str, list[tuple[str, object]]]:

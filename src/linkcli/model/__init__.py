@@ -79,6 +79,7 @@ class Meta:
     joints: tuple = ()  # [joints]: io.joints.JointSpec per joint (part sizes, a drawing)
     link_sections: dict = field(default_factory=dict)  # [sections]: link -> LinkSection
     strength: StrengthSpec | None = None  # [material] / [strength]: the strength section
+    dynamics: object = None  # [springs] / [dampers] / [dynamics]: model.dynamics.Dynamics
 
 
 class Linkage(Protocol):

@@ -83,6 +83,8 @@ def read_meta(root: Table, kind: str, spec: ProblemType) -> Meta:
     loads = read_load_case(root, kind, spec, sections)
     joints = read_joint_table(root, kind, spec, units)
     link_sections, strength = read_strength_tables(root, kind, spec, sections, loads, joints)
+    from linkcli.reading.dynamics_keys import read_dynamics  # [springs], [dampers], [dynamics]
+    dynamics = read_dynamics(root, kind, "forces" in spec.sections, units, joints)
     if tolerance is not None and joints is not None:  # fits of schemes and clearance = "fits"
         from linkcli.reading.tolerance_keys import check_fits
         check_fits(root, tolerance, joints, units)
@@ -101,7 +103,7 @@ def read_meta(root: Table, kind: str, spec: ProblemType) -> Meta:
         sections = sections + ("tolerance",)
     return Meta(path=root.reader.path, type=kind, title=title, units=units, solver=solver,
                 sections=sections, reference=reference, tolerance=tolerance, loads=loads,
-                joints=joints or (), link_sections=link_sections, strength=strength)
+                joints=joints or (), link_sections=link_sections, strength=strength, dynamics=dynamics)
 
 
 def read_load_case(root: Table, kind: str, spec: ProblemType, sections: tuple[str, ...]):

@@ -13,6 +13,24 @@ OPEN = "*"
 ROWS = "[]"
 
 KEYS = {
+    'balance': (
+        'balanced.input_torque.at_input', 'balanced.input_torque.max',
+        'balanced.input_torque.rms', 'balanced.pins.*', 'balanced.shaking_force.at_input',
+        'balanced.shaking_force.max', 'balanced.shaking_force.rms',
+        'balanced.shaking_moment.at_input', 'balanced.shaking_moment.max',
+        'balanced.shaking_moment.rms', 'counterweights.*.angle', 'counterweights.*.mass',
+        'counterweights.*.mass_radius', 'counterweights.*.radius',
+        'cycle.[].balanced.shaking_force.magnitude', 'cycle.[].balanced.shaking_force.x',
+        'cycle.[].balanced.shaking_force.y', 'cycle.[].balanced.shaking_moment',
+        'cycle.[].input', 'cycle.[].unbalanced.shaking_force.magnitude',
+        'cycle.[].unbalanced.shaking_force.x', 'cycle.[].unbalanced.shaking_force.y',
+        'cycle.[].unbalanced.shaking_moment', 'rows', 'speed',
+        'unbalanced.input_torque.at_input', 'unbalanced.input_torque.max',
+        'unbalanced.input_torque.rms', 'unbalanced.pins.*', 'unbalanced.shaking_force.at_input',
+        'unbalanced.shaking_force.max', 'unbalanced.shaking_force.rms',
+        'unbalanced.shaking_moment.at_input', 'unbalanced.shaking_moment.max',
+        'unbalanced.shaking_moment.rms',
+    ),
     'burmester': (
         'dyads.[].dyad', 'dyads.[].ground', 'dyads.[].moving', 'real_dyads',
     ),
@@ -42,13 +60,26 @@ KEYS = {
         'row_at_worst_condition', 'row_at_worst_transmission', 'stroke', 'swing', 'time_ratio',
         'worst_condition', 'worst_transmission',
     ),
+    'energy': (
+        'balance', 'damper_work', 'drive_work', 'friction_work', 'kinetic', 'potential',
+        'spring', 'start.kinetic', 'start.spring',
+    ),
     'error': (
         'angle_weight', 'best_known', 'gap', 'max', 'max_angle_error', 'max_position_error',
         'objective', 'rms', 'rms_angle_error', 'rms_position_error',
     ),
+    'events': (
+        '[].angle', '[].event', '[].speed', '[].time',
+    ),
     'family': (
         '[].chosen', '[].coupler', '[].ground', '[].input', '[].inside_window', '[].offset',
         '[].output', '[].parameter', '[].worst_transmission',
+    ),
+    'flywheel': (
+        'added_inertia', 'as_given.fluctuation', 'as_given.max_speed', 'as_given.min_speed',
+        'energy_fluctuation', 'fluctuation', 'inertia', 'linkage_inertia.max',
+        'linkage_inertia.min', 'mean_speed', 'mean_torque', 'with_flywheel.fluctuation',
+        'with_flywheel.max_speed', 'with_flywheel.min_speed',
     ),
     'forces': (
         'dead_points', 'input_torque.at_input', 'input_torque.peak', 'input_torque.rms',
@@ -64,6 +95,10 @@ KEYS = {
         'phases.[].ground', 'phases.[].locked', 'phases.[].longest', 'phases.[].p_plus_q',
         'phases.[].rows', 'phases.[].s_plus_l', 'phases.[].shortest', 's_plus_l', 'shortest',
         'sliders', 'two_shortest_plus_longest',
+    ),
+    'history': (
+        '[].acceleration', '[].angle', '[].drive_torque', '[].elements.*', '[].friction.*',
+        '[].pins.*.magnitude', '[].pins.*.x', '[].pins.*.y', '[].speed', '[].time',
     ),
     'kinematics': (
         '[].acceleration', '[].condition', '[].coupler', '[].coupler_acceleration',
@@ -92,6 +127,11 @@ KEYS = {
         'designs.[].error_max', 'designs.[].failure_anywhere', 'designs.[].ground',
         'designs.[].input', 'designs.[].largest_ci95', 'designs.[].largest_failure_probability',
         'designs.[].output', 'objective', 'search', 'search_samples',
+    ),
+    'simulation': (
+        'end', 'end_angle', 'end_speed', 'end_time', 'flywheel_inertia', 'friction.coefficient',
+        'friction.regularization_speed', 'method', 'rtol', 'start.angle', 'start.speed',
+        'stop_speed', 'stop_time',
     ),
     'solver': (
         'best_known', 'converged', 'evaluations', 'gap', 'method', 'minimize', 'seconds',

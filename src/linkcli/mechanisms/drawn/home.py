@@ -185,6 +185,20 @@ class DrawnMechanism(Mechanism):
         from linkcli.mechanisms.drawn.members import drawn_members
         return drawn_members(self, self.state(phi), case, metres, rows)
 
+    def study_speed(self, speed):
+        """The leading drive's [drive] speed (rad/s): its kinematics and loads run at it."""
+        return self.linkage.drives[0].speed
+
+    def body_graph(self, case, metres):
+        """Every link and slider block; pins and guides as drawn.loads names them; None unless
+        one turning drive (mechanisms.drawn.dynamics)."""
+        from linkcli.mechanisms.drawn.dynamics import body_graph
+        return body_graph(self, case, metres)
+
+    def coefficients(self, q, metres):
+        from linkcli.mechanisms.drawn.dynamics import coefficients
+        return coefficients(self, q, metres)
+
     def tolerance_model(self, problem, solution):
         from linkcli.mechanisms.drawn.tolerance import model
         return model(self, problem)

@@ -12,7 +12,7 @@ import math
 
 from linkcli.io.bounds import MAX_LENGTH
 from linkcli.io.reader import MISSING, Table, describe
-from linkcli.mechanisms.schema import Schema
+from linkcli.mechanisms.schema import ForceParts, Schema
 # .model (its dataclasses) is imported inside the functions that build them: every other
 # mechanism's [linkage] reads this module for its keys alone (reading.linkage.refuse_foreign)
 
@@ -85,6 +85,30 @@ class DrawnSchema(Schema):
 
     def motion_units(self, length, angle) -> dict[str, str]:
         return {"input_range": angle, "input_speed": f"{angle}/s"}
+
+    def force_parts(self, root: Table, kind: str) -> ForceParts:
+        """Points: every joint (carried by the links listing it, "ground" for a ground pivot, its
+        slider block for a slider joint); links: every link of [links]; pins: the joints that join
+        two bodies or more. Refused unless [drive] has exactly one entry, a link (a turning drive:
+        one degree of freedom)."""
+        data = root.data
+        joints = data.get("joints") if isinstance(data.get("joints"), dict) else {}
+        links = data.get("links") if isinstance(data.get("links"), dict) else {}
+        points: dict = {}
+        for name, spec in joints.items():
+            carried = [link for link, held in links.items() if isinstance(held, list) and name in held]
+            if isinstance(spec, dict) and spec.get("ground") is True:
+                carried.insert(0, "ground")
+            if isinstance(spec, dict) and "slider" in spec:
+                carried.append(f"{name} (slider block)")
+            points[name] = tuple(carried)
+        pins = tuple(name for name, carried in points.items() if len(carried) >= 2)
+        drive = data.get("drive")
+        refused = None
+        if isinstance(drive, dict) and (len(drive) != 1 or next(iter(drive)) not in links):
+            refused = ("a drawn linkage with one drive, a link turning about its ground joint (one "
+                       "degree of freedom)")
+        return ForceParts(points=points, links=tuple(links), pins=pins, refused=refused)
 
 
 def known_lengths(linkage) -> dict[str, float]:

@@ -16,7 +16,7 @@ import math
 
 from linkcli.io.bounds import ASSEMBLY_RTOL, MAX_LENGTH, bounded_length, bounded_point, refuse_ratio
 from linkcli.io.reader import MISSING, MAX_ARRAY, Table, describe
-from linkcli.mechanisms.schema import Schema
+from linkcli.mechanisms.schema import ForceParts, Schema
 # .model (its dataclasses) is imported inside the functions that build them: every other
 # mechanism's [linkage] reads this module for its keys alone (reading.linkage.refuse_foreign)
 
@@ -81,6 +81,11 @@ class FiveBarSchema(Schema):
     def motion_units(self, length, angle) -> dict[str, str]:
         return {"input_range": angle, "input2_range": angle, "x_range": length, "y_range": length,
                 "input_speeds": f"{angle}/s", "input_accelerations": f"{angle}/s2"}
+
+    def force_parts(self, root: Table, kind: str) -> ForceParts:
+        return ForceParts(points={}, links=(), pins=(),
+                     refused="a one-drive linkage (four-bar, slider-crank or a drawn linkage with one "
+                             "turning drive): the five-bar's two drives and its loads are not modelled")
 
 
 def _read(t: Table, units) -> FiveBar | None:

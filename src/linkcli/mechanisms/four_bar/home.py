@@ -82,6 +82,20 @@ class FourBarMechanism(Mechanism):
             omega_output=w4, alpha_input=0.0, alpha_coupler=a3, alpha_output=a4, coupler_point=point,
             ground_pivot=tuple(v * metres for v in fb.ground_pivot), ground_angle=fb.ground_angle)
 
+    def body_graph(self, case, metres):
+        """Bodies input, coupler, output; pins A0, A, B, B0 (mechanisms.four_bar.dynamics)."""
+        from linkcli.mechanisms.four_bar.dynamics import body_graph
+        return body_graph(self.linkage, case, metres)
+
+    def coefficients(self, q, metres):
+        from linkcli.mechanisms.four_bar.dynamics import coefficients
+        return coefficients(self.linkage, q, metres)
+
+    def counterweights(self, graph, metres):
+        """Berkof-Lowen: on the input and the output (mechanisms.four_bar.dynamics)."""
+        from linkcli.mechanisms.four_bar.dynamics import counterweights
+        return counterweights(self.linkage, graph, metres)
+
     def tolerance_model(self, problem, solution):
         from linkcli.mechanisms.four_bar.tolerance import Model, targets
         return Model(self.linkage, targets(problem, solution))

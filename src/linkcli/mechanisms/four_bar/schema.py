@@ -5,10 +5,13 @@ from __future__ import annotations
 
 from linkcli.io.bounds import ASSEMBLY_RTOL, MAX_LENGTH, bounded_length, bounded_point, refuse_ratio
 from linkcli.io.reader import Table
-from linkcli.mechanisms.schema import Schema, coupler_point_headings
-
-
 from linkcli.mechanisms.four_bar.model import BRANCHES, FourBar
+from linkcli.mechanisms.schema import ForceParts, Schema, coupler_point_headings, has_coupler_point
+
+CARRIED = {"A0": ("ground", "input"), "A": ("input", "coupler"), "B": ("coupler", "output"),
+           "B0": ("ground", "output")}  # each pin -> the bodies it joins (force elements, friction)
+
+
 class FourBarSchema(Schema):
     """The four-bar's vocabulary (mechanisms.schema.Schema)."""
 
@@ -40,6 +43,15 @@ class FourBarSchema(Schema):
 
     def motion_units(self, length, angle) -> dict[str, str]:
         return {"input_range": angle, "output_range": angle, "output_swing": angle, "input_speed": f"{angle}/s"}
+
+    def force_parts(self, root: Table, kind: str) -> ForceParts:
+        """Joints A0, A, B, B0 (and the coupler point P when the linkage has one); links input,
+        coupler, output; pins A0, A, B, B0; counterweights on input and output (Berkof-Lowen)."""
+        points = dict(CARRIED)
+        if has_coupler_point(root, kind):
+            points["P"] = ("coupler",)
+        return ForceParts(points=points, links=("input", "coupler", "output"), pins=tuple(CARRIED),
+                          counterweighted=("input", "output"))
 
 
 def _read(t: Table, units) -> FourBar | None:

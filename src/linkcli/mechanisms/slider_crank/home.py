@@ -76,6 +76,16 @@ class SliderCrankMechanism(Mechanism):
             input_length=a * metres, coupler_length=b * metres, phi=phi, theta=p.theta,
             omega_input=speed, omega_coupler=w3, alpha_input=0.0, alpha_coupler=a3, coupler_point=point)
 
+    def body_graph(self, case, metres):
+        """Bodies input, coupler and the slider block; pins A0, A, B and the guide
+        (mechanisms.slider_crank.dynamics)."""
+        from linkcli.mechanisms.slider_crank.dynamics import body_graph
+        return body_graph(self.linkage, case, metres)
+
+    def coefficients(self, q, metres):
+        from linkcli.mechanisms.slider_crank.dynamics import coefficients
+        return coefficients(self.linkage, q, metres)
+
     def tolerance_model(self, problem, solution):
         from linkcli.mechanisms.slider_crank.tolerance import model
         return model(problem, solution)

@@ -5,10 +5,12 @@ from __future__ import annotations
 
 from linkcli.io.bounds import ASSEMBLY_RTOL, MAX_LENGTH, bounded_length, bounded_point, refuse_ratio
 from linkcli.io.reader import Table
-from linkcli.mechanisms.schema import Schema, coupler_point_headings
-
-
 from linkcli.mechanisms.slider_crank.model import BRANCHES, SliderCrank
+from linkcli.mechanisms.schema import ForceParts, Schema, coupler_point_headings, has_coupler_point
+
+CARRIED = {"A0": ("ground", "input"), "A": ("input", "coupler"), "B": ("coupler", "slider")}  # each pin -> the bodies it joins
+
+
 class SliderCrankSchema(Schema):
     """The slider-crank's vocabulary (mechanisms.schema.Schema): `guide` is the slider's guide
     among its pins; the slider's play in its guide is a play of its own; the slider is a
@@ -48,6 +50,15 @@ class SliderCrankSchema(Schema):
 
     def motion_units(self, length, angle) -> dict[str, str]:
         return {"input_range": angle, "slider_range": length, "stroke": length, "input_speed": f"{angle}/s"}
+
+    def force_parts(self, root: Table, kind: str) -> ForceParts:
+        """Joints A0, A, B (the slider pin; and the coupler point P when the linkage has one);
+        turning links input and coupler (the slider only translates); pins A0, A, B (the guide
+        is no pin: its friction needs no diameter)."""
+        points = dict(CARRIED)
+        if has_coupler_point(root, kind):
+            points["P"] = ("coupler",)
+        return ForceParts(points=points, links=("input", "coupler"), pins=tuple(CARRIED))
 
 
 def _read(t: Table, units) -> SliderCrank | None:
