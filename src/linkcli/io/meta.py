@@ -154,8 +154,10 @@ def read_joint_table(root: Table, kind: str, spec: ProblemType, units: Units):
     """[joints] (linkcli.io.joints) on a type whose result is a linkage; refused, located, on
     one that has none."""
     from linkcli.io.loads import mechanism_of
+    from linkcli.mechanisms import module
     from linkcli.registry import NAMES, problem_type
-    if "forces" not in spec.sections:
+    drawing = module(mechanism_of(root), "schema").JOINTS is None  # [joints] is a drawing, read with it
+    if "forces" not in spec.sections and not drawing:
         if "joints" in root:
             root.raw("joints")
             with_linkage = ", ".join(n for n in NAMES if "forces" in problem_type(n).sections)

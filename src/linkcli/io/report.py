@@ -355,7 +355,8 @@ def _position_heads(r: dict, lu: str, au: str) -> dict[str, str]:
     with a position error (length) and an angle error."""
     from linkcli.mechanisms import DEFAULT, module
     mechanism = r.get("linkage", {}).get("mechanism", DEFAULT)
-    length_output = module(mechanism, "schema").OUTPUT == "length"  # a slider's position
+    length_output = module(mechanism, "schema").OUTPUT == "length" and r["type"] != "function-generation"
+    # a slider's position (a function's output is an angle, whatever the mechanism)
     unit = lu if r["type"] == "path-generation" or length_output else au
     heads = {"input": f"input ({au})", "position_error": f"position error ({lu})",
              "angle_error": f"angle error ({au})"}

@@ -7,7 +7,11 @@ schema calls `read(kind, root, meta)` and its solve module `solve(kind, problem)
 through the face of the mechanism the file names (`[linkage] mechanism`, default four-bar).
 A home with closed forms of its own (the four-bar's Freudenstein, Burmester and projected
 Levenberg-Marquardt pipelines, the slider-crank's linear fit, the five-bar's maximin design)
-names them as its strategies: they stay the same numbers.
+names them as its strategies: they stay the same numbers. A home designed by the shared
+search (linkcli.synthesis: starts, batched Levenberg-Marquardt, the KKT settle, found-twice
+confirmation) hands it a `Population` -- its design variables and bounds, the geometry and
+kinematics of a whole population of designs at once (designs x drive values), its
+constraint residuals and the starts it knows.
 
 Pure Python at import (`check` reads files through it without numpy).
 """
@@ -15,7 +19,9 @@ Pure Python at import (`check` reads files through it without numpy).
 from __future__ import annotations
 
 import importlib
-from typing import ClassVar
+from abc import ABC, abstractmethod
+from dataclasses import dataclass
+from typing import Any, ClassVar
 
 from linkcli.mechanisms import DEFAULT, NAMES, module
 
@@ -79,3 +85,75 @@ def read(kind: str, root, meta):
 def solve(kind: str, problem):
     """The Solution of a design problem, by the strategy of its mechanism's face."""
     return face(problem.mechanism).solve(kind, problem)
+
+
+# ---------------------------------------------------------------- the shared search's side
+
+@dataclass
+class Motion:
+    """What a population's kinematics gives at drive values q (N designs x S values): points
+    (N, S, P, 2) of the traced joints (`Population.traced`); angles (N, S, L) and frame
+    origins (N, S, L, 2) of the followed links (`Population.followed`); valid (N, S): every
+    closure closes there on its drawn side; margins (N, S, C): each closure's distance from
+    locking (length unit, < 0 where it cannot close); transmission (N, S, C): each closure's
+    transmission angle (rad)."""
+
+    points: Any
+    angles: Any
+    origins: Any
+    valid: Any
+    margins: Any
+    transmission: Any
+
+
+class Population(ABC):
+    """The designs of one home for one problem, vectorized over designs (numpy): a design is
+    a row x (nx,) of `names` within [lo, hi]; drive values are offsets q from the design's
+    drawn position (rad, 0 = as drawn). `traced` are the points whose paths and `followed`
+    the links whose frames a kinematics call reports; `closures` name the closures."""
+
+    names: tuple[str, ...]
+    lo: Any
+    hi: Any
+    traced: tuple[str, ...] = ()
+    followed: tuple[str, ...] = ()
+    closures: tuple[str, ...] = ()
+
+    @abstractmethod
+    def geometry(self, x):
+        """The home's geometry record of N designs (N, nx): what their drawings are."""
+
+    @abstractmethod
+    def kinematics(self, x, q) -> Motion:
+        """The population's motion at drive values q (N, S) (each design its own row)."""
+
+    def constraints(self, motion: Motion, window=None):
+        """(g, kinds): constraint residuals g (N, S, M) at the drive values of `motion`
+        (g <= 0 feasible) and the kind of each of the M columns: ("assembly", closure) --
+        -margin, length unit: assembly on the drawn side, and over a travel no dead point;
+        ("transmission", closure) -- window[0] - mu and mu - window[1], rad."""
+        import numpy as np
+        cols = [-motion.margins]
+        kinds = [("assembly", c) for c in self.closures]
+        if window is not None:
+            cols += [window[0] - motion.transmission, motion.transmission - window[1]]
+            kinds += [("transmission", c) for c in self.closures] * 2
+        return np.concatenate(cols, axis=-1), tuple(kinds)
+
+    def phase_free(self) -> bool:
+        """Whether a design's drawing may be its configuration at any drive value (every
+        moving joint free): the timing's phase is then redundant with it."""
+        return False
+
+    @abstractmethod
+    def starts(self, rng, count: int):
+        """(count, nx) designs the home knows to be good places to start (the drawing, and
+        what it draws from it)."""
+
+    @abstractmethod
+    def size(self, x):
+        """(N,) each design's length scale."""
+
+    @abstractmethod
+    def linkage(self, x):
+        """The model linkage of one design x (nx,): what the report and `analyze` read."""
