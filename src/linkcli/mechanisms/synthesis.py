@@ -145,6 +145,12 @@ class Population(ABC):
         moving joint free): the timing's phase is then redundant with it."""
         return False
 
+    def placement_free(self) -> bool:
+        """Whether the whole design may be moved, turned and scaled (the shared starts then
+        fit its placement to the targets in closed form: z -> g + u z on the home's variables,
+        taken as pairs (x, y))."""
+        return False
+
     @abstractmethod
     def starts(self, rng, count: int):
         """(count, nx) designs the home knows to be good places to start (the drawing, and

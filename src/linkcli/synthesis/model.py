@@ -49,7 +49,7 @@ import numpy as np
 
 TWO_PI = 2.0 * math.pi
 GRID = 72  # drive values of the constraints' grid over a turn (fewer over a shorter travel, >= 9)
-REFINE = 4  # parabolic refinements of a grid extreme
+REFINE = 2  # parabolic refinements of a grid extreme
 NEAR = 5e-3  # a worst value above -NEAR (dimensionless) is refined: between two grid values 5 deg
 # apart a margin or an angle rises by about g'' (2.5 deg)^2 / 2, some 1e-3 for g'' ~ 1 (per rad^2)
 HUGE = 1e100  # a residual that overflowed or is undefined
@@ -136,6 +136,7 @@ class Model:
         self.kinds = population.constraints(_empty_motion(len(population.closures)), self.window)[1]
         self.angle_kind = np.array([kind == "transmission" for kind, _ in self.kinds])
         self.unit = np.where(self.angle_kind, 1.0, 1.0 / self.size)  # constraint -> dimensionless
+        self.ranks: dict = {}  # a design's (infeasible, violation, objective), search.rank's
 
     # ------------------------------------------------------------ timing
     def directions(self) -> tuple[float, ...]:

@@ -33,12 +33,16 @@ from linkcli.synthesis import starts
 from linkcli.synthesis.model import HUGE, TWO_PI, Model
 
 DEFAULT_BUDGET = 1_000_000  # design evaluations (each at every drive value it needs)
-ROUND_DRAWS = {"prescribed": 400, "free": 160, "function": 400}  # draws of a round (free timing:
+ROUND_DRAWS = {"prescribed": 800, "free": 160, "function": 800}  # draws of a round (free timing:
 # each with its 288 timing hypotheses)
-LM_FIELD = 48  # rows entering the batched Levenberg-Marquardt
-FIELD_ITERATIONS = 40
-POLISHED = 4  # distinct rows polished further
-POLISH_ITERATIONS = 100
+LM_FIELD = 96  # rows entering the batched Levenberg-Marquardt
+FIELD_ROUNDS = 3  # of FIELD_ITERATIONS steps each, the field halving after each
+FIELD_ITERATIONS = 20
+POLISHED = 2  # distinct rows polished further
+POLISH_ITERATIONS = 60
+REFINE_MORE = 100  # more polish of a round's unconverged pick near the best
+SETTLE_NEAR = 0.5  # relative: a round's best this close to the best so far is settled (a pick the penalized
+# polish left short of a binding constraint may be the best's basin)
 LM_WEIGHT = 1e2
 POLISH_WEIGHTS = (1e3, 1e5, 1e7)
 MIN_ROUNDS = 2
@@ -52,8 +56,11 @@ NEAR_EXACT_RMS = 1e-6  # ... and one the polish leaves on a flat valley's floor 
 # Jansen's foot path with every moving joint free and free timing, 23 unknowns, ends at 1e-7 to
 # 1e-5 of the path's extent, where the Jacobian's condition number is 1e7 and no Newton step gains)
 STEP = 1e-7  # forward-difference step, relative to max(|z|, 1e-2 box width, 1e-3 scale)
-FEASIBLE = 1e-12  # a constraint (dimensionless) this far above 0 is round-off
+FEASIBLE = 1e-9  # a constraint broken by at most this (radians, or the drawing's size) is met: the
+# noise floor (linkcli.noise), far below a printed digit, where a penalized polish leaves a binding one
 BINDING = 1e-4  # a constraint (dimensionless) this close to 0 may bind: the round's best is settled
+NEARLY = 1e-6  # total violation (constraints' units) a penalized polish leaves short of a binding
+# constraint: such a pick is settled onto it (the settle is taken when it ends feasible)
 
 
 @dataclass
@@ -97,8 +104,9 @@ class Penalized:
     """The boxed least-squares problems of linkcli.search.levenberg_marquardt: target
     residuals, then weight * max(0, g) of every constraint; each row its direction s."""
 
-    def __init__(self, space: Space, s: np.ndarray, weight: float, budget: Budget):
+    def __init__(self, space: Space, s: np.ndarray, weight: float, budget: Budget, central: bool = False):
         self.space, self.s, self.weight, self.budget = space, s, weight, budget
+        self.central = central  # central differences (the polish: a flat valley's floor needs them)
         self.lo, self.hi, self.linear = space.lo, space.hi, space.linear
         self.model = space.model
         self.at = np.zeros((len(s), len(self.model.kinds)))
@@ -117,7 +125,7 @@ class Penalized:
         idx = np.arange(len(self.s))[rows]
         n, k = z.shape
         m_t = model.m_t
-        self.budget.add(n * k)
+        self.budget.add(n * k * (2 if self.central else 1))
         h = space.steps(z)
         shifted = np.repeat(z[:, None, :], k, axis=1)
         shifted[:, np.arange(k), np.arange(k)] += h
@@ -125,7 +133,16 @@ class Penalized:
         s = np.repeat(self.s[idx], k)
         jac = np.zeros((n, r0.shape[1], k))
         rt = model.targets_at(flat, s).reshape(n, k, m_t)
-        jac[:, :m_t, :] = np.transpose((rt - r0[:, None, :m_t]) / h[:, :, None], (0, 2, 1))
+        if self.central:  # the other side too, where the box leaves room (else forward)
+            back = np.repeat(z[:, None, :], k, axis=1)
+            room = (z - h >= space.lo) & (z - h <= space.hi)
+            back[:, np.arange(k), np.arange(k)] -= np.where(room, h, 0.0)
+            rb = model.targets_at(space.full(back.reshape(n * k, k)), s).reshape(n, k, m_t)
+            rb = np.where(room[:, :, None], rb, r0[:, None, :m_t])
+            span = np.where(room, 2.0 * h, h)
+            jac[:, :m_t, :] = np.transpose((rt - rb) / span[:, :, None], (0, 2, 1))
+        else:
+            jac[:, :m_t, :] = np.transpose((rt - r0[:, None, :m_t]) / h[:, :, None], (0, 2, 1))
         broken = r0[:, m_t:] > 0.0
         some = np.flatnonzero(broken.any(axis=1))
         if len(some):
@@ -139,18 +156,23 @@ class Penalized:
 
 
 def batch_lm(space: Space, z, s, weight: float, iterations: int, budget: Budget, reserve: int = 0,
-             enough: float = -1.0):
-    return levenberg_marquardt.batch_lm(Penalized(space, s, weight, budget), z, iterations, reserve, enough)
+             enough: float = -1.0, central: bool = False):
+    return levenberg_marquardt.batch_lm(Penalized(space, s, weight, budget, central), z, iterations, reserve,
+                                        enough)
 
 
 # ---------------------------------------------------------------- ranking
 
 def rank(model: Model, c: Candidate):
-    """(infeasible, total violation, objective) from the exact check (model.check)."""
+    """(infeasible, total violation, objective) from the exact check (model.check): lengths
+    relative to the drawing's size, angles in radians; kept per design (model.ranks)."""
     from linkcli.synthesis.solution import violations
-    v = violations(model, c.x, c.s)
-    obj = objective(model, c)
-    return (len(v) > 0, sum(amount for _, amount, _, _ in v), obj)
+    key = (c.x.tobytes(), c.s)
+    if key not in model.ranks:
+        v = violations(model, c.x, c.s)
+        total = sum(amount / model.size if unit == "length" else amount for _, amount, _, unit in v)
+        model.ranks[key] = (len(v) > 0, total, objective(model, c))
+    return model.ranks[key]
 
 
 def objective(model: Model, c: Candidate) -> float:
@@ -195,7 +217,7 @@ def search(model: Model, budget: Budget, rng) -> tuple[list[Candidate], bool]:
         if index and budget.left < ROUND_DRAWS[model.timing] * starts.hypotheses_per_draw(model):
             break
         try:
-            new = one_round(model, space, budget, rng, index)
+            new = one_round(model, space, budget, rng, index, best)
         except BudgetSpent:
             break
         found = ranked(model, found + new)[:POLISHED]
@@ -219,7 +241,7 @@ def search(model: Model, budget: Budget, rng) -> tuple[list[Candidate], bool]:
     return found, confirmed
 
 
-def one_round(model: Model, space: Space, budget: Budget, rng, index: int) -> list[Candidate]:
+def one_round(model: Model, space: Space, budget: Budget, rng, index: int, best_so_far=None) -> list[Candidate]:
     """Draws, batched Levenberg-Marquardt, polish, settle (module docstring)."""
     x, s = starts.draws(model, rng, ROUND_DRAWS[model.timing])
     if space.k == 0:
@@ -233,14 +255,42 @@ def one_round(model: Model, space: Space, budget: Budget, rng, index: int) -> li
     keep = np.array(sampling.distinct(z / width, np.argsort(cost, kind="stable"), 1e-3, LM_FIELD), dtype=int)
     z, s = z[keep], s[keep]
     exact = exact_objective(model) / model.scale ** 2
-    z, f, conv = batch_lm(space, z, s, LM_WEIGHT, FIELD_ITERATIONS, budget, enough=exact)
-    keep = np.array(sampling.distinct(z / width, np.argsort(f, kind="stable"), 1e-3, POLISHED), dtype=int)
-    z, s, conv = z[keep], s[keep], conv[keep]
+    conv = np.zeros(len(z), dtype=bool)
+    for _ in range(FIELD_ROUNDS):  # the field halves after each (its best distinct rows)
+        z, f, ok = batch_lm(space, z, s, LM_WEIGHT, FIELD_ITERATIONS, budget, enough=exact)
+        conv |= ok
+        keep = np.array(sampling.distinct(z / width, np.argsort(f, kind="stable"), 1e-3,
+                                          max(POLISHED, len(z) // 2)), dtype=int)
+        z, s, conv = z[keep], s[keep], conv[keep]
+        if f.min() <= exact:
+            break
+    z, s, conv = z[:POLISHED], s[:POLISHED], conv[:POLISHED]
     z, s, conv = polish(model, space, z, s, conv, budget)
     cands = [Candidate(space.full(z[i:i + 1])[0], float(s[i]), bool(conv[i]), index) for i in range(len(z))]
     cands = ranked(model, cands)
-    cands[0] = settled(model, space, cands[0], budget)
-    return cands
+    for i, c in enumerate(cands):  # picks near the best (or nearly feasible and below it): settled
+        r = rank(model, c)
+        if (best_so_far is None and i == 0) or (best_so_far is not None and r <= _near(best_so_far)) or (
+                r[0] and r[1] <= NEARLY and (best_so_far is None or r[2] < best_so_far[2])):
+            cands[i] = settled(model, space, refined(model, space, c, budget), budget)
+    return ranked(model, cands)
+
+
+def refined(model: Model, space: Space, c: Candidate, budget: Budget) -> Candidate:
+    """A pick the polish left unconverged, polished REFINE_MORE steps further (a long valley:
+    one stopped part way would be a second arrival lost)."""
+    if c.converged or space.k == 0:
+        return c
+    z = c.x[space.idx][None]
+    z, _, ok = batch_lm(space, z, np.array([c.s]), POLISH_WEIGHTS[-1], REFINE_MORE, budget, central=True)
+    out = Candidate(space.full(z)[0], c.s, bool(ok[0]), c.round)
+    return out if rank(model, out) <= rank(model, c) else c
+
+
+def _near(best):
+    """A round's pick worth settling: feasible within SETTLE_NEAR of the best so far (or any
+    pick while nothing is feasible)."""
+    return (best[0], math.inf, math.inf) if best[0] else (False, math.inf, best[2] * (1.0 + SETTLE_NEAR))
 
 
 def polish(model: Model, space: Space, z, s, conv, budget: Budget):
@@ -251,7 +301,7 @@ def polish(model: Model, space: Space, z, s, conv, budget: Budget):
     for weight in POLISH_WEIGHTS:
         if not len(todo) or budget.left < len(todo) * (space.k + 1) * 4:
             break
-        z[todo], _, ok = batch_lm(space, z[todo], s[todo], weight, POLISH_ITERATIONS, budget)
+        z[todo], _, ok = batch_lm(space, z[todo], s[todo], weight, POLISH_ITERATIONS, budget, central=True)
         conv[todo] |= ok
         full = space.full(z[todo])
         todo = todo[[bool(violations(model, full[j], s[i])) for j, i in enumerate(todo)]]
@@ -265,7 +315,7 @@ def settled(model: Model, space: Space, best: Candidate, budget: Budget) -> Cand
     (linkcli.search.kkt), when that converges to a feasible point no worse (relative 1e-9)."""
     from linkcli.search import kkt
     f0 = rank(model, best)
-    if space.k == 0 or f0[0] or f0[2] <= exact_objective(model):
+    if space.k == 0 or f0[1] > NEARLY or f0[2] <= exact_objective(model):
         return best
     ev = model.evaluate(best.x[None], np.array([best.s]))
     if not np.any(ev.g > -BINDING):  # no constraint binds: the Levenberg-Marquardt end is the optimum
@@ -299,6 +349,6 @@ def settled(model: Model, space: Space, best: Candidate, budget: Budget) -> Cand
         return best
     cand = Candidate(space.full((space.lo + out.u * width)[None])[0], best.s, True, best.round)
     r = rank(model, cand)
-    if r[0] or r[2] > f0[2] * (1.0 + 1e-9):
+    if r[0] or (not f0[0] and r[2] > f0[2] * (1.0 + 1e-9)):
         return best
     return cand

@@ -1,17 +1,22 @@
 """Starting designs of the shared search: the home's draws (Population.starts: the drawing,
-draws around it, draws in the boxes), completed by the timing each one fits best.
+draws around it, draws in the boxes), completed by the timing and the placement each one fits
+best -- the four-bar's closed-form completion (types/path_generation/starts.py), written for
+any home whose population can be moved as a whole.
 
-* Prescribed timing with a free offset: OFFSETS offsets across its range, each one hypothesis
-  (the targets' residuals at base + offset); the best is kept.
-* Free timing: the traced point's curve (or the followed frame's: origin and angle) over one
-  turn on the model's grid; target k put at the drive value q_j + s lam 2 pi c_k (c_k: the
-  targets' cumulative chord length, 0 for the first and 1 for the last), for every start
-  sample j (every START_STRIDE-th), share of the turn lam (FRACTIONS) and direction s, the
-  curve interpolated linearly between its samples; the hypothesis nearest the targets (sum of
-  squared distances, plus the angle's, weighted, for a frame) gives q_1 and the increments
-  (the four-bar's timing hypotheses, types/path_generation/starts.py, without its similarity
-  fit: a drawing's pivots may be fixed).
-* Function generation: free start angles drawn uniformly within their bounds.
+* Placement. Where the whole drawing may move (every joint free: Population.placement_free),
+  the traced curve of a draw scales, turns and shifts with it, so that its placement is the
+  linear fit T_k ~ g + u C_k (complex: C_k the traced point, or the followed frame's origin,
+  at the targets' drive values; u = scale e^{i gamma}), solved in closed form (centred
+  Procrustes without the unit-modulus constraint), each hypothesis's cost the fit's residual;
+  the chosen fit moves every joint, z -> g + u z, clipped into its box.
+* Timing. Prescribed with a free offset: OFFSETS offsets across its range. Free: target k at
+  the drive value q_j + s lam 2 pi c_k (c_k: the targets' cumulative chord length, 0 for the
+  first and 1 for the last) on the draw's curve over one turn (the model's grid, interpolated
+  linearly), for every START_STRIDE-th start sample j, share of the turn lam (FRACTIONS) and
+  direction s. Each hypothesis is scored by its placement's residual (or, where the drawing
+  cannot move, by its distances to the targets, plus the angle's, weighted, for a frame).
+* Function generation: free start angles drawn uniformly within their bounds (the output
+  angle does not change with the placement).
 
 Every hypothesis counts as one evaluation against the budget.
 """
@@ -25,7 +30,7 @@ import numpy as np
 from linkcli.synthesis.model import GRID, HUGE, TWO_PI, Model
 
 OFFSETS = 24
-START_STRIDE = 3
+START_STRIDE = 4
 FRACTIONS = (0.05, 0.12, 0.25, 0.45, 0.7, 0.95)
 CHUNK = 1_000_000  # complex elements per block of hypotheses
 
@@ -39,65 +44,107 @@ def hypotheses_per_draw(model: Model) -> int:
 
 
 def draws(model: Model, rng, count: int):
-    """(x (count, nx), s (count,)): the home's draws completed by their best timing."""
+    """(x (count, nx), s (count,)): the home's draws completed by their best timing and
+    placement."""
     k = model.k_home
     x = np.repeat(((model.lo + model.hi) / 2.0)[None, :], count, axis=0)
     x[:, :k] = model.pop.starts(rng, count)
-    dirs = model.directions()
-    s = np.full(count, dirs[0])
-    if model.timing == "prescribed":
-        if model.free[k]:
-            x[:, k] = _best_offset(model, x)
-        else:
-            x[:, k] = model.lo[k]
-    elif model.timing == "free":
-        x, s = _free_timing(model, x)
-    else:
+    s = np.full(count, model.directions()[0])
+    if model.timing == "function":
         for j in (k, k + 1):
             if model.free[j]:
                 x[:, j] = model.lo[j] + (model.hi[j] - model.lo[j]) * rng.random(count)
-    return x, s
+        return x, s
+    if model.timing == "free":
+        return _free_timing(model, x)
+    if model.free[k]:
+        offsets = model.lo[k] + (model.hi[k] - model.lo[k]) * (np.arange(OFFSETS) + 0.5) / OFFSETS
+    else:
+        offsets = np.array([model.lo[k]])
+    return _prescribed(model, x, offsets), s
 
 
-def _features(model: Model, motion, cols=slice(None)):
+def _features(model: Model, motion):
     """(N, S, F) complex features of a motion and the targets' (n, F): the traced point, or the
     frame's origin and its direction (weighted), whose squared distance is the objective."""
     if model.kind == "path":
-        p = motion.points[:, cols, 0, :]
+        p = motion.points[..., 0, :]
         t = model.targets
         return (p[..., 0] + 1j * p[..., 1])[..., None], (t[:, 0] + 1j * t[:, 1])[:, None]
-    o = motion.origins[:, cols, 0, :]
-    a = motion.angles[:, cols, 0]
+    o = motion.origins[..., 0, :]
+    a = motion.angles[..., 0]
     w = model.weight
     t = model.targets
     return (np.stack([o[..., 0] + 1j * o[..., 1], w * np.exp(1j * a)], axis=-1),
             np.stack([t[:, 0] + 1j * t[:, 1], w * np.exp(1j * t[:, 2])], axis=-1))
 
 
-def _best_offset(model: Model, x: np.ndarray) -> np.ndarray:
-    """Each draw's best offset among OFFSETS across its range (module docstring)."""
+def _fit(curve, target):
+    """The placement fit of curves (..., n, F) to the targets (n, F) on their first feature
+    (the traced point, the frame's origin): (cost (...), g (...), u (...)), the cost over every
+    feature after the move (a frame's direction turned by arg u)."""
+    c, t = curve[..., 0], target[:, 0]
+    cm, tm = c.mean(axis=-1, keepdims=True), t.mean()
+    dc = c - cm
+    with np.errstate(all="ignore"):
+        u = np.sum(np.conj(dc) * (t - tm), axis=-1) / np.sum(np.abs(dc) ** 2, axis=-1)
+    u = np.where(np.isfinite(u) & (u != 0), u, 1.0)
+    g = tm - u * cm[..., 0]
+    moved = curve.copy()
+    moved[..., 0] = g[..., None] + u[..., None] * c
+    if curve.shape[-1] > 1:
+        moved[..., 1:] = curve[..., 1:] * (u / np.abs(u))[..., None, None]
+    cost = np.sum(np.abs(moved - target) ** 2, axis=(-2, -1))
+    return np.where(np.isfinite(cost), cost, HUGE), g, u
+
+
+def _cost(curve, target):
+    cost = np.sum(np.abs(curve - target) ** 2, axis=(-2, -1))
+    return np.where(np.isfinite(cost), cost, HUGE)
+
+
+def _placed(model: Model, x: np.ndarray, g: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """The draws moved by z -> g + u z (every joint), clipped into the boxes."""
     k = model.k_home
-    offsets = model.lo[k] + (model.hi[k] - model.lo[k]) * (np.arange(OFFSETS) + 0.5) / OFFSETS
-    n = model.n
+    out = x.copy()
+    z = x[:, 0:k:2] + 1j * x[:, 1:k:2]
+    z = g[:, None] + u[:, None] * z
+    out[:, 0:k:2], out[:, 1:k:2] = z.real, z.imag
+    out[:, :k] = np.clip(out[:, :k], model.lo[:k], model.hi[:k])
+    return out
+
+
+def _prescribed(model: Model, x: np.ndarray, offsets: np.ndarray) -> np.ndarray:
+    """Each draw's best offset (among `offsets`) and, where the drawing may move, placement."""
+    k, n, h = model.k_home, model.n, len(offsets)
+    move = model.pop.placement_free()
     q = (model.base[None, :] + offsets[:, None]).reshape(-1)  # (H n,)
-    out = np.empty(len(x))
+    best = np.zeros(len(x), dtype=int)
+    gs, us = np.zeros(len(x), complex), np.ones(len(x), complex)
     per = max(1, CHUNK // max(1, len(q)))
     for at in range(0, len(x), per):
         xs = x[at:at + per]
         with np.errstate(all="ignore"):
             motion = model.pop.kinematics(xs, np.repeat(q[None, :], len(xs), axis=0))
         f, t = _features(model, motion)
-        f = f.reshape(len(xs), OFFSETS, n, -1)
-        cost = np.sum(np.abs(f - t[None, None]) ** 2, axis=(2, 3))
-        cost = np.where(np.isfinite(cost) & motion.valid.reshape(len(xs), OFFSETS, n).all(axis=2), cost, HUGE)
-        out[at:at + per] = offsets[np.argmin(cost, axis=1)]
-    model_budget_add(model, len(x) * OFFSETS)
-    return out
+        f = np.where(motion.valid[..., None], f, np.nan).reshape(len(xs), h, n, -1)
+        if move:
+            cost, g, u = _fit(f, t)
+        else:
+            cost, g, u = _cost(f, t), np.zeros(f.shape[:2], complex), np.ones(f.shape[:2], complex)
+        b = np.argmin(cost, axis=1)
+        best[at:at + per] = b
+        gs[at:at + per], us[at:at + per] = g[np.arange(len(xs)), b], u[np.arange(len(xs)), b]
+    _count(model, len(x) * h)
+    x = x.copy()
+    x[:, k] = offsets[best]
+    return _placed(model, x, gs, us) if move else x
 
 
 def _free_timing(model: Model, x: np.ndarray):
-    """Each draw's best timing hypothesis on its curve over a turn (module docstring)."""
+    """Each draw's best timing hypothesis (and placement) on its curve over a turn."""
     k, n = model.k_home, model.n
+    move = model.pop.placement_free()
     grid = np.arange(GRID) * (TWO_PI / GRID)
     with np.errstate(all="ignore"):
         motion = model.pop.kinematics(x, np.repeat(grid[None, :], len(x), axis=0))
@@ -107,33 +154,35 @@ def _free_timing(model: Model, x: np.ndarray):
     chord = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
     c = chord / chord[-1] if chord[-1] > 0 else np.linspace(0.0, 1.0, n)
     dirs = np.array(model.directions())
-    starts = np.arange(0, GRID, START_STRIDE)
-    lam = np.array(FRACTIONS)
-    # hypotheses (H,): start sample, share, direction -> drive values (H, n) in grid steps
-    j, l, d = (a.reshape(-1) for a in np.meshgrid(starts, lam, dirs, indexing="ij"))
-    pos = j[:, None] + d[:, None] * l[:, None] * GRID * c[None, :]
+    j, l, d = (a.reshape(-1) for a in np.meshgrid(np.arange(0, GRID, START_STRIDE), np.array(FRACTIONS), dirs,
+                                                  indexing="ij"))
+    pos = j[:, None] + d[:, None] * l[:, None] * GRID * c[None, :]  # (H, n) in grid steps
     lo = np.floor(pos).astype(int)
     frac = pos - lo
     i0, i1 = np.mod(lo, GRID), np.mod(lo + 1, GRID)
-    best_h = np.empty(len(x), dtype=int)
+    best = np.empty(len(x), dtype=int)
+    gs, us = np.zeros(len(x), complex), np.ones(len(x), complex)
     per = max(1, CHUNK // max(1, len(j) * n * f.shape[2]))
     for at in range(0, len(x), per):
-        fs = f[at:at + per]  # (B, G, F)
+        fs = f[at:at + per]
         curve = fs[:, i0] * (1 - frac)[None, ..., None] + fs[:, i1] * frac[None, ..., None]  # (B, H, n, F)
-        cost = np.sum(np.abs(curve - t[None, None]) ** 2, axis=(2, 3))
-        cost = np.where(np.isfinite(cost), cost, HUGE)
-        best_h[at:at + per] = np.argmin(cost, axis=1)
-    model_budget_add(model, len(x) * len(j))
-    q1 = np.mod(j[best_h] * (TWO_PI / GRID), TWO_PI)
+        if move:
+            cost, g, u = _fit(curve, t)
+        else:
+            cost, g, u = _cost(curve, t), np.zeros(curve.shape[:2], complex), np.ones(curve.shape[:2], complex)
+        b = np.argmin(cost, axis=1)
+        best[at:at + per] = b
+        gs[at:at + per], us[at:at + per] = g[np.arange(len(fs)), b], u[np.arange(len(fs)), b]
+    _count(model, len(x) * len(j))
+    q1 = np.mod(j[best] * (TWO_PI / GRID), TWO_PI)
     q1 = np.where(q1 > math.pi, q1 - TWO_PI, q1)
-    s = d[best_h].astype(float)
     x = x.copy()
-    x[:, k] = q1
-    x[:, k + 1:] = (l[best_h] * TWO_PI)[:, None] * np.diff(c)[None, :]
-    return x, s
+    x[:, k] = np.clip(q1, model.lo[k], model.hi[k])
+    x[:, k + 1:] = (l[best] * TWO_PI)[:, None] * np.diff(c)[None, :]
+    return (_placed(model, x, gs, us) if move else x), d[best].astype(float)
 
 
-def model_budget_add(model: Model, count: int) -> None:
+def _count(model: Model, count: int) -> None:
     budget = getattr(model, "budget", None)
     if budget is not None:
         budget.add(count)

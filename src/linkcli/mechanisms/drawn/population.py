@@ -89,6 +89,11 @@ class DrawnPopulation(Population):
             self.hi[2 * k + c] > self.lo[2 * k + c] for k, name in enumerate(self.free) if name in moving
             for c in (0, 1))
 
+    def placement_free(self) -> bool:
+        """Every joint is free (the ground's too): the whole drawing may be moved, turned and
+        scaled within the boxes (the starts fit its placement in closed form)."""
+        return len(self.free) == len(self.joints) and bool(np.all(self.hi > self.lo))
+
     # ------------------------------------------------------------ geometry
     def places(self, x) -> dict[str, np.ndarray]:
         """Each joint's drawn place (N, 1) complex, N designs."""
@@ -260,7 +265,7 @@ class DrawnPopulation(Population):
         x = np.asarray(x, dtype=float).reshape(-1)
         moved = {name: (float(x[2 * k]), float(x[2 * k + 1])) for k, name in enumerate(self.free)}
         joints = tuple(replace(j, at=moved.get(j.name, j.at)) for j in self.drawing.joints)
-        return replace(self.drawing, joints=joints)
+        return replace(self.drawing, joints=joints, designed=True)
 
 
 def _abs2(z):

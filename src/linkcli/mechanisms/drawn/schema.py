@@ -25,7 +25,8 @@ OUTPUT = "length"  # a tolerance error is a point's deviation
 MASSES = None  # [masses] per link (and slider block) of the drawing: `read_load_case`
 POINT_MASSES: tuple[str, ...] = ()
 OUTPUT_LOAD = None  # [loads] by name: `read_load_case`
-REPORTED_MOTION: tuple[str, ...] = ()  # (analyze refuses a drawn result)
+REPORTED_MOTION: tuple[str, ...] = ("dead_points", "links", "sliders", "drives")  # linkcli's own output
+# in a design's result [motion] (sections.motion_section): not read back
 MAX_LINKS = 1000
 MAX_SPAN_TURNS = 2.0  # a turning drive's span: at most two turns either way
 MAX_SPEED = 1e9
@@ -63,7 +64,10 @@ def read(t: Table, units) -> Drawn | None:
     from linkcli.io.joints import read_joints
     root = t.reader.root()
     errors = len(root.reader.errors)
-    if "status" in root.data and "joints" not in root.data:  # a result file keeps no drawing
+    if "status" in root.data and "joints" not in root.data and isinstance(t.data.get("joints"), dict):
+        from linkcli.mechanisms.drawn.kept import read_kept
+        return read_kept(t, units)  # a design's result keeps its drawing in [linkage]
+    if "status" in root.data and "joints" not in root.data:  # a result file that keeps no drawing
         t.error("mechanism", "a drawing to analyse: `analyze` reads a drawn linkage from its problem "
                 "file (with [joints], [links] and [drive]), not from a result file",
                 raw_got='a result file of a drawn linkage')
@@ -372,6 +376,9 @@ def read_load_case(root: Table, kind: str):
         return None
     raw_links = root.data.get("links")
     raw_joints = root.data.get("joints")
+    kept = root.data.get("linkage")
+    if raw_joints is None and isinstance(kept, dict) and "status" in root.data:  # a design's result:
+        raw_links, raw_joints = kept.get("links"), kept.get("joints")  # its drawing in [linkage]
     if not (isinstance(raw_joints, dict) and isinstance(raw_links, dict)):  # no drawing to name the
         # links and joints (its absence is its own line; a result file keeps none): judged against
         # nothing, every name was one more line
