@@ -140,10 +140,10 @@ class Population(ABC):
             kinds += [("transmission", c) for c in self.closures] * 2
         return np.concatenate(cols, axis=-1), tuple(kinds)
 
-    def phase_free(self) -> bool:
-        """Whether a design's drawing may be its configuration at any drive value (every
-        moving joint free): the timing's phase is then redundant with it."""
-        return False
+    def phase_variable(self) -> int | None:
+        """The home variable to hold where a design's drawing may be its configuration at any
+        drive value (the timing shifted back: a flat direction of every objective), or None."""
+        return None
 
     def placement_free(self) -> bool:
         """Whether the whole design may be moved, turned and scaled (the shared starts then

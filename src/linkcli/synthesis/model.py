@@ -24,9 +24,10 @@ with psi the followed link's turn from its drawn angle, psi_target = law(phi_k, 
 The drawing's phase: where every joint the drive moves is free, the drawing may be the
 linkage's configuration at any drive value -- the drawing at q = d with every drive value
 less d is the same design -- and the timing's phase (q_1, the offset, phi0) is redundant
-with it (a flat direction of every objective, where Newton's steps are singular). It is
-then held at 0 (the value of its bounds nearest 0): the designed drawing is the linkage
-where the drive reaches the first target (function generation: the sweep's start).
+with it (a flat direction of every objective, where Newton's steps are singular). Where the
+timing has a free phase, the home's `phase_variable` is then held at its drawn value (a
+drawn linkage: the coordinate of the driving link's pin that the turn moves the more): the
+drawing's phase is fixed, the timing's stays free, and every box keeps its meaning.
 
 Constraints, g <= 0 feasible, one per closure and kind (Population.constraints), each the
 worst over the drive's travel: the whole turn (`drive = "crank"`: the driving link turns
@@ -49,7 +50,7 @@ import numpy as np
 
 TWO_PI = 2.0 * math.pi
 GRID = 72  # drive values of the constraints' grid over a turn (fewer over a shorter travel, >= 9)
-REFINE = 2  # parabolic refinements of a grid extreme
+REFINE = 4  # parabolic refinements of a grid extreme
 NEAR = 5e-3  # a worst value above -NEAR (dimensionless) is refined: between two grid values 5 deg
 # apart a margin or an angle rises by about g'' (2.5 deg)^2 / 2, some 1e-3 for g'' ~ 1 (per rad^2)
 HUGE = 1e100  # a residual that overflowed or is undefined
@@ -113,11 +114,11 @@ class Model:
                 names.append(key)
         self.names = tuple(names)
         self.lo, self.hi = np.array(lo, dtype=float), np.array(hi, dtype=float)
-        self.phase = None  # the timing's phase, held where the drawing's own phase makes it redundant
-        if population.phase_free() and self.hi[self.k_home] > self.lo[self.k_home]:
-            k = self.k_home
-            self.phase = float(np.clip(0.0, self.lo[k], self.hi[k]))
-            self.lo[k] = self.hi[k] = self.phase
+        self.phase = population.phase_variable()  # held where the drawing's phase is the timing's
+        if self.phase is not None and self.hi[self.k_home] > self.lo[self.k_home]:
+            self.lo[self.phase] = self.hi[self.phase] = population.drawn[self.phase]
+        else:
+            self.phase = None
         self.free = self.hi > self.lo
         if self.kind == "path":
             ext = self.targets.max(axis=0) - self.targets.min(axis=0)
@@ -217,6 +218,15 @@ class Model:
             anchor = np.where(best == n, LOWER, np.where(best == n + count - 1, UPPER, ANCHORED))
         if refine:
             g, at, anchor = self._refined(x, grid, g_all[:, n:], best - n, g, at, anchor, near)
+            second = self._second_peak(g_all[:, n:], best - n)  # the next peak, apart from the first:
+            # its refined value may pass the first's (two near-equal extremes a grid step apart)
+            if second is not None:
+                g2, at2, anchor2 = self._refined(x, grid, g_all[:, n:], second, g_all[:, n:][rows, second, cols],
+                                                 grid[rows, second], np.full(g.shape, ANCHORED), near)
+                if not self.crank:
+                    anchor2 = np.where(second == 0, LOWER, np.where(second == count - 1, UPPER, ANCHORED))
+                here = g2 > g
+                g, at, anchor = np.where(here, g2, g), np.where(here, at2, at), np.where(here, anchor2, anchor)
         if n:
             worst = np.argmax(g_all[:, :n], axis=1)  # the targets' worst
             gt = g_all[rows, worst, cols]
@@ -227,6 +237,26 @@ class Model:
         valid = motion.valid[:, :n]
         return Evaluation(np.nan_to_num(r, nan=HUGE, posinf=HUGE, neginf=-HUGE), g, at, anchor, valid, q,
                           np.where(np.isfinite(objective), objective, math.inf))
+
+    def _second_peak(self, g_grid, best):
+        """(N, M) the grid index of each constraint's highest local maximum other than the one
+        at `best` (its neighbours excluded), or None when no constraint has one."""
+        count = g_grid.shape[1]
+        idx = np.arange(count)
+        if self.crank:
+            left, right = np.roll(g_grid, 1, axis=1), np.roll(g_grid, -1, axis=1)
+            gap = np.abs(idx[None, :, None] - best[:, None, :])
+            gap = np.minimum(gap, count - gap)
+        else:
+            left = np.concatenate([np.full_like(g_grid[:, :1], -np.inf), g_grid[:, :-1]], axis=1)
+            right = np.concatenate([g_grid[:, 1:], np.full_like(g_grid[:, :1], -np.inf)], axis=1)
+            gap = np.abs(idx[None, :, None] - best[:, None, :])
+        peak = (g_grid >= left) & (g_grid >= right) & (gap > 1)
+        if not peak.any():
+            return None
+        masked = np.where(peak, g_grid, -np.inf)
+        second = np.argmax(masked, axis=1)
+        return np.where(np.isfinite(np.max(masked, axis=1)), second, best)
 
     def _refined(self, x, grid, g_all, best, g, at, anchor, near):
         """Worst grid values refined by successive parabolic interpolation through the grid

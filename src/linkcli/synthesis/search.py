@@ -56,9 +56,14 @@ NEAR_EXACT_RMS = 1e-6  # ... and one the polish leaves on a flat valley's floor 
 # Jansen's foot path with every moving joint free and free timing, 23 unknowns, ends at 1e-7 to
 # 1e-5 of the path's extent, where the Jacobian's condition number is 1e7 and no Newton step gains)
 STEP = 1e-7  # forward-difference step, relative to max(|z|, 1e-2 box width, 1e-3 scale)
-FEASIBLE = 1e-9  # a constraint broken by at most this (radians, or the drawing's size) is met: the
-# noise floor (linkcli.noise), far below a printed digit, where a penalized polish leaves a binding one
-BINDING = 1e-4  # a constraint (dimensionless) this close to 0 may bind: the round's best is settled
+FEASIBLE = 1e-7  # a constraint broken by at most this (radians, or the drawing's size) is met: below
+# what six printed digits resolve (1e-6 of an angle or a length), where a settle on several
+# closures binding at one drive value (Jansen's leg: B, C and E together) ends ~1e-8 beyond
+CURVATURE_STEP = 1e-4  # unit box: the settle's differenced Hessian of the Lagrangian, taken where
+# Gauss-Newton's steps stall (kkt curvature="stalled"): a fit that leaves residuals (a six-bar's
+# stride: 26 mm^2) has curvature of its own that Gauss-Newton misses, and its settle failed there
+MARGIN = 3e-7  # the penalties hold every constraint this far inside (dimensionless): the polish then
+# ends feasible, whatever the round-off between its refined extremes and the final check's
 NEARLY = 1e-6  # total violation (constraints' units) a penalized polish leaves short of a binding
 # constraint: such a pick is settled onto it (the settle is taken when it ends feasible)
 
@@ -117,7 +122,7 @@ class Penalized:
         ev = self.model.evaluate(self.space.full(z), self.s[rows])
         idx = np.arange(len(self.s))[rows]
         self.at[idx], self.anchor[idx] = ev.at, ev.anchor
-        return np.concatenate([ev.r, self.weight * np.maximum(ev.g, 0.0)], axis=1)
+        return np.concatenate([ev.r, self.weight * np.maximum(ev.g + MARGIN, 0.0)], axis=1)
 
     def jacobian(self, z, rows, r0) -> np.ndarray:
         """Forward differences (module docstring)."""
@@ -149,7 +154,7 @@ class Penalized:
             xs = flat.reshape(n, k, -1)[some].reshape(len(some) * k, -1)
             g = model.constraints_at(xs, s.reshape(n, k)[some].reshape(-1), np.repeat(self.at[idx][some], k, axis=0),
                                      np.repeat(self.anchor[idx][some], k, axis=0))
-            g = self.weight * np.maximum(g, 0.0).reshape(len(some), k, -1)
+            g = self.weight * np.maximum(g + MARGIN, 0.0).reshape(len(some), k, -1)
             slope = (g - r0[some][:, None, m_t:]) / h[some][:, :, None]
             jac[some, m_t:, :] = np.where(broken[some][:, :, None], np.transpose(slope, (0, 2, 1)), 0.0)
         return np.nan_to_num(jac)
@@ -249,7 +254,7 @@ def one_round(model: Model, space: Space, budget: Budget, rng, index: int, best_
     z = np.clip(x[:, space.idx], space.lo, space.hi)
     budget.add(len(z))
     ev = model.evaluate(space.full(z), s)
-    cost = np.sum(ev.r ** 2, axis=1) + np.sum((LM_WEIGHT * np.maximum(ev.g, 0.0)) ** 2, axis=1)
+    cost = np.sum(ev.r ** 2, axis=1) + np.sum((LM_WEIGHT * np.maximum(ev.g + MARGIN, 0.0)) ** 2, axis=1)
     cost = np.where(np.isfinite(cost), cost, HUGE)
     width = np.where(space.hi > space.lo, space.hi - space.lo, 1.0)
     keep = np.array(sampling.distinct(z / width, np.argsort(cost, kind="stable"), 1e-3, LM_FIELD), dtype=int)
@@ -317,9 +322,6 @@ def settled(model: Model, space: Space, best: Candidate, budget: Budget) -> Cand
     f0 = rank(model, best)
     if space.k == 0 or f0[1] > NEARLY or f0[2] <= exact_objective(model):
         return best
-    ev = model.evaluate(best.x[None], np.array([best.s]))
-    if not np.any(ev.g > -BINDING):  # no constraint binds: the Levenberg-Marquardt end is the optimum
-        return best
     width = np.where(space.hi > space.lo, space.hi - space.lo, 1.0)
     m_t = model.m_t
     k = model.k_home
@@ -342,7 +344,8 @@ def settled(model: Model, space: Space, best: Candidate, budget: Budget) -> Cand
     u0 = np.clip((best.x[space.idx] - space.lo) / width, 0.0, 1.0)
     try:
         out = kkt.settle(lambda u: points(np.asarray(u, float)[None, :], True)[0], u0,
-                         evaluate_many=lambda us: points(us, False))
+                         evaluate_many=lambda us: points(us, False), curvature="stalled",
+                         hessian_step=CURVATURE_STEP)
     except BudgetSpent:
         return best
     if not out.converged:

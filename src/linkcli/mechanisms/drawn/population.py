@@ -80,14 +80,24 @@ class DrawnPopulation(Population):
         self.slider = {j.name: j.slider for j in drawing.joints if j.slider is not None}
         self.guide_of = {j.name: (j.guide or GROUND) for j in drawing.joints if j.slider is not None}
 
-    def phase_free(self) -> bool:
-        """Every joint the drive moves is free (in both coordinates): a design's drawing may then
-        be its configuration at any drive value (the model holds the timing's phase)."""
+    def phase_variable(self) -> int | None:
+        """Where every joint the drive moves is free (in both coordinates), a design's drawing may
+        be its configuration at any drive value, the timing shifted back: the same design, a
+        flat direction of every objective. The variable that breaks it: the coordinate of the
+        driving link's pin that its turn moves the more (x where the pin's tangent runs nearer
+        to x), held at its drawn place (the pin still moves along the other); None when some
+        moving joint is held."""
         moving = [j.name for j in self.drawing.joints if not j.ground]
-        free = {self.names[i].split(".")[0] for i in range(len(self.names)) if self.hi[i] > self.lo[i]}
-        return all(name in free for name in moving) and all(
-            self.hi[2 * k + c] > self.lo[2 * k + c] for k, name in enumerate(self.free) if name in moving
-            for c in (0, 1))
+        free = {name: k for k, name in enumerate(self.free)
+                if self.hi[2 * k] > self.lo[2 * k] and self.hi[2 * k + 1] > self.lo[2 * k + 1]}
+        if not all(name in free for name in moving):
+            return None
+        link = self.drawing.link(self.drawing.drives[0].name)
+        pivot = next(j for j in link.joints if self.drawing.joint(j).ground)
+        pin = next(j for j in link.joints if j != pivot)
+        (px, py), (ax, ay) = self.drawing.joint(pivot).at, self.drawing.joint(pin).at
+        tangent_x, tangent_y = -(ay - py), ax - px
+        return 2 * free[pin] + (0 if abs(tangent_x) >= abs(tangent_y) else 1)
 
     def placement_free(self) -> bool:
         """Every joint is free (the ground's too): the whole drawing may be moved, turned and
