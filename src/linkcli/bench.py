@@ -30,6 +30,9 @@ COLUMNS = ("problem", "method", "budget", "seed", "seconds", "evaluations", "obj
 
 def settings_for(problem) -> list[tuple[str, int | None]]:
     from linkcli.registry import problem_type
+    own = getattr(problem, "bench_settings", None)  # a problem solved by a strategy of its own
+    if own:
+        return list(own)
     spec = problem_type(problem.meta.type)
     if spec.bench_settings:
         return list(spec.bench_settings)

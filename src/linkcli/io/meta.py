@@ -303,7 +303,8 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     samples = t.number("samples", 20000, integer=True, lo=1, hi=MAX_SAMPLES)
     allowed = t.number("allowed_error", None, positive=True)
     if allowed is not None:
-        allowed = units.to_rad(allowed) if not (path_type or own.OUTPUT == "length") else allowed
+        angle = root.raw("type") == "function-generation" or not (path_type or own.OUTPUT == "length")
+        allowed = units.to_rad(allowed) if angle else allowed  # a function's output is an angle
     level = read_level(t)
     if level is not None and allowed is None and "allowed_error" not in t:
         t.error("allowed_error", "a positive number (needed by max_failure_probability: a "

@@ -31,6 +31,7 @@ class DrawnDesignProblem:
     transmission angle keeps there (rad)."""
 
     mechanism: ClassVar[str] = "drawn"
+    bench_settings: ClassVar[tuple] = (("auto", None),)  # `linkcli bench`: its one method, its budget
     meta: Meta
     kind: str
     drawing: object

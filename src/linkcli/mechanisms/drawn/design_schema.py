@@ -60,6 +60,9 @@ def read(root: Table, meta, type_name: str):
     from linkcli.types.linkage.schema import read_motion as read_steps
     kind = KINDS[type_name]
     u = meta.units
+    if meta.solver.method != "auto":  # the shared search is the one strategy of a drawn design
+        root.reader.error(("solver", "method"), 'method = "auto" for a drawn linkage (the shared search: '
+                          "docs/drawn_synthesis.md)", raw_got=f'"{meta.solver.method}"')
     drawing = read_drawing(root.table("linkage"), u)
     _, steps = read_steps(root)
     drawing = drawing if drawing is None else _one_turning_drive(root, drawing)
