@@ -20,8 +20,8 @@ the leading drive over the study's range: every 10 deg of a full turn, else the 
 cells); it fails when a length comes out <= 0 or it cannot assemble at a target. A design
 (path, motion or function generation, mechanisms.drawn.design_schema) is measured where it
 was designed: at its targets' drive values, on its target joint (path), its followed link's
-frame origin (motion) or that link's angle (function: errors in radians), as a four-bar
-design is.
+frame origin (motion) or that link's angle (function: errors in radians), each against
+the target, as a four-bar design is.
 Sensitivity: per distance, the largest |d(point)/d(length)| over targets and points, by a
 central difference on the nominal linkage.
 """
@@ -107,10 +107,10 @@ class Model:
             self.q, self.inputs = q, sv.start + q
             if kind == "function":
                 self.kind, self.link = "angle", problem.link
-                self.measure = f"deviation of link {problem.link}'s angle at the targets"
+                self.measure = f"deviation of link {problem.link}'s angle from the targets"
             else:
                 self.traced = (problem.joint,) if kind == "path" else (d.link(problem.link).joints[0],)
-                self.measure = f"distance of {self.traced[0]} from its nominal place at the targets"
+                self.measure = f"distance of {self.traced[0]} from the targets"
         else:
             study = home.study()
             x, _ = study.rows(GRID)
@@ -119,6 +119,8 @@ class Model:
         nominal = self.nominal.run(self.q, rates=False)
         self.places = np.stack([nominal.pos[p] for p in self.traced], axis=1)  # (M, P, 2)
         self.angles = nominal.theta[self.link] if self.link is not None else None
+        if kind is not None and solution is not None:  # a design misses its targets, not its nominal
+            self.places, self.angles = _design_targets(solution, problem, sv, self.places, self.angles)
         from linkcli.mechanisms.drawn.sections import size
         from linkcli.mechanisms.drawn.schema import known_lengths
         self.scale = size(d)
@@ -238,6 +240,19 @@ class Model:
 
 def model(home, problem, solution=None) -> Model:
     return Model(home, problem, solution)
+
+
+def _design_targets(solution, problem, sv, places, angles):
+    """What a design's made linkages must reproduce: the target points (path), the target
+    poses' origins (motion), or the link's target angles (function, from its drawn angle), as
+    a four-bar design's tolerance measures them (mechanisms.four_bar.tolerance.targets)."""
+    pos = solution.positions
+    if problem.kind == "path":
+        return np.asarray(pos.target, dtype=float).reshape(-1, 1, 2), angles
+    if problem.kind == "function":
+        return places, sv.kin.geometry.angle0[problem.link] + np.asarray(pos.target, dtype=float)
+    rows = solution.sections["positions"]
+    return np.array([row["target"][:2] for row in rows], dtype=float).reshape(-1, 1, 2), angles
 
 
 def _design_inputs(solution, units):
