@@ -31,7 +31,8 @@ def draw(fig, result) -> None:
     study = home.study()
     x, _ = study.rows(SAMPLES)
     st = sv.kin.run(sv.q_of(x, study.full_turn), rates=False)
-    traced = problem.joint if kind == "path" else home.linkage.link(problem.link).joints[0]
+    link = home.linkage.link(problem.link) if problem.link else None  # motion: the frame's origin;
+    traced = problem.joint if kind == "path" else link.joints[0 if kind == "motion" else 1]  # function: its other end
     path = np.where(st.valid[:, None], st.pos[traced], np.nan)
     if study.full_turn:
         path = np.vstack([path, path[:1]])
