@@ -2,9 +2,10 @@
 generation, precision positions) design a mechanism without asking which one it is.
 
 Every home has `mechanisms/<package>/face.py` holding `FACE`, a `Face`: the problem types it
-designs (`designs`), and for each of them where its reader and its strategy are. A type's
-schema calls `read(kind, root, meta)` and its solve module `solve(kind, problem)`; both go
-through the face of the mechanism the file names (`[linkage] mechanism`, default four-bar).
+designs (`designs`), and for each of them where its reader, its strategy and its figure are.
+A type's schema calls `read(kind, root, meta)`, its solve module `solve(kind, problem)` and
+its plot module `draw(kind, fig, result)`; each goes through the face of the mechanism the
+file names (`[linkage] mechanism`, default four-bar).
 A home with closed forms of its own (the four-bar's Freudenstein, Burmester and projected
 Levenberg-Marquardt pipelines, the slider-crank's linear fit, the five-bar's maximin design)
 names them as its strategies: they stay the same numbers. A home designed by the shared
@@ -35,6 +36,8 @@ class Face:
 
     mechanism: ClassVar[str]
     strategies: ClassVar[dict[str, tuple[str, str]]] = {}
+    figures: ClassVar[dict[str, str]] = {}  # type -> "module:function" drawing its design (--plot);
+    # a type not here: the home's own figure (mechanisms/<package>/plot.py `draw`)
 
     @property
     def designs(self) -> tuple[str, ...]:
@@ -45,6 +48,11 @@ class Face:
 
     def solve(self, kind: str, problem):
         return _named(self.strategies[kind][1])(problem)
+
+    def draw(self, kind: str, fig, result) -> None:
+        if kind in self.figures:
+            return _named(self.figures[kind])(fig, result)
+        return module(self.mechanism, "plot").draw(fig, result)
 
 
 def _named(where: str):
@@ -85,6 +93,14 @@ def read(kind: str, root, meta):
 def solve(kind: str, problem):
     """The Solution of a design problem, by the strategy of its mechanism's face."""
     return face(problem.mechanism).solve(kind, problem)
+
+
+def draw(kind: str, fig, result) -> None:
+    """The figure of a design (--plot), by the face of the mechanism it designed (its linkage's;
+    without one, the problem's)."""
+    linkage = result.solution.linkage if result.solution is not None else None
+    name = linkage.mechanism if linkage is not None else getattr(result.problem, "mechanism", DEFAULT)
+    return face(name).draw(kind, fig, result)
 
 
 # ---------------------------------------------------------------- the shared search's side

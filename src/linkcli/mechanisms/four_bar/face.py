@@ -22,6 +22,12 @@ class FourBarFace(Face):
         "motion-generation": ("linkcli.types.motion_generation.schema:parse_four_bar",
                               "linkcli.types.motion_generation.solve:solve_four_bar"),
     }
+    figures = {
+        "precision-position": "linkcli.plots.angle_function:draw",
+        "function-generation": "linkcli.plots.angle_function:draw",
+        "path-generation": "linkcli.types.path_generation.plot:draw_four_bar",
+        "motion-generation": "linkcli.types.motion_generation.plot:draw_four_bar",
+    }
 
 
 FACE = FourBarFace()
