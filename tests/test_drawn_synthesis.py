@@ -361,3 +361,24 @@ def test_jansen_leg_for_a_flat_stride_and_a_lift():
     assert np.ptp(foot[:, 0]) >= 58.0
     turn = reference_places(joints, links, drive, np.linspace(0, 2 * math.pi, 721))["F"]
     assert np.max(turn[:, 1]) >= -85.0 + 24.0
+
+
+def test_a_topology_sweep_solves_a_problem_from_another_drawing():
+    """synthesis.solution.design_drawing: the problem of a perturbed drawing solved from the
+    true one (as a sweep would from each catalogued drawing): error ~0; a box that does not
+    hold its joint's drawn place is refused (exit 2's error), naming the joint."""
+    from linkcli.errors import SolveInputError
+    from linkcli.synthesis.solution import design_drawing
+    free = ("A", "B", "C", "D", "P")
+    text, path = _known_problem(3, free)
+    problem, _, _ = _solve(text)
+    true_text, _ = _known_problem(0, ())
+    from linkcli.io.load import load
+    drawing = load("true.toml", true_text).drawing
+    solution = design_drawing(problem, drawing)
+    assert solution.status.value == "ok"
+    assert float(np.max(solution.positions.error)) < 1e-6 * float(np.ptp(path, axis=0).max())
+    boxes = dict(problem.boxes)
+    boxes["A"] = ((100.0, 110.0), (0.0, 1.0))
+    with pytest.raises(SolveInputError, match="box of A"):
+        design_drawing(problem, drawing, boxes=boxes)

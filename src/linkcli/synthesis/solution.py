@@ -27,9 +27,45 @@ def solve(problem) -> Solution:
     return design(problem, synthesis.face(problem.mechanism).population(problem))
 
 
+def design_drawing(problem, drawing, boxes: dict | None = None, joint: str | None = None,
+                   link: str | None = None) -> Solution:
+    """`problem` (a DrawnDesignProblem: its targets, timing, constraints, [solver]) solved from
+    another starting drawing -- the callable a topology sweep runs once per catalogued drawing.
+    `boxes`: {joint: ((x lo, x hi), (y lo, y hi))} of its free joints (each holding its drawn
+    place; None: the problem's own); `joint` / `link`: its target joint or link when the
+    drawing names them otherwise. The drawing is checked as a file's would be (structure, one
+    turning drive, closed forms): SolveInputError (exit 2) naming what is wrong."""
+    from dataclasses import replace
+
+    from linkcli.errors import SolveInputError
+    from linkcli.mechanisms.drawn.design_schema import closed_form_problem
+    from linkcli.mechanisms.drawn.population import DrawnPopulation
+    from linkcli.mechanisms.drawn.structure import analyse
+    structure = analyse(drawing)
+    names = {j.name: j for j in drawing.joints}
+    boxes = dict(problem.boxes) if boxes is None else dict(boxes)
+    joint = joint if joint is not None else problem.joint
+    link = link if link is not None else problem.link
+    bad = ([f"{p.where}: {p.found}" for p in structure.problems]
+           + ([f"links {', '.join(closed_form_problem(structure))} closed by Newton's method"]
+              if not structure.problems and closed_form_problem(structure) else [])
+           + [f"box of {j} (not a joint of the drawing)" for j in boxes if j not in names]
+           + [f"box of {j} not holding its drawn place" for j, ((xl, xh), (yl, yh)) in boxes.items()
+              if j in names and not (xl <= names[j].at[0] <= xh and yl <= names[j].at[1] <= yh)]
+           + ([f"target joint {joint}"] if joint is not None and (joint not in names or names[joint].ground) else [])
+           + ([f"target link {link}"] if link is not None and link not in {k.name for k in drawing.links} else []))
+    if bad:
+        raise SolveInputError("a starting drawing the design can start from", "; ".join(bad),
+                              path=problem.meta.path, key="linkage")
+    problem = replace(problem, drawing=drawing, boxes=tuple(boxes.items()), joint=joint, link=link)
+    population = DrawnPopulation(drawing, structure, problem.free, boxes,
+                                 traced=(joint,) if joint else (), followed=(link,) if link else ())
+    return design(problem, population)
+
+
 def design(problem, population) -> Solution:
-    """Search `population` for `problem`'s target (the callable a topology sweep runs once per
-    starting drawing: the population holds the drawing)."""
+    """Search `population` for `problem`'s target (the shared search; `design_drawing` builds
+    the population of a drawing)."""
     model = Model(problem, population)
     opts = problem.meta.solver
     budget = Budget(opts.budget or shared.DEFAULT_BUDGET)
