@@ -36,6 +36,9 @@ def settings_for(problem) -> list[tuple[str, int | None, bool | None]]:
     says), and for a search that uses the coupler-curve atlas, `auto` once more with
     atlas = false, so that the bench shows both sides."""
     from linkcli.registry import problem_type
+    own = getattr(problem, "bench_settings", None)  # a problem solved by a strategy of its own
+    if own:
+        return list(own)
     spec = problem_type(problem.meta.type)
     if spec.bench_settings:
         out = [(m, b, None) for m, b in spec.bench_settings]

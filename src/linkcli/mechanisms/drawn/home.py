@@ -201,7 +201,7 @@ class DrawnMechanism(Mechanism):
 
     def tolerance_model(self, problem, solution):
         from linkcli.mechanisms.drawn.tolerance import model
-        return model(self, problem)
+        return model(self, problem, solution)
 
     def skeleton(self, phi) -> Skeleton:
         """Every joint and link at leading-drive values phi; ground joints as pivots, slider

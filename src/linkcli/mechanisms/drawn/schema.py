@@ -30,12 +30,13 @@ class DrawnSchema(Schema):
 
     name = "drawn"
     draws = True
+    reported_motion = ("dead_points", "links", "sliders", "drives")  # a design's result [motion]: not read back
     plays = {"clearance_slider": "radial play of each slider block in its guide (length unit)"}
     output = "length"
     class_keys = ("class", "mobility", "drives", "links", "sliders", "groups")
 
     def read(self, t: Table, units) -> Drawn | None:
-        return _read(t, units)
+        return read(t, units)
 
     def joint_names(self, root: Table) -> tuple[str, ...]:
         """The joint names of the drawing's [joints], unchecked (they are checked where the
@@ -135,14 +136,17 @@ def toleranced(root: Table) -> tuple[str, ...]:
     return (("ground",) if grounded >= 2 else ()) + tuple(n for n in names if n != "ground")
 
 
-def _read(t: Table, units) -> Drawn | None:
+def read(t: Table, units) -> Drawn | None:
     """The drawing ([joints], [links], [drive], [motion]) of a `mechanism = "drawn"` [linkage];
     None when in error (every error recorded, structural ones naming the joints)."""
     from linkcli.mechanisms.drawn.model import Drawn
     from linkcli.io.joints import read_joints
     root = t.reader.root()
     errors = len(root.reader.errors)
-    if "status" in root.data and "joints" not in root.data:  # a result file keeps no drawing
+    if "status" in root.data and "joints" not in root.data and isinstance(t.data.get("joints"), dict):
+        from linkcli.mechanisms.drawn.kept import read_kept
+        return read_kept(t, units)  # a design's result keeps its drawing in [linkage]
+    if "status" in root.data and "joints" not in root.data:  # a result file that keeps no drawing
         t.error("mechanism", "a drawing to analyse: `analyze` reads a drawn linkage from its problem "
                 "file (with [joints], [links] and [drive]), not from a result file",
                 raw_got='a result file of a drawn linkage')
@@ -451,6 +455,9 @@ def read_load_case(root: Table, kind: str):
         return None
     raw_links = root.data.get("links")
     raw_joints = root.data.get("joints")
+    kept = root.data.get("linkage")
+    if raw_joints is None and isinstance(kept, dict) and "status" in root.data:  # a design's result:
+        raw_links, raw_joints = kept.get("links"), kept.get("joints")  # its drawing in [linkage]
     if not (isinstance(raw_joints, dict) and isinstance(raw_links, dict)):  # no drawing to name the
         # links and joints (its absence is its own line; a result file keeps none): judged against
         # nothing, every name was one more line

@@ -42,7 +42,29 @@ def size(drawing) -> float:
 
 
 def linkage_section(drawing, u) -> dict:
-    return {"mechanism": "drawn", **distances(drawing)}
+    """mechanism, (a designed drawing: its `drawing_section`), then every distance."""
+    kept = drawing_section(drawing, u) if drawing.designed else {}
+    return {"mechanism": "drawn", **kept, **distances(drawing)}
+
+
+def drawing_section(drawing, u) -> dict:
+    """The drawing as a file gives it (mechanisms.drawn.kept reads it back): joints (name ->
+    at, and ground, slider (angle unit) and guide where they apply), links (name -> joints),
+    drive (name -> speed, angle unit/s or length unit/s)."""
+    from linkcli.mechanisms.drawn.model import TURN
+    joints = {}
+    for j in drawing.joints:
+        entry = {"at": [float(j.at[0]), float(j.at[1])]}
+        if j.ground:
+            entry["ground"] = True
+        if j.slider is not None:
+            entry["slider"] = float(u.from_rad(j.slider))
+        if j.guide is not None:
+            entry["guide"] = j.guide
+        joints[j.name] = entry
+    return {"joints": joints, "links": {k.name: list(k.joints) for k in drawing.links},
+            "drive": {d.name: {"speed": float(u.from_rad(d.speed)) if d.kind == TURN else float(d.speed)}
+                      for d in drawing.drives}}
 
 
 def class_section(structure) -> dict:

@@ -8,7 +8,7 @@ precision-position files and result files alike, and the mechanism's schema read
 from __future__ import annotations
 
 from linkcli.io.reader import Table
-from linkcli.reading.loads import mechanism_of
+from linkcli.mechanisms.schema import mechanism_of
 from linkcli.mechanisms import schema_of
 from linkcli.reading.linkage import read_linkage
 from linkcli.model import Meta
