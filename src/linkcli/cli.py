@@ -509,8 +509,11 @@ def new(type_name: str = typer.Argument(..., metavar="TYPE", help="The problem t
 def main() -> None:
     """Console-script entry point. Standard output is guarded (io.output_guard): a reader
     that closes the pipe ends the command quietly with exit 141, an output that refuses the
-    text (a full device, a closed stdout) is one line and exit 2."""
-    from linkcli.io.output_guard import Guarded, OutputLost, exit_code
+    text (a full device, a closed stdout) is one line and exit 2. A closed stderr (`2>&-`)
+    becomes /dev/null first, so that nothing which writes there (the progress display,
+    rich, a warning) can change the result."""
+    from linkcli.io.output_guard import Guarded, OutputLost, exit_code, sink_for_closed_stderr
+    sink_for_closed_stderr()
     sys.stdout = Guarded(sys.stdout)
     try:
         try:
