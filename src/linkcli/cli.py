@@ -106,6 +106,15 @@ class _Evaluations:
 
 
 _ctrl_c_seen = [False]  # set by _interruptible's handler; read by _stop_if_interrupted
+_term_seen = [False]  # the same for SIGTERM
+TERMINATED_EXIT = 143  # 128 + SIGTERM, as a shell reports a command the signal ended
+
+
+class Terminated(BaseException):
+    """SIGTERM to the command (`kill PID`, a job scheduler's time limit): raised by the
+    handler _interruptible installs, so that the executors clean up on the way out (--jobs
+    ends its workers, --cluster cancels its tasks) before "terminated" and exit 143. A
+    BaseException, as KeyboardInterrupt is: no `except Exception` of a solver swallows it."""
 
 
 def _on_ctrl_c(signum, frame) -> None:
@@ -116,20 +125,32 @@ def _on_ctrl_c(signum, frame) -> None:
     raise KeyboardInterrupt
 
 
+def _on_term(signum, frame) -> None:
+    """SIGTERM handler: remember it, then raise Terminated (as _on_ctrl_c does)."""
+    _term_seen[0] = True
+    raise Terminated
+
+
 def _quiet_lost_ctrl_c(previous):
-    """A sys.unraisablehook that takes a KeyboardInterrupt Python could not raise (it
-    landed in a garbage-collector callback) as the recorded Ctrl-C, instead of printing
-    "Exception ignored in ..." with a traceback; anything else goes to `previous`."""
+    """A sys.unraisablehook that takes a KeyboardInterrupt (or Terminated) Python could not
+    raise (it landed in a garbage-collector callback) as the recorded signal, instead of
+    printing "Exception ignored in ..." with a traceback; anything else goes to `previous`."""
     def hook(unraisable) -> None:
         if isinstance(unraisable.exc_value, KeyboardInterrupt):
             _ctrl_c_seen[0] = True
+            return
+        if isinstance(unraisable.exc_value, Terminated):
+            _term_seen[0] = True
             return
         previous(unraisable)
     return hook
 
 
 def _stop_if_interrupted() -> None:
-    """Raise KeyboardInterrupt if a Ctrl-C came whose exception was swallowed on the way."""
+    """Raise KeyboardInterrupt (or Terminated) if a Ctrl-C (or SIGTERM) came whose exception
+    was swallowed on the way."""
+    if _term_seen[0]:
+        raise Terminated
     if _ctrl_c_seen[0]:
         raise KeyboardInterrupt
 
@@ -137,17 +158,22 @@ def _stop_if_interrupted() -> None:
 @contextlib.contextmanager
 def _interruptible():
     """Ctrl-C in a command: "interrupted" on stderr and exit 130 (typer would exit 130
-    silently), also when the KeyboardInterrupt was swallowed where it landed (checked
-    after each file and at the end; not printed as an ignored exception either). The
-    executors clean up on the way out (--cluster cancels its tasks)."""
+    silently); SIGTERM: "terminated" and exit 143 (Python would die at once, leaving
+    --jobs workers computing); also when the exception was swallowed where it landed
+    (checked after each file and at the end; not printed as an ignored exception either).
+    The executors clean up on the way out (--jobs ends its workers, --cluster cancels its
+    tasks)."""
     import signal
     import threading
-    _ctrl_c_seen[0] = False
+    _ctrl_c_seen[0] = _term_seen[0] = False
+    main = threading.current_thread() is threading.main_thread()
     # only where Ctrl-C raises KeyboardInterrupt already: a process started with SIGINT
-    # ignored (`linkcli ... &` in a script, nohup) keeps ignoring it
-    own = (threading.current_thread() is threading.main_thread()
-           and signal.getsignal(signal.SIGINT) is signal.default_int_handler)
+    # ignored (`linkcli ... &` in a script, nohup) keeps ignoring it; SIGTERM likewise only
+    # where it has its default action
+    own = main and signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    own_term = main and signal.getsignal(signal.SIGTERM) == signal.SIG_DFL
     previous = signal.signal(signal.SIGINT, _on_ctrl_c) if own else None
+    previous_term = signal.signal(signal.SIGTERM, _on_term) if own_term else None
     unraisable = sys.unraisablehook
     sys.unraisablehook = _quiet_lost_ctrl_c(unraisable)
     try:
@@ -156,10 +182,15 @@ def _interruptible():
     except KeyboardInterrupt:
         _err("interrupted")
         raise typer.Exit(130) from None
+    except Terminated:
+        _err("terminated")
+        raise typer.Exit(TERMINATED_EXIT) from None
     finally:
         sys.unraisablehook = unraisable
         if own:
             signal.signal(signal.SIGINT, previous)
+        if own_term:
+            signal.signal(signal.SIGTERM, previous_term)
 
 
 def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], precision: int,
@@ -524,6 +555,9 @@ def main() -> None:
     except KeyboardInterrupt:
         _err("interrupted")
         code = 130
+    except Terminated:
+        _err("terminated")
+        code = TERMINATED_EXIT
     except OutputLost as lost:
         code = exit_code(lost, _err)
     sys.exit(code)
