@@ -114,7 +114,12 @@ class DrawnMechanism(Mechanism):
 
     @property
     def solved(self) -> Solved:
-        return solved(self.linkage)
+        # kept on the home: the lru_cache key hashes the whole drawing, once per call (a
+        # section asks a few hundred times: quadratic in the drawing's size)
+        own = self.__dict__.get("_solved")
+        if own is None:
+            own = self.__dict__["_solved"] = solved(self.linkage)
+        return own
 
     def size(self) -> float:
         from linkcli.mechanisms.drawn.sections import size
