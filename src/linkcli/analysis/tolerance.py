@@ -508,11 +508,14 @@ def fit_rows(problem, parts: Parts) -> list[dict]:
     from linkcli.standards import iso286
     joints = {j.name: j for j in problem.meta.joints}
     mm = problem.meta.units.mm_per_length
-    rows = []
+    rows, seen = [], set()
     for zones in (parts.clearance, parts.play):
         if not isinstance(zones, FitZones):
             continue
         for name, text in zip(zones.names, zones.fits):
+            if name in seen:  # a drawn pin of three bodies: two bearings, one fit
+                continue
+            seen.add(name)
             fit = iso286.limits(text, joints[name].diameter * mm)
             least, largest = fit.clearance
             rows.append({"joint": name, "fit": text, "diameter": joints[name].diameter,
