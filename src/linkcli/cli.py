@@ -66,14 +66,35 @@ def _err(line: str) -> None:
 def _progress(total: int):
     """A rich progress display on stderr (a spinner, the file being solved, the files
     done, the evaluations the solve has spent so far and the elapsed time) for batches and
-    long solves; None (nothing shown, nothing counted) when stderr is not a terminal."""
-    if not sys.stderr.isatty():
-        return None
-    from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
-    return Progress(SpinnerColumn(), TextColumn("{task.description}"), BarColumn(),
-                    MofNCompleteColumn(), TextColumn("{task.fields[work]}"), TimeElapsedColumn(),
-                    console=Console(file=sys.stderr), transient=True)
+    long solves; None (nothing shown, nothing counted) when stderr is not a terminal
+    (linkcli.progress.display)."""
+    from linkcli import progress
+    return progress.display()
+
+
+@contextlib.contextmanager
+def _watched(description: str):
+    """A progress display of the work linkcli.progress counts (the frames of an animation)
+    while the block runs, on a terminal only (as _progress): a bar of the frames drawn."""
+    prog = _progress(1)
+    if prog is None:
+        yield
+        return
+    from linkcli import progress
+
+    task = prog.add_task(description, total=None, work="")
+
+    def watch(what: str, done: int, total: int | None) -> None:
+        prog.update(task, completed=done, total=total, work=what)
+
+    progress.reset()
+    progress.watch = watch
+    prog.start()
+    try:
+        yield
+    finally:
+        progress.watch = None
+        prog.stop()
 
 
 def _solving(name: str) -> str:
@@ -85,8 +106,9 @@ def _solving(name: str) -> str:
 
 
 class _Evaluations:
-    """The evaluations a serial solve spends (search.budget.watch), shown in the progress
-    display at most every `every` seconds; `reset()` for the next file."""
+    """The evaluations a serial solve spends (search.budget.watch), and the work of its
+    analysis (linkcli.progress.watch: the tolerance study's sample-targets ...), shown in the
+    progress display at most every `every` seconds; `reset()` for the next file."""
 
     def __init__(self, prog, task, every: float = 0.1) -> None:
         import time
@@ -100,7 +122,16 @@ class _Evaluations:
             self.shown = now
             self.prog.update(self.task, work=f"{self.count:,} evaluations")
 
+    def work(self, what: str, done: int, total: int | None) -> None:
+        now = self.clock()
+        if now - self.shown >= self.every:
+            self.shown = now
+            of = f" of {total:,}" if total else ""
+            self.prog.update(self.task, work=f"{done:,}{of} {what}")
+
     def reset(self) -> None:
+        from linkcli import progress
+        progress.reset()
         self.count, self.shown = 0, 0.0
         self.prog.update(self.task, work="")
 
@@ -236,7 +267,9 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
         task = prog.add_task(_solving(names[0]), total=len(names), work="")
         counter = _Evaluations(prog, task)
         if execute is serial:  # solves in this process count here (a forked --jobs worker must not
-            budget.watch = counter  # touch the display: its lock may have been held at the fork)
+            from linkcli import progress  # touch the display: its lock may have been held at the fork)
+            budget.watch = counter
+            progress.watch = counter.work
     try:
         with contextlib.closing(execute(names, request)) as outcomes:  # Ctrl-C: closed at once
             for name, outcome in zip(names, outcomes):
@@ -278,8 +311,9 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
     finally:
         if prog is not None:
             from linkcli.search import budget
-            budget.watch = None
+            budget.watch = progress.watch = None
             prog.stop()
+            from linkcli import progress
     if out is not None:
         worst = max(worst, _write_out([r for r in reports if "type" in r], out, fmt, precision, table))
     elif fmt is Format.json:  # a bad file has its slot object, alone or in a batch
