@@ -11,7 +11,7 @@ from linkcli.io.meta import MAX_LENGTH
 from linkcli.io.reader import Table
 from linkcli.io.loads import mechanism_of
 from linkcli.mechanisms import module
-from linkcli.mechanisms.schema import read_linkage
+from linkcli.mechanisms.schema import keys_mechanism, read_linkage
 from linkcli.model import Meta
 
 MAX_STEPS = 100_000
@@ -36,7 +36,8 @@ def parse(root: Table, meta: Meta) -> LinkageProblem | None:
     from linkcli.model import LinkageProblem
     link = root.table("linkage", required=True)
     linkage = read_linkage(link, meta.units) if link else None
-    study = module(mechanism_of(root), "schema").read_motion(root, meta, linkage)  # its [motion]
+    named = mechanism_of(root)  # [motion] as the keys' mechanism's, when [linkage] holds another's
+    study = module(keys_mechanism(link, named) or named, "schema").read_motion(root, meta, linkage)  # its [motion]
     if linkage is None or study is None:
         return None
     linkage, speed, steps = study
