@@ -111,6 +111,7 @@ class DrawnMechanism(Mechanism):
     name = "drawn"
     NO_ASSEMBLY = "the drawing does not close"
     DEAD_POINT = "a closure in line"
+    TOGGLE = "the output stands still at an end of its travel"
 
     @property
     def solved(self) -> Solved:
