@@ -19,9 +19,11 @@ import typer
 
 from linkcli import __version__
 
-app = typer.Typer(add_completion=False, no_args_is_help=True, rich_markup_mode=None,
-                  pretty_exceptions_enable=False,
-                  help="Design planar four-bar linkages from TOML problem files.")
+from linkcli.usage_errors import OneLineErrors  # noqa: E402  (click's usage errors as one line)
+
+app = typer.Typer(name="linkcli", add_completion=False, no_args_is_help=True, rich_markup_mode=None,
+                  pretty_exceptions_enable=False, cls=OneLineErrors,
+                  help="Design planar linkages from TOML problem files.")
 
 
 class PlainUsage(typer.core.TyperCommand):
@@ -41,6 +43,7 @@ class Format(str, Enum):
 
 
 EXT = {"table": "txt", "json": "json", "toml": "toml", "csv": "csv"}
+MAX_SEEDS = 1000  # bench --seeds: every setting of every problem runs this many times
 
 
 def _version(value: bool) -> None:
@@ -54,7 +57,7 @@ def main_callback(
     version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
                                  help="Show the version and exit."),
 ) -> None:
-    """Design planar four-bar linkages from TOML problem files."""
+    """Design planar linkages from TOML problem files."""
 
 
 def _err(line: str) -> None:
@@ -310,10 +313,10 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
         return max(worst, _fail(exc, debug))
     finally:
         if prog is not None:
+            from linkcli import progress
             from linkcli.search import budget
             budget.watch = progress.watch = None
             prog.stop()
-            from linkcli import progress
     if out is not None:
         worst = max(worst, _write_out([r for r in reports if "type" in r], out, fmt, precision, table))
     elif fmt is Format.json:  # a bad file has its slot object, alone or in a batch
@@ -326,7 +329,9 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
         worst = max(worst, _plot(results, len(names), plot, debug, precision))
     if any(exports) and results:
         from linkcli import exports as export_files
-        worst = max(worst, export_files.write(results, len(names), *exports, debug))
+        with _watched("writing " + ("the animation" if exports[0] is not None else "the drawing")
+                      + ("s" if len(results) > 1 else "")):
+            worst = max(worst, export_files.write(results, len(names), *exports, debug))
     if len(names) > 1:
         _err(f"{len(names)} files: {counts[0]} solved, {counts[1]} infeasible or not converged, "
              f"{counts[2]} bad input")
@@ -448,6 +453,24 @@ def _plot(results, files: int, plot: Path, debug: bool, precision: int = 6) -> i
     return plotting.plot_command(results, files, plot, debug, precision)
 
 
+PATH_WANTED = {"out": "a folder name", "plot": "a .png or .svg file name (a folder with several files)",
+               "animate": "a .gif, .mp4 or .svg file name (a folder with several files)",
+               "dxf": "a .dxf file name (a folder with several files)"}
+
+
+def _paths(**given: Optional[str]) -> list[Optional[Path]]:
+    """The path options as Paths (None where not given); an empty one is one line and exit 2
+    (pathlib reads "" as ".", the current folder: `--out ""` wrote there, and the other
+    options' errors named "."). Plain strings on the command line for that reason, as FILE."""
+    out = []
+    for name, value in given.items():
+        if value == "":
+            _err(f"--{name}: expected {PATH_WANTED[name]}, found an empty argument")
+            raise typer.Exit(2)
+        out.append(None if value is None else Path(value))
+    return out
+
+
 # metavars are written for people: FILE..., N, DIR (not click's {files}... or <int range>)
 # FILE arguments are plain strings: click's Path would refuse an unreadable file for the
 # whole batch before anything runs, and pathlib would rewrite the names ("" -> ".",
@@ -478,13 +501,14 @@ CLUSTER = typer.Option(None, "--cluster", metavar="ADDRESS",
 
 
 @app.command(cls=PlainUsage)
-def synth(files: List[str] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
+def synth(files: List[str] = FILES, format: Format = FORMAT, out: Optional[str] = OUT,
           seed: Optional[int] = SEED, precision: int = PRECISION, jobs: int = JOBS,
-          plot: Optional[Path] = PLOT, debug: bool = DEBUG, timing: bool = TIMING,
+          plot: Optional[str] = PLOT, debug: bool = DEBUG, timing: bool = TIMING,
           table: Optional[str] = TABLE, cluster: Optional[str] = CLUSTER,
-          animate: Optional[Path] = ANIMATE, dxf: Optional[Path] = DXF) -> None:
+          animate: Optional[str] = ANIMATE, dxf: Optional[str] = DXF) -> None:
     """Solve each problem file and print its report."""
     from linkcli.pipeline import Request
+    out, plot, animate, dxf = _paths(out=out, plot=plot, animate=animate, dxf=dxf)
     request = Request(mode="synth", seed=seed, debug=debug, timing=timing,
                       plot=plot is not None or animate is not None or dxf is not None)
     with _interruptible():
@@ -493,12 +517,13 @@ def synth(files: List[str] = FILES, format: Format = FORMAT, out: Optional[Path]
 
 
 @app.command(cls=PlainUsage)
-def analyze(files: List[str] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
-            precision: int = PRECISION, jobs: int = JOBS, plot: Optional[Path] = PLOT,
+def analyze(files: List[str] = FILES, format: Format = FORMAT, out: Optional[str] = OUT,
+            precision: int = PRECISION, jobs: int = JOBS, plot: Optional[str] = PLOT,
             debug: bool = DEBUG, table: Optional[str] = TABLE,
-            animate: Optional[Path] = ANIMATE, dxf: Optional[Path] = DXF) -> None:
+            animate: Optional[str] = ANIMATE, dxf: Optional[str] = DXF) -> None:
     """Analyse given linkages: `type = "linkage"` files or results of `synth --format toml`."""
     from linkcli.pipeline import Request
+    out, plot, animate, dxf = _paths(out=out, plot=plot, animate=animate, dxf=dxf)
     request = Request(mode="analyze", debug=debug,
                       plot=plot is not None or animate is not None or dxf is not None)
     with _interruptible():
@@ -527,7 +552,8 @@ def bench(files: List[str] = typer.Argument(None, metavar="[FILE...]",
                                                   "a copy of problems/bench/)."),
           format: Format = typer.Option(Format.table, "--format", "-f", metavar="table|json|toml|csv",
                                         help="Output format (csv: one row per run)."),
-          seeds: int = typer.Option(3, "--seeds", metavar="N", help="Seeds per setting.", min=1),
+          seeds: int = typer.Option(3, "--seeds", metavar="N", min=1, max=MAX_SEEDS,
+                                    help=f"Seeds per setting (1 .. {MAX_SEEDS}: the seeds 0 .. N-1)."),
           precision: int = typer.Option(4, "--precision", metavar="N",
                                         help="Significant digits in the output (1 .. 17).", min=1, max=17),
           summary: bool = typer.Option(False, "--summary",
@@ -545,25 +571,38 @@ def bench(files: List[str] = typer.Argument(None, metavar="[FILE...]",
 
 
 @app.command(cls=PlainUsage)
-def new(type_name: str = typer.Argument(..., metavar="TYPE", help="The problem type, e.g. linkage."),
-        file: Optional[Path] = typer.Argument(None, metavar="[FILE]",
+def new(type_name: str = typer.Argument(..., metavar="TYPE",
+                                        help="The problem type (e.g. linkage, path-generation), or a mechanism "
+                                             "with a template of its own (five-bar, drawn)."),
+        file: Optional[str] = typer.Argument(None, metavar="[FILE]",
                                               help="Write the template here (never over an existing file); "
                                                    "without FILE, print it.")) -> None:
     """Write a commented template problem file of TYPE (to FILE, or to stdout)."""
-    from linkcli.templates import template_names, template_text
+    from linkcli.io.terminal_text import shown
+    from linkcli.templates import nearest_name, template_names, template_text
     names = template_names()
     if type_name not in names:
-        _err(f"{type_name}: expected a problem type, one of: {', '.join(names)}")
+        hint = nearest_name(type_name)
+        extra = f' (did you mean "{hint}"?)' if hint else ""
+        _err(f"TYPE: expected a problem type or a mechanism with a template{extra}, one of: {', '.join(names)}; "
+             f'found "{shown(type_name, 60)}"')
         raise typer.Exit(2)
     text = template_text(type_name)
     if file is None:
         sys.stdout.write(text)
         raise typer.Exit(0)
+    if file == "":
+        _err('"": expected a new file name, found an empty argument')
+        raise typer.Exit(2)
     try:
         with open(file, "x", encoding="utf-8") as handle:  # "x": refuses an existing file
             handle.write(text)
     except FileExistsError:
-        _err(f"{file}: expected a new file name, found an existing file (not overwritten)")
+        what = "an existing folder" if Path(file).is_dir() else "an existing file (not overwritten)"
+        _err(f"{file}: expected a new file name, found {what}")
+        raise typer.Exit(2)
+    except IsADirectoryError:
+        _err(f"{file}: expected a new file name, found an existing folder")
         raise typer.Exit(2)
     except OSError as exc:
         _err(f"{file}: expected a writable new file, found {exc.strerror or exc}")
