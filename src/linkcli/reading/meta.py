@@ -290,7 +290,7 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
                 f"({MIN_FAILURES} expected failures)", samples)
     line_of = root.reader.line_of
     lines = {".".join(k): line_of(("tolerance",) + k)
-             for k in [("lengths",), ("clearance",), ("clearance_slider",), ("lock_play",)]
+             for k in [("lengths",), ("clearance",), ("clearance_slider",), ("lock_play",), ("samples",)]
              + [("lengths", link) for link in per_link] + [(f"schemes[{i}]",) for i in range(len(schemes))]}
     base = dict(lengths=lengths, distribution=distribution or "uniform", clearance=clearance or 0.0,
                 clearance_slider=clearance_slider or 0.0, lock_play=units.to_rad(lock_play or 0.0),

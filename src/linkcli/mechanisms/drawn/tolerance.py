@@ -96,7 +96,12 @@ class Model:
                 links = [bs[0]]
             self.bearings += [(b, joint) for b in links]
         self.pins = len(self.bearings)
+        # fits (clearance = "fits"): each bearing's clearance from its joint's fit, drawn per
+        # bearing (every link pinned there has its own bore on the pin); a slider's play from
+        # its joint's fit (the block's width in its guide)
+        self.pin_names = tuple(joint for _, joint in self.bearings)
         self.sliders = [j.name for j in d.joints if j.slider is not None]
+        self.play_names = tuple(self.sliders)
         self.plays = len(self.sliders)
         self.traced = d.points or tuple(j.name for j in d.joints if not j.ground)
         self.measure = f"largest distance of {', '.join(self.traced)} from the nominal places"
