@@ -30,6 +30,7 @@ HOMES = {  # class -> the submodule of linkcli.model that defines it (imported o
     "FunctionGenerationProblem": "function_generation",
     "FlipperCylinderProblem": "flipper_cylinder",
     "QuickReturnProblem": "quick_return",
+    "Front": "front",
 }
 
 
@@ -78,6 +79,7 @@ class Meta:
     joints: tuple = ()  # [joints]: io.joints.JointSpec per joint (part sizes, a drawing)
     link_sections: dict = field(default_factory=dict)  # [sections]: link -> LinkSection
     strength: StrengthSpec | None = None  # [material] / [strength]: the strength section
+    front: Front | None = None  # [objective] minimize = [...]: a Pareto front (linkcli.pareto)
 
 
 class Linkage(Protocol):
