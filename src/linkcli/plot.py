@@ -114,6 +114,9 @@ def figure(result):
         if "strength" in report and report["strength"].get("rows"):
             from linkcli.plots import strength
             panels.append(strength)
+        if "front" in report and report["front"].get("rows"):  # a Pareto front: its curve below
+            from linkcli.pareto import plot as front_plot
+            panels.append(front_plot)
         if panels:
             heights = [FIGSIZE[1]] + [panel.HEIGHT for panel in panels]
             fig = Figure(figsize=(FIGSIZE[0], sum(heights)), layout="constrained")

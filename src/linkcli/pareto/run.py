@@ -130,6 +130,7 @@ def _report(problem, space, measure: Measure, points: list, scales, budget: Budg
     main.solver = SolverRecord(f"{METHOD} ({found.solver.method if found.solver else 'type'})",
                                problem.meta.solver.seed, int(evaluations), not uncertified)
     main.sections = {**main.sections, "front": section}
+    main.alternatives = [sol for _, sol, _ in kept]
     if uncertified:
         main.status = Status.NOT_CONVERGED
         main.message = (f"front of {len(rows)} designs, each within every constraint; the polish of rows "
