@@ -40,8 +40,8 @@ TIE = 1e-9  # relative to an objective's scale: values this close are equal (dom
 FEASIBLE = 1e-7  # a scaled constraint this far below 0 is still met (the type's final check decides)
 POINT_BUDGET = 20_000  # design evaluations of one start's polish, at most
 ROUND_OFF = 1e-9  # relative: a certified end this close to the best merit seen is taken
-EPIGRAPH_ITERATIONS = 200  # SLSQP's, an epigraph's polish
-EPIGRAPH_FTOL = 1e-12  # SLSQP's tolerance on t (t in [0, 1] spans twice the objective's scale)
+EPIGRAPH_ITERATIONS = 100  # SLSQP's, an epigraph's polish
+EPIGRAPH_FTOL = 1e-10  # SLSQP's tolerance on t (t in [0, 1] spans twice the objective's scale)
 SCALE_FLOOR = 1e-12  # relative: an objective with no spread over the anchors is scaled by its size
 
 
@@ -224,7 +224,7 @@ def non_dominated(points: list, values, scales) -> list:
         near = tol + 2.0 * ANCHOR_SLACK * np.abs(v)
         if any(dominates(values[j], v, near) for j in range(len(values)) if j != i):
             continue
-        if any(np.all(np.abs(values[j] - v) <= tol) for j in keep):
+        if any(np.all(np.abs(values[j] - v) <= near) for j in keep):
             continue
         keep.append(i)
     return [points[i] for i in keep]
