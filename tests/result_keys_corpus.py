@@ -36,6 +36,8 @@ NAMED = (
     ("kinematics", ROWS, "drives"), ("kinematics", ROWS, "transmission"),
     ("transmission", "closures"),
     ("tolerance", "lengths"), ("tolerance", "sensitivity"), ("tolerance", "general_tolerances"),
+    ("front", "units"), ("front", "rows", ROWS, "objectives"),  # a Pareto front's objectives by name
+    ("front", "rows", ROWS, "linkage"),  # each row's design: its mechanism's linkage section
 )
 
 VARIANTS = ROOT / "tests" / "data" / "result_keys"

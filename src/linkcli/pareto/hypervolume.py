@@ -85,9 +85,18 @@ def knee(values: np.ndarray) -> int:
     extremes = [int(np.argmin(v[:, k] + TIE * np.sum(z, axis=1))) for k in range(m)]
     base = z[extremes[0]]
     directions = np.array([z[e] - base for e in extremes[1:]])
-    q, _ = np.linalg.qr(directions.T) if len(directions) else (np.zeros((m, 0)), None)
+    basis = []  # Gram-Schmidt (no LAPACK: the same bits on every machine)
+    for d in directions:
+        v = d.copy()
+        for q in basis:
+            v = v - float(np.dot(v, q)) * q
+        norm = float(np.sqrt(np.dot(v, v)))
+        if norm > TIE:
+            basis.append(v / norm)
     rel = z - base
-    off = rel - (rel @ q) @ q.T
+    off = rel.copy()
+    for q in basis:
+        off = off - np.outer(rel @ q, q)
     dist = np.sqrt(np.sum(off * off, axis=1))
     if float(dist.max()) <= TIE:
         return _first(-ideal)

@@ -178,10 +178,58 @@ class Measure:
         pts = np.stack([np.asarray(p, dtype=float).reshape(len(phi), 2) for p in sk.joints.values()], axis=1)
         if not np.all(np.isfinite(pts)):
             return np.array([math.inf])
-        ext = {(k, sign): sign * refined_peaks(sign * pts[:, :, k], full) for k in (0, 1) for sign in (1.0, -1.0)}
+        ext = self.extremes(sol, phi, pts, full)
         width = np.maximum(ext[0, 1.0][:, None] - ext[0, -1.0][None, :], 0.0).ravel()
         height = np.maximum(ext[1, 1.0][:, None] - ext[1, -1.0][None, :], 0.0).ravel()
         return np.sqrt(width[:, None] ** 2 + height[None, :] ** 2).ravel()
+
+    def extremes(self, sol, phi, pts, full: bool) -> dict:
+        """(coordinate, sign) -> (joints,) each joint's extreme coordinate over the motion: the
+        largest row, then REFINE rounds of a parabola through the skeleton at its vertex and
+        DELTAS either side (the home's skeleton at any drive angle: a Newton step on the
+        coordinate's slope, to round-off, so that the extreme is smooth in the design); an
+        end of an open arc is exact."""
+        mech = of(sol.linkage)
+        n, joints = pts.shape[0], pts.shape[1]
+        step = float(phi[1] - phi[0]) if n > 1 else 0.0
+        lo, hi = (min(phi[0], phi[-1]), max(phi[0], phi[-1]))
+        out, wanted = {}, []
+        for k in (0, 1):
+            for sign in (1.0, -1.0):
+                vals = sign * pts[:, :, k]
+                top = np.argmax(vals, axis=0)
+                best = vals[top, np.arange(joints)]
+                inner = np.ones(joints, bool) if full else (top > 0) & (top < n - 1)
+                out[k, sign] = best
+                wanted.append((k, sign, phi[top], inner))
+        sampled = dict(out)
+        for delta in (step, step / 16.0, step / 256.0):
+            if delta <= 0:
+                break
+            centres = np.concatenate([w[2] for w in wanted])
+            at = np.stack([centres - delta, centres, centres + delta], axis=1)
+            if not full:
+                at = np.clip(at, lo, hi)
+            sk = mech.skeleton(at.ravel())
+            pos = np.stack([np.asarray(p, dtype=float).reshape(-1, 2) for p in sk.joints.values()], axis=1)
+            pos = pos.reshape(len(centres), 3, joints, 2)
+            for i, (k, sign, centre, inner) in enumerate(wanted):
+                rows = slice(i * joints, (i + 1) * joints)
+                y = sign * pos[rows][np.arange(joints), :, np.arange(joints), k]  # (joints, 3): its own joint
+                y0, y1, y2 = y[:, 0], y[:, 1], y[:, 2]
+                curve = y0 - 2.0 * y1 + y2
+                with np.errstate(all="ignore"):
+                    shift = np.where(curve < 0, 0.5 * (y0 - y2) / curve, 0.0)
+                shift = np.clip(np.where(np.isfinite(shift), shift, 0.0), -1.0, 1.0)
+                new_centre = centre + shift * delta
+                if not full:
+                    new_centre = np.clip(new_centre, lo, hi)
+                with np.errstate(all="ignore"):
+                    vertex = y1 - 0.25 * (y0 - y2) * shift
+                ok = inner & np.isfinite(vertex) & (vertex >= sampled[k, sign])
+                out[k, sign] = np.where(ok, vertex, sampled[k, sign])
+                wanted[i] = (k, sign, np.where(ok, new_centre, centre), inner)
+        return {key: key[1] * v for key, v in out.items()}
 
     def loads(self, sol, name: str) -> np.ndarray:
         """|input torque| (N m) or every pin force's magnitude (N) at the motion's rows."""
