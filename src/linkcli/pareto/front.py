@@ -41,6 +41,8 @@ FEASIBLE = 1e-7  # a scaled constraint this far below 0 is still met (the type's
 POINT_BUDGET = 20_000  # design evaluations of one start's polish, at most
 ACTIVE = 1e-6  # a scaled constraint (or unit-box variable) this close to its limit binds (kkt_holds)
 KKT_TOL = 1e-4  # relative: the first-order conditions' residual of a certified point (kkt_holds)
+SETTLE_STEP = 1e-4  # unit box: the differenced Hessian's step (kkt.settle)
+SETTLED_FEASIBLE = 1e-10  # a settled point meets its (scaled) constraints to this
 ROUND_OFF = 1e-9  # relative: a certified end this close to the best merit seen is taken
 EPIGRAPH_ITERATIONS = 100  # SLSQP's, an epigraph's polish
 EPIGRAPH_FTOL = 1e-9  # SLSQP's tolerance on t (t in [0, 1] spans twice the objective's scale)
@@ -152,6 +154,36 @@ def kkt_holds(problem: Scalarized, u) -> bool:
     return residual <= KKT_TOL
 
 
+def settle(problem: Scalarized, x) -> tuple[np.ndarray, bool]:
+    """(design, settled): Newton on the KKT system of the constraints that bind at design x
+    (linkcli.search.kkt: the house's linear algebra, no BLAS), to round-off, so that the
+    printed digits are the level's optimum's and not those of the polish's path (SLSQP's
+    tolerance on f leaves a flat direction's digits to the machine). A least-squares first
+    objective: the Gauss-Newton Hessian, differenced where the steps stall; an epigraph: the
+    Lagrangian's Hessian by differences at least-squares multipliers. The end is taken when it
+    converged, meets every constraint and is no worse (merit, within ROUND_OFF)."""
+    from linkcli.search import kkt
+    u0 = problem.unit(x, t=None)
+    if problem.epigraph:
+        u0[-1] = min(1.0, problem.objective(u0) / (problem.scales[problem.primary] * problem.t_scale))
+
+    def evaluate(u):
+        f, c, r = problem.value(u)
+        g, jc, jr = problem.slope(u, central=True)
+        return kkt.Point(f, g, c, jc, h=None if problem.epigraph else 2.0 * (jr.T @ jr))
+
+    try:
+        with np.errstate(all="ignore"):
+            out = kkt.settle(evaluate, u0, hessian_step=SETTLE_STEP, multipliers=problem.epigraph,
+                             curvature=False if problem.epigraph else "stalled")
+    except (BudgetSpent, ArithmeticError, ValueError, np.linalg.LinAlgError):
+        return np.asarray(x, float), False
+    if not (out.converged and problem.feasible(out.u, SETTLED_FEASIBLE)
+            and problem.merit(out.u) <= problem.merit(u0) + ROUND_OFF * max(abs(problem.merit(u0)), 1e-300)):
+        return np.asarray(x, float), False
+    return problem.design(out.u), True
+
+
 def epigraph_slsqp(problem: Scalarized, u0) -> tuple[np.ndarray, bool]:
     """min t subject to the constraints (pieces <= t among them) and the unit box, by SLSQP
     (Kraft 1988) with forward-difference slopes; (end, converged)."""
@@ -182,6 +214,8 @@ def solve_chain(task: Task) -> tuple[list, int]:
         problem.t_scale = task.t_scale
         with budget.limit(POINT_BUDGET), np.errstate(all="ignore"):
             end, certified = polish_from(problem, x)
+            if certified:  # to round-off: the same digits whatever the machine (settle)
+                end, _ = settle(problem, end)
         u = problem.unit(end, t=1.0)
         values = task.measure.values(end)
         if not (problem.feasible(u, FEASIBLE) and np.all(np.isfinite(values))):  # (the failure

@@ -13,7 +13,7 @@ linkcli.pareto.space). Values are in the report's units:
   max(90 - mu_min, mu_max - 90), from the home's transmission section (angle unit);
 - `size`: the diagonal of the box swept by every joint and traced point (the coupler point)
   over the motion (length unit), from the home's skeleton at ROWS drive angles a turn, each
-  coordinate's extreme refined by the parabola through its row and its two neighbours;
+  joint's extreme coordinates refined on the skeleton (`Measure.extremes`);
 - `link-ratio`: the longest link over the shortest (the home's links, schema.known_lengths);
 - `torque`: the peak magnitude of the input torque over the motion's rows (N m), and
   `pin-force`: the peak pin force over every pin and row (N), from the home's load_rows under
@@ -89,6 +89,22 @@ class Measure:
         """The objectives of design x, in the order asked (the report's numbers)."""
         sol = self.space.solution(x)
         return np.array([self.value(name, x, sol) for name in self.names], dtype=float)
+
+    def snapped(self, values, sol) -> np.ndarray:
+        """The values as the report prints them: round-off of an exact fit is 0 (the error
+        section's noise floor: an objective below n (NOISE_FLOOR s)^2, a target's error below
+        NOISE_FLOOR s, s = 1 rad for angles, the linkage's size for lengths)."""
+        from linkcli.noise import NOISE_FLOOR, snap
+        scale = 1.0 if self.space.error_kind == "angle" else of(sol.linkage).size()
+        targets = int(np.max(self.space.groups)) + 1
+        out = np.array(values, dtype=float)
+        for k, name in enumerate(self.names):
+            if name == "error":
+                out[k] = snap(float(out[k]), targets * NOISE_FLOOR * scale * scale)
+            elif name == "max-error":
+                size = self.units.from_rad(scale) if self.space.error_kind == "angle" else scale
+                out[k] = snap(float(out[k]), float(size))
+        return out
 
     def value(self, name: str, x, sol) -> float:
         if name == "failure-probability":
@@ -248,27 +264,6 @@ class Measure:
         if self.failure is None:
             self.failure = Failure(self.problem, self.space)
         return self.failure.share(x)
-
-
-def refined_peaks(values: np.ndarray, periodic: bool) -> np.ndarray:
-    """Each column's largest sample (values (n, k): samples of k smooth functions), refined
-    by the parabola through it and its two neighbours (the vertex's value, when the vertex
-    lies between them); an end of an open arc is exact (the extreme may sit there)."""
-    n, k = values.shape
-    top = np.argmax(values, axis=0)
-    cols = np.arange(k)
-    y1 = values[top, cols]
-    if n < 3:
-        return y1
-    y0, y2 = values[(top - 1) % n, cols], values[(top + 1) % n, cols]
-    curve = y0 - 2.0 * y1 + y2
-    with np.errstate(all="ignore"):
-        shift = 0.5 * (y0 - y2) / curve
-        vertex = y1 - 0.25 * (y0 - y2) * shift
-    inner = (curve < 0.0) & (np.abs(shift) <= 1.0)
-    if not periodic:
-        inner &= (top > 0) & (top < n - 1)
-    return np.where(inner, vertex, y1)
 
 
 def link_ratios(linkage) -> np.ndarray:

@@ -74,6 +74,8 @@ def _minimize(measure, primary: int, eps: dict, scales, x, budget: Budget, start
         problem.t_scale = 2.0
     with budget.limit(fr.POINT_BUDGET):
         xe, certified = fr.polish_from(problem, x)
+        if certified:
+            xe, _ = fr.settle(problem, xe)
     ve = measure.values(xe)
     if not (np.all(np.isfinite(ve)) and ve[primary] <= v0[primary] and _holds(measure, eps, ve)):
         return fr.Point(np.asarray(x, float).copy(), v0, start, False, True)  # no better: stays
@@ -93,7 +95,7 @@ def _report(problem, space, measure: Measure, points: list, scales, budget: Budg
         sol = space.final(p.x)
         if sol.status is not Status.OK:
             continue
-        values = measure.values(p.x)
+        values = measure.snapped(measure.values(p.x), sol)
         if not np.all(np.isfinite(values)):
             continue
         finished.append((p, sol, values))
