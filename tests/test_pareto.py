@@ -213,7 +213,7 @@ def test_path_front_designs_recomputed_from_their_lengths(tmp_path):
         assert window[0] - 1e-6 <= mu.min() and mu.max() <= window[1] + 1e-6
     assert sizes == sorted(sizes, reverse=True)
     # analyze takes each file as is
-    code, out, err = run_cli("analyze", str(files[0]), "--format", "json")
+    code, out, err = run_cli("analyze", str(files[0]), "--format", "json", "--precision", "17")
     assert code == 0, err
     assert json.loads(out)["linkage"]["coupler"] == pytest.approx(front["rows"][0]["linkage"]["coupler"], rel=1e-6)
 

@@ -1,9 +1,10 @@
-"""Where the front's levels are solved: in this process, or spread by the command's executor.
+"""Where the front's chains of levels are solved: in this process, or spread by the command.
 
-The levels of a front are independent solves (linkcli.pareto.front, 3.), so `synth --jobs N`
-on one file and `--cluster` may solve them elsewhere; the command's pipeline installs a map
-for the solve (`using`), the front search calls `map_levels`. The results are the same
-whichever map runs them (each level's solve depends on the anchors only).
+The chains of a front (two per row of levels, one from each end: linkcli.pareto.front, 3.)
+are independent solves, so `synth --jobs N` on one file and `--cluster` may solve them
+elsewhere; the command's pipeline installs a map for the solve (`using`), the front search
+calls `map_levels`. The results are the same whichever map runs them (each chain depends on
+the anchors only).
 """
 
 from __future__ import annotations
