@@ -38,6 +38,8 @@ NAMED = (
     ("tolerance", "lengths"), ("tolerance", "sensitivity"), ("tolerance", "general_tolerances"),
     ("history", ROWS, "pins"), ("history", ROWS, "elements"), ("history", ROWS, "friction"),
     ("balance", "unbalanced", "pins"), ("balance", "balanced", "pins"), ("balance", "counterweights"),
+    ("front", "units"), ("front", "rows", ROWS, "objectives"),  # a Pareto front's objectives by name
+    ("front", "rows", ROWS, "linkage"),  # each row's design: its mechanism's linkage section
 )
 
 VARIANTS = ROOT / "tests" / "data" / "result_keys"

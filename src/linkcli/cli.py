@@ -100,12 +100,16 @@ def _watched(description: str):
         prog.stop()
 
 
-def _solving(name: str) -> str:
+def _solving(name: str, limit: int = 40) -> str:
     """The progress display's "solving FILE": the name escaped (terminal_text.one_line) and
-    not read as rich markup (a file named "[bold]x.toml" is shown as named)."""
+    not read as rich markup (a file named "[bold]x.toml" is shown as named), a long one by its
+    last `limit` characters (the work beside it stays on the line)."""
     from rich.markup import escape
     from linkcli.io.terminal_text import one_line
-    return f"solving {escape(one_line(name))}"
+    name = one_line(name)
+    if len(name) > limit:
+        name = "..." + name[-(limit - 3):]
+    return f"solving {escape(name)}"
 
 
 class _Evaluations:
@@ -232,7 +236,8 @@ def _interruptible():
 
 def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], precision: int,
                    jobs: int, plot: Optional[Path], table: Optional[str] = None,
-                   cluster: Optional[str] = None, exports: tuple = (None, None)) -> int:
+                   cluster: Optional[str] = None, exports: tuple = (None, None),
+                   front_dir: Optional[Path] = None) -> int:
     """synth and analyze: run the pipeline over the files (`request`: mode, seed, debug,
     timing) with the executor the options ask for (serial, --jobs, --cluster), print or
     write the reports, draw them; the worst exit code. An error of the executor itself
@@ -245,6 +250,7 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
         execute = executor(jobs, names, debug, cluster)
     except LinkcliError as exc:
         return _fail(exc, debug)
+    request = _spread_fronts(request, execute, jobs, cluster)
     if table is not None and fmt is not Format.csv:
         _err(f"--table: expected --format csv with it (the row table to write), found --format {fmt.value}")
         return 2
@@ -253,6 +259,8 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
              f"found {len(names)} files")
         return 2
     if out is not None and not _prepare_out(out):
+        return 2
+    if front_dir is not None and not _prepare_out(front_dir, "--front-dir"):
         return 2
     if plot is not None and _plot_problem(plot, names):
         return 2
@@ -282,6 +290,8 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
                 _stop_if_interrupted()
                 code, errors = outcome.exit_code, outcome.errors
                 report = outcome.result.report if outcome.result is not None else None
+                if outcome.result is not None and front_dir is not None:
+                    worst = max(worst, _write_front(outcome.result, name, names, front_dir, precision))
                 if outcome.result is not None and (plot is not None or any(exports)):
                     results.append(outcome.result)  # kept for the drawings only: a report may hold 100,000 rows
                 if prog is not None:
@@ -367,24 +377,50 @@ def _exports_problem(exports: tuple, names: list[str]) -> bool:
     return bool(lines)
 
 
-def _prepare_out(out: Path) -> bool:
-    """--out must be a folder that exists or can be made, and that takes a file (a probe
-    file is made and removed: permissions, a read-only file system); checked before any
-    solve."""
+def _prepare_out(out: Path, option: str = "--out") -> bool:
+    """--out (--front-dir) must be a folder that exists or can be made, and that takes a
+    file (a probe file is made and removed: permissions, a read-only file system); checked
+    before any solve."""
     from linkcli.io.output_guard import refuses_files
     if out.exists() and not out.is_dir():
-        _err(f"{out}: expected a folder for --out, found a file")
+        _err(f"{out}: expected a folder for {option}, found a file")
         return False
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        _err(f"{out}: expected a folder for --out that can be created, found {exc.strerror or exc}")
+        _err(f"{out}: expected a folder for {option} that can be created, found {exc.strerror or exc}")
         return False
     why = refuses_files(out)
     if why:
-        _err(f"{out}: expected a folder for --out that can be written, found {why}")
+        _err(f"{out}: expected a folder for {option} that can be written, found {why}")
         return False
     return True
+
+
+def _spread_fronts(request, execute, jobs: int, cluster: Optional[str]):
+    """The request with where a front's levels go (linkcli.pareto.spread): a cluster's workers
+    with --cluster; with --jobs N, N processes when the files themselves are not spread (one
+    file: the jobs are the front's, never N processes per file)."""
+    import os
+    from linkcli.pipeline import serial
+    if cluster is not None:
+        return request._replace(front=("cluster",))
+    if jobs > 1 and execute is serial and not request.debug:
+        return request._replace(front=("jobs", min(jobs, os.cpu_count() or 1)))
+    return request
+
+
+def _write_front(result, name: str, names: list[str], folder: Path, precision: int) -> int:
+    """--front-dir: the front's designs of one file as result files (linkcli.pareto.files)."""
+    from linkcli.io.export import result_stems
+    from linkcli.pareto.files import write_front
+    stem = result_stems(names)[names.index(name)]
+    try:
+        write_front(result, folder, stem, precision)
+    except OSError as exc:
+        _err(f"{folder}: expected a folder for --front-dir that can be written, found {exc.strerror or exc}")
+        return 2
+    return 0
 
 
 def _csv_tables(report: dict, table: Optional[str]) -> tuple[dict, str | None]:
@@ -498,6 +534,8 @@ DXF = typer.Option(None, "--dxf", metavar="FILE",
                    help="Write the design for CAD to FILE.dxf (a folder with several files).")
 DEBUG = typer.Option(False, "--debug", help="Show Python tracebacks.")
 TIMING = typer.Option(False, "--timing", help="Add the solver's wall-clock seconds to the report.")
+FRONT_DIR = typer.Option(None, "--front-dir", metavar="DIR",
+                         help="Write each design of a Pareto front as a result file into this folder.")
 CLUSTER = typer.Option(None, "--cluster", metavar="ADDRESS",
                        help="Run on the Dask scheduler at tcp://HOST:PORT, or local:N for N local "
                             "worker processes (pip install \"linkcli[cluster]\"; not with --jobs).")
@@ -508,14 +546,16 @@ def synth(files: List[str] = FILES, format: Format = FORMAT, out: Optional[str] 
           seed: Optional[int] = SEED, precision: int = PRECISION, jobs: int = JOBS,
           plot: Optional[str] = PLOT, debug: bool = DEBUG, timing: bool = TIMING,
           table: Optional[str] = TABLE, cluster: Optional[str] = CLUSTER,
-          animate: Optional[str] = ANIMATE, dxf: Optional[str] = DXF) -> None:
+          animate: Optional[str] = ANIMATE, dxf: Optional[str] = DXF,
+          front_dir: Optional[Path] = FRONT_DIR) -> None:
     """Solve each problem file and print its report."""
     from linkcli.pipeline import Request
     out, plot, animate, dxf = _paths(out=out, plot=plot, animate=animate, dxf=dxf)
     request = Request(mode="synth", seed=seed, debug=debug, timing=timing,
-                      plot=plot is not None or animate is not None or dxf is not None)
+                      plot=plot is not None or animate is not None or dxf is not None or front_dir is not None)
     with _interruptible():
-        code = _solve_command(files, request, format, out, precision, jobs, plot, table, cluster, (animate, dxf))
+        code = _solve_command(files, request, format, out, precision, jobs, plot, table, cluster, (animate, dxf),
+                              front_dir)
     raise typer.Exit(code)
 
 

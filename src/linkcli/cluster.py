@@ -327,3 +327,18 @@ def _quiet_dask_logs(level: int = logging.CRITICAL) -> Iterator[None]:
     finally:
         for handler in handlers:
             handler.removeFilter(loud_enough)
+
+
+def worker_map(function: Callable[[Any], Any], items: list) -> list:
+    """[function(item) for item in items] on the cluster that runs the calling task (tasks
+    launched from a task: distributed.worker_client, which leaves the worker's slot to them
+    while it waits), results in order; outside a worker, in this process."""
+    try:
+        from distributed import worker_client
+        from distributed.worker import get_worker
+        get_worker()
+    except (ImportError, ValueError):
+        return [function(item) for item in items]
+    with worker_client() as client:
+        futures = client.map(function, items, pure=False)
+        return client.gather(futures)

@@ -37,6 +37,7 @@ class Request(NamedTuple):
     debug: bool = False
     timing: bool = False
     plot: bool = False
+    front: tuple = ()  # where a Pareto front's levels are solved: () here, ("jobs", N), ("cluster",)
 
 
 class Result(NamedTuple):
@@ -110,7 +111,7 @@ def run(path: str, request: Request, source: bytes | InputError | None = None) -
         if request.mode == "check":
             return Outcome(path, 0)
         started = time.perf_counter()
-        with quiet_numerics():
+        with quiet_numerics(), front_levels(request.front):
             solution = solve(problem)
         seconds = time.perf_counter() - started
         from linkcli.reading.meta import refuse_oversized
@@ -130,6 +131,31 @@ def run(path: str, request: Request, source: bytes | InputError | None = None) -
             raise
         return Outcome(path, 1, errors=(f"{path}: internal error: {type(exc).__name__}: {exc} "
                                         "(run with --debug for the traceback)",))
+
+
+def front_levels(where: tuple):
+    """The map a Pareto front's chains of levels run through (linkcli.pareto.spread): in this
+    process (()), in N processes (("jobs", N)), on the cluster this worker belongs to
+    (("cluster",): tasks launched from the task, linkcli.cluster.worker_map)."""
+    from linkcli.pareto.spread import using
+    if not where:
+        return using(None)
+    if where[0] == "cluster":
+        from linkcli.cluster import worker_map
+        return using(worker_map)
+    return using(process_map(int(where[1])))
+
+
+def process_map(jobs: int):
+    """A map over `jobs` processes (forked where the system can: they share what this one
+    imported), results in order."""
+    def mapper(function, items):
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor
+        context = multiprocessing.get_context("fork") if "fork" in multiprocessing.get_all_start_methods() else None
+        with ProcessPoolExecutor(max_workers=min(jobs, len(items)), mp_context=context) as pool:
+            return list(pool.map(function, items))
+    return mapper
 
 
 def report_exit_code(report: dict) -> int:

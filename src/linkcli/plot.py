@@ -124,6 +124,9 @@ def figure(result):
         if "history" in report or "balance" in report:  # [dynamics]
             from linkcli.plots.dynamics import panels as dynamics_panels
             panels.extend(dynamics_panels(report))
+        if "front" in report and report["front"].get("rows"):  # a Pareto front: its curve below
+            from linkcli.pareto import plot as front_plot
+            panels.append(front_plot)
         if panels:
             heights = [FIGSIZE[1]] + [panel.HEIGHT for panel in panels]
             fig = Figure(figsize=(FIGSIZE[0], sum(heights)), layout="constrained")

@@ -79,3 +79,4 @@ class Solution:
     sections: dict = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)  # warnings shown with the report
     working_span: tuple[float, float] | None = None  # (start, signed sweep) of the input, rad
+    alternatives: list = field(default_factory=list)  # a Pareto front's designs (Solutions), its rows' order

@@ -31,6 +31,7 @@ HOMES = {  # class -> the submodule of linkcli.model that defines it (imported o
     "FlipperCylinderProblem": "flipper_cylinder",
     "QuickReturnProblem": "quick_return",
     "DrawnDesignProblem": "drawn_design",
+    "Front": "front",
 }
 
 
@@ -81,6 +82,7 @@ class Meta:
     link_sections: dict = field(default_factory=dict)  # [sections]: link -> LinkSection
     strength: StrengthSpec | None = None  # [material] / [strength]: the strength section
     dynamics: object = None  # [springs] / [dampers] / [dynamics]: model.dynamics.Dynamics
+    front: Front | None = None  # [objective] minimize = [...]: a Pareto front (linkcli.pareto)
 
 
 class Linkage(Protocol):

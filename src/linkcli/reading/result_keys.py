@@ -89,6 +89,11 @@ KEYS = {
         'rows.[].mechanical_advantage', 'rows.[].pins.*.magnitude', 'rows.[].pins.*.x',
         'rows.[].pins.*.y',
     ),
+    'front': (
+        'hypervolume', 'knee.index', 'knee.rule', 'method', 'objectives', 'reference_point',
+        'rows.[].certified', 'rows.[].confirmed', 'rows.[].linkage.*', 'rows.[].objectives.*',
+        'units.*',
+    ),
     'grashof': (
         'class', 'coupler', 'crank_plus_offset', 'drives', 'groups', 'links', 'longest',
         'mobility', 'other_two', 'p_plus_q', 'phases.[].branch', 'phases.[].class',

@@ -12,6 +12,7 @@ failure"). Pure Python (`check` reads them).
 from __future__ import annotations
 
 from linkcli.io.reader import Table
+from linkcli.reading.pareto_keys import is_front
 
 OBJECTIVES = ("error", "failure-probability")
 DEFAULT_DEFECT_FREE = 0.99
@@ -21,7 +22,10 @@ def read_objective(root: Table, meta) -> tuple[str, float] | None:
     """(minimize, defect_free); None after an error (recorded). failure-probability needs a
     [tolerance] table with allowed_error; defect_free belongs to it only."""
     t = root.table("objective")
-    minimize = t.string("minimize", "error", choices=OBJECTIVES) if t is not None else "error"
+    if is_front(root):  # an array: a Pareto front of several objectives (reading.pareto_keys)
+        minimize = "error"
+    else:
+        minimize = t.string("minimize", "error", choices=OBJECTIVES) if t is not None else "error"
     con = root.table("constraints")
     defect_free = DEFAULT_DEFECT_FREE
     if con is not None and "defect_free" in con:

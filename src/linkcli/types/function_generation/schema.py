@@ -21,12 +21,14 @@ finite there. No numerics beyond that.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from linkcli.expr import ExpressionError, compile_expression
 from linkcli.model import FunctionGenerationProblem, Meta
 from linkcli.mechanisms.four_bar.model import LINKS
 from linkcli.io.bounds import MAX_LENGTH, MAX_RATIO, MIN_LENGTH, over_ratio
 from linkcli.io.reader import Table
+from linkcli.reading.pareto_keys import read_front
 from linkcli.reading.robust_keys import read_objective
 
 GRASHOF = ("any", "crank-rocker", "double-crank", "rocker-crank", "double-rocker", "triple-rocker")
@@ -88,7 +90,9 @@ def parse_four_bar(root: Table, meta: Meta) -> FunctionGenerationProblem | None:
     function = read_function_keys(tgt, form_law[0] if form_law else None, u)
     constraints = read_constraints(root, u)
     robust = read_objective(root, meta)  # [objective] minimize, [constraints] defect_free
-    if None in (lengths, form_law, sweep, points, spacing, starts, function, constraints, robust):
+    front_ok, front = read_front(root, meta)  # [objective] minimize = [...]: a Pareto front
+    meta = replace(meta, front=front) if front is not None else meta
+    if None in (lengths, form_law, sweep, points, spacing, starts, function, constraints, robust) or not front_ok:
         return None
     fixed, bounds = lengths
     form, law = form_law

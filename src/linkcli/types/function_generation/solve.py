@@ -198,7 +198,11 @@ def solve_four_bar(problem: FunctionGenerationProblem) -> Solution:
     if problem.objective == "failure-probability":  # the design that fails least (analysis.robust_design)
         from linkcli.types.function_generation.robust import robust
         return robust(problem, model, search, done and found_twice, found_twice)
-    return build_solution(problem, model, search, done and found_twice, found_twice)
+    found = build_solution(problem, model, search, done and found_twice, found_twice)
+    if problem.meta.front is not None:  # a Pareto front from this design (linkcli.pareto)
+        from linkcli.types.function_generation.pareto import front
+        return front(problem, model, search, found)
+    return found
 
 
 def settle(search: Search, converged: bool) -> bool:

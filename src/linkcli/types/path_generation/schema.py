@@ -14,11 +14,13 @@ A missing bound defaults to a box scaled on the targets (see DEFAULT_SPAN). No n
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from linkcli.model import Meta, PathGenerationProblem
 from linkcli.mechanisms.four_bar.model import LINKS
 from linkcli.reading.meta import in_motion_order
 from linkcli.io.bounds import MAX_LENGTH, MIN_LENGTH
+from linkcli.reading.pareto_keys import read_front
 from linkcli.reading.robust_keys import read_objective
 from linkcli.io.reader import MISSING, Table, describe
 
@@ -241,10 +243,12 @@ def parse_four_bar(root: Table, meta: Meta) -> PathGenerationProblem | None:
 
     grashof, branch, window, window_ok = read_constraints(root, u)
     robust = read_objective(root, meta)  # [objective] minimize, [constraints] defect_free
+    front_ok, front = read_front(root, meta)  # [objective] minimize = [...]: a Pareto front
+    meta = replace(meta, front=front) if front is not None else meta
 
     if (not ok or timing is None or direction is None or angles is None or None in lengths.values()
             or cp is None or gp is None or ga is None or grashof is None or branch is None
-            or not window_ok or robust is None):
+            or not window_ok or robust is None or not front_ok):
         return None
     lines = {k: root.reader.line_of(k) for k in (("target", "points"), ("target", "input_angles"),
                                                  ("bounds",), ("constraints",))}

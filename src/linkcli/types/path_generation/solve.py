@@ -163,7 +163,11 @@ def solve_four_bar(problem) -> Solution:
         if problem.objective == "failure-probability":  # the design that fails least (analysis.robust_design)
             from linkcli.types.path_generation.robust import robust
             return robust(problem, design, best, method, budget, confirmed)
-        return solution(problem, design, best, violations, method, budget, confirmed)
+        found = solution(problem, design, best, violations, method, budget, confirmed)
+        if problem.meta.front is not None:  # a Pareto front from this design (linkcli.pareto)
+            from linkcli.types.path_generation.pareto import front
+            return front(problem, design, best, method, budget, found)
+        return found
 
 
 def default_budget(method: str, points: int) -> int:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from linkcli.model import Meta, PrecisionPositionProblem
 from linkcli.reading.meta import in_motion_order
@@ -12,6 +13,7 @@ from linkcli.io.reader import Table
 from linkcli.types.precision_position.system import position_problem
 from linkcli.types.precision_position.slider_system import slider_position_problem
 from linkcli.reading.linkage import read_mechanism, refuse_foreign
+from linkcli.reading.pareto_keys import is_front, read_front
 from linkcli.mechanisms.schema import read_drive_motion
 
 MAX_POSITIONS = 1000
@@ -32,6 +34,9 @@ def parse_positions(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
     if link is not None and mechanism is not None and refuse_foreign(link, mechanism):
         mechanism = None
     if mechanism == "slider-crank":
+        if is_front(root):  # its least squares are the slider's own (slider.py): no front yet
+            root.table("objective").error("minimize", 'a four-bar for a front of precision positions '
+                                          '(a slider-crank has none yet)', raw_got="a slider-crank")
         return parse_slider(root, meta)
     ground = bounded_length(link, "ground") if link else None
     pos = root.table("positions", required=True)
@@ -43,6 +48,10 @@ def parse_positions(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
             pos.error("output", f"one output angle per input angle ({len(phi)})", psi)
             return None
     speed, steps = read_drive_motion(root)  # [motion]: the kinematics section's speed and steps
+    front_ok, front = read_front(root, meta)  # [objective] minimize = [...]: a Pareto front
+    meta = replace(meta, front=front) if front is not None else meta
+    if not front_ok:
+        return None
     if mechanism is None or ground is None or phi is None or psi is None or speed is None or steps is None:
         return None
     u = meta.units

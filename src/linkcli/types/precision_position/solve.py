@@ -213,7 +213,7 @@ def solve_four_bar(problem) -> Solution:
                     "before converging")
     status, message = verdict(Status.OK if converged else Status.NOT_CONVERGED, message, notes, err, n == 3,
                               problem.meta.units)
-    return Solution(
+    found = Solution(
         status=status,
         linkage=linkage,
         message=message,
@@ -223,3 +223,7 @@ def solve_four_bar(problem) -> Solution:
         notes=notes,
         working_span=(float(phi_phys[0]), sweep),
     )
+    if problem.meta.front is not None:  # a Pareto front from this design (linkcli.pareto)
+        from linkcli.types.precision_position.pareto import front
+        return front(problem, found)
+    return found

@@ -1,0 +1,298 @@
+"""The front: an epsilon-constraint sweep over the type's design space (docs/pareto.md).
+
+1. Anchors. The type's own least-squares design x0 (found and confirmed by its own search) is
+   the anchor of `error`; each other objective's anchor minimizes it from x0 (linkcli.pareto.
+   scalarized, its pieces in epigraph form).
+2. Levels. Two objectives: `points` levels of the second, evenly spaced from its value at
+   the first's anchor to its best (held within ANCHOR_SLACK: that level's point is the
+   second's anchor made lexicographic, the first objective minimized there). Three: a grid
+   of ceil(sqrt(points)) levels each of the second and the third between their best and
+   worst over the anchors (the payoff table); a level that no design reaches gives no point.
+3. Points. At each level, the first objective minimized subject to the others <= their levels
+   and every constraint of the file. Each row of levels is swept by two chains, one from
+   each end (continuation: each level polished from the chain's last end, a few Gauss-Newton
+   steps where a level is near the last; the two chains are independent solves, spread over
+   processes or a cluster by linkcli.pareto.spread). The lower feasible end is the point
+   (the front often has branches: a chain follows one, the other chain another);
+   `certified` when its polish ended at a KKT point (SLSQP's test), `confirmed` when both
+   chains ended within CONFIRM of it.
+4. Rows. Each point's design is finished by the type (`space.final`: its exact checks of
+   every constraint, from its lengths) and measured again (linkcli.pareto.objectives); a
+   design that is not `ok` or not finite is dropped, as is one dominated by another (after
+   the values are rounded to the noise floor: TIE relative), and a duplicate. The rows are
+   ordered by the first objective, then the second (the third).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from linkcli.pareto.objectives import Measure
+from linkcli.pareto.scalarized import Scalarized
+from linkcli.search.budget import Budget, BudgetSpent
+
+ANCHOR_SLACK = 1e-7  # relative: a lexicographic anchor keeps its objective within this of its best
+CONFIRM = 1e-6  # relative (of the first objective's scale): two starts that end this close agree
+TIE = 1e-9  # relative to an objective's scale: values this close are equal (dominance, order)
+FEASIBLE = 1e-7  # a scaled constraint this far below 0 is still met (the type's final check decides)
+POINT_BUDGET = 20_000  # design evaluations of one start's polish, at most
+ACTIVE = 1e-6  # a scaled constraint (or unit-box variable) this close to its limit binds (kkt_holds)
+KKT_TOL = 1e-4  # relative: the first-order conditions' residual of a certified point (kkt_holds)
+SETTLE_STEP = 1e-4  # unit box: the differenced Hessian's step (kkt.settle)
+SETTLED_FEASIBLE = 1e-10  # a settled point meets its (scaled) constraints to this
+ROUND_OFF = 1e-9  # relative: a certified end this close to the best merit seen is taken
+EPIGRAPH_ITERATIONS = 100  # SLSQP's, an epigraph's polish
+EPIGRAPH_FTOL = 1e-9  # SLSQP's tolerance on t (t in [0, 1] spans twice the objective's scale)
+SCALE_FLOOR = 1e-12  # relative: an objective with no spread over the anchors is scaled by its size
+
+
+@dataclass
+class Point:
+    """One solve's end: design x, its values, the start it came from and the polish's verdict."""
+
+    x: np.ndarray
+    values: np.ndarray
+    start: int
+    certified: bool
+    confirmed: bool = False
+    level: tuple = ()
+
+
+@dataclass
+class Task:
+    """One chain of levels, picklable: the measure (problem and space), the primary
+    objective, the scales, the epigraph's t scale, the levels in the order the chain
+    solves them ((index, {objective: level}) each) and the design it starts from."""
+
+    measure: Measure
+    primary: int
+    scales: np.ndarray
+    t_scale: float
+    levels: list
+    start: np.ndarray
+    chain: int
+
+
+def polish_from(problem: Scalarized, x) -> tuple[np.ndarray, bool]:
+    """(design, certified) from design x: linkcli.search.polish's Gauss-Newton SQP steps,
+    then SLSQP to certify a KKT point (a least-squares primary: polish.slsqp_rounds, in the
+    coordinates of its Gauss-Newton Hessian; an epigraph, whose residual t has no curvature
+    in the design: SLSQP on the unit box itself, `epigraph_slsqp`). The better end by the
+    exact penalty merit is kept (a spent budget: the best point reached)."""
+    from linkcli.search import polish
+    u0 = problem.unit(x, t=None)
+    if problem.epigraph:
+        u0[-1] = min(1.0, problem.objective(u0) / (problem.scales[problem.primary] * problem.t_scale))
+    tried = [u0]
+    certified = False
+    try:
+        with np.errstate(all="ignore"):
+            if problem.epigraph:  # no Gauss-Newton model: t alone has curvature
+                u1 = u0
+                u2, certified = epigraph_slsqp(problem, u0)
+            else:
+                u1 = polish.gauss_newton(problem, u0)
+                tried.append(u1)
+                last = {}
+                value = problem.value
+
+                def tracked(u):  # slsqp_rounds evaluates its end point last
+                    last["u"] = np.asarray(u, float).copy()
+                    return value(u)
+
+                problem.value = tracked
+                try:
+                    certified = polish.slsqp_rounds(problem, u1)
+                finally:
+                    problem.value = value
+                u2 = last.get("u", u1)
+            tried.append(u2)
+    except (BudgetSpent, ArithmeticError, ValueError, np.linalg.LinAlgError):
+        certified = False
+    merits = [problem.merit(u) for u in tried]
+    k = int(np.argmin(merits))
+    if len(tried) >= 2 and certified and merits[-1] <= merits[k] + ROUND_OFF * max(abs(merits[k]), 1e-300):
+        k = len(tried) - 1  # SLSQP's certified end, as good as the best within round-off
+    else:  # SLSQP stopped by its own limits, or an earlier end is better: the first-order
+        certified = len(tried) >= 2 and kkt_holds(problem, tried[k])  # conditions checked here
+    u = tried[k]
+    return problem.design(u), bool(certified) and problem.feasible(u, FEASIBLE)
+
+
+def kkt_holds(problem: Scalarized, u) -> bool:
+    """Whether u is a KKT point of its level to within KKT_TOL: feasible (FEASIBLE), and the
+    objective's gradient a nonnegative combination of the gradients of the constraints and
+    bounds that bind there (within ACTIVE): nonnegative least squares for the multipliers
+    (linkcli.search.nnls), its residual at most KKT_TOL of the gradient (central differences)."""
+    from linkcli.search.nnls import nnls
+    f, c, _ = problem.value(u)
+    if not np.all(c >= -FEASIBLE):
+        return False
+    g, jc, _ = problem.slope(u, central=True)
+    if problem.epigraph:
+        g = np.zeros_like(g)
+        g[-1] = 1.0
+    n = len(u)
+    normals = [jc[c <= ACTIVE]]
+    eye = np.eye(n)
+    normals.append(eye[u <= ACTIVE])  # a variable at its lower bound: u_i >= 0
+    normals.append(-eye[u >= 1.0 - ACTIVE])
+    a = np.vstack(normals)
+    size = float(np.max(np.abs(g)))
+    if not size > 0:
+        return True
+    if not len(a):
+        return False
+    try:
+        lam, _ = nnls(a.T / size, g / size)
+    except RuntimeError:
+        return False
+    residual = float(np.max(np.abs(a.T @ lam - g) / size))
+    return residual <= KKT_TOL
+
+
+def settle(problem: Scalarized, x) -> tuple[np.ndarray, bool]:
+    """(design, settled): Newton on the KKT system of the constraints that bind at design x
+    (linkcli.search.kkt: the house's linear algebra, no BLAS), to round-off, so that the
+    printed digits are the level's optimum's and not those of the polish's path (SLSQP's
+    tolerance on f leaves a flat direction's digits to the machine). A least-squares first
+    objective: the Gauss-Newton Hessian, differenced where the steps stall; an epigraph: the
+    Lagrangian's Hessian by differences at least-squares multipliers. The end is taken when it
+    converged, meets every constraint and is no worse (merit, within ROUND_OFF)."""
+    from linkcli.search import kkt
+    u0 = problem.unit(x, t=None)
+    if problem.epigraph:
+        u0[-1] = min(1.0, problem.objective(u0) / (problem.scales[problem.primary] * problem.t_scale))
+
+    def evaluate(u):
+        f, c, r = problem.value(u)
+        g, jc, jr = problem.slope(u, central=True)
+        return kkt.Point(f, g, c, jc, h=None if problem.epigraph else 2.0 * (jr.T @ jr))
+
+    try:
+        with np.errstate(all="ignore"):
+            out = kkt.settle(evaluate, u0, hessian_step=SETTLE_STEP, multipliers=problem.epigraph,
+                             curvature=False if problem.epigraph else "stalled")
+    except (BudgetSpent, ArithmeticError, ValueError, np.linalg.LinAlgError):
+        return np.asarray(x, float), False
+    if not (out.converged and problem.feasible(out.u, SETTLED_FEASIBLE)
+            and problem.merit(out.u) <= problem.merit(u0) + ROUND_OFF * max(abs(problem.merit(u0)), 1e-300)):
+        return np.asarray(x, float), False
+    return problem.design(out.u), True
+
+
+def epigraph_slsqp(problem: Scalarized, u0) -> tuple[np.ndarray, bool]:
+    """min t subject to the constraints (pieces <= t among them) and the unit box, by SLSQP
+    (Kraft 1988) with forward-difference slopes; (end, converged)."""
+    from scipy.optimize import minimize
+    n = problem.n_variables
+    last = np.zeros(n)
+    last[-1] = 1.0
+    res = minimize(lambda u: float(u[-1]), u0, jac=lambda u: last, method="SLSQP",
+                   bounds=[(0.0, 1.0)] * n,
+                   constraints=[{"type": "ineq", "fun": lambda u: problem.value(np.clip(u, 0, 1))[1],
+                                 "jac": lambda u: problem.slope(np.clip(u, 0, 1), central=False)[1]}],
+                   options={"maxiter": EPIGRAPH_ITERATIONS, "ftol": EPIGRAPH_FTOL})
+    u = np.clip(res.x, 0.0, 1.0)
+    problem.value(u)
+    return u, bool(res.success)
+
+
+def solve_chain(task: Task) -> tuple[list, int]:
+    """A chain's levels in turn, each polished from the last feasible end before it (the
+    chain's start at first): continuation along the front (top-level: another process or a
+    cluster worker runs it). Returns (index, Point or None) per level, and the evaluations
+    spent."""
+    budget = Budget(POINT_BUDGET * max(1, len(task.levels)))
+    out = []
+    x = np.asarray(task.start, float)
+    for index, eps in task.levels:
+        problem = Scalarized(task.measure, task.primary, eps, task.scales, budget)
+        problem.t_scale = task.t_scale
+        with budget.limit(POINT_BUDGET), np.errstate(all="ignore"):
+            end, certified = polish_from(problem, x)
+            if certified:  # to round-off: the same digits whatever the machine (settle)
+                end, _ = settle(problem, end)
+        u = problem.unit(end, t=1.0)
+        values = task.measure.values(end)
+        if not (problem.feasible(u, FEASIBLE) and np.all(np.isfinite(values))):  # (the failure
+            # probability is held by its smoothed share: its exact value may differ a little)
+            out.append((index, None))
+            continue
+        out.append((index, Point(end, values, task.chain, certified, level=tuple(sorted(eps.items())))))
+        x = end
+    return out, budget.used
+
+
+def best_of(points: list[Point], primary: int, scale: float) -> Point | None:
+    """The lowest first objective (ties within TIE: the earlier chain); `confirmed` when
+    another chain ended within CONFIRM of it."""
+    finite = [p for p in points if np.all(np.isfinite(p.values))]
+    if not finite:
+        return None
+    low = min(p.values[primary] for p in finite)
+    best = min((p for p in finite if p.values[primary] <= low + TIE * scale), key=lambda p: p.start)
+    best.confirmed = sum(abs(p.values[primary] - best.values[primary]) <= CONFIRM * scale for p in finite) >= 2
+    return best
+
+
+def scales_of(values: np.ndarray) -> np.ndarray:
+    """Per objective, its spread over the anchors (rows of `values`), or its size."""
+    spread = values.max(axis=0) - values.min(axis=0)
+    size = np.max(np.abs(values), axis=0)
+    return np.where(spread > SCALE_FLOOR * np.maximum(size, 1e-300), spread, np.maximum(size, 1.0))
+
+
+def levels(anchor_values: np.ndarray, points: int, scales) -> list[list[dict]]:
+    """The epsilon levels (module docstring, 2.) as rows of {objective index: level}, each
+    row ordered from loose to tight in its last objective: two objectives, one row from the
+    second's value at the first's anchor to its best (held within ANCHOR_SLACK: there the
+    level's point is the second's anchor made lexicographic); three, one row per level of
+    the second, each spanning the third's range over the anchors."""
+    m = anchor_values.shape[1]
+    slack = lambda k, v: v + ANCHOR_SLACK * abs(v) + TIE * scales[k]
+    if m == 2:
+        top, bottom = anchor_values[0, 1], slack(1, anchor_values[1, 1])
+        return [[{1: float(v)} for v in np.linspace(top, bottom, points)]]
+    side = max(2, int(math.ceil(math.sqrt(points))))
+    grid = [np.linspace(anchor_values[:, k].max(), slack(k, anchor_values[:, k].min()), side) for k in (1, 2)]
+    return [[{1: float(a), 2: float(b)} for b in grid[1]] for a in grid[0]]
+
+
+def chains(rows: list[list[dict]], anchors: list[np.ndarray]) -> list[tuple[list, np.ndarray]]:
+    """Each row of levels solved by two chains, one from each end: loose to tight from the
+    first objective's anchor, tight to loose from the last objective's (so every level is
+    reached from two sides; where they end within CONFIRM, it is `confirmed`). Levels are
+    numbered across the rows."""
+    out, index = [], 0
+    for row in rows:
+        numbered = list(enumerate(row, start=index))
+        index += len(row)
+        out.append((numbered, anchors[0]))
+        out.append((numbered[::-1], anchors[-1]))
+    return out
+
+
+def dominates(a: np.ndarray, b: np.ndarray, tol: np.ndarray) -> bool:
+    """a is no worse than b in every objective and better in one (beyond tol)."""
+    return bool(np.all(a <= b + tol) and np.any(a < b - tol))
+
+
+def non_dominated(points: list, values, scales) -> list:
+    """The points no other dominates (values compared within TIE of each scale and twice
+    ANCHOR_SLACK of their size: a lexicographic anchor, held that close to the best, dominates
+    the raw one), duplicates (every value within TIE) kept once: the first in order."""
+    values = np.asarray(values, dtype=float)
+    tol = TIE * np.asarray(scales)
+    keep = []
+    for i, v in enumerate(values):
+        near = tol + 2.0 * ANCHOR_SLACK * np.abs(v)
+        if any(dominates(values[j], v, near) for j in range(len(values)) if j != i):
+            continue
+        if any(np.all(np.abs(values[j] - v) <= near) for j in keep):
+            continue
+        keep.append(i)
+    return [points[i] for i in keep]

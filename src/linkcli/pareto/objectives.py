@@ -1,0 +1,312 @@
+"""The objectives of a Pareto front, measured on one finished design (docs/pareto.md).
+
+Every objective is computed from the design's Solution (its linkage, its targets, its working
+span) through the mechanism protocol (`mechanisms.of(linkage)`), never asking which mechanism
+it holds; the type's own least-squares residuals give `error` and `max-error` (its space,
+linkcli.pareto.space). Values are in the report's units:
+
+- `error`: the type's least-squares objective, sum of the squared residuals (rad^2 for angle
+  errors, length^2 for points and poses: the report's `error.objective`);
+- `max-error`: the largest error at a target (the angle unit, or the length unit: a target's
+  residuals as one vector, so a pose's position and weighted angle errors together);
+- `transmission`: the worst deviation of the transmission angle from 90 deg over the motion,
+  max(90 - mu_min, mu_max - 90), from the home's transmission section (angle unit);
+- `size`: the diagonal of the box swept by every joint and traced point (the coupler point)
+  over the motion (length unit), from the home's skeleton at ROWS drive angles a turn, each
+  joint's extreme coordinates refined on the skeleton (`Measure.extremes`);
+- `link-ratio`: the longest link over the shortest (the home's links, schema.known_lengths);
+- `torque`: the peak magnitude of the input torque over the motion's rows (N m), and
+  `pin-force`: the peak pin force over every pin and row (N), from the home's load_rows under
+  [loads]/[masses] at [motion] input_speed; a dead point in the motion makes them infinite;
+- `failure-probability`: the tolerance section's failure probability, the share of the
+  [tolerance] samples (seeded by [solver] seed, analysis.tolerance) whose largest error over
+  the targets exceeds allowed_error.
+
+The motion: the full turn of the input when the problem requires a class whose input turns
+fully (the type's transmission window is then held over the full turn too), else the span of
+the targets (the Solution's working span). Rows of a full turn are phi = 2 pi k / steps, the
+kinematics and forces sections' rows; over a span, `steps` + 1 rows from its start to its end.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from linkcli.mechanisms import of, schema_of
+
+NAMES = ("error", "max-error", "transmission", "size", "link-ratio", "torque", "pin-force",
+         "failure-probability")
+ROWS = 720  # size: skeleton rows a full turn (an arc: its share of them, at least SPAN_ROWS)
+SPAN_ROWS = 64
+RIGHT = 0.5 * math.pi
+TARGETED = ("error", "max-error")  # measured from the type's residuals (the timing moves them)
+CACHED = 4096  # linkages whose protocol pieces are kept
+
+
+def unit_of(name: str, units, error_kind: str) -> str:
+    """The unit of an objective's values in the report."""
+    if name == "error":
+        return "rad^2" if error_kind == "angle" else f"{units.length}^2"
+    if name == "max-error":
+        return units.angle if error_kind == "angle" else units.length
+    return {"transmission": units.angle, "size": units.length, "link-ratio": "1", "torque": "N m",
+            "pin-force": "N", "failure-probability": "1"}[name]
+
+
+class Measure:
+    """The objectives of one problem, measured on designs of its space (`space.solution(x)`).
+
+    `values(x)` are the report's numbers; `pieces(x)` the smooth functions whose largest is
+    each value (a search holds an objective <= eps by holding every piece <= eps: a peak over
+    rows moves from row to row, each row's value is smooth), with the failure probability
+    replaced by its smoothed share on common draws (`Failure`) where the search needs slopes."""
+
+    def __init__(self, problem, space, names: tuple[str, ...]) -> None:
+        self.problem, self.space, self.names = problem, space, tuple(names)
+        self.units = problem.meta.units
+        from linkcli.analysis.sections import motion_study
+        self.speed, self.steps = motion_study(problem, self.units)
+        self.failure = None
+        self.cache: dict = {}
+
+    # ------------------------------------------------------------ the motion
+    def motion(self, sol) -> tuple[float, float]:
+        """(start, signed sweep) rad of the motion the objectives measure."""
+        if self.space.full_turn or sol.working_span is None:
+            return 0.0, 2.0 * math.pi
+        return sol.working_span
+
+    def rows(self, sol, count: int) -> np.ndarray:
+        start, sweep = self.motion(sol)
+        if abs(sweep) >= 2.0 * math.pi * (1 - 1e-12):
+            return start + np.arange(count) * (2.0 * math.pi / count)
+        return start + np.linspace(0.0, sweep, count + 1)
+
+    # ------------------------------------------------------------ values
+    def values(self, x) -> np.ndarray:
+        """The objectives of design x, in the order asked (the report's numbers)."""
+        sol = self.space.solution(x)
+        return np.array([self.value(name, x, sol) for name in self.names], dtype=float)
+
+    def snapped(self, values, sol) -> np.ndarray:
+        """The values as the report prints them: round-off of an exact fit is 0 (the error
+        section's noise floor: an objective below n (NOISE_FLOOR s)^2, a target's error below
+        NOISE_FLOOR s, s = 1 rad for angles, the linkage's size for lengths)."""
+        from linkcli.noise import NOISE_FLOOR, snap
+        scale = 1.0 if self.space.error_kind == "angle" else of(sol.linkage).size()
+        targets = int(np.max(self.space.groups)) + 1
+        out = np.array(values, dtype=float)
+        for k, name in enumerate(self.names):
+            if name == "error":
+                out[k] = snap(float(out[k]), targets * NOISE_FLOOR * scale * scale)
+            elif name == "max-error":
+                size = self.units.from_rad(scale) if self.space.error_kind == "angle" else scale
+                out[k] = snap(float(out[k]), float(size))
+        return out
+
+    def value(self, name: str, x, sol) -> float:
+        if name == "failure-probability":
+            return failure_probability(self.problem, sol)
+        p = self.piece(name, x, sol)
+        return float(np.max(p)) if p.size and np.all(np.isfinite(p)) else math.inf
+
+    def pieces(self, x, sol=None) -> list[np.ndarray]:
+        """Per objective, its pieces at design x (the failure probability: its smoothed share).
+        What the protocol measures depends on the linkage and its motion alone: kept for
+        CACHED linkages (a search's differences along a timing variable move neither)."""
+        sol = self.space.solution(x) if sol is None else sol
+        key = (sol.linkage, None if self.space.full_turn else sol.working_span)
+        try:
+            hash(key)
+        except TypeError:
+            key = None
+        own = self.cache.get(key) if key is not None else None
+        out = []
+        for k, name in enumerate(self.names):
+            if name in TARGETED:
+                out.append(self.piece(name, x, sol))
+            elif name == "failure-probability":
+                out.append(np.array([self.smoothed_failure(x)]))
+            elif own is not None:
+                out.append(own[k])
+            else:
+                out.append(self.piece(name, x, sol))
+        if key is not None and own is None:
+            if len(self.cache) >= CACHED:
+                self.cache.clear()
+            self.cache[key] = out
+        return out
+
+    def piece(self, name: str, x, sol) -> np.ndarray:
+        if name == "error":
+            r = self.space.residuals(np.asarray(x, float)[None, :])[0]
+            return np.array([float(r @ r)])
+        if name == "max-error":
+            return self.target_errors(x)
+        if name == "transmission":
+            return self.transmission(sol)
+        if name == "size":
+            return self.size_pieces(sol)
+        if name == "link-ratio":
+            return link_ratios(sol.linkage)
+        if name in ("torque", "pin-force"):
+            return self.loads(sol, name)
+        raise KeyError(name)
+
+    def target_errors(self, x) -> np.ndarray:
+        """Each target's error: the norm of its residuals (report units)."""
+        r = self.space.residuals(np.asarray(x, float)[None, :])[0]
+        groups = self.space.groups
+        err = np.sqrt(np.bincount(groups, weights=r * r, minlength=int(groups.max()) + 1))
+        return self.units.from_rad(err) if self.space.error_kind == "angle" else err
+
+    def transmission(self, sol) -> np.ndarray:
+        """(90 - mu_min, mu_max - 90) over the motion, the angle unit (inf: no assembly)."""
+        mech = of(sol.linkage)
+        start, sweep = self.motion(sol)
+        study = mech.study(start)
+        if study is None:
+            return np.array([math.inf])
+        sec = mech.transmission_section(study, (start, sweep), self.units, [])
+        lo, hi = sec.get("working_min"), sec.get("working_max")
+        if lo is None or hi is None:
+            return np.array([math.inf])
+        right = float(self.units.from_rad(RIGHT))
+        return np.array([right - float(lo), float(hi) - right])
+
+    def size(self, sol) -> float:
+        """The diagonal of the box swept over the motion (module docstring)."""
+        p = self.size_pieces(sol)
+        return float(np.max(p)) if np.all(np.isfinite(p)) else math.inf
+
+    def size_pieces(self, sol) -> np.ndarray:
+        """sqrt((xmax_i - xmin_j)^2 + (ymax_k - ymin_l)^2) over every four joints i, j, k, l:
+        the largest is the box's diagonal, and each is smooth in the design (a joint's
+        extreme over the motion moves smoothly: its refined peak), where the diagonal
+        itself bends when the joint that bounds the box changes."""
+        start, sweep = self.motion(sol)
+        full = abs(sweep) >= 2.0 * math.pi * (1 - 1e-12)
+        count = ROWS if full else max(SPAN_ROWS, int(math.ceil(ROWS * abs(sweep) / (2.0 * math.pi))))
+        phi = self.rows(sol, count)
+        sk = of(sol.linkage).skeleton(phi)
+        pts = np.stack([np.asarray(p, dtype=float).reshape(len(phi), 2) for p in sk.joints.values()], axis=1)
+        if not np.all(np.isfinite(pts)):
+            return np.array([math.inf])
+        ext = self.extremes(sol, phi, pts, full)
+        width = np.maximum(ext[0, 1.0][:, None] - ext[0, -1.0][None, :], 0.0).ravel()
+        height = np.maximum(ext[1, 1.0][:, None] - ext[1, -1.0][None, :], 0.0).ravel()
+        return np.sqrt(width[:, None] ** 2 + height[None, :] ** 2).ravel()
+
+    def extremes(self, sol, phi, pts, full: bool) -> dict:
+        """(coordinate, sign) -> (joints,) each joint's extreme coordinate over the motion: the
+        largest row, then REFINE rounds of a parabola through the skeleton at its vertex and
+        DELTAS either side (the home's skeleton at any drive angle: a Newton step on the
+        coordinate's slope, to round-off, so that the extreme is smooth in the design); an
+        end of an open arc is exact."""
+        mech = of(sol.linkage)
+        n, joints = pts.shape[0], pts.shape[1]
+        step = float(phi[1] - phi[0]) if n > 1 else 0.0
+        lo, hi = (min(phi[0], phi[-1]), max(phi[0], phi[-1]))
+        out, wanted = {}, []
+        for k in (0, 1):
+            for sign in (1.0, -1.0):
+                vals = sign * pts[:, :, k]
+                top = np.argmax(vals, axis=0)
+                best = vals[top, np.arange(joints)]
+                inner = np.ones(joints, bool) if full else (top > 0) & (top < n - 1)
+                out[k, sign] = best
+                wanted.append((k, sign, phi[top], inner))
+        sampled = dict(out)
+        for delta in (step, step / 16.0, step / 256.0):
+            if delta <= 0:
+                break
+            centres = np.concatenate([w[2] for w in wanted])
+            at = np.stack([centres - delta, centres, centres + delta], axis=1)
+            if not full:
+                at = np.clip(at, lo, hi)
+            sk = mech.skeleton(at.ravel())
+            pos = np.stack([np.asarray(p, dtype=float).reshape(-1, 2) for p in sk.joints.values()], axis=1)
+            pos = pos.reshape(len(centres), 3, joints, 2)
+            for i, (k, sign, centre, inner) in enumerate(wanted):
+                rows = slice(i * joints, (i + 1) * joints)
+                y = sign * pos[rows][np.arange(joints), :, np.arange(joints), k]  # (joints, 3): its own joint
+                y0, y1, y2 = y[:, 0], y[:, 1], y[:, 2]
+                curve = y0 - 2.0 * y1 + y2
+                with np.errstate(all="ignore"):
+                    shift = np.where(curve < 0, 0.5 * (y0 - y2) / curve, 0.0)
+                shift = np.clip(np.where(np.isfinite(shift), shift, 0.0), -1.0, 1.0)
+                new_centre = centre + shift * delta
+                if not full:
+                    new_centre = np.clip(new_centre, lo, hi)
+                with np.errstate(all="ignore"):
+                    vertex = y1 - 0.25 * (y0 - y2) * shift
+                ok = inner & np.isfinite(vertex) & (vertex >= sampled[k, sign])
+                out[k, sign] = np.where(ok, vertex, sampled[k, sign])
+                wanted[i] = (k, sign, np.where(ok, new_centre, centre), inner)
+        return {key: key[1] * v for key, v in out.items()}
+
+    def loads(self, sol, name: str) -> np.ndarray:
+        """|input torque| (N m) or every pin force's magnitude (N) at the motion's rows."""
+        from linkcli.analysis.forces import metres_per_unit
+        mech = of(sol.linkage)
+        phi = self.rows(sol, self.steps)
+        rows = mech.load_rows(phi, self.speed, self.problem.meta.loads, metres_per_unit(self.units))
+        if np.any(rows.singular):
+            return np.array([math.inf])
+        if name == "torque":
+            return np.abs(np.asarray(rows.input_torque, dtype=float))
+        return np.concatenate([rows.magnitude(pin) for pin in rows.pin_names])
+
+    # ------------------------------------------------------------ failure, smoothed
+    def smoothed_failure(self, x) -> float:
+        if self.failure is None:
+            self.failure = Failure(self.problem, self.space)
+        return self.failure.share(x)
+
+
+def link_ratios(linkage) -> np.ndarray:
+    """Every link over every other (the largest: longest over shortest)."""
+    lengths = np.array([abs(float(v)) for v in schema_of(linkage.mechanism).known_lengths(linkage).values()])
+    if not np.all(lengths > 0):
+        return np.array([math.inf])
+    ratio = lengths[:, None] / lengths[None, :]
+    return ratio[~np.eye(len(lengths), dtype=bool)]
+
+
+def failure_probability(problem, sol) -> float:
+    """The tolerance section's failure probability of the design (analysis.tolerance: the same
+    samples, seed and count)."""
+    from linkcli.analysis.made_parts import parts as made_parts
+    from linkcli.analysis.tolerance import chunks, failures, plan_of, run
+    tol = problem.meta.tolerance
+    model = of(sol.linkage).tolerance_model(problem, sol)
+    if len(model.inputs) == 0:
+        return 1.0
+    parts = made_parts(model, problem)
+    plan = plan_of(model, parts, tol.samples, tol.distribution)
+    with np.errstate(all="ignore"):
+        err, ok = run(model, chunks(int(problem.meta.solver.seed), plan), parts)
+    return failures(err, ok, tol.allowed_error) / tol.samples
+
+
+class Failure:
+    """The failure probability as a search sees it: the share of SEARCH_SAMPLES common draws
+    (analysis.robust_design.Study: the same draws at every design) whose largest deviation over
+    the targets exceeds allowed_error, each sample's indicator smoothed (logistic, bandwidth
+    SMOOTH allowed_error) so that the share is smooth in the design."""
+
+    def __init__(self, problem, space) -> None:
+        from linkcli.analysis.robust_design import SEARCH_SAMPLES, Study
+        tol = problem.meta.tolerance
+        self.study = Study(problem, space, min(tol.samples, SEARCH_SAMPLES))
+
+    def share(self, x) -> float:
+        from linkcli.analysis.robust_design import SMOOTH
+        with np.errstate(all="ignore"):
+            dev = self.study.deviations(np.asarray(x, float))
+            worst = np.max(dev, axis=1)
+            allowed = self.study.allowed
+            z = np.clip((worst - allowed) / (SMOOTH * allowed), -40.0, 40.0)
+            return float(np.mean(np.where(np.isfinite(worst), 1.0 / (1.0 + np.exp(-z)), 1.0)))

@@ -1,0 +1,130 @@
+"""One point of a front: the epsilon-constraint problem (Haimes, Lasdon & Wismer, "On a
+bicriterion formulation of the problems of integrated system identification and system
+optimization", IEEE Trans. SMC 1 (1971); Miettinen, Nonlinear Multiobjective Optimization,
+1999, sec. 3.2), in the unit box of the free design variables:
+
+    minimize f_1(x)  subject to  f_k(x) <= eps_k (k >= 2),  g(x) >= 0,  lo <= x <= hi,
+
+solved by the house's constrained least-squares polish (linkcli.search.polish: Gauss-Newton
+SQP steps, then SLSQP that certifies a KKT point). f_1 = `error` is a sum of squares, its
+residuals r are the polish's own; any other f_1 is a largest piece, minimized in epigraph
+form (an extra variable t, r = t / s_1, every piece <= t). An objective held <= eps is held
+piece by piece ((eps - piece) / s_k >= 0), each scaled by s_k (its spread over the front's
+anchors). Slopes by differences: the type's residuals and constraints of a whole batch of
+shifted designs in one call, the other objectives design by design through the protocol.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from linkcli.search.budget import Budget
+
+STEP = 1e-7  # unit box: forward difference step (a one-sided Gauss-Newton model)
+CENTRAL = 1e-6  # unit box: central difference step (SLSQP's slopes)
+HUGE = 1e6  # a piece that cannot be measured (no assembly): far outside any eps
+
+
+class Scalarized:
+    """linkcli.search.polish's problem of one epsilon level (module docstring)."""
+
+    def __init__(self, measure, primary: int, eps: dict, scales: np.ndarray, budget: Budget,
+                 weight: float = 1e2) -> None:
+        space = measure.space
+        self.measure, self.space, self.primary, self.eps = measure, space, primary, dict(eps)
+        self.scales, self.budget, self.weight = np.asarray(scales, float), budget, weight
+        self.free = np.flatnonzero(space.hi > space.lo)
+        self.width = (space.hi - space.lo)[self.free]
+        self.epigraph = measure.names[primary] != "error"
+        self.k = len(self.free)
+        self.n_variables = self.k + (1 if self.epigraph else 0)
+        self.t_scale = 1.0  # epigraph: t in [0, 1] is f_1 in [0, t_scale * s_1]
+        self.cache: dict = {}
+
+    # ------------------------------------------------------------ variables
+    def design(self, u) -> np.ndarray:
+        x = np.array(self.space.x0, dtype=float)
+        x[self.free] = self.space.lo[self.free] + np.clip(u[:self.k], 0.0, 1.0) * self.width
+        return x
+
+    def unit(self, x, t: float | None = None) -> np.ndarray:
+        u = (np.asarray(x, float)[self.free] - self.space.lo[self.free]) / self.width
+        u = np.clip(u, 0.0, 1.0)
+        if self.epigraph:
+            u = np.append(u, 0.0 if t is None else min(max(t, 0.0), 1.0))
+        return u
+
+    # ------------------------------------------------------------ values
+    def _all(self, us: np.ndarray):
+        """(residuals (K, m), constraints (K, c)) of unit-box points us (K, n_variables)."""
+        us = np.atleast_2d(us)
+        keys = [u.tobytes() for u in us]
+        todo = [i for i, key in enumerate(keys) if key not in self.cache]
+        if todo:
+            self.budget.spend(len(todo))
+            xs = np.array([self.design(us[i]) for i in todo])
+            with np.errstate(all="ignore"):
+                res = self.space.residuals(xs)
+                ineq = self.space.inequalities(xs)
+            for j, i in enumerate(todo):
+                self.cache[keys[i]] = self._row(us[i], xs[j], res[j], ineq[j])
+        rows = [self.cache[key] for key in keys]
+        return np.array([r for r, _ in rows]), np.array([c for _, c in rows])
+
+    def _row(self, u, x, res, ineq):
+        names, s = self.measure.names, self.scales
+        with np.errstate(all="ignore"):
+            need = [k for k, name in enumerate(names) if k == self.primary and self.epigraph or k in self.eps]
+            pieces = self.measure.pieces(x) if any(names[k] != "error" for k in need) else None
+            cons = [np.where(np.isfinite(ineq), ineq, -HUGE)]
+            for k in sorted(self.eps):
+                p = np.array([float(res @ res)]) if names[k] == "error" else pieces[k]
+                cons.append((self.eps[k] - np.where(np.isfinite(p), p, HUGE)) / s[k])
+            if self.epigraph:
+                p = pieces[self.primary]
+                t = u[self.k] * self.t_scale
+                cons.append(t - np.where(np.isfinite(p), p, HUGE) / s[self.primary])
+                r = np.array([t])
+            else:
+                r = np.where(np.isfinite(res), res, HUGE) / math.sqrt(s[self.primary])
+        return r, np.concatenate(cons)
+
+    def value(self, u):
+        r, c = self._all(np.asarray(u, float)[None, :])
+        return float(r[0] @ r[0]), c[0], r[0]
+
+    def slope(self, u, central: bool = True):
+        """(grad f, dc/du, dr/du) by differences, kept inside the box."""
+        u = np.asarray(u, float)
+        n = len(u)
+        h = CENTRAL if central else STEP
+        up = np.clip(u[None, :] + h * np.eye(n), 0.0, 1.0)
+        if central:
+            down = np.clip(u[None, :] - h * np.eye(n), 0.0, 1.0)
+        else:
+            down = np.repeat(u[None, :], n, axis=0)
+        r_up, c_up = self._all(up)
+        r_dn, c_dn = self._all(down)
+        span = np.maximum(np.diag(up - down), 1e-300)
+        jr = ((r_up - r_dn) / span[:, None]).T
+        jc = ((c_up - c_dn) / span[:, None]).T
+        r0 = self.value(u)[2]
+        return 2.0 * (jr.T @ r0), jc, jr
+
+    def objective(self, u) -> float:
+        """f_1 at u, in its own units (epigraph: the largest piece itself)."""
+        x = self.design(u)
+        if not self.epigraph:
+            r = self.space.residuals(x[None, :])[0]
+            return float(r @ r)
+        return float(np.max(self.measure.pieces(x)[self.primary]))
+
+    def merit(self, u) -> float:
+        """The exact penalty f + weight sum max(0, -c) (linkcli.search.polish's merit)."""
+        f, c, _ = self.value(u)
+        return float(f + self.weight * np.sum(np.maximum(0.0, -c)))
+
+    def feasible(self, u, tol: float = 1e-7) -> bool:
+        return bool(np.all(self.value(u)[1] >= -tol))
