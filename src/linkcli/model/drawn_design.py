@@ -28,7 +28,12 @@ class DrawnDesignProblem:
     free angle added to all) or "free" (`direction`). `drive`: "crank" (the driving link
     turns fully with every closure closed) or "any" (it may rock: every closure closed from
     the drawn position through the targets); `transmission`: the window every closure's
-    transmission angle keeps there (rad)."""
+    transmission angle keeps there (rad).
+
+    With a `topology` (`drawing` None, `boxes` empty) every catalogued starting drawing of it
+    is searched, its joints free within `reach` x the target's diagonal of their drawn place;
+    `joint` is the tracer P, `link` the function's output (None for a motion: each choice's
+    body)."""
 
     mechanism: ClassVar[str] = "drawn"
     bench_settings: ClassVar[tuple] = (("auto", None),)  # `linkcli bench`: its one method, its budget
@@ -61,6 +66,8 @@ class DrawnDesignProblem:
     lines: dict = field(default_factory=dict)
     objective: str = "error"
     defect_free: float = 0.99
+    topology: str | None = None  # [linkage] topology: no drawing; the catalogue's, searched (synthesis.sweep)
+    reach: float = 0.2  # a topology's joints: free within reach x the target's diagonal of their place
 
     @property
     def free(self) -> tuple[str, ...]:

@@ -2,7 +2,9 @@
 function-generation with `[linkage] mechanism = "drawn"`. Pure Python (`check` reads it
 without numpy).
 
-    [linkage]      mechanism = "drawn" (nothing else)
+    [linkage]      mechanism = "drawn"; topology = "watt-i" ... | "any six-bar" instead of a
+                   drawing: linkcli draws and searches the catalogue's starting designs
+                   (synthesis.sweep; docs/six_bars.md)
     [joints], [links], [drive]   the starting design, as for analysis (drawn.schema): one
                    drive, a link turning about its ground joint; every closure in closed
                    form (a dyad, RRP or RPR: no group solved by Newton's method)
@@ -16,7 +18,9 @@ without numpy).
                    default 0, or free with [bounds])
     [bounds]       a free joint: NAME = { x = [lo, hi], y = [lo, hi] } (a number fixes the
                    coordinate), each box holding the joint's drawn place; input_offset
-                   (prescribed timing); input_start, output_start (function generation)
+                   (prescribed timing); input_start, output_start (function generation);
+                   with a topology no joint's box but `reach` (every joint free within
+                   reach x the target's diagonal of its drawn place; default REACH)
     [constraints]  transmission = [lo, hi] (every closure), drive = "crank" (the driving
                    link turns fully) | "any" (default: it may rock), defect_free
     [objective]    minimize = "error" | "failure-probability" (io.robust_keys)
@@ -38,6 +42,10 @@ TARGET_KEYS = {
 }
 TIMING_BOUNDS = {"path": ("input_offset",), "motion": ("input_offset",),
                  "function": ("input_start", "output_start")}
+REACH = 0.2  # a topology's joints: free within REACH x the target's diagonal of their drawn place
+MAX_REACH = 2.0
+TRACER = "P"  # a topology's path tracer (drawn.catalogue)
+OUTPUT = "output"  # a topology's function output link (drawn.catalogue)
 
 
 def read_path(root: Table, meta):
@@ -63,26 +71,72 @@ def read(root: Table, meta, type_name: str):
     if meta.solver.method != "auto":  # the shared search is the one strategy of a drawn design
         root.reader.error(("solver", "method"), 'method = "auto" for a drawn linkage (the shared search: '
                           "docs/drawn_synthesis.md)", raw_got=f'"{meta.solver.method}"')
-    drawing = read_drawing(root.table("linkage"), u)
+    link_t = root.table("linkage")
+    topology, drawing = None, None
+    if link_t is not None and "topology" in link_t:
+        from linkcli.mechanisms.drawn.topology import read_topology
+        link_t.allow("topology")
+        topology = read_topology(link_t) or False
+    else:
+        drawing = read_drawing(link_t, u)
     _, steps = read_steps(root)
     drawing = drawing if drawing is None else _one_turning_drive(root, drawing)
     tgt = root.table("target", required=True)
     if tgt is not None:
         tgt.allow(*TARGET_KEYS[kind])
     bnd = root.table("bounds")
-    boxes = _boxes(bnd, drawing, kind) if drawing is not None else None
+    boxes, reach = (), REACH
+    if topology is not None:
+        reach = _reach(bnd, kind)
+    elif drawing is not None:
+        boxes = _boxes(bnd, drawing, kind)
     drive, window = _constraints(root, u)
     robust = read_objective(root, meta)
     fields = None
-    if tgt is not None and drawing is not None:
+    if tgt is not None and (drawing is not None or topology):
         fields = {"path": _path_target, "motion": _motion_target, "function": _function_target}[kind](
             tgt, bnd, drawing, u)
-    if None in (drawing, boxes, drive, fields, robust, steps) or window is False:
+    if topology is not None and fields is not None and topology:
+        fields = _topology_timing(kind, fields)
+    if (None in (boxes, drive, fields, robust, steps, reach) or window is False or topology is False
+            or (drawing is None and topology is None)):
         return None
     lines = {".".join(k): root.reader.line_of(k) for k in (("target",), ("bounds",), ("constraints",))}
     return DrawnDesignProblem(meta=meta, kind=kind, drawing=drawing, boxes=boxes, drive=drive,
                               transmission=window, steps=steps, lines=lines, objective=robust[0],
-                              defect_free=robust[1], **fields)
+                              defect_free=robust[1], topology=topology, reach=reach, **fields)
+
+
+def _reach(bnd: Table | None, kind: str):
+    """[bounds] of a topology: `reach` and the timing keys, no joint's box (the joints are the
+    catalogue's, drawn anew for each choice); None after an error."""
+    if bnd is None:
+        return REACH
+    ok = True
+    for key in list(bnd.keys()):
+        if key in TIMING_BOUNDS[kind] or key == "reach":
+            continue
+        bnd.raw(key)
+        bnd.error(key, f"no joint's box with [linkage] topology (each starting drawing's joints are free "
+                  f"within reach x the target's diagonal of their drawn place: reach = {REACH:g} unless "
+                  f"given) or one of: reach, {', '.join(TIMING_BOUNDS[kind])}", raw_got=f'"{key}"')
+        ok = False
+    reach = bnd.number("reach", REACH, lo=0.0, hi=MAX_REACH, what=f"a fraction of the target's diagonal "
+                       f"in (0, {MAX_REACH:g}]") if "reach" in bnd else REACH
+    if reach is not None and reach <= 0.0:
+        bnd.error("reach", f"a fraction of the target's diagonal in (0, {MAX_REACH:g}]", raw_got=f"{reach:g}")
+        reach = None
+    return reach if ok else None
+
+
+def _topology_timing(kind: str, fields: dict) -> dict:
+    """A topology's drawings are drawn at a drive angle of linkcli's choosing: prescribed
+    input angles keep their spacing with the offset free over a full turn (unless [bounds]
+    input_offset narrows it)."""
+    import math
+    if kind != "function" and fields["timing"] == "prescribed" and fields["input_offset"] is None:
+        fields = dict(fields, input_offset=(-math.pi, math.pi))
+    return fields
 
 
 # ---------------------------------------------------------------- the drawing
@@ -218,9 +272,25 @@ def _timing(tgt: Table, bnd: Table | None, n: int | None, u, item: str):
     return timing, (angles if timing == "prescribed" else None), offset, direction
 
 
+def _named_by_topology(tgt: Table, key: str, name: str | None, what: str):
+    """A topology's target joint or link is the catalogue's: `key` absent or `name` (None:
+    each choice names its own, and the key is refused). "" stands for "each choice's"."""
+    if key not in tgt:
+        return name if name is not None else ""
+    value = tgt.string(key)
+    if value is None:
+        return None
+    if name is None or value != name:
+        tgt.error(key, f"no {key} with [linkage] topology ({what})" if name is None
+                  else f'{key} = "{name}" or none with [linkage] topology ({what})', raw_got=f'"{value}"')
+        return None
+    return value
+
+
 def _path_target(tgt: Table, bnd, drawing, u):
     from linkcli.types.path_generation.schema import MAX_FREE_POINTS, _points
-    joint = _moving_joint(tgt, drawing)
+    joint = (_moving_joint(tgt, drawing) if drawing is not None else
+             _named_by_topology(tgt, "joint", TRACER, f"the tracer is {TRACER}, on the link each choice names"))
     points = _points(tgt)
     timing = _timing(tgt, bnd, len(points) if points is not None else None, u, "point")
     if timing is not None and points is not None and timing[0] == "free" and len(points) > MAX_FREE_POINTS:
@@ -235,14 +305,15 @@ def _path_target(tgt: Table, bnd, drawing, u):
 
 def _motion_target(tgt: Table, bnd, drawing, u):
     from linkcli.types.motion_generation.schema import _poses
-    link = _moving_link(tgt, drawing)
+    link = (_moving_link(tgt, drawing) if drawing is not None else
+            _named_by_topology(tgt, "link", None, "the guided body is the link each choice names"))
     poses = _poses(tgt, u)
     timing = _timing(tgt, bnd, len(poses) if poses is not None else None, u, "pose")
     weight = tgt.number("angle_weight", None, positive=True, what="a positive length") \
         if "angle_weight" in tgt else None
     if link is None or poses is None or timing is None or ("angle_weight" in tgt and weight is None):
         return None
-    return dict(link=link, poses=tuple(poses), timing=timing[0], input_angles=timing[1],
+    return dict(link=link or None, poses=tuple(poses), timing=timing[0], input_angles=timing[1],
                 input_offset=timing[2], direction=timing[3], angle_weight=weight)
 
 
@@ -250,13 +321,16 @@ def _function_target(tgt: Table, bnd, drawing, u):
     """The law of a link's angle (function generation's keys; the start angles measured from the
     drawn position, default 0, or free with [bounds])."""
     from linkcli.types.function_generation import schema as fg
-    link = _moving_link(tgt, drawing)
+    link = (_moving_link(tgt, drawing) if drawing is not None else
+            _named_by_topology(tgt, "link", OUTPUT, f"the output link is {OUTPUT}"))
     form_law = fg.read_law(tgt)
     sweep = fg.read_sweep(tgt, "input_sweep", u)
     points = tgt.number("points", fg.DEFAULT_POINTS, integer=True, lo=2, hi=fg.MAX_POINTS)
     spacing = tgt.string("spacing", "uniform", choices=fg.SPACINGS)
     function = fg.read_function_keys(tgt, form_law[0] if form_law else None, u)
-    starts = _starts(tgt, bnd, u)
+    free = () if drawing is not None or form_law is None else \
+        ("input_start", "output_start") if form_law[0] == "function" else ("input_start",)
+    starts = _starts(tgt, bnd, u, free)
     if None in (link, form_law, sweep, points, spacing, function, starts):
         return None
     form, law = form_law
@@ -273,14 +347,18 @@ def _function_target(tgt: Table, bnd, drawing, u):
             return None
     elif not fg.check_law_for_some_start(tgt, law, given, bounds, sweep, t, u):
         return None
-    return dict(link=link, law=law, form=form, input_sweep=sweep, fractions=t,
+    return dict(link=link or None, law=law, form=form, input_sweep=sweep, fractions=t,
                 input_start=given.get("input_start"), output_start=given.get("output_start"),
                 start_bounds=bounds, output_sweep=output_sweep, x_range=x_range, shape=shape)
 
 
-def _starts(tgt: Table, bnd: Table | None, u):
+def _starts(tgt: Table, bnd: Table | None, u, free: tuple[str, ...] = ()):
     """(given, bounds) of input_start and output_start: given in [target] (angle), free in
-    [bounds] (range), never both; absent: 0 (the drawn position, the link's drawn angle)."""
+    [bounds] (range), never both; absent: 0 (the drawn position, the link's drawn angle), or
+    free over a turn for the keys in `free` (a topology's drawings are drawn at angles of
+    linkcli's choosing: the input start, and the output start of the function form, whose
+    law is a shape; the output form's law gives the output's turn itself)."""
+    import math
     from linkcli.types.path_generation.schema import angle_range
     given, bounds, ok = {}, {}, True
     for key in ("input_start", "output_start"):
@@ -304,6 +382,8 @@ def _starts(tgt: Table, bnd: Table | None, u):
                 ok = False
             else:
                 given[key] = u.to_rad(value)
+        elif key in free:
+            bounds[key] = (-math.pi, math.pi)
         else:
             given[key] = 0.0
     return (given, bounds) if ok else None

@@ -22,8 +22,12 @@ METHOD = "multistart-lm+kkt"
 
 
 def solve(problem) -> Solution:
-    """The design of a problem whose home offers a population (mechanisms.synthesis)."""
+    """The design of a problem whose home offers a population (mechanisms.synthesis); with
+    a topology, the sweep over its catalogued drawings (synthesis.sweep)."""
     from linkcli.mechanisms import synthesis
+    if getattr(problem, "topology", None):
+        from linkcli.synthesis.sweep import sweep
+        return sweep(problem)
     return design(problem, synthesis.face(problem.mechanism).population(problem))
 
 

@@ -1,0 +1,139 @@
+"""Which six-bar? A design over a catalogued topology (`[linkage] topology`, docs/six_bars.md):
+every choice of drive and target of the topology (drawn.catalogue.choices; for free timing
+only those whose curves or motions go beyond a four-bar's) is searched from its starting
+drawings (catalogue.starting_drawings, fitted into the target's bounding box), each joint free
+within `reach` x the target's diagonal of its drawn place, by the shared search
+(solution.design_drawing); the four-bar is searched the same way as the baseline. The best
+six-bar is the result: feasible before infeasible, then the least objective, ties to the
+catalogue's order. The `topologies` section lists the best of every choice and the baseline.
+
+Choices whose drive reaches the rest through a triad (an Assur group of four links, solved by
+Newton's method: no closed form over a population of designs) are listed as not searched.
+
+The budget ([solver] budget, or the shared search's default) is shared evenly by the runs; the
+seed is the file's for every run, so the sweep is deterministic.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+from linkcli.solution import Solution, SolverRecord, Status
+
+DRAWINGS = 2  # starting drawings searched per choice
+FUNCTION_BOX = (0.0, 0.0, 100.0, 100.0)  # a function's drawings (its error does not depend on the scale)
+MIN_RUN_BUDGET = 2_000
+TRIAD = "triad"
+
+
+def target_box(problem) -> tuple[float, float, float, float]:
+    """(x_lo, y_lo, x_hi, y_hi) the starting drawings are fitted into: the path points', the
+    poses' origins', or FUNCTION_BOX."""
+    if problem.kind == "function":
+        return FUNCTION_BOX
+    pts = problem.points if problem.kind == "path" else tuple((p[0], p[1]) for p in problem.poses)
+    xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+    return min(xs), min(ys), max(xs), max(ys)
+
+
+def boxes_of(drawing, half: float) -> dict:
+    """Every joint of a starting drawing free within +-half of its drawn place."""
+    return {j.name: ((j.at[0] - half, j.at[0] + half), (j.at[1] - half, j.at[1] + half)) for j in drawing.joints}
+
+
+def runs(problem):
+    """(choice, searched) of the topology's choices and the four-bar's, in catalogue order
+    (the baseline last); `searched` False for a triad."""
+    from linkcli.mechanisms.drawn import catalogue
+    timing = "any" if problem.kind != "function" and problem.timing == "free" else "prescribed"
+    six = catalogue.choices(problem.topology, problem.kind, timing)
+    four = catalogue.choices(catalogue.BASELINE, problem.kind, "prescribed")
+    return [(c, c.plan != TRIAD) for c in six + four]
+
+
+def sweep(problem) -> Solution:
+    """The best six-bar of `problem`'s topology, with the `topologies` table (module docstring)."""
+    from linkcli.errors import SolveInputError
+    from linkcli.mechanisms.drawn import catalogue
+    from linkcli.search.budget import Budget
+    from linkcli.synthesis import search as shared
+    from linkcli.synthesis.solution import design_drawing
+    todo = runs(problem)
+    searched = [c for c, ok in todo if ok]
+    if not any(c.topology != catalogue.BASELINE for c in searched):
+        why = catalogue.empty_reason(problem.topology, problem.kind, "any" if problem.timing == "free"
+                                     and problem.kind != "function" else "prescribed")
+        raise SolveInputError("a topology with a choice the design can search",
+                              why or f"{problem.topology} drives its target through a triad only (an Assur group "
+                              "of four links solved by Newton's method: no closed form over a population)",
+                              path=problem.meta.path, key="linkage.topology")
+    opts = problem.meta.solver
+    total = opts.budget or shared.DEFAULT_BUDGET
+    per_run = max(MIN_RUN_BUDGET, total // (len(searched) * DRAWINGS))
+    run_problem = replace(problem, meta=replace(problem.meta, solver=replace(opts, budget=per_run)))
+    box = target_box(problem)
+    half = problem.reach * math.hypot(box[2] - box[0], box[3] - box[1])
+    if problem.kind == "function":
+        half = problem.reach * math.hypot(FUNCTION_BOX[2], FUNCTION_BOX[3])
+    best_of: dict = {}
+    used = 0
+    for index, (choice, ok) in enumerate(todo):
+        if not ok:
+            continue
+        for drawing in catalogue.starting_drawings(choice, box, seed=opts.seed or 0, count=DRAWINGS):
+            joint = "P" if problem.kind == "path" else None
+            link = choice.target if problem.kind != "path" else None
+            sol = design_drawing(run_problem, drawing, boxes_of(drawing, half), joint=joint, link=link)
+            used += sol.solver.evaluations if sol.solver else 0
+            if choice.label not in best_of or _rank(sol, index) < _rank(best_of[choice.label][0], index):
+                best_of[choice.label] = (sol, index)
+    six = [(sol, i) for c, _ in todo if c.topology != catalogue.BASELINE and c.label in best_of
+           for sol, i in [best_of[c.label]]]
+    best, _ = min(six, key=lambda item: _rank(*item))
+    rows = [_row(c, ok, best_of.get(c.label), problem) for c, ok in todo]
+    converged = best.solver.converged if best.solver else False
+    solver = SolverRecord(best.solver.method if best.solver else "multistart-lm+kkt", opts.seed, used, converged)
+    sections = dict(best.sections)
+    sections["topologies"] = {"topology": problem.topology, "reach": problem.reach, "budget_per_run": per_run,
+                              "rows": rows}
+    chosen = next(r for r in rows if r["status"] != "not searched" and best_of[r["choice"]][0] is best)
+    notes = list(best.notes) + [_baseline_note(rows, chosen)]
+    return replace(best, solver=solver, sections=sections, notes=[n for n in notes if n],
+                   message=f"{chosen['choice']}: {best.message}")
+
+
+def _rank(sol: Solution, index: int) -> tuple:
+    """Feasible (ok, then not-converged) before infeasible; then the least objective; then the
+    catalogue's order."""
+    order = {Status.OK: 0, Status.NOT_CONVERGED: 0, Status.INFEASIBLE: 1}[sol.status]
+    objective = sol.objective if sol.objective is not None and math.isfinite(sol.objective) else math.inf
+    return order, objective, index
+
+
+def _row(choice, searched: bool, found, problem) -> dict:
+    """One row of the topologies table: the choice and its best design's status and error."""
+    row = {"choice": choice.label, "topology": choice.topology, "status": "not searched",
+           "objective": None, "max_error": None}
+    if not searched:
+        row["note"] = "a triad (no closed form over a population)"
+        return row
+    sol = found[0]
+    row["status"] = sol.status.value
+    row["objective"] = sol.objective
+    if sol.positions is not None and len(sol.positions.error):
+        worst = max(abs(float(e)) for e in sol.positions.error)
+        row["max_error"] = problem.meta.units.from_rad(worst) if sol.positions.kind == "angle" else worst
+    elif "error" in sol.sections:
+        row["max_error"] = sol.sections["error"].get("max_position_error")
+    return row
+
+
+def _baseline_note(rows: list[dict], chosen: dict) -> str:
+    """How the chosen six-bar compares with the best four-bar."""
+    four = [r for r in rows if r["topology"] == "four-bar" and r["objective"] is not None]
+    if not four or chosen["objective"] is None:
+        return ""
+    base = min(four, key=lambda r: (r["status"] == "infeasible", r["objective"]))
+    return (f"best six-bar: {chosen['choice']} ({chosen['status']}, objective {chosen['objective']:.6g}); "
+            f"best four-bar: objective {base['objective']:.6g} ({base['status']})")

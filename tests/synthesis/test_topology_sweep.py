@@ -1,0 +1,89 @@
+"""[linkage] topology (issue 49, "Which six-bar?"): the sweep over the catalogue's starting
+drawings (synthesis.sweep), against independent references: the designed drawing's output
+recomputed by the test's own dyad solver (test_drawn_synthesis.reference_places) and the law
+evaluated here; the best four-bar for the same law (problems/dwell_four_bar.toml, function
+generation's own search) as the bar a six-bar must clear."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from conftest import run_cli
+from test_drawn_synthesis import reference_places
+
+FOUR_BAR_DWELL = 0.00695794  # problems/dwell_four_bar.toml's objective (its [reference])
+
+
+@pytest.mark.slow
+def test_the_sweep_of_a_dwell_beats_the_four_bar_and_its_design_is_what_it_says():
+    code, out, err = run_cli("synth", "problems/six_bar_dwell_sweep.toml", "--format", "json", "--precision", "15")
+    assert code in (0, 1), err
+    report = json.loads(out)
+    rows = report["topologies"]["rows"]
+    assert [r["topology"] for r in rows] == ["stephenson-iii", "stephenson-iii", "four-bar"]
+    assert [r["status"] for r in rows][1] == "not searched"  # driven at its dyad: a triad
+    feasible = [r for r in rows if r["topology"] != "four-bar" and r["status"] in ("ok", "not-converged")]
+    chosen = min(feasible, key=lambda r: r["objective"])
+    assert report["message"].startswith(chosen["choice"] + ": ")
+    assert report["error"]["objective"] == pytest.approx(chosen["objective"], rel=1e-5)
+    assert chosen["objective"] < 0.1 * FOUR_BAR_DWELL < rows[-1]["objective"] * 1.2
+    lk = report["linkage"]
+    joints, links, drive = lk["joints"], {k: list(v) for k, v in lk["links"].items()}, next(iter(lk["drive"]))
+    phi = np.radians([p["input"] for p in report["positions"]])
+    places = reference_places(joints, links, drive, phi)
+    pivot, end = (j for j in links["output"])
+    pivot, end = (pivot, end) if joints[pivot].get("ground") else (end, pivot)
+    o, d0 = np.array(joints[pivot]["at"]), np.array(joints[end]["at"])
+    drawn = math.atan2(d0[1] - o[1], d0[0] - o[0])
+    turn = np.arctan2(places[end][:, 1] - o[1], places[end][:, 0] - o[0]) - drawn
+    achieved = np.radians([p["achieved"] for p in report["positions"]])
+    assert np.max(np.abs(np.angle(np.exp(1j * (turn - achieved))))) < 1e-9
+    phi = np.unwrap(phi)  # the report wraps the drive angle into (-180, 180] deg
+    law = 0.35 * (1 - np.cos(0.6 * (np.abs(phi - math.pi / 3) + phi - math.pi / 3)))
+    assert np.allclose(np.radians([p["target"] for p in report["positions"]]), law, atol=1e-6)
+
+
+PATH = """type = "path-generation"
+[linkage]
+mechanism = "drawn"
+topology = "{topology}"
+[target]
+points = [[0, 0], [10, 4], [20, 5], [30, 4], [40, 0], [30, -3], [20, -6], [10, -3]]
+{target}
+{bounds}"""
+
+
+@pytest.mark.parametrize("topology, target, bounds, key, expected", [
+    ("watt-i", "", "[bounds]\nA = { x = [0, 1], y = [0, 1] }", "bounds.A", "no joint's box with [linkage] topology"),
+    ("watt-i", 'joint = "F"', "", "target.joint", 'joint = "P" or none with [linkage] topology'),
+    ("watt-i", "", "[bounds]\nreach = 0", "bounds.reach", "a fraction of the target's diagonal"),
+    ("Watt 2", "", "", "linkage.topology", 'did you mean "watt-ii"?'),
+])
+def test_bad_topology_keys_are_one_located_line(tmp_path, topology, target, bounds, key, expected):
+    path = tmp_path / "t.toml"
+    path.write_text(PATH.format(topology=topology, target=target, bounds=bounds))
+    code, out, err = run_cli("synth", str(path))
+    assert code == 2 and out == ""
+    assert len(err.splitlines()) == 1, err
+    assert f" {key}: expected " in err and expected in err
+
+
+def test_a_motion_target_link_is_the_catalogues(tmp_path):
+    path = tmp_path / "m.toml"
+    path.write_text('type = "motion-generation"\n[linkage]\nmechanism = "drawn"\ntopology = "watt-i"\n'
+                    '[target]\nlink = "body"\nposes = [[0, 0, 0], [10, 5, 15], [20, 10, 30], [30, 15, 45]]\n')
+    code, out, err = run_cli("synth", str(path))
+    assert code == 2 and len(err.splitlines()) == 1 and "target.link: expected no link with [linkage] topology" in err
+
+
+def test_a_topology_whose_every_choice_is_a_triad_is_refused(tmp_path):
+    """Stephenson II drives every tracer through a triad: nothing the design can search."""
+    path = tmp_path / "s.toml"
+    path.write_text(PATH.format(topology="stephenson-ii", target="", bounds=""))
+    code, out, err = run_cli("synth", str(path))
+    assert code == 2 and len(err.splitlines()) == 1, err
+    assert "linkage.topology: expected a topology with a choice the design can search" in err
