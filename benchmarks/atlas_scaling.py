@@ -41,10 +41,10 @@ def main() -> None:
     ap.add_argument("--repeats", type=int, default=5)
     args = ap.parse_args()
     from linkcli.atlas import cache, store
-    from linkcli.types.path_generation import atlas_starts as lookup
     from linkcli.atlas.build import build
-    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
+    from linkcli.reading.load import load
+    from linkcli.types.path_generation import atlas_starts as lookup
     from linkcli.types.path_generation.model import build as design_of
     designs = []
     for path in sorted(glob.glob("problems/bench/*.toml")):

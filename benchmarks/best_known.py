@@ -22,9 +22,9 @@ import sys
 import time
 from dataclasses import replace
 
-from linkcli.reading.load import load
 from linkcli.io.safe_read import read_problem_bytes
 from linkcli.pipeline import solve
+from linkcli.reading.load import load
 from linkcli.registry import problem_type
 
 GLOBAL_MINIMUM = 2_000_000  # evaluations at least for a global method's long run

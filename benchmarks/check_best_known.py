@@ -36,19 +36,18 @@ import warnings
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 BENCH = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, BENCH)
-import numpy as np  # noqa: E402
-from scipy.optimize import minimize, NonlinearConstraint, Bounds  # noqa: E402
-
 import constrained_variants as cv  # noqa: E402
-from linkcli.reading.load import load  # noqa: E402
+import numpy as np  # noqa: E402
+from scipy.optimize import Bounds, NonlinearConstraint, minimize  # noqa: E402
+
 from linkcli.bench import printed_objective  # noqa: E402
+from linkcli.reading.load import load  # noqa: E402
 from linkcli.search.budget import Budget  # noqa: E402
 from linkcli.solution import Status  # noqa: E402
-from linkcli.types.path_generation import model as pgm  # noqa: E402
-from linkcli.types.path_generation import solve as pgs  # noqa: E402
 from linkcli.types.function_generation import model as fgm  # noqa: E402
 from linkcli.types.function_generation import solve as fgs  # noqa: E402
-from linkcli.types.function_generation.search import FEASIBLE  # noqa: E402
+from linkcli.types.path_generation import model as pgm  # noqa: E402
+from linkcli.types.path_generation import solve as pgs  # noqa: E402
 
 TWO_PI = 2 * math.pi
 REPRO = 1e-9  # relative agreement with best_known required before trusting anything
@@ -391,7 +390,6 @@ def run_path(cid, entry, log):
         xs = z
     feas = [l for l in lows if l[2]]
     low = min(feas, key=lambda l: l[0]) if feas else None
-    worst = lows[-1] if lows else None
     return dict(start=obj0, start_printed=pr0, own_start=own0, repro=True, how=how,
                 low=None if low is None else low[0], low_printed=None if low is None else low[1],
                 low_gmin=None if low is None else low[3],
@@ -512,7 +510,6 @@ def reconstruct_function(fp: FunctionProblem, lk, best):
     v = np.array([lk[k] if k in fgm.LINK_ORDER else 0.0 for k in fp.vars], dtype=float)
     si = fp.vars.index("input_start") if "input_start" in fp.vars else None
     so = fp.vars.index("output_start") if "output_start" in fp.vars else None
-    cands = []
     if si is None:
         grid = np.array([0.0])
     else:
@@ -527,7 +524,6 @@ def reconstruct_function(fp: FunctionProblem, lk, best):
         m = ref[:, 0] + np.mean(wrap(r - ref), axis=1)
         V[:, so] = np.clip(wrap(m), fp.lo[so], fp.hi[so])
     f = fp.objective(V, sign)
-    g = np.array([fp.cons(V[i:i + 1], fp.structure(V[i]))[0].min() for i in range(len(V))]) if len(V) < 10 else None
     order = np.argsort(f)
     picked = []
     for i in order:

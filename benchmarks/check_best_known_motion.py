@@ -26,10 +26,10 @@ import time
 
 BENCH = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, BENCH)
+import constrained_variants as cv  # noqa: E402
 import numpy as np  # noqa: E402
 from scipy.optimize import Bounds, NonlinearConstraint, minimize  # noqa: E402
 
-import constrained_variants as cv  # noqa: E402
 from linkcli.search import kkt  # noqa: E402
 
 SETTLES = 2  # the first designs settled in a run (the best of its first rounds)

@@ -407,8 +407,8 @@ def solve_text(text: str, method: str = "auto", budget: int | None = None, seed:
     """Solve a problem text with a method, budget (or a multiple of the method's default)
     and seed: status, printed objective, evaluations, solve seconds, report."""
     from linkcli.bench import printed_objective
-    from linkcli.reading.load import load
     from linkcli.pipeline import analyse, solve
+    from linkcli.reading.load import load
     problem = load("case.toml", text)
     if multiple is not None:
         import best_known
@@ -741,6 +741,7 @@ def totals(rows: list[dict]) -> str:
 def machine() -> str:
     import numpy
     import scipy
+
     from linkcli import __version__
     return (f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
             f"numpy {numpy.__version__}, scipy {scipy.__version__}, linkcli {__version__}")

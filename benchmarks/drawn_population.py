@@ -31,9 +31,9 @@ CASES = (("problems/drawn_jansen.toml", "F"), ("problems/drawn_six_bar_path.toml
 
 
 def population(path: str, traced: str):
-    from linkcli.reading.load import load
     from linkcli.mechanisms.drawn.population import DrawnPopulation
     from linkcli.mechanisms.drawn.structure import analyse
+    from linkcli.reading.load import load
     problem = load(path)
     drawing = getattr(problem, "linkage", None) or problem.drawing
     moving = tuple(j.name for j in drawing.joints if not j.ground)

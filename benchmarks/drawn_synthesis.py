@@ -33,8 +33,8 @@ DEFAULT = ("problems/bench/drawn_six_bar_path.toml", "problems/drawn_dwell.toml"
 
 def main() -> int:
     from linkcli.bench import printed_objective
-    from linkcli.reading.load import load
     from linkcli.pipeline import solve
+    from linkcli.reading.load import load
     p = argparse.ArgumentParser()
     p.add_argument("files", nargs="*", default=list(DEFAULT))
     p.add_argument("--seeds", type=int, default=5)

@@ -53,10 +53,10 @@ def one(text: str) -> dict:
     """Seconds of the parts of one run, and its accuracy figures."""
     import numpy as np
 
+    from linkcli import mechanisms
     from linkcli.analysis.dynamics import history, motion
     from linkcli.analysis.dynamics.system import System
     from linkcli.reading.load import load
-    from linkcli import mechanisms
     problem = load("bench.toml", text.encode())
     meta = problem.meta
     dyn = meta.dynamics

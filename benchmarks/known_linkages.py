@@ -463,7 +463,7 @@ def summary(results: list[dict], args) -> str:
     look = [r for r in results if needs_a_look(r)]
     head = ("| case | class | branch | units | timing | n | status | objective / extent^2 | "
             "recomputed agrees | check finds | false claim | wall s | solve s |\n" + "|---" * 13 + "|\n")
-    lines = [f"# Path generation on known linkages\n",
+    lines = ["# Path generation on known linkages\n",
              f"Reproduce: `python3 benchmarks/known_linkages.py --cases {args.cases} --seed {args.seed}"
              + (f" --only {' '.join(map(str, args.only))}" if args.only else "") + "`. "
              "Classes: triple-rocker is the non-Grashof class. "

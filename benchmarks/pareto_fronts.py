@@ -70,10 +70,10 @@ def nsga(evaluations: int, sweep: dict) -> dict:
     from pymoo.core.problem import Problem
     from pymoo.optimize import minimize
 
+    import linkcli.pareto.run as run
     from linkcli.pareto.hypervolume import hypervolume
     from linkcli.pareto.objectives import Measure
     from linkcli.reading.load import load
-    import linkcli.pareto.run as run
     from linkcli.types.path_generation import solve as path_solve
 
     problem = load(str(PROBLEM))

@@ -21,8 +21,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from linkcli.reading.load import load
 from linkcli.pipeline import solve
+from linkcli.reading.load import load
 from linkcli.types.motion_generation import assemble
 
 

@@ -50,8 +50,8 @@ def machine() -> str:
 
 
 def problem_type(path: str) -> str:
-    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
+    from linkcli.reading.load import load
     return load(path, read_problem_bytes(path)).meta.type
 
 

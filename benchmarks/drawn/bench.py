@@ -61,9 +61,9 @@ def watt_3600():
 
 def analysis():
     """Seconds for load -> solve -> report of the six-bar (3600 steps, loads) and the four-bar."""
-    from linkcli.reading.load import load
     from linkcli.mechanisms.drawn.home import solved
     from linkcli.pipeline import analyse, solve
+    from linkcli.reading.load import load
     out = {}
     for name in ("six_bar_3600", "four_bar_3600"):
         path = str(ROOT / "benchmarks" / "drawn" / f"{name}.toml")

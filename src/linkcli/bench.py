@@ -18,8 +18,9 @@ import contextlib
 import os
 import sys
 import time
+from collections.abc import Iterator
 from dataclasses import replace
-from typing import Iterator, NamedTuple
+from typing import NamedTuple
 
 from linkcli.errors import LinkcliError
 from linkcli.io.terminal_text import one_line, write_error
@@ -79,8 +80,8 @@ def runs_of(path: str, seeds: int, debug: bool = False, text: str | None = None)
     """Every setting x seed of one problem file (`text`: its content, when it is not read
     from `path`, as for the packaged bench set; loaded here to learn its settings);
     InputError if the file is bad."""
-    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
+    from linkcli.reading.load import load
     source = read_problem_bytes(path) if text is None else text
     problem = load(path, source)
     return [Run(path, source, method, budget, seed, debug, atlas)
@@ -110,8 +111,8 @@ def run_failed(run: Run, description: str) -> RunOutcome:
 def solve_run(run: Run) -> dict:
     """The bench row of one run (its columns: docs/format.md, Commands)."""
     from linkcli.analysis.sections import gap
-    from linkcli.reading.load import load
     from linkcli.pipeline import solve
+    from linkcli.reading.load import load
     problem = load(run.path, run.source)
     import scipy.optimize  # noqa: F401  imported before any timing, so that no row pays for it
     best = problem.meta.reference.objective if problem.meta.reference else None
@@ -260,8 +261,8 @@ def _table(title: str, rows: list[dict], columns: tuple[str, ...], precision: in
     from rich import box
     from rich.table import Table
 
-    from linkcli.report import fmt as fmt_value
     from linkcli.report import _compact
+    from linkcli.report import fmt as fmt_value
     t = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
     for c in columns:
         t.add_column(c, justify="left" if c in ("problem", "method", "status") else "right")

@@ -13,12 +13,10 @@ import contextlib
 import sys
 from enum import Enum
 from pathlib import Path
-from typing import List, Optional
 
 import typer
 
 from linkcli import __version__
-
 from linkcli.usage_errors import OneLineErrors  # noqa: E402  (click's usage errors as one line)
 
 app = typer.Typer(name="linkcli", add_completion=False, no_args_is_help=True, rich_markup_mode=None,
@@ -105,6 +103,7 @@ def _solving(name: str, limit: int = 40) -> str:
     not read as rich markup (a file named "[bold]x.toml" is shown as named), a long one by its
     last `limit` characters (the work beside it stays on the line)."""
     from rich.markup import escape
+
     from linkcli.io.terminal_text import one_line
     name = one_line(name)
     if len(name) > limit:
@@ -234,10 +233,10 @@ def _interruptible():
             signal.signal(signal.SIGTERM, previous_term)
 
 
-def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], precision: int,
-                   jobs: int, plot: Optional[Path], table: Optional[str] = None,
-                   cluster: Optional[str] = None, exports: tuple = (None, None),
-                   front_dir: Optional[Path] = None) -> int:
+def _solve_command(files: list[str], request, fmt: Format, out: Path | None, precision: int,
+                   jobs: int, plot: Path | None, table: str | None = None,
+                   cluster: str | None = None, exports: tuple = (None, None),
+                   front_dir: Path | None = None) -> int:
     """synth and analyze: run the pipeline over the files (`request`: mode, seed, debug,
     timing) with the executor the options ask for (serial, --jobs, --cluster), print or
     write the reports, draw them; the worst exit code. An error of the executor itself
@@ -397,11 +396,12 @@ def _prepare_out(out: Path, option: str = "--out") -> bool:
     return True
 
 
-def _spread_fronts(request, execute, jobs: int, cluster: Optional[str]):
+def _spread_fronts(request, execute, jobs: int, cluster: str | None):
     """The request with where a front's levels go (linkcli.pareto.spread): a cluster's workers
     with --cluster; with --jobs N, N processes when the files themselves are not spread (one
     file: the jobs are the front's, never N processes per file)."""
     import os
+
     from linkcli.pipeline import serial
     if cluster is not None:
         return request._replace(front=("cluster",))
@@ -423,7 +423,7 @@ def _write_front(result, name: str, names: list[str], folder: Path, precision: i
     return 0
 
 
-def _csv_tables(report: dict, table: Optional[str]) -> tuple[dict, str | None]:
+def _csv_tables(report: dict, table: str | None) -> tuple[dict, str | None]:
     """The row tables --format csv writes for one report (all, or the one --table names),
     or an error line."""
     from linkcli.io.csv_tables import row_tables
@@ -436,7 +436,7 @@ def _csv_tables(report: dict, table: Optional[str]) -> tuple[dict, str | None]:
     return {table: tables[table]}, None
 
 
-def _print_csv(report: dict, table: Optional[str], precision: int) -> int:
+def _print_csv(report: dict, table: str | None, precision: int) -> int:
     """One problem's one row table as CSV on stdout (the only one, or --table NAME)."""
     from linkcli.io.csv_tables import write_csv
     tables, problem = _csv_tables(report, table)
@@ -451,7 +451,7 @@ def _print_csv(report: dict, table: Optional[str], precision: int) -> int:
     return 0
 
 
-def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int, table: Optional[str] = None) -> int:
+def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int, table: str | None = None) -> int:
     from linkcli.io.export import result_stems, to_toml, write_json
     from linkcli.report import render_text
     for rep, stem in zip(reports, result_stems([rep["file"] for rep in reports])):
@@ -497,7 +497,7 @@ PATH_WANTED = {"out": "a folder name", "plot": "a .png or .svg file name (a fold
                "dxf": "a .dxf file name (a folder with several files)"}
 
 
-def _paths(**given: Optional[str]) -> list[Optional[Path]]:
+def _paths(**given: str | None) -> list[Path | None]:
     """The path options as Paths (None where not given); an empty one is one line and exit 2
     (pathlib reads "" as ".", the current folder: `--out ""` wrote there, and the other
     options' errors named "."). Plain strings on the command line for that reason, as FILE."""
@@ -542,12 +542,12 @@ CLUSTER = typer.Option(None, "--cluster", metavar="ADDRESS",
 
 
 @app.command(cls=PlainUsage)
-def synth(files: List[str] = FILES, format: Format = FORMAT, out: Optional[str] = OUT,
-          seed: Optional[int] = SEED, precision: int = PRECISION, jobs: int = JOBS,
-          plot: Optional[str] = PLOT, debug: bool = DEBUG, timing: bool = TIMING,
-          table: Optional[str] = TABLE, cluster: Optional[str] = CLUSTER,
-          animate: Optional[str] = ANIMATE, dxf: Optional[str] = DXF,
-          front_dir: Optional[Path] = FRONT_DIR) -> None:
+def synth(files: list[str] = FILES, format: Format = FORMAT, out: str | None = OUT,
+          seed: int | None = SEED, precision: int = PRECISION, jobs: int = JOBS,
+          plot: str | None = PLOT, debug: bool = DEBUG, timing: bool = TIMING,
+          table: str | None = TABLE, cluster: str | None = CLUSTER,
+          animate: str | None = ANIMATE, dxf: str | None = DXF,
+          front_dir: Path | None = FRONT_DIR) -> None:
     """Solve each problem file and print its report."""
     from linkcli.pipeline import Request
     out, plot, animate, dxf = _paths(out=out, plot=plot, animate=animate, dxf=dxf)
@@ -560,10 +560,10 @@ def synth(files: List[str] = FILES, format: Format = FORMAT, out: Optional[str] 
 
 
 @app.command(cls=PlainUsage)
-def analyze(files: List[str] = FILES, format: Format = FORMAT, out: Optional[str] = OUT,
-            precision: int = PRECISION, jobs: int = JOBS, plot: Optional[str] = PLOT,
-            debug: bool = DEBUG, table: Optional[str] = TABLE,
-            animate: Optional[str] = ANIMATE, dxf: Optional[str] = DXF) -> None:
+def analyze(files: list[str] = FILES, format: Format = FORMAT, out: str | None = OUT,
+            precision: int = PRECISION, jobs: int = JOBS, plot: str | None = PLOT,
+            debug: bool = DEBUG, table: str | None = TABLE,
+            animate: str | None = ANIMATE, dxf: str | None = DXF) -> None:
     """Analyse given linkages: `type = "linkage"` files or results of `synth --format toml`."""
     from linkcli.pipeline import Request
     out, plot, animate, dxf = _paths(out=out, plot=plot, animate=animate, dxf=dxf)
@@ -575,7 +575,7 @@ def analyze(files: List[str] = FILES, format: Format = FORMAT, out: Optional[str
 
 
 @app.command(cls=PlainUsage)
-def check(files: List[str] = FILES, debug: bool = DEBUG) -> None:
+def check(files: list[str] = FILES, debug: bool = DEBUG) -> None:
     """Validate problem files without solving (exit 2 on any error)."""
     from linkcli.io.terminal_text import line as terminal_line
     from linkcli.pipeline import Request, serial
@@ -590,7 +590,7 @@ def check(files: List[str] = FILES, debug: bool = DEBUG) -> None:
 
 
 @app.command(cls=PlainUsage)
-def bench(files: List[str] = typer.Argument(None, metavar="[FILE...]",
+def bench(files: list[str] = typer.Argument(None, metavar="[FILE...]",
                                              help="Problem files (default: the bench set shipped with linkcli, "
                                                   "a copy of problems/bench/)."),
           format: Format = typer.Option(Format.table, "--format", "-f", metavar="table|json|toml|csv",
@@ -603,7 +603,7 @@ def bench(files: List[str] = typer.Argument(None, metavar="[FILE...]",
                                        help="Only the reliability over the seeds, one row per problem "
                                             "and method (any format); the table view shows it after "
                                             "every run."),
-          debug: bool = DEBUG, cluster: Optional[str] = CLUSTER) -> None:
+          debug: bool = DEBUG, cluster: str | None = CLUSTER) -> None:
     """Time each solver setting against its error on a set of problems, and how reliably
     its seeds reach the best known."""
     from linkcli import bench as benchmod
@@ -617,7 +617,7 @@ def bench(files: List[str] = typer.Argument(None, metavar="[FILE...]",
 def new(type_name: str = typer.Argument(..., metavar="TYPE",
                                         help="The problem type (e.g. linkage, path-generation), or a mechanism "
                                              "with a template of its own (five-bar, drawn)."),
-        file: Optional[str] = typer.Argument(None, metavar="[FILE]",
+        file: str | None = typer.Argument(None, metavar="[FILE]",
                                               help="Write the template here (never over an existing file); "
                                                    "without FILE, print it.")) -> None:
     """Write a commented template problem file of TYPE (to FILE, or to stdout)."""
@@ -660,7 +660,7 @@ app.add_typer(atlas_app, name="atlas")
 
 
 @atlas_app.command("build", cls=PlainUsage)
-def atlas_build(out: Optional[Path] = typer.Option(None, "--out", metavar="PATH",
+def atlas_build(out: Path | None = typer.Option(None, "--out", metavar="PATH",
                                                    help="Write the atlas here (default: the user's cache, "
                                                         "where searches look for it)."),
                 size: int = typer.Option(100_000, "--size", metavar="N", help="Four-bars in the atlas."),

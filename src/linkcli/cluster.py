@@ -29,7 +29,8 @@ import contextlib
 import gc
 import logging
 import uuid
-from typing import Any, Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
+from typing import Any
 
 from linkcli.errors import InputError, LinkcliError
 
@@ -279,7 +280,7 @@ def probe_scheduler(address: str, timeout: float) -> str | None:
 
     try:
         reply = asyncio.run(asyncio.wait_for(identity(), timeout))
-    except (TimeoutError, asyncio.TimeoutError):
+    except TimeoutError:
         return f"a listener that did not answer as Dask within {timeout:g} s"
     except (OSError, ValueError, TypeError) as exc:  # refused, unreachable, bad address
         return one_line(exc)

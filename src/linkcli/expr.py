@@ -29,6 +29,7 @@ import difflib
 import math
 import operator
 from dataclasses import dataclass
+from typing import NoReturn
 
 from linkcli.errors import InputError
 
@@ -130,7 +131,7 @@ class _Builder:
         self.variables = variables
         self.expected = expected
 
-    def fail(self, got: str) -> None:
+    def fail(self, got: str) -> NoReturn:
         raise ExpressionError(self.expected, got)
 
     def segment(self, node) -> str:

@@ -17,8 +17,9 @@ from __future__ import annotations
 
 import contextlib
 import time
+from collections.abc import Iterator
 from dataclasses import replace
-from typing import Any, Iterator, NamedTuple
+from typing import Any, NamedTuple
 
 from linkcli.errors import InputError, LinkcliError, located
 
@@ -70,7 +71,8 @@ def load(path: str, mode: str, source: bytes | InputError | None = None):
     """The frozen problem of one file: any problem type for synth and check, a linkage
     or a result file for analyze. `source`: the file's bytes read elsewhere (a cluster
     client), or the InputError reading them raised there; None reads `path` here."""
-    from linkcli.reading.load import load as load_problem, load_for_analysis
+    from linkcli.reading.load import load as load_problem
+    from linkcli.reading.load import load_for_analysis
     if isinstance(source, InputError):
         raise source
     return load_for_analysis(path, source) if mode == "analyze" else load_problem(path, source)

@@ -12,7 +12,7 @@ samples or per frame: never per sample.
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 watch: Callable[[str, int, int | None], None] | None = None
 _done: dict[str, int] = {}

@@ -35,7 +35,7 @@ class Elided(list):
         self.total = total
         self.name = name
 
-    def like(self, rows) -> "Elided":
+    def like(self, rows) -> Elided:
         return Elided(rows, self.total, self.name)
 
 
@@ -169,7 +169,8 @@ def _tolerance_units(section: dict, lu: str, au: str) -> dict[str, str]:
 def _type_tables(kind: str, name: str, section, digits: int, lu: str, au: str) -> list:
     """The tables a problem type lays out itself (`report_tables` of its sections.py);
     empty when the generic layout serves."""
-    from linkcli.analysis.dynamics.layout import SECTIONS, report_tables as dynamics_tables  # [dynamics]
+    from linkcli.analysis.dynamics.layout import SECTIONS  # [dynamics]
+    from linkcli.analysis.dynamics.layout import report_tables as dynamics_tables
     from linkcli.io.tables import KeyValues
     from linkcli.registry import PACKAGES, problem_type
     if name in SECTIONS:

@@ -27,7 +27,8 @@ from __future__ import annotations
 
 import signal
 from collections import deque
-from typing import Callable, Iterator, NamedTuple
+from collections.abc import Callable, Iterator
+from typing import NamedTuple
 
 STOP_SECONDS = 2.0  # a worker asked to end (SIGTERM) is killed after this
 

@@ -21,7 +21,6 @@ import tomllib
 
 import numpy as np
 import pytest
-
 from conftest import ROOT, run_cli
 
 REL = 1e-6
@@ -192,13 +191,13 @@ def test_every_links_loads_are_in_equilibrium(case, tmp_path):
     ok = ~rows.singular
     assert ok.sum() >= len(phi) - 1
     for link, loads in members.loads.items():
-        assert [load.name for load in loads[:len(links[link])]] == links[link]
-        names = [load.name for load in loads[len(links[link]):]]
+        assert [one.name for one in loads[:len(links[link])]] == links[link]
+        names = [one.name for one in loads[len(links[link]):]]
         assert set(names) <= {"drive", "torque", "force", "inertia"} and "inertia" in names
         pivot = [k for k, joint in enumerate(links[link]) if joint in ground]
-        for load in loads:  # a couple (drive or load torque) acts at the link's ground pivot
-            if load.name in ("drive", "torque") and pivot and not np.any(load.force):
-                assert np.array_equal(load.at, loads[pivot[0]].at), link
+        for one in loads:  # a couple (drive or load torque) acts at the link's ground pivot
+            if one.name in ("drive", "torque") and pivot and not np.any(one.force):
+                assert np.array_equal(one.at, loads[pivot[0]].at), link
         force = sum(load.force for load in loads)[ok]
         moment = sum(load.couple + cross(load.at, load.force) for load in loads)[ok]
         scale = max(np.abs(load.force[ok]).max() for load in loads)

@@ -284,8 +284,8 @@ def test_the_spring_loaded_closers_equilibrium_is_the_existing_statics():
     rests: at the angle it rests at, the existing statics (four_bar_loads at rest, the spring's
     torque as the output torque) needs exactly that input torque."""
     from linkcli import mechanisms
-    from linkcli.model import LoadCase, Loads
     from linkcli.mechanisms.four_bar.model import FourBar
+    from linkcli.model import LoadCase, Loads
     k, free, torque = 30.0, 20.0, 12.0
     rep = report(f"""type = "linkage"
 [linkage]
@@ -494,8 +494,8 @@ def test_the_flywheel_of_the_energy_method_matches_the_inverse_dynamics_and_the_
     with that flywheel holds the fluctuation near Cs (the method neglects the linkage's own
     inertia, here 1 % of the flywheel's)."""
     from linkcli import mechanisms
-    from linkcli.model import LinkMass, LoadCase, Loads, Masses
     from linkcli.mechanisms.four_bar.model import FourBar
+    from linkcli.model import LinkMass, LoadCase, Loads, Masses
     speed, cs = 1200.0, 0.03
     rep = report(f"""type = "linkage"
 [linkage]
@@ -568,8 +568,9 @@ def test_newton_euler_and_the_lagrange_form_give_one_acceleration_on_a_watt_six_
     """The drawn Watt six-bar (problems/drawn_watt.toml) with a linear spring, a rotary damper
     and its loads: the acceleration from the equation of motion (virtual work) and from the
     Newton-Euler equations of every body agree at any state."""
-    from linkcli.analysis.dynamics.history import state
     from conftest import ROOT
+
+    from linkcli.analysis.dynamics.history import state
     text = (ROOT / "problems" / "drawn_watt.toml").read_text() + """[springs]
 s = { between = ["O2", "D"], stiffness = 0.8, free_length = 60 }
 [dampers]

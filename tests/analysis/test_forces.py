@@ -20,7 +20,6 @@ import math
 
 import numpy as np
 import pytest
-
 from conftest import run_cli
 
 METRE = {"mm": 1e-3, "m": 1.0}
@@ -186,8 +185,8 @@ def slider(a, b, e, phi, w2, point=(0.0, 0.0)):
 
 def slider_rows(masses, loads, phi, speed, a=0.08, b=0.25, e=0.03, point=(0.1, 0.04)):
     from linkcli import mechanisms
-    from linkcli.model import LoadCase
     from linkcli.mechanisms.slider_crank.model import SliderCrank
+    from linkcli.model import LoadCase
     linkage = SliderCrank(a * 1000, b * 1000, e * 1000, "open", tuple(v * 1000 for v in point))
     return mechanisms.of(linkage).load_rows(phi, speed, LoadCase(loads, masses), 1e-3)  # given in mm: scale to m
 

@@ -14,7 +14,8 @@ from hypothesis import strategies as st
 
 from linkcli.analysis.loads import forces_rows, load_cycle
 from linkcli.mechanisms.four_bar.loads import FourBarState, four_bar_loads
-from linkcli.mechanisms.newton_euler import cross as cross_rows, mechanical_advantage
+from linkcli.mechanisms.newton_euler import cross as cross_rows
+from linkcli.mechanisms.newton_euler import mechanical_advantage
 from linkcli.mechanisms.slider_crank.loads import SliderCrankState, slider_crank_loads
 from linkcli.model import LinkMass, Loads, Masses
 

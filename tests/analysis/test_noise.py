@@ -7,9 +7,9 @@ import math
 import re
 
 import numpy as np
-from hypothesis import given, strategies as st
-
 from conftest import ROOT
+from hypothesis import given
+from hypothesis import strategies as st
 
 from linkcli.noise import NOISE_FLOOR, TIE, first_max, first_min, same, snap, snap_series
 from linkcli.textnum import num, render

@@ -12,8 +12,8 @@ import math
 
 import numpy as np
 import pytest
-
 from conftest import run_cli
+
 from linkcli.analysis.beam import internal_forces
 from linkcli.analysis.fatigue import column_load, fatigue_factor
 from linkcli.mechanisms.newton_euler import link_load
@@ -419,9 +419,9 @@ def test_member_forces_keep_every_link_in_equilibrium(name):
     """Each link's loads (pins, drive, coupler force, weight and inertia) sum to zero force
     and zero moment at every row: the d'Alembert form of the homes' Newton-Euler equations."""
     from linkcli import mechanisms
-    from linkcli.model import LinkMass, LoadCase, Loads, Masses
-    from linkcli.mechanisms.slider_crank.model import SliderCrank
     from linkcli.mechanisms.four_bar.model import FourBar
+    from linkcli.mechanisms.slider_crank.model import SliderCrank
+    from linkcli.model import LinkMass, LoadCase, Loads, Masses
     linkage = (FourBar(ground=0.4, input=0.1, coupler=0.35, output=0.3, coupler_point=(0.15, 0.1),
                        ground_pivot=(0.05, -0.02), ground_angle=0.3)
                if name == "four-bar" else SliderCrank(input=0.1, coupler=0.3, offset=0.02, coupler_point=(0.1, 0.05)))

@@ -19,14 +19,15 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from linkcli.analysis import inverse_search, tolerance as tolmod
-from linkcli.mechanisms.four_bar import tolerance as fourbar_tolerance
+from linkcli.analysis import inverse_search
+from linkcli.analysis import tolerance as tolmod
 from linkcli.errors import InputErrors
-from linkcli.model import InverseTolerance, Meta, SolverOptions, Tolerance
+from linkcli.mechanisms.four_bar import tolerance as fourbar_tolerance
 from linkcli.mechanisms.four_bar.model import LINKS, FourBar
+from linkcli.model import InverseTolerance, Meta, SolverOptions, Tolerance
+from linkcli.pipeline import solve
 from linkcli.reading.load import load
 from linkcli.solution import Positions, Solution, Status
-from linkcli.pipeline import solve
 from linkcli.units import Units
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -497,8 +498,8 @@ def test_path_table_may_hold_the_coupler_point():
 lengths = { input = 0.02, coupler_point = 0.1 }
 allowed_error = 0.3
 """
-    from linkcli.reading.meta import read_tolerance
     from linkcli.io.reader import Reader
+    from linkcli.reading.meta import read_tolerance
     reader = Reader("p.toml", text)
     got = read_tolerance(reader.root(), Units())
     assert got.lengths == {"ground": 0.0, "input": 0.02, "coupler": 0.0, "output": 0.0,

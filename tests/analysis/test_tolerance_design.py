@@ -93,6 +93,7 @@ def test_iso2768_has_no_general_tolerance_there(cls, size):
 
 def run_cli(*args):
     from typer.testing import CliRunner
+
     from linkcli.cli import app
     result = CliRunner().invoke(app, list(args))
     return result.exit_code, result.stdout, result.stderr
@@ -310,7 +311,8 @@ def test_allocation_against_a_brute_force_search(tmp_path):
 
 
 def test_inverse_search_equals_a_plain_bisection_on_the_same_draws():
-    from linkcli.analysis import inverse_search, tolerance as tolmod
+    from linkcli.analysis import inverse_search
+    from linkcli.analysis import tolerance as tolmod
     from linkcli.analysis.made_parts import Parts
     from linkcli.mechanisms.four_bar import tolerance as four_bar
     from linkcli.mechanisms.four_bar.model import FourBar

@@ -12,8 +12,8 @@ import sys
 
 import numpy as np
 import pytest
-
 from conftest import ROOT, run_cli
+
 from linkcli.atlas import cache, store
 from linkcli.atlas.build import build
 

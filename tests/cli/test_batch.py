@@ -8,7 +8,6 @@ import math
 
 import numpy as np
 import pytest
-
 from conftest import run_cli
 from test_kinematics import ref_grashof
 

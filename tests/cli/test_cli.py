@@ -9,7 +9,6 @@ import sys
 import tomllib
 
 import pytest
-
 from conftest import run_cli
 
 

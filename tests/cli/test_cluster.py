@@ -283,7 +283,7 @@ class Listener:
             if self.banner:
                 conn.sendall(self.banner)
 
-    def __enter__(self) -> "Listener":
+    def __enter__(self) -> Listener:
         import threading
         threading.Thread(target=self._serve, daemon=True).start()
         return self

@@ -13,7 +13,6 @@ import sys
 
 import numpy as np
 import pytest
-
 from conftest import run_cli
 from test_plot import FIREDOOR, closure, solved
 
@@ -209,6 +208,7 @@ def test_sections_of_the_file_give_the_outlines(tmp_path):
     """--dxf of a file with [sections]: each sized link's outline on OUTLINES, two lines at
     half its in-plane width from its axis (rectangle width; round bar diameter)."""
     import math
+
     from conftest import run_cli
     src = tmp_path / "door.toml"
     src.write_text('type = "linkage"\n[linkage]\nground = 50\ninput = 27.6293\ncoupler = 57.2363\n'

@@ -10,7 +10,6 @@ import sys
 from pathlib import Path
 
 import pytest
-
 from conftest import ROOT, run_cli
 
 SRC = str(ROOT / "src")
@@ -127,6 +126,7 @@ def test_a_file_name_with_control_characters_is_escaped_in_every_status_and_erro
 
 def test_the_progress_display_shows_a_file_name_escaped_and_not_as_markup():
     from rich.console import Console
+
     from linkcli.cli import _solving
     console = Console(record=True, width=200, color_system=None)
     console.print(_solving("a\x1b[31m[bold]b\n.toml"))
@@ -179,8 +179,8 @@ def test_cutting_an_error_line_twice_changes_nothing():
     # an error rebuilt from its fields (unpickled from a --jobs worker, or gathered into
     # InputErrors) keeps its text
     import pickle
-    from linkcli.errors import InputErrors, SchemaError
-    from linkcli.errors import bounded
+
+    from linkcli.errors import InputErrors, SchemaError, bounded
     texts = ['unknown key "' + "k" * 3000 + '"', "a." + "b" * 500, " ".join(["word"] * 400),
              '"' + "q" * 81 + '"?', "x" * 81, "x" * 80, "one of: " + ", ".join(f"n{i}" for i in range(300))]
     for text in texts:
@@ -220,9 +220,9 @@ def test_a_three_position_design_missing_a_position_is_infeasible_and_still_show
 
 
 def test_the_miss_rule_uses_the_noise_floor_and_counts_order_defects():
-    from linkcli.types.precision_position.verdict import MISS_FLOOR_RAD, verdict
     from linkcli.solution import Status
     from linkcli.types.precision_position.solve import TRAVEL_NOTE
+    from linkcli.types.precision_position.verdict import MISS_FLOOR_RAD, verdict
     from linkcli.units import Units
     u = Units()
     assert verdict(Status.OK, "m", [], [0.0, 0.9 * MISS_FLOOR_RAD, 0.0], True, u) == (Status.OK, "m")

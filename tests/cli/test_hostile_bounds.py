@@ -12,9 +12,7 @@ import os
 import subprocess
 import sys
 
-import pytest
-
-from conftest import ROOT, run_cli
+from conftest import ROOT
 
 SRC = str(ROOT / "src")
 ENV = dict(os.environ, PYTHONPATH=SRC)

@@ -13,7 +13,6 @@ import sys
 import tomllib
 
 import pytest
-
 from conftest import ROOT, run_cli
 
 SRC = str(ROOT / "src")

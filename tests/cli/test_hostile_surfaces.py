@@ -19,7 +19,6 @@ import sys
 
 import numpy as np
 import pytest
-
 from conftest import ROOT, run_cli
 
 SRC = str(ROOT / "src")
@@ -206,10 +205,10 @@ def test_tied_extremes_go_to_the_first_the_linkage_reaches_in_its_direction():
     (100 deg of turn), so the strokes are 100 and 260 deg, a time ratio of 2.6. The tie went
     to the first in row order (60: strokes 120 and 240, ratio 2), whichever way the drive
     turned."""
-    from linkcli.reading.load import load
     from linkcli.mechanisms import of
     from linkcli.mechanisms.drawn import sections
     from linkcli.pipeline import solve
+    from linkcli.reading.load import load
     problem = load("problems/drawn_jansen.toml")  # its crank turns clockwise (speed -60)
     home = of(solve(problem).linkage)
     assert home.linkage.drives[0].speed < 0
@@ -278,9 +277,9 @@ def test_the_drawn_allocation_settles_at_the_least_cost_optimum(tmp_path):
     models and the allocation's own smoothed gradient."""
     from linkcli.analysis import allocation as al
     from linkcli.analysis.made_parts import parts as made_parts
-    from linkcli.reading.load import load
     from linkcli.mechanisms import of
     from linkcli.pipeline import solve
+    from linkcli.reading.load import load
     text = (watt_without_tolerance() + "[tolerance]\nclearance = 0.02\nsamples = 2000\nallowed_error = 0.5\n"
             "max_failure_probability = 0.01\n[tolerance.cost]\nmodel = \"reciprocal-power\"\na = 1.0\nb = 0.05\n"
             "k = 1.0\nbounds = [0.005, 0.5]\n")

@@ -10,8 +10,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from conftest import ROOT, run_cli
+
 from linkcli.templates import template_names, template_text
 
 
@@ -539,7 +539,7 @@ def test_a_clockwise_flipper_is_the_mirror_of_the_counter_clockwise_one(tmp_path
         assert row_b["length"] == pytest.approx(row_a["length"], rel=1e-9)
     # independent statics at the clockwise file's own first row: the cylinder's moment about
     # the hinge balances the weight's, with the platform turned by 0 from its start position
-    gx, gy = -830.0, 500.0
+    gx = -830.0
     ax, ay = b["rod_pivot"]
     cx, cy = b["base_pivot"]
     length = math.hypot(ax - cx, ay - cy)

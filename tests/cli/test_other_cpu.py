@@ -22,7 +22,6 @@ import sys
 from concurrent.futures import ThreadPoolExecutor
 
 import pytest
-
 from conftest import ROOT
 from machine_fields import MASK, masked
 

@@ -13,7 +13,6 @@ import subprocess
 import sys
 
 import pytest
-
 from conftest import ROOT
 
 SRC = str(ROOT / "src")
@@ -119,6 +118,7 @@ def test_on_a_terminal_the_progress_counts_evaluations_and_the_json_stays_clean(
 
 def test_in_a_pipe_there_is_no_progress_and_no_counting(monkeypatch):
     from conftest import run_cli
+
     from linkcli.search import budget
     seen = []
     monkeypatch.setattr(budget, "watch", None)

@@ -11,8 +11,15 @@ import pkgutil
 import pytest
 
 import linkcli
-from linkcli.errors import (InputError, InputErrors, LinkcliError, PlotError, SchemaError,
-                            SolveInputError, TomlSyntaxError)
+from linkcli.errors import (
+    InputError,
+    InputErrors,
+    LinkcliError,
+    PlotError,
+    SchemaError,
+    SolveInputError,
+    TomlSyntaxError,
+)
 from linkcli.expr import ExpressionError
 
 

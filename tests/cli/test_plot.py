@@ -15,11 +15,9 @@ import struct
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
-from pathlib import Path
 
 import numpy as np
 import pytest
-
 from conftest import ROOT, run_cli
 
 SVG = "{http://www.w3.org/2000/svg}"

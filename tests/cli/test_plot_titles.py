@@ -9,7 +9,6 @@ import sys
 import warnings
 
 import pytest
-
 from conftest import ROOT
 
 pytest.importorskip("matplotlib")

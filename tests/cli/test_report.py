@@ -7,9 +7,9 @@ import io
 import json
 import re
 
+from conftest import run_cli
 from rich.console import Console
 
-from conftest import run_cli
 from linkcli.report import _emit, render
 
 PARALLELOGRAM = """type = "linkage"

@@ -9,11 +9,11 @@ import io
 import json
 
 import pytest
+from conftest import run_cli
 from rich.console import Console
 from rich.table import Table
 from rich.text import Text
 
-from conftest import run_cli
 from linkcli.report import _surely_fits, _width, render
 
 

@@ -10,9 +10,9 @@ import json
 import re
 
 import pytest
+from conftest import run_cli
 from rich.console import Console
 
-from conftest import run_cli
 from linkcli.report import _emit, print_table, render
 
 NUMBER = re.compile(r"^-?\d+(\.\d+)?(e[-+]\d+)?$")

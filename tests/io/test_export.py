@@ -11,13 +11,13 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
-
 from conftest import run_cli
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
 from linkcli.io.csv_tables import to_csv, write_csv
 from linkcli.io.export import to_json, write_json
 from linkcli.textnum import num
-
 
 # -- an independent reference: the writers as they were (a rounded copy, then json.dumps) --
 

@@ -16,7 +16,6 @@ import tempfile
 from pathlib import Path
 
 import pytest
-
 from conftest import ROOT, run_cli
 
 SRC = str(ROOT / "src")

@@ -11,17 +11,16 @@ from __future__ import annotations
 import json
 import string
 import tomllib
-from pathlib import Path
 
 import pytest
 import tomli_w
+from conftest import ROOT, run_cli
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from conftest import ROOT, run_cli
 from linkcli.errors import InputError, InputErrors
-from linkcli.reading.load import load, load_for_analysis
 from linkcli.io.reader import Reader, _line_map
+from linkcli.reading.load import load, load_for_analysis
 
 LINKAGE = """[linkage]
 ground = 50

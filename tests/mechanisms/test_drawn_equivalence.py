@@ -16,7 +16,6 @@ import json
 import math
 
 import pytest
-
 from conftest import run_cli
 
 REL = 1e-5  # both print 6 significant digits: the last may round either way

@@ -13,8 +13,8 @@ import math
 
 import numpy as np
 import pytest
-
 from conftest import ROOT, run_cli
+
 from linkcli import mechanisms
 from linkcli.reading.load import load
 

@@ -10,7 +10,6 @@ import tomllib
 
 import numpy as np
 import pytest
-
 from conftest import run_cli
 
 L = (50.0, 40.0, 40.0, 60.0, 60.0)  # ground, input, input2, coupler, coupler2 of the examples
@@ -153,8 +152,8 @@ def test_singularities_are_infinite_and_named():
     distal links stretched in line (|A B| = coupler + coupler2): condition inf, rates inf,
     and the nearest singularity named."""
     from linkcli.mechanisms.five_bar import kinematics as kin
-    from linkcli.mechanisms.five_bar.model import FiveBar, FiveBarMotion
     from linkcli.mechanisms.five_bar import sections, track
+    from linkcli.mechanisms.five_bar.model import FiveBar, FiveBarMotion
     stretched = 100.0 * np.exp(1j * np.radians(60.0))  # |A0 P| = 40 + 60, |B0 P| = 86.6
     phi1, phi2 = ref_inverse(L, stretched)
     # A = (-40, 0), B = (50 + 40 cos psi, 40 sin psi) with |A B|^2 = 9700 + 7200 cos psi = 120^2
@@ -376,8 +375,8 @@ def test_reported_row_errors_against_first_order_statistics():
     draws = np.random.default_rng(20240611).uniform(-0.02, 0.02, (400_000, 5))
     first = np.abs(draws @ np.array(sens))
     text = open("problems/five_bar_line.toml").read().replace("clearance = 0.01", "clearance = 0")
-    import tempfile
     import os
+    import tempfile
     with tempfile.NamedTemporaryFile("w", suffix=".toml", delete=False, dir=".") as f:
         f.write(text)
     try:

@@ -36,13 +36,13 @@ import tomli_w
 from conftest import ROOT
 
 from linkcli.errors import InputErrors
-from linkcli.reading.load import load
 from linkcli.io.reader import Reader
 from linkcli.mechanisms.drawn import catalogue, chains
 from linkcli.mechanisms.drawn.motion import closure_vectors, reach, transmission
 from linkcli.mechanisms.drawn.solver import Kinematics
 from linkcli.mechanisms.drawn.structure import analyse
 from linkcli.mechanisms.drawn.topology import TOPOLOGIES, read_topology, topologies
+from linkcli.reading.load import load
 
 SIX = ("watt-i", "watt-ii", "stephenson-i", "stephenson-ii", "stephenson-iii")
 BOX = (-30.0, 10.0, 70.0, 50.0)  # x_lo, y_lo, x_hi, y_hi: 100 x 40, off the origin

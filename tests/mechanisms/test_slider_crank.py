@@ -20,13 +20,13 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 
+from linkcli.analysis import tolerance
 from linkcli.errors import SchemaError
 from linkcli.mechanisms.slider_crank import kinematics as sc
-from linkcli.types.precision_position import slider_synthesis as spp
-from linkcli.analysis import tolerance
 from linkcli.mechanisms.slider_crank import tolerance as stol
 from linkcli.model import InverseTolerance, LinkageProblem, Meta, SolverOptions, Tolerance
 from linkcli.solution import Positions, Solution, Status
+from linkcli.types.precision_position import slider_synthesis as spp
 
 pytestmark = pytest.mark.filterwarnings("error")
 

@@ -15,10 +15,10 @@ from pathlib import Path
 
 import pytest
 import tomli_w
-
 from conftest import ROOT
-from linkcli.pipeline import Request, run
+
 from linkcli.io.export import to_json, to_toml
+from linkcli.pipeline import Request, run
 from linkcli.report import render_text
 
 pytestmark = pytest.mark.slow  # the mutation fuzz: the full suite runs them, the fast lane does not

@@ -10,7 +10,6 @@ from __future__ import annotations
 import tomllib
 
 import pytest
-
 from conftest import ROOT, run_cli
 from result_keys_corpus import module_text
 

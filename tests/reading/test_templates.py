@@ -9,8 +9,8 @@ import re
 import tomllib
 
 import pytest
-
 from conftest import run_cli
+
 from linkcli.errors import InputErrors
 from linkcli.reading.load import load
 from linkcli.registry import NAMES as TYPES

@@ -7,7 +7,6 @@ import importlib.util
 import sys
 
 import pytest
-
 from conftest import ROOT
 
 pytestmark = pytest.mark.slow  # the bench timing script: the full suite runs them, the fast lane does not

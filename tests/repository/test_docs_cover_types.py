@@ -7,8 +7,8 @@ from __future__ import annotations
 import re
 
 import pytest
-
 from conftest import ROOT, run_cli
+
 from linkcli.registry import NAMES
 
 

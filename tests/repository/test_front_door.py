@@ -9,12 +9,11 @@ import subprocess
 from pathlib import Path
 
 import pytest
-
 from conftest import ROOT
 
 README = ROOT / "README.md"
 INSTALL_AND_RUN = "python3 -m pip install . && linkcli synth problems/firedoor.toml"
-TEST_COMMAND = 'python3 -m pip install -e ".[test]" && python3 -m pytest -q -n auto'
+TEST_COMMAND = 'python3 -m pip install -e ".[test]" && python3 -m ruff check && python3 -m mypy && python3 -m pytest -q -n auto'
 # Tools a reader of this repository does not have (the names are split so that this file,
 # which must hold them, does not name them itself).
 OUTSIDE_TOOLS = re.compile("|".join(("farm" + "-", "duplicates" + " --", "hyper" + "fine")), re.IGNORECASE)
@@ -49,13 +48,14 @@ def test_readme_first_code_block_holds_the_two_commands():
 
 
 def test_ci_runs_the_readme_test_command():
-    """.ci/run runs the README's test command: its install, then its pytest command, as
-    written (pip may be told to be quiet; other checks may run between the two)."""
+    """.ci/run runs the README's test command: its install, its linter, its type checker, then
+    its pytest command, as written and in that order (pip may be told to be quiet)."""
     script = "\n".join(line for line in _text(ROOT / ".ci" / "run").splitlines()
                        if not line.lstrip().startswith("#")).replace("pip install -q ", "pip install ")
-    install, run = TEST_COMMAND.split(" && ")
-    assert install in script and re.search(rf"{re.escape(run)}\s*$", script, re.MULTILINE)
-    assert script.index(install) < script.index(run)
+    *steps, run = TEST_COMMAND.split(" && ")
+    assert all(step in script for step in steps) and re.search(rf"{re.escape(run)}\s*$", script, re.MULTILINE)
+    assert [script.index(step) for step in steps] == sorted(script.index(step) for step in steps)
+    assert script.index(steps[-1]) < script.index(run)
 
 
 @pytest.mark.parametrize("path", _markdown_files(), ids=lambda p: str(p.relative_to(ROOT)))

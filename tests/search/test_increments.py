@@ -8,7 +8,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from conftest import ROOT
 from linkcli.search.increments import Increments, chain_solve
 
 

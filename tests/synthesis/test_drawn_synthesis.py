@@ -13,13 +13,9 @@ from __future__ import annotations
 
 import json
 import math
-import subprocess
-import sys
-from dataclasses import replace
 
 import numpy as np
 import pytest
-
 from conftest import ROOT, run_cli
 
 STEPHENSON = """
@@ -115,9 +111,9 @@ def _drawing_tables(path_or_text):
 def test_population_matches_the_reference_solver(source):
     """N perturbed drawings x 36 drive angles at once: every joint's place as the reference
     solver places each drawing alone (the perturbed drawing is itself an assembly)."""
+    from linkcli.io.reader import Reader
     from linkcli.mechanisms.drawn.population import DrawnPopulation
     from linkcli.mechanisms.drawn.schema import read
-    from linkcli.io.reader import Reader
     from linkcli.units import Units
     joints, links, drive = _drawing_tables(source)
     text = ROOT.joinpath(source).read_text() if "\n" not in source else source
@@ -148,9 +144,9 @@ def test_population_matches_the_reference_solver(source):
 def test_population_of_sliders_matches_the_analysis():
     """The shaper (RRP and RPR closures): the population at its drawing is the analysis
     solver's (drawn.solver, tested against independent solvers in test_drawn.py)."""
-    from linkcli.reading.load import load
     from linkcli.mechanisms.drawn.home import solved
     from linkcli.mechanisms.drawn.population import DrawnPopulation
+    from linkcli.reading.load import load
     d = load(str(ROOT / "problems" / "drawn_shaper.toml")).linkage
     sv = solved(d)
     names = tuple(j.name for j in d.joints)
@@ -199,8 +195,8 @@ def _known_problem(seed: int, free: tuple[str, ...], n: int = 14, sigma: float =
 
 
 def _solve(text: str):
-    from linkcli.reading.load import load
     from linkcli.pipeline import analyse, solve
+    from linkcli.reading.load import load
     problem = load("known.toml", text)
     solution = solve(problem)
     return problem, solution, analyse(problem, solution)

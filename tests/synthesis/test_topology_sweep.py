@@ -11,7 +11,6 @@ import math
 
 import numpy as np
 import pytest
-
 from conftest import run_cli
 from test_drawn_synthesis import reference_places
 

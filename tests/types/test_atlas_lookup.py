@@ -11,8 +11,8 @@ import sys
 
 import numpy as np
 import pytest
-
 from conftest import ROOT
+
 from linkcli.atlas import cache
 from linkcli.types.path_generation import atlas_starts as lookup
 
@@ -37,8 +37,8 @@ def _problem(tmp_path, points, extra: str = "") -> str:
 
 
 def _design(path):
-    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
+    from linkcli.reading.load import load
     from linkcli.types.path_generation.model import build
     problem = load(path, read_problem_bytes(path))
     return problem, build(problem)
@@ -154,8 +154,8 @@ def test_the_atlas_is_loaded_by_free_timing_alone(args, loads):
 
 def test_bench_runs_free_timing_with_and_without_the_atlas():
     from linkcli.bench import Run, settings_for, solve_run
-    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
+    from linkcli.reading.load import load
     path = "problems/bench/closed_curve12.toml"
     source = read_problem_bytes(path)
     settings = settings_for(load(path, source))

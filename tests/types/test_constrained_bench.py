@@ -15,7 +15,6 @@ import math
 import tomllib
 
 import pytest
-
 from conftest import ROOT, run_cli
 from test_function_generation import ref_psi, wrap
 from test_path_generation import recomputed

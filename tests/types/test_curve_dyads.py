@@ -69,8 +69,8 @@ def test_seven_poses_confirmed_after_the_five_pose_subsets_run_out():
     from dataclasses import replace
 
     from linkcli.bench import printed_objective
-    from linkcli.reading.load import load
     from linkcli.pipeline import solve
+    from linkcli.reading.load import load
 
     best_known = 5.8291811848064084e-05
     path = DATA / "motion_seven_poses_length.toml"
@@ -90,8 +90,8 @@ def test_an_exact_fit_is_converged_whatever_its_polish_said():
     converge to, so the status is `ok` (as in path generation), not `not-converged`."""
     from dataclasses import replace
 
-    from linkcli.reading.load import load
     from linkcli.pipeline import solve
+    from linkcli.reading.load import load
 
     path = DATA / "motion_six_poses_turning.toml"
     problem = load(str(path), path.read_text())

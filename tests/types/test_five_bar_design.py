@@ -9,7 +9,6 @@ import math
 
 import numpy as np
 import pytest
-
 from conftest import run_cli
 from test_five_bar import ref_inverse
 
@@ -109,9 +108,10 @@ def test_the_tradeoff_table(tmp_path):
 def test_first_order_sigma_against_finite_differences():
     """synthesis.first_order_sigma at one design and row against this test's finite
     differences of P in the lengths and in the shifted elbows."""
+    from test_five_bar import ref_forward
+
     from linkcli.mechanisms.five_bar import kinematics as kin
     from linkcli.mechanisms.five_bar.synthesis import first_order_sigma
-    from test_five_bar import ref_forward
     L = (50.0, 40.0, 40.0, 60.0, 60.0)
     phi1, phi2 = math.radians(110.0), math.radians(60.0)
     pose = kin.forward(L, np.array([phi1]), np.array([phi2]), 1.0)

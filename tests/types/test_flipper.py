@@ -17,13 +17,12 @@ import math
 
 import numpy as np
 import pytest
-
 from conftest import run_cli
-from linkcli.pipeline import analyse
-from linkcli.types.flipper_cylinder.statics import Statics
+
+from linkcli.pipeline import analyse, solve
 from linkcli.reading.load import load
-from linkcli.pipeline import solve
 from linkcli.textnum import render
+from linkcli.types.flipper_cylinder.statics import Statics
 
 M, G, COM = 2000.0, 9.8, (830.0, 500.0)
 PAPER_A, PAPER_C = (350.0, 320.0), (1400.0, 50.0)
@@ -795,6 +794,7 @@ def test_nan_peak_counts_as_infeasible_in_the_search():
     """A design whose force is nan at some angle (A = C = B: 0/0) must be the worst, never
     look feasible under a force cap (max(0, nan - cap) would be 0)."""
     import warnings
+
     from linkcli.search.budget import Budget
     from linkcli.types.flipper_cylinder.search import FEASIBLE, Goal, Judge, Space, _excess, _grid_peak
     assert _grid_peak(np.array([[1.0, np.nan, 2.0]]))[0] == math.inf

@@ -21,19 +21,18 @@ References written here, not taken from linkcli:
 
 from __future__ import annotations
 
-import cmath
 import json
 import math
 
 import numpy as np
 import pytest
 import tomli_w
-
 from conftest import run_cli
+
 from linkcli.errors import InputError
 from linkcli.expr import ExpressionError, compile_expression
-from linkcli.reading.load import load
 from linkcli.pipeline import solve
+from linkcli.reading.load import load
 
 CRANK_ROCKER = "problems/crank_rocker.toml"
 LOG_GENERATOR = "problems/log_generator.toml"
@@ -477,8 +476,8 @@ def test_extended_start_with_a_law_defined_on_part_of_the_turn(tmp_path):
 
 
 def test_a_law_undefined_at_some_points_only_is_left_to_the_search():
-    from linkcli.types.function_generation.solve import check_law
     from linkcli.types.function_generation.model import Model
+    from linkcli.types.function_generation.solve import check_law
     text = open(CRANK_ROCKER).read().replace('"psi0 + 2/(3*pi)*(phi - phi0)**2"', '"psi0 + sqrt(phi - 0.5)"')
     model = Model(load("partial.toml", text))
     u = np.random.default_rng(0).random((20, model.n_variables))
@@ -840,9 +839,10 @@ def test_auto_claims_a_best_only_after_claim_rounds(monkeypatch):
     rounds only once CLAIM_ROUNDS (2) have run, and is then `ok`; an exact fit ends them at
     once."""
     from conftest import ROOT
-    from linkcli.reading.load import load
+
     from linkcli.io.safe_read import read_problem_bytes
     from linkcli.pipeline import solve
+    from linkcli.reading.load import load
     from linkcli.types.function_generation import auto as fg_auto
 
     calls = []

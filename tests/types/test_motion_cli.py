@@ -9,10 +9,15 @@ import json
 
 import numpy as np
 import pytest
-
 from conftest import run_cli
-from test_motion_generation import (angle_gap, multistart_count, random_linkage, reference_body_pose,
-                                    reference_poses, true_dyads)
+from test_motion_generation import (
+    angle_gap,
+    multistart_count,
+    random_linkage,
+    reference_body_pose,
+    reference_poses,
+    true_dyads,
+)
 
 
 def _file(tmp_path, name, poses_rad, extra=""):

@@ -10,9 +10,8 @@ import tomllib
 
 import numpy as np
 import pytest
-from scipy.optimize import minimize_scalar
-
 from conftest import ROOT, run_cli
+from scipy.optimize import minimize_scalar
 
 
 def _body(lengths, placement, body, sign, phi):

@@ -7,8 +7,8 @@ Newton solve of the five circle equations |T_i M - G| = r, also written here."""
 import numpy as np
 import pytest
 
-from linkcli.types.motion_generation import assemble, burmester, dyads, least_squares, poses as P
-
+from linkcli.types.motion_generation import assemble, burmester, dyads, least_squares
+from linkcli.types.motion_generation import poses as P
 
 # ---------------------------------------------------------------- independent reference
 

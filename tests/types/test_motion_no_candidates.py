@@ -14,7 +14,6 @@ import re
 
 import numpy as np
 import pytest
-
 from conftest import run_cli
 
 

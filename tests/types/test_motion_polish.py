@@ -10,7 +10,8 @@ import pytest
 
 from linkcli.search.arrow import Arrow
 from linkcli.search.budget import Budget
-from linkcli.types.motion_generation import constraints, least_squares as LS
+from linkcli.types.motion_generation import constraints
+from linkcli.types.motion_generation import least_squares as LS
 from linkcli.types.motion_generation.poses import characteristic_length
 
 # a crank-rocker (PARAM_NAMES order) and nine poses of its body, a little noise added
@@ -359,8 +360,8 @@ def test_a_rounds_rows_of_its_settled_design_take_the_settled_result():
     a settled design now takes the settled result."""
     from pathlib import Path
 
-    from linkcli.reading.load import load
     from linkcli.pipeline import solve
+    from linkcli.reading.load import load
 
     path = Path(__file__).resolve().parents[1] / "data" / "motion_round_off_twins.toml"
     solution = solve(load(str(path), path.read_text()))

@@ -9,9 +9,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-
-from linkcli.types.motion_generation import assemble, least_squares as LS
 from test_path_closure import positions
+
+from linkcli.types.motion_generation import assemble
+from linkcli.types.motion_generation import least_squares as LS
 
 PARAMS = np.array([0.1, -0.2, 0.3, 4.0, 1.2, 3.6, 2.9, 1.5, 1.1, 0.35])  # PARAM_NAMES order
 

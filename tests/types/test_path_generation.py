@@ -17,7 +17,6 @@ import math
 from pathlib import Path
 
 import pytest
-
 from conftest import ROOT, run_cli
 
 KUNJUR = "problems/bench/kunjur5.toml"
@@ -572,8 +571,8 @@ def test_jacobian_next_to_a_dead_point_matches_a_fine_difference():
     coupler must match a central difference 10,000 times finer (computed here)."""
     import numpy as np
 
-    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
+    from linkcli.reading.load import load
     from linkcli.search.budget import Budget
     from linkcli.types.path_generation.model import build
     from linkcli.types.path_generation.search import Space

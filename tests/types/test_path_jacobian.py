@@ -12,15 +12,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from conftest import ROOT
 
 PROBLEMS = ["kunjur5", "lin10_closed", "closed18_timed", "cabrera6_line", "arc6_window"]
 
 
 def design_of(name: str):
-    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
+    from linkcli.reading.load import load
     from linkcli.types.path_generation.model import build
 
     path = str(ROOT / "problems" / "bench" / f"{name}.toml")
@@ -190,8 +189,8 @@ CONSTRAINED = {
 
 
 def constrained_design(tmp_path, grashof, window, timing):
-    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
+    from linkcli.reading.load import load
     from linkcli.types.path_generation.model import build
 
     target = ('timing = "prescribed"\ninput_angles = [20, 50, 80, 110, 140]' if timing == "prescribed"

@@ -8,13 +8,12 @@ import math
 
 import numpy as np
 import pytest
-
 from conftest import ROOT
 
 
 def design_of(name: str):
-    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
+    from linkcli.reading.load import load
     from linkcli.types.path_generation.model import build
 
     path = str(ROOT / "problems" / "bench" / f"{name}.toml")
@@ -157,8 +156,8 @@ def test_a_settle_reads_the_binding_set_again_from_its_end():
     beside it held) 3.1e-7 above it; settled again from there, where that variable sits on
     its bound and the constraint lets go, it ends within 1e-8 of the best known, close
     enough for another round's arrival to confirm it (CONFIRM)."""
-    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
+    from linkcli.reading.load import load
     from linkcli.search.budget import Budget
     from linkcli.types.path_generation.model import build
     from linkcli.types.path_generation.solve import CONFIRM, Candidate, _rank, settled
@@ -251,8 +250,8 @@ def test_a_free_timing_pick_refined_further_reaches_the_optimum():
     at 1.07 times the long runs' best known (seed 0, round 2) is short of it after the
     refinement's 100 projected steps and reaches it within REFINE_ALL more: with free
     timing every unconverged pick is refined that far (a `thorough` round)."""
-    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
+    from linkcli.reading.load import load
     from linkcli.search.budget import Budget
     from linkcli.types.path_generation import solve as S
     from linkcli.types.path_generation.model import build

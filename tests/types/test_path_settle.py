@@ -7,13 +7,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from conftest import ROOT
 
 
 def _solved():
-    from linkcli.reading.load import load
     from linkcli.io.safe_read import read_problem_bytes
+    from linkcli.reading.load import load
     from linkcli.search.budget import Budget
     from linkcli.types.path_generation import solve as path_solve
     from linkcli.types.path_generation.model import build

@@ -14,11 +14,11 @@ import sys
 
 import numpy as np
 import pytest
-
 from conftest import run_cli
+
 from linkcli.errors import InputError
-from linkcli.reading.load import load
 from linkcli.pipeline import solve
+from linkcli.reading.load import load
 
 
 def psi_of(a, b, c, d, phi, branch="open"):

@@ -13,7 +13,6 @@ import sys
 
 import numpy as np
 import pytest
-
 from conftest import run_cli
 
 DEG = math.pi / 180

@@ -11,7 +11,6 @@ import math
 
 import numpy as np
 import pytest
-
 from conftest import run_cli
 
 TEXTBOOK = (47.2812, 104.9139, 30.0)

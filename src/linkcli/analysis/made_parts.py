@@ -53,7 +53,7 @@ class Parts:
     clearance: float | FitZones
     play: float | FitZones
 
-    def with_scale(self, scale: np.ndarray) -> "Parts":
+    def with_scale(self, scale: np.ndarray) -> Parts:
         return Parts(np.asarray(scale, dtype=float), self.clearance, self.play)
 
     @property

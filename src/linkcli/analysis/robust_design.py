@@ -43,8 +43,9 @@ from typing import Protocol
 
 import numpy as np
 
-from linkcli.analysis.made_parts import parts as made_parts, scales
-from linkcli.analysis.tolerance import VERIFY_STREAM, Draws, chunks, clearance_terms, plan_of, wilson
+from linkcli.analysis.made_parts import parts as made_parts
+from linkcli.analysis.made_parts import scales
+from linkcli.analysis.tolerance import VERIFY_STREAM, Draws, clearance_terms, plan_of, wilson
 from linkcli.errors import SolveInputError
 
 SEARCH_SAMPLES = 5000

@@ -18,7 +18,8 @@ import math
 import numpy as np
 
 from linkcli.analysis.cost_models import Costs
-from linkcli.analysis.made_parts import FitZones, column_key, parts as made_parts
+from linkcli.analysis.made_parts import FitZones, column_key
+from linkcli.analysis.made_parts import parts as made_parts
 from linkcli.analysis.tolerance import chunks, plan_of, run, wilson
 
 

@@ -12,9 +12,10 @@ import math
 import numpy as np
 
 from linkcli import mechanisms
-from linkcli.reading.meta import ALL_SECTIONS
-from linkcli.mechanisms.columns import angle_out as _ang, turn_out as _dang
+from linkcli.mechanisms.columns import angle_out as _ang
+from linkcli.mechanisms.columns import turn_out as _dang
 from linkcli.noise import NOISE_FLOOR, quantize, snap
+from linkcli.reading.meta import ALL_SECTIONS
 from linkcli.solution import MESSAGES, Solution
 
 

@@ -28,8 +28,7 @@ import numpy as np
 
 from linkcli.analysis.beam import internal_forces
 from linkcli.analysis.cross_section import properties
-from linkcli.analysis.fatigue import (VON_MISES_SHEAR, column_load, cycle, fatigue_factor,
-                                      static_factor)
+from linkcli.analysis.fatigue import VON_MISES_SHEAR, column_load, cycle, fatigue_factor, static_factor
 from linkcli.analysis.forces import metres_per_unit
 from linkcli.errors import SolveInputError
 from linkcli.noise import first_max, first_min, snap

@@ -134,7 +134,7 @@ class Chunk(NamedTuple):
     vp: np.ndarray | None = None
     vg: np.ndarray | None = None
 
-    def rows(self, index) -> "Chunk":
+    def rows(self, index) -> Chunk:
         """The chunk restricted to some rows (a boolean mask or indices)."""
         return Chunk(*(None if a is None else a[index] for a in self))
 
@@ -403,8 +403,8 @@ def wilson(k: int, n: int, z: float = Z95) -> tuple[float, float]:
 def analyse(problem, solution) -> dict:
     """The `tolerance` report section of a solved linkage: output-ready (plain floats, angles
     in the file's unit, lengths in its length unit)."""
-    from linkcli.reading.tolerance_lengths import check_lengths
     from linkcli.mechanisms import of
+    from linkcli.reading.tolerance_lengths import check_lengths
     model = of(solution.linkage).tolerance_model(problem, solution)
     check_lengths(problem.meta, model.known, complete=True)
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):

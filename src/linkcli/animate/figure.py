@@ -132,9 +132,9 @@ def same_scale(ax) -> None:
 def _still(ax, scene: Scene) -> list:
     """Everything that does not move; returns the legend's handles: the links (a bar with
     its length, or "varies" for a cylinder), then what was drawn."""
-    from linkcli.plots.common import (CURVE_COLOR, TARGET_COLOR, body_frames, draw_ground, draw_skeleton,
-                                      link_color, num)
     from matplotlib.lines import Line2D
+
+    from linkcli.plots.common import CURVE_COLOR, TARGET_COLOR, body_frames, draw_ground, draw_skeleton, link_color, num
     paths, lu = scene.paths, scene.units.length
     closed = scene.full_turn
     draw_ground(ax, paths, 0)

@@ -29,8 +29,8 @@ def rgb_frames(mv: Movie):
     import matplotlib
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-    from linkcli.plots.common import STYLE
     from linkcli import progress
+    from linkcli.plots.common import STYLE
     canvas = FigureCanvasAgg(mv.figure)
     progress.start(FRAMES)
     with matplotlib.rc_context(STYLE):

@@ -21,8 +21,8 @@ the linkage is ghosted at its input (MAX_GHOSTS of them at most, evenly chosen).
 from __future__ import annotations
 
 import importlib.util
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 

@@ -12,8 +12,8 @@ every operation is row by row). Deterministic in (size, seed) on every CPU.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 

@@ -124,7 +124,6 @@ def curve_descriptors(x: np.ndarray, y: np.ndarray, curve: np.ndarray, closed: b
     open (polylines (N, S + 1), a closed one ending where it starts), curve by curve."""
     frac = arc_fractions(x, y)
     start, length = stretch_starts(curve, closed)
-    e = start.shape[1]
     t = np.arange(POINTS) / (POINTS - 1)
     at = start[:, :, None] + length[:, :, None] * t  # (N, E, POINTS)
     if closed:

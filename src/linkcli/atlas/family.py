@@ -53,7 +53,7 @@ class Linkages:
     def __len__(self) -> int:
         return len(self.kind)
 
-    def take(self, rows) -> "Linkages":
+    def take(self, rows) -> Linkages:
         return Linkages(self.lengths[rows], self.point[rows], self.sign[rows], self.kind[rows])
 
     @property
@@ -131,7 +131,6 @@ def input_angles(linkages: Linkages) -> np.ndarray:
     (S = SAMPLES + 1; the closed ones then repeat their first angle + 2 pi last, so that
     every row has SAMPLES + 1 points and every curve is a polyline from its first to
     its last sample)."""
-    n = len(linkages)
     t = np.arange(SAMPLES + 1) / SAMPLES
     _, cos_pi_t = portable.sincos(portable.PI * t)
     a, b, c = linkages.lengths.T

@@ -18,7 +18,7 @@ as it is made.
 from __future__ import annotations
 
 import math
-from functools import lru_cache
+from functools import cache
 from pathlib import PurePath
 
 from linkcli.textnum import render
@@ -68,7 +68,7 @@ def rounded(obj, digits: int):
     return rounded_leaf(obj, digits)
 
 
-@lru_cache(maxsize=None)
+@cache
 def _flat_encoder(level: int):
     """The json module's encoder (C when available) for a container at indent `level`
     holding no container: its items separated as `indent=2` separates them at that depth."""

@@ -9,7 +9,7 @@ the reader can refuse them as located input errors before any parser converts th
 from __future__ import annotations
 
 import sys
-from typing import Iterator
+from collections.abc import Iterator
 
 _LIMIT = int(sys.float_info.max)
 

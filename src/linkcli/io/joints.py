@@ -54,7 +54,7 @@ class JointSpec:
         return 2 if self.shear == "double" else 1
 
 
-_READ: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()  # reader -> {mechanism: joints}
+_READ: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # reader -> {mechanism: joints}
 
 
 def read_joints(root: Table, schema, units) -> tuple[JointSpec, ...] | None:

@@ -3,7 +3,12 @@ its centre and inertia. Pure Python; knows no mechanism (a home names its links 
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from linkcli.io.reader import MISSING, Table
+
+if TYPE_CHECKING:  # names of annotations only (imported where they are used)
+    from linkcli.model.loads import LinkMass
 
 MAX_LOAD = 1e12  # N, N m, kg, kg m^2, m/s^2: beyond, no linkage; squares stay finite
 

@@ -18,13 +18,13 @@ import tomllib
 from typing import NamedTuple
 
 from linkcli.errors import MAX_LISTED, InputError, InputErrors, SchemaError, TomlSyntaxError
-from linkcli.io.safe_read import read_problem_bytes
-from linkcli.io.terminal_text import one_line as _one_line  # escaped, one line (bounded by errors.InputError)
-from linkcli.io.misplaced_keys import top_level_hint
-from linkcli.io.link_names import link_name_hint
 from linkcli.io.header_lines import with_parent_lines
 from linkcli.io.huge_numbers import refuse_huge_integers, too_many_digits
+from linkcli.io.link_names import link_name_hint
+from linkcli.io.misplaced_keys import top_level_hint
 from linkcli.io.nesting import MAX_DEPTH, deep_bracket_line, deep_key_line, too_deep
+from linkcli.io.safe_read import read_problem_bytes
+from linkcli.io.terminal_text import one_line as _one_line  # escaped, one line (bounded by errors.InputError)
 
 MISSING = object()
 MAX_ARRAY = 10_000  # longest array accepted anywhere in a problem file
@@ -354,7 +354,7 @@ class Reader:
         knows (an element of an array of tables it cannot tell apart: not guessed)."""
         return 1 if path and path[0] not in self.data else None
 
-    def table(self, name: str | tuple[str, ...], required: bool = False) -> "Table | None":
+    def table(self, name: str | tuple[str, ...], required: bool = False) -> Table | None:
         path = (name,) if isinstance(name, str) else tuple(name)
         node = self.data
         for part in path:
@@ -368,7 +368,7 @@ class Reader:
             return None
         return Table(self, path, node)
 
-    def root(self) -> "Table":
+    def root(self) -> Table:
         return Table(self, (), self.data)
 
     def mark(self, path: tuple[str, ...], key: str) -> None:
@@ -466,7 +466,7 @@ class Table:
     def allow(self, *keys: str) -> None:
         self.reader.allow(self.path, keys)
 
-    def table(self, key: str, required: bool = False) -> "Table | None":
+    def table(self, key: str, required: bool = False) -> Table | None:
         value = self.raw(key)
         if value is MISSING:
             if required:
@@ -494,7 +494,7 @@ class Table:
             return self._absent(key, default, f"{what or _kind(positive, nonnegative, integer)}")
         return self.check_number(key, value, NumberRule(positive, nonnegative, integer, lo, hi, what))
 
-    def check_number(self, key, value, rule: "NumberRule", index: int | None = None):
+    def check_number(self, key, value, rule: NumberRule, index: int | None = None):
         """`value` as the rule's number (int or float); None after recording the error
         (at `key[index]` for an array's item)."""
         fullkey = key if index is None else f"{key}[{index}]"

@@ -15,9 +15,15 @@ methods when defined, 0.5 to 1 ms apiece: the bulk of this package's import).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import ClassVar, Protocol
+from typing import TYPE_CHECKING, ClassVar, Protocol
 
 from linkcli.units import Units
+
+if TYPE_CHECKING:  # names of annotations only (imported where they are used)
+    from linkcli.model.front import Front
+    from linkcli.model.loads import LoadCase
+    from linkcli.model.strength import StrengthSpec
+    from linkcli.model.tolerance import Tolerance
 
 HOMES = {  # class -> the submodule of linkcli.model that defines it (imported on first use)
     **dict.fromkeys(("CostModel", "CostSpec", "Scheme", "Tolerance", "InverseTolerance"), "tolerance"),

@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
+
+if TYPE_CHECKING:  # names of annotations only (imported where they are used)
+    from linkcli.model import Meta
 
 
 @dataclass(frozen=True)

@@ -3,6 +3,10 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # names of annotations only (imported where they are used)
+    from linkcli.model import Linkage, Meta
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
-from typing import Callable, Iterable
+from collections.abc import Callable, Iterable
 
 _MAP: contextvars.ContextVar = contextvars.ContextVar("linkcli_front_map", default=None)
 

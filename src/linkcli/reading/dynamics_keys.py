@@ -57,8 +57,8 @@ def read_dynamics(root: Table, kind: str, has_linkage: bool, units, joints):
             root.error(name, f"a problem whose result is a linkage that takes [loads] and [masses] "
                        f"({takers}) for [{name}]", raw_got=f'type = "{kind}"')
         return None
-    from linkcli.mechanisms.schema import mechanism_of
     from linkcli.mechanisms import NAMES, schema_of
+    from linkcli.mechanisms.schema import mechanism_of
     mechanism = mechanism_of(root)
     parts = schema_of(mechanism).force_parts(root, kind)
     if parts.refused is not None:
@@ -228,8 +228,8 @@ def _link(t: Table, key: str, value, parts):
 def _ends(t: Table, parts):
     """`between`: two ends, each a point name or a ground anchor [x, y], on two different
     links."""
-    from linkcli.model.dynamics import End
     from linkcli.io.bounds import MAX_LENGTH
+    from linkcli.model.dynamics import End
     value = t.raw("between")
     expected = 'two ends ["A", "B"]: point names or ground anchors [x, y]'
     if not (isinstance(value, list) and len(value) == 2):
@@ -266,8 +266,8 @@ def _ends(t: Table, parts):
 
 
 def _spring(t: Table, name: str, parts, units):
-    from linkcli.model.dynamics import LINEAR, Spring
     from linkcli.io.bounds import MAX_LENGTH
+    from linkcli.model.dynamics import LINEAR, Spring
     where = _where(t, name, parts, units)
     if where is None:  # its numbers are still checked, as a linear spring's when it has `between`
         where = (LINEAR if "between" in t else "torsional", None, ())

@@ -13,11 +13,11 @@ from dataclasses import replace
 
 from linkcli.errors import InputErrors
 from linkcli.io.angle_units import angle_unit_note
-from linkcli.reading.meta import read_meta
-from linkcli.io.reader import MISSING, Reader
-from linkcli.registry import NAMES, problem_type
 from linkcli.io.misplaced_keys import refuse_misplaced_type
+from linkcli.io.reader import MISSING, Reader
+from linkcli.reading.meta import read_meta
 from linkcli.reading.result_file import refuse_result_file
+from linkcli.registry import NAMES, problem_type
 
 
 def load(path: str, text: str | bytes | None = None):
@@ -63,8 +63,8 @@ def refuse_unknown_mechanism(reader: Reader, root) -> None:
 
 def load_for_analysis(path: str, text: str | bytes | None = None):
     """`linkcli analyze`: a `type = "linkage"` file or a result file of `synth --format toml`."""
-    from linkcli.reading import result_file
     from linkcli.errors import SchemaError
+    from linkcli.reading import result_file
     reader = Reader(path, text)
     if result_file.is_result(reader.data):
         problem = result_file.parse(reader)

@@ -12,8 +12,13 @@ one place for every problem whose result is a linkage (and for result files read
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from linkcli.io.reader import Table
 from linkcli.mechanisms.schema import mechanism_of
+
+if TYPE_CHECKING:  # names of annotations only (imported where they are used)
+    from linkcli.model.loads import LoadCase
 
 
 def refuse_loads(root: Table, kind: str, types_with_linkage: tuple[str, ...]) -> None:

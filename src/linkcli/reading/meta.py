@@ -4,12 +4,16 @@
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
-from linkcli.model import Meta, Reference, SolverOptions
 from linkcli.io.bounds import MAX_LENGTH
 from linkcli.io.reader import MAX_ARRAY, Table
+from linkcli.model import Meta, Reference, SolverOptions
 from linkcli.registry import ProblemType
 from linkcli.units import ANGLE_UNITS, LENGTH_TO_MM, Units
+
+if TYPE_CHECKING:  # names of annotations only (imported where they are used)
+    from linkcli.model.tolerance import Tolerance
 
 ALL_SECTIONS = ("lengths", "grashof", "transmission", "motion", "kinematics", "positions",
                 "error", "cylinder", "family", "solver", "tolerance", "forces", "strength")
@@ -125,8 +129,8 @@ def read_load_case(root: Table, kind: str, spec: ProblemType, sections: tuple[st
 def read_joint_table(root: Table, kind: str, spec: ProblemType, units: Units):
     """[joints] (linkcli.io.joints) on a type whose result is a linkage; refused, located, on
     one that has none."""
-    from linkcli.mechanisms.schema import mechanism_of
     from linkcli.mechanisms import schema_of
+    from linkcli.mechanisms.schema import mechanism_of
     from linkcli.registry import NAMES, problem_type
     drawing = schema_of(mechanism_of(root)).draws  # [joints] is a drawing, read with it
     if "forces" not in spec.sections and not drawing:
@@ -235,10 +239,10 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     t = root.table("tolerance")
     if t is None:
         return None
-    from linkcli.mechanisms.schema import mechanism_of
-    from linkcli.reading.tolerance_keys import check_cost_bounds, read_clearance, read_cost, read_lengths, read_schemes
     from linkcli.mechanisms import NAMES, schema_of
+    from linkcli.mechanisms.schema import mechanism_of
     from linkcli.model import InverseTolerance, Tolerance
+    from linkcli.reading.tolerance_keys import check_cost_bounds, read_clearance, read_cost, read_lengths, read_schemes
     path_type = root.raw("type") == "path-generation"
     mechanism = mechanism_of(root)
     own = schema_of(mechanism)

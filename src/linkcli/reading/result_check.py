@@ -17,10 +17,10 @@ key where they are read.
 from __future__ import annotations
 
 import math
-from functools import lru_cache
+from functools import cache
 
-from linkcli.reading.meta import ALL_SECTIONS
 from linkcli.io.reader import MAX_ARRAY, Table
+from linkcli.reading.meta import ALL_SECTIONS
 from linkcli.reading.result_keys import KEYS, OPEN, ROWS
 from linkcli.registry import NAMES, problem_type
 
@@ -32,7 +32,7 @@ _REPORT_KEYS = ("file", "title", "type", "status", "message", "units", "notes", 
                 "loads", "masses")
 
 
-@lru_cache(maxsize=None)
+@cache
 def top_keys() -> tuple[str, ...]:
     """Every top-level key a result file of any type may hold: the report's own, every
     section a type can be asked for, and every section the writer writes (reading.result_keys:
@@ -86,7 +86,7 @@ def check_values(root: Table) -> None:
             stack.extend((path + (k,), v) for k, v in reversed(list(value.items())))
 
 
-@lru_cache(maxsize=None)
+@cache
 def key_tree(section: str) -> dict:
     """The keys the writer writes in `section` as a tree (reading.result_keys: dotted paths):
     {key: subtree}, {} under a value; ROWS: the rows of an array of tables; OPEN: a map of

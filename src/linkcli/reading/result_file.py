@@ -12,9 +12,13 @@ written by `synth A B --format toml` (`[[result]]` tables) is refused with a cle
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 from linkcli.errors import SchemaError
 from linkcli.io.reader import Reader
+
+if TYPE_CHECKING:  # names of annotations only (imported where they are used)
+    from linkcli.model.linkage import LinkageProblem
 
 # what parse() reads with is imported there: synth and check import this module for
 # refuse_result_file() alone
@@ -48,13 +52,13 @@ def has_linkage(data: dict) -> bool:
 
 
 def parse(reader: Reader) -> LinkageProblem | None:
+    from linkcli.io.bounds import MAX_LENGTH
+    from linkcli.model import LinkageProblem, Meta
+    from linkcli.reading.linkage import read_linkage
     from linkcli.reading.loads import read_loads
     from linkcli.reading.meta import read_units
-    from linkcli.io.bounds import MAX_LENGTH
     from linkcli.reading.result_check import check_header, check_sections, check_values
     from linkcli.reading.result_motion import motion_study
-    from linkcli.reading.linkage import read_linkage
-    from linkcli.model import LinkageProblem, Meta
     from linkcli.registry import problem_type
     root = reader.root()
     count = batch_size(reader.data)

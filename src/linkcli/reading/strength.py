@@ -15,8 +15,13 @@ and needs the load cycle ([loads] or [masses]) and at least one sized part.
 
 from __future__ import annotations
 
-from linkcli.io.bounds import MAX_LENGTH, bounded_length
+from typing import TYPE_CHECKING
+
+from linkcli.io.bounds import bounded_length
 from linkcli.io.reader import MISSING, Table
+
+if TYPE_CHECKING:  # names of annotations only (imported where they are used)
+    from linkcli.model.strength import LinkSection, StrengthSpec
 
 CRITERIA = ("goodman", "gerber", "soderberg", "asme-elliptic")
 MATERIAL_KEYS = ("ultimate", "yield", "endurance", "modulus")

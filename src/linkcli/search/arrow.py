@@ -45,17 +45,17 @@ class Arrow:
         return self.dense.shape[2]
 
     @classmethod
-    def empty(cls, size: int, like: "Arrow") -> "Arrow":
+    def empty(cls, size: int, like: Arrow) -> Arrow:
         return cls(np.zeros((size,) + like.dense.shape[1:]), np.zeros((size,) + like.local.shape[1:]),
                    like.owner, like.n)
 
-    def take(self, rows) -> "Arrow":
+    def take(self, rows) -> Arrow:
         out = Arrow.__new__(Arrow)
         out.__dict__.update(self.__dict__)
         out.dense, out.local = self.dense[rows], self.local[rows]
         return out
 
-    def put(self, rows, other: "Arrow") -> None:
+    def put(self, rows, other: Arrow) -> None:
         self.dense[rows], self.local[rows] = other.dense, other.local
 
     def _per_angle(self, rows: np.ndarray) -> np.ndarray:
@@ -69,7 +69,7 @@ class Arrow:
         gw = np.einsum("nmp,nm->np", self.dense, r, optimize=False)
         return np.concatenate([gw, self._per_angle(self.local * r)], axis=1)
 
-    def normal(self, keep: np.ndarray) -> "ArrowNormal":
+    def normal(self, keep: np.ndarray) -> ArrowNormal:
         """J^T J with the variables not `keep` (N, p + n) left out (their rows and columns 0)."""
         p = self.p
         kw, kt = keep[:, :p], keep[:, p:]

@@ -8,8 +8,8 @@ when set, sees every count (the command line's progress display on a terminal).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from contextlib import contextmanager
-from typing import Callable
 
 # Told of every count (n evaluations), for a progress display: set by the command line
 # only while stderr is a terminal, else None (no cost beyond this test).

@@ -12,7 +12,8 @@ below tol * |mean| + atol (scipy's criterion).
 
 from __future__ import annotations
 
-from typing import Callable, NamedTuple
+from collections.abc import Callable
+from typing import NamedTuple
 
 import numpy as np
 

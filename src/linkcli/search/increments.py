@@ -120,18 +120,18 @@ class Increments:
     FIELDS = ("w", "local", "f", "h", "e")
 
     @classmethod
-    def empty(cls, size: int, like: "Increments") -> "Increments":
+    def empty(cls, size: int, like: Increments) -> Increments:
         parts = [np.zeros((size,) + getattr(like, k).shape[1:]) for k in cls.FIELDS]
         return cls(parts[0], parts[1], like.owner, parts[2], parts[3], parts[4])
 
-    def take(self, rows) -> "Increments":
+    def take(self, rows) -> Increments:
         out = Increments.__new__(Increments)
         out.__dict__.update(self.__dict__)
         for k in self.FIELDS:
             setattr(out, k, getattr(self, k)[rows])
         return out
 
-    def put(self, rows, other: "Increments") -> None:
+    def put(self, rows, other: Increments) -> None:
         for k in self.FIELDS:
             getattr(self, k)[rows] = getattr(other, k)
 
@@ -146,7 +146,7 @@ class Increments:
         phi = self._per_angle(self.local * r) + np.einsum("nrk,nr->nk", self.h, fr, optimize=False)
         return np.concatenate([gw, running_t(self.e, phi)], axis=1)
 
-    def normal(self, keep: np.ndarray) -> "IncrementsNormal":
+    def normal(self, keep: np.ndarray) -> IncrementsNormal:
         """J^T J with the unknowns not `keep` (N, p + n) left out (their columns of J zero),
         as J0^T J0 + X S X^T: J0 = [W | L E] (a Gram matrix: positive definite once
         damped) and X = [J0^T F, (H E)^T] (N, p + n, 2r), S = [[0, I], [I, F^T F]]."""

@@ -36,8 +36,8 @@ own ranking (`settle` returns it with its f and worst violation).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 

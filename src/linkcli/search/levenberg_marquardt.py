@@ -157,7 +157,7 @@ class Dense:
     def __init__(self, m: np.ndarray) -> None:
         self.m = m
 
-    def take(self, rows) -> "Dense":
+    def take(self, rows) -> Dense:
         return Dense(self.m[rows])
 
     def solve_held(self, free: np.ndarray, rhs: np.ndarray) -> np.ndarray:
@@ -175,7 +175,7 @@ class Structured:
     def __init__(self, j, keep: np.ndarray, damp: np.ndarray) -> None:
         self.j, self.keep, self.damp = j, keep, damp
 
-    def take(self, rows) -> "Structured":
+    def take(self, rows) -> Structured:
         return Structured(self.j.take(rows), self.keep[rows], self.damp[rows])
 
     def solve_held(self, free: np.ndarray, rhs: np.ndarray) -> np.ndarray:

@@ -63,7 +63,8 @@ def least_distance(g: np.ndarray, h: np.ndarray, nnls=None) -> np.ndarray | None
     exists, else w = -r[:n] / r[n]. `nnls`: the NNLS solver (scipy.optimize.nnls when None;
     linkcli.search.nnls.nnls keeps scipy unloaded)."""
     if nnls is None:
-        from scipy.optimize import nnls
+        from scipy.optimize import nnls as scipy_nnls
+        nnls = scipy_nnls
     n = g.shape[1]
     e = np.vstack([g.T, h[None, :]])
     f = np.zeros(n + 1)

@@ -252,7 +252,7 @@ def clearance_fit_problem(text: str, diameter_mm: float) -> tuple[str, str] | No
         return expected, found
     least, largest = fit.clearance
     if fit.kind != "clearance":
-        return (f"a clearance fit for a running joint (least clearance >= 0), e.g. \"H7/g6\"",
+        return ("a clearance fit for a running joint (least clearance >= 0), e.g. \"H7/g6\"",
                 f'"{text}" at {diameter_mm:g} mm, a{"n" if fit.kind == "interference" else ""} '
                 f"{fit.kind} fit (clearance {least:g}..{largest:g} um)")
     return None

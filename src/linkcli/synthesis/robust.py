@@ -21,8 +21,8 @@ class SharedDesign:
 
     def solution(self, x: np.ndarray):
         """The design x with its targets (a Solution: linkage, positions, working span)."""
-        from linkcli.synthesis.solution import solution
         from linkcli.synthesis.search import Candidate
+        from linkcli.synthesis.solution import solution
         return solution(self.problem, self.model, Candidate(x.copy(), self.best.s, True), [], self.budget,
                         self.confirmed)
 

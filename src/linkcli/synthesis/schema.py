@@ -62,10 +62,10 @@ def read_function(root: Table, meta):
 
 def read(root: Table, meta, type_name: str):
     """The DrawnDesignProblem of a design file; None after recording every error found."""
-    from linkcli.model import DrawnDesignProblem
-    from linkcli.reading.robust_keys import read_objective
     from linkcli.mechanisms.drawn.schema import read as read_drawing
     from linkcli.mechanisms.schema import read_drive_motion as read_steps
+    from linkcli.model import DrawnDesignProblem
+    from linkcli.reading.robust_keys import read_objective
     kind = KINDS[type_name]
     u = meta.units
     if meta.solver.method != "auto":  # the shared search is the one strategy of a drawn design
@@ -359,6 +359,7 @@ def _starts(tgt: Table, bnd: Table | None, u, free: tuple[str, ...] = ()):
     linkcli's choosing: the input start, and the output start of the function form, whose
     law is a shape; the output form's law gives the output's turn itself)."""
     import math
+
     from linkcli.types.path_generation.schema import angle_range
     given, bounds, ok = {}, {}, True
     for key in ("input_start", "output_start"):

@@ -42,9 +42,9 @@ def design_drawing(problem, drawing, boxes: dict | None = None, joint: str | Non
     from dataclasses import replace
 
     from linkcli.errors import SolveInputError
-    from linkcli.synthesis.schema import closed_form_problem
     from linkcli.mechanisms.drawn.population import DrawnPopulation
     from linkcli.mechanisms.drawn.structure import analyse
+    from linkcli.synthesis.schema import closed_form_problem
     structure = analyse(drawing)
     names = {j.name: j for j in drawing.joints}
     boxes = dict(problem.boxes) if boxes is None else dict(boxes)

@@ -56,7 +56,6 @@ def sweep(problem) -> Solution:
     """The best six-bar of `problem`'s topology, with the `topologies` table (module docstring)."""
     from linkcli.errors import SolveInputError
     from linkcli.mechanisms.drawn import catalogue
-    from linkcli.search.budget import Budget
     from linkcli.synthesis import search as shared
     from linkcli.synthesis.solution import design_drawing
     todo = runs(problem)

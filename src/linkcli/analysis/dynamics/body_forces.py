@@ -203,7 +203,7 @@ class Assembly:
             guides[name] = bodies.dot(dp - carried, u)
         return pins, guides
 
-    def inverse(self) -> "_Inverse":
+    def inverse(self) -> _Inverse:
         return _Inverse(self.matrix)
 
     def unknowns(self, x) -> tuple[dict, dict, np.ndarray]:
@@ -238,7 +238,7 @@ def solve(graph, coef, speed, loads: Loads, *, torque=None, acceleration=None,
     return BodyForces(pins, guides, drive, pin_friction, guide_friction, converged)
 
 
-def responses(graph, coef, unit_loads: list) -> tuple[np.ndarray, "Assembly"]:
+def responses(graph, coef, unit_loads: list) -> tuple[np.ndarray, Assembly]:
     """The pin and guide forces (forward: the drive's torque known) per unit of each load, at the
     rows: (n, 2 pins + guides, K) with columns q'^2 (the inertia terms), gravity and the
     constant loads (`unit_loads[0]`), each of `unit_loads[1:]` (a Loads for a unit force of an

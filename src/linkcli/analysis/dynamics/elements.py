@@ -20,10 +20,9 @@ turn keeps its whole deflection.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import bisect
 import math
+from dataclasses import dataclass
 
 import numpy as np
 

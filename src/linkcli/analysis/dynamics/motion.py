@@ -290,7 +290,8 @@ def integrate(system, q0: float, w0: float, t_end: float, *, stop=None, marks=()
         add(lambda t, y: y[0] - system.hi, "dead-point", True)
     stepper = chosen
     if chosen == "DOP853":  # its sums independent of the machine's BLAS (dynamics.stepper)
-        from linkcli.analysis.dynamics.stepper import SteadyDOP853 as stepper, first_step
+        from linkcli.analysis.dynamics.stepper import SteadyDOP853 as stepper
+        from linkcli.analysis.dynamics.stepper import first_step
     bases = len(events)
     for kink in kink_functions(system):
         add(kink, "kink", True)

@@ -26,8 +26,8 @@ def add_sections(rep: dict, problem, mech, notes: list) -> tuple[str, str] | Non
     """Add the asked dynamics sections to `rep`; (status, message) when they fall short of what
     was asked (exit 1: "infeasible", a stop angle not reached or a motor that cannot drive the
     linkage; "not-converged", an integration over its budget), or None."""
-    from linkcli.analysis.forces import metres_per_unit
     from linkcli.analysis.dynamics.system import System
+    from linkcli.analysis.forces import metres_per_unit
     meta = problem.meta
     dyn = meta.dynamics
     units = meta.units

@@ -24,9 +24,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from linkcli.angles import wrap
 from linkcli.analysis.dynamics import bodies
 from linkcli.analysis.dynamics.elements import DriveLaw, compile_elements
+from linkcli.angles import wrap
 from linkcli.errors import SolveInputError
 
 TWO_PI = 2.0 * math.pi
@@ -59,8 +59,8 @@ class System:
         self.case = case
         graph = mech.body_graph(case, metres)
         if graph is None:
-            raise self.error("dynamics", f"a linkage whose home gives its dynamics (one drive, a link "
-                             f"that turns) for [dynamics]", f"a {mech.name} without them")
+            raise self.error("dynamics", "a linkage whose home gives its dynamics (one drive, a link "
+                             "that turns) for [dynamics]", f"a {mech.name} without them")
         self.graph = graph
         self.elements = compile_elements(dyn, graph, metres, units)
         self.coordinates = []

@@ -10,8 +10,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkcli.plots.common import (CURVE_COLOR, TARGET_COLOR, body_frames, draw_skeleton, drawn, frame_drawing,
-                                  num, panels)
+from linkcli.plots.common import (
+    CURVE_COLOR,
+    TARGET_COLOR,
+    body_frames,
+    draw_skeleton,
+    drawn,
+    frame_drawing,
+    num,
+    panels,
+)
 
 SAMPLES = 720
 BODY = 0.12  # a body marker's arm, as a share of the drawing's size
@@ -74,7 +82,7 @@ def draw(fig, result) -> None:
         ax_top.plot(phi, target, "o", mfc="none", mec=TARGET_COLOR, ms=7, label="law asked for")
         ax_top.plot(phi, achieved, "-", color="#d62728", lw=1.6, label=f"{problem.link} achieved")
         ax_top.set_ylabel(f"{problem.link} from its drawn angle ({au})")
-        ax_top.set_title(f"Output angle against the drive angle")
+        ax_top.set_title("Output angle against the drive angle")
         ax_top.legend(loc="best", framealpha=0.85, fontsize=8)
         ax_top.tick_params(labelbottom=False)
         err = np.array([r["error"] for r in rows], dtype=float)

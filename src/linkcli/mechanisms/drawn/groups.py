@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from linkcli.mechanisms.drawn.solver import cross, dot, perp, rotate
+from linkcli.mechanisms.drawn.solver import cross, perp, rotate
 from linkcli.mechanisms.drawn.structure import GROUND, Group
 
 TRACK_STEPS = 180  # largest steps over one turn of the leading drive (or over its slide bound)

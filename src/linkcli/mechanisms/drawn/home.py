@@ -18,8 +18,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from linkcli.mechanisms.drawn.model import TURN, Drawn
 from linkcli.angles import wrap
+from linkcli.mechanisms.drawn.model import TURN, Drawn
 from linkcli.mechanisms.protocol import LoadRows, Mechanism, Skeleton, Study
 
 TWO_PI = 2.0 * math.pi
@@ -212,8 +212,8 @@ class DrawnMechanism(Mechanism):
     def skeleton(self, phi) -> Skeleton:
         """Every joint and link at leading-drive values phi; ground joints as pivots, slider
         joints as blocks on their guides (ground guides drawn), the asked points traced."""
-        from linkcli.mechanisms.protocol import Guide
         from linkcli.mechanisms.drawn.structure import GROUND
+        from linkcli.mechanisms.protocol import Guide
         d = self.linkage
         st = self.state(np.atleast_1d(np.asarray(phi, dtype=float)), rates=False)
         joints = {j.name: np.where(st.valid[:, None], st.pos[j.name], np.nan) for j in d.joints}

@@ -34,10 +34,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from linkcli.mechanisms.newton_euler import SINGULAR_TOLERANCE, finite_max, max_norm, scales
-from linkcli.mechanisms.protocol import LoadRows
 from linkcli.mechanisms.drawn.solver import cross, perp, rotate
 from linkcli.mechanisms.drawn.structure import GROUND
+from linkcli.mechanisms.newton_euler import SINGULAR_TOLERANCE, finite_max, max_norm, scales
+from linkcli.mechanisms.protocol import LoadRows
 from linkcli.model import LinkMass
 
 SLIDER = "slider"

@@ -11,8 +11,18 @@ import math
 import numpy as np
 
 from linkcli.mechanisms.columns import TRANSMISSION_BAND
-from linkcli.plots.common import (BAND_COLOR, CURVE_COLOR, angle_ticks, draw_skeleton, drawn, frame_drawing,
-                                  link_color, num, panels, robust_ylim)
+from linkcli.plots.common import (
+    BAND_COLOR,
+    CURVE_COLOR,
+    angle_ticks,
+    draw_skeleton,
+    drawn,
+    frame_drawing,
+    link_color,
+    num,
+    panels,
+    robust_ylim,
+)
 
 SAMPLES = 720
 GHOSTS = 4

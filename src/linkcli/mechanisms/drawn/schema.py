@@ -9,10 +9,15 @@ from __future__ import annotations
 
 import difflib
 import math
+from typing import TYPE_CHECKING
 
 from linkcli.io.bounds import MAX_LENGTH
 from linkcli.io.reader import MISSING, Table, describe
 from linkcli.mechanisms.schema import ForceParts, Schema
+
+if TYPE_CHECKING:  # names of annotations only (imported where they are used)
+    from linkcli.mechanisms.drawn.model import Drawn, DrawnJoint, DrawnLink, Drive
+
 # .model (its dataclasses) is imported inside the functions that build them: every other
 # mechanism's [linkage] reads this module for its keys alone (reading.linkage.refuse_foreign)
 
@@ -140,8 +145,8 @@ def toleranced(root: Table) -> tuple[str, ...]:
 def read(t: Table, units) -> Drawn | None:
     """The drawing ([joints], [links], [drive], [motion]) of a `mechanism = "drawn"` [linkage];
     None when in error (every error recorded, structural ones naming the joints)."""
-    from linkcli.mechanisms.drawn.model import Drawn
     from linkcli.io.joints import read_joints
+    from linkcli.mechanisms.drawn.model import Drawn
     root = t.reader.root()
     errors = len(root.reader.errors)
     if "status" in root.data and "joints" not in root.data and isinstance(t.data.get("joints"), dict):

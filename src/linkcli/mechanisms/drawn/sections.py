@@ -14,9 +14,11 @@ import math
 
 import numpy as np
 
-from linkcli.mechanisms.columns import TRANSMISSION_BAND, angle_out as _ang, turn_out as _dang
-from linkcli.mechanisms.drawn.structure import GROUND, describe_plan
 from linkcli.angles import wrap
+from linkcli.mechanisms.columns import TRANSMISSION_BAND
+from linkcli.mechanisms.columns import angle_out as _ang
+from linkcli.mechanisms.columns import turn_out as _dang
+from linkcli.mechanisms.drawn.structure import describe_plan
 from linkcli.noise import snap, snap_series
 from linkcli.textnum import num
 

@@ -37,9 +37,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from linkcli.mechanisms.drawn.model import SLIDE, TURN, Drawn
-from linkcli.mechanisms.drawn.structure import (GROUND, Dyad, GuideThrough, Group, OnGuide,
-                                                Structure, Turn)
+from linkcli.mechanisms.drawn.model import SLIDE, Drawn
+from linkcli.mechanisms.drawn.structure import GROUND, Dyad, GuideThrough, OnGuide, Structure, Turn
 
 
 def perp(v: np.ndarray) -> np.ndarray:
@@ -84,7 +83,7 @@ class Geometry:
     driven: dict[str, tuple[int, str]]  # slider joint -> (drive, guide body)
 
     @classmethod
-    def of(cls, drawing: Drawn, structure: Structure) -> "Geometry":
+    def of(cls, drawing: Drawn, structure: Structure) -> Geometry:
         at = {j.name: np.array(j.at, dtype=float) for j in drawing.joints}
         origin0 = {GROUND: np.zeros(2)}
         angle0 = {GROUND: 0.0}

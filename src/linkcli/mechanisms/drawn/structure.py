@@ -120,7 +120,7 @@ class Structure:
     def links(self) -> tuple[str, ...]:
         return tuple(k.name for k in self.drawing.links)
 
-    def closures(self) -> list["Closure"]:
+    def closures(self) -> list[Closure]:
         """Every closure of the plan, where a transmission angle is measured."""
         out = []
         for op in self.plan:

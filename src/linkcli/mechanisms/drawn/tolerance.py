@@ -126,8 +126,8 @@ class Model:
         self.angles = nominal.theta[self.link] if self.link is not None else None
         if kind is not None and solution is not None:  # a design misses its targets, not its nominal
             self.places, self.angles = _design_targets(solution, problem, sv, self.places, self.angles)
-        from linkcli.mechanisms.drawn.sections import size
         from linkcli.mechanisms.drawn.schema import known_lengths
+        from linkcli.mechanisms.drawn.sections import size
         self.scale = size(d)
         self.cap = min(self.lengths.values(), default=self.scale)
         self.known = known_lengths(d)

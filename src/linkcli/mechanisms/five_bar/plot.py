@@ -34,7 +34,7 @@ def shown_rows(valid: np.ndarray) -> list[int]:
 
 def draw(fig, result) -> None:
     u, ax, (ax_k, ax_mu) = panels(fig, result, 2, [1.35, 1.0])
-    au, lu = u.angle, u.length
+    lu = u.length
     mech = mechanisms.of(result.solution.linkage)
     track = mech.track()
     if track is None or not track.valid.any():

@@ -13,10 +13,15 @@ Python (`check` reads it without numpy).
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 from linkcli.io.bounds import ASSEMBLY_RTOL, MAX_LENGTH, bounded_length, bounded_point, refuse_ratio
-from linkcli.io.reader import MISSING, MAX_ARRAY, Table, describe
+from linkcli.io.reader import MAX_ARRAY, MISSING, Table, describe
 from linkcli.mechanisms.schema import ForceParts, Schema
+
+if TYPE_CHECKING:  # names of annotations only (imported where they are used)
+    from linkcli.mechanisms.five_bar.model import FiveBar, Phase
+
 # .model (its dataclasses) is imported inside the functions that build them: every other
 # mechanism's [linkage] reads this module for its keys alone (reading.linkage.refuse_foreign)
 

@@ -21,7 +21,9 @@ import math
 
 import numpy as np
 
-from linkcli.mechanisms.columns import TRANSMISSION_BAND, angle_out as _ang, turn_out as _dang
+from linkcli.mechanisms.columns import TRANSMISSION_BAND
+from linkcli.mechanisms.columns import angle_out as _ang
+from linkcli.mechanisms.columns import turn_out as _dang
 from linkcli.mechanisms.five_bar import kinematics as kin
 from linkcli.mechanisms.five_bar.track import Track, listed, size
 from linkcli.mechanisms.four_bar import kinematics as four

@@ -9,10 +9,8 @@ from __future__ import annotations
 import numpy as np
 
 from linkcli.mechanisms.four_bar import kinematics as kin
-from linkcli.mechanisms.four_bar.drawing import (Geometry, draw_linkage, input_grid, joint_paths,
-                                                 link_legend, on_grid)
-from linkcli.plots.common import (CURVE_COLOR, TARGET_COLOR, angle_ticks, drawn, frame_drawing,
-                                  no_linkage, num, panels)
+from linkcli.mechanisms.four_bar.drawing import Geometry, draw_linkage, input_grid, joint_paths, link_legend, on_grid
+from linkcli.plots.common import CURVE_COLOR, TARGET_COLOR, angle_ticks, drawn, frame_drawing, no_linkage, num, panels
 
 NEEDS = ("linkage", "positions")
 GHOST_ALL = 6  # up to this many targets every one is ghosted; beyond, only the last

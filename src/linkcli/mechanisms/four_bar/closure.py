@@ -40,7 +40,7 @@ class Frame:
     rho: np.ndarray
     valid: np.ndarray
 
-    def take(self, rows) -> "Frame":
+    def take(self, rows) -> Frame:
         """The closure of the candidates `rows` (indices into the first axis)."""
         return Frame(*(getattr(self, f.name)[rows] for f in fields(self)))
 

@@ -34,7 +34,7 @@ class Geometry:
     ground_angle: float  # rad
 
     @classmethod
-    def of(cls, source) -> "Geometry":
+    def of(cls, source) -> Geometry:
         """The linkage a Result solved (`result.solution.linkage`). A report dict is still
         read (its `linkage` section, in the file's units) for a plot module written before
         the plots drew from the Result."""
@@ -43,7 +43,7 @@ class Geometry:
         return cls.of_linkage(source.solution.linkage)
 
     @classmethod
-    def of_linkage(cls, fb: FourBar) -> "Geometry":
+    def of_linkage(cls, fb: FourBar) -> Geometry:
         """A FourBar (lengths in the length unit, angles in radians) to draw."""
         cp = fb.coupler_point
         size = max(fb.abcd)
@@ -54,7 +54,7 @@ class Geometry:
                    ground_angle=snap(float(kin.wrap(fb.ground_angle)), 1.0))  # the report's angle
 
     @classmethod
-    def _of_report(cls, report: dict) -> "Geometry":
+    def _of_report(cls, report: dict) -> Geometry:
         lk = report["linkage"]
         u = Units(**report.get("units", {}))
         cp = lk.get("coupler_point")

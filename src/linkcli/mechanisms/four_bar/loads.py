@@ -12,10 +12,22 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from linkcli.mechanisms.newton_euler import (SINGULAR_TOLERANCE, add_force, body, cross,
-                                             fill_input_and_coupler, finite_max, in_frame,
-                                             max_norm, mechanical_advantage, point_acceleration,
-                                             points, scales, solve, unit_angle)
+from linkcli.mechanisms.newton_euler import (
+    SINGULAR_TOLERANCE,
+    add_force,
+    body,
+    cross,
+    fill_input_and_coupler,
+    finite_max,
+    in_frame,
+    max_norm,
+    mechanical_advantage,
+    point_acceleration,
+    points,
+    scales,
+    solve,
+    unit_angle,
+)
 from linkcli.mechanisms.protocol import LoadRows
 from linkcli.model import Loads, Masses
 

@@ -9,11 +9,21 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.mechanisms.columns import TRANSMISSION_BAND
+from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.mechanisms.four_bar.drawing import Geometry, draw_linkage, joint_paths, link_legend
-from linkcli.plots.common import (BAND_COLOR, CURVE_COLOR, LINK_COLORS, angle_ticks, drawn,
-                                  frame_drawing, no_linkage, num, panels, robust_ylim)
+from linkcli.plots.common import (
+    BAND_COLOR,
+    CURVE_COLOR,
+    LINK_COLORS,
+    angle_ticks,
+    drawn,
+    frame_drawing,
+    no_linkage,
+    num,
+    panels,
+    robust_ylim,
+)
 from linkcli.units import Units
 
 SAMPLES = 720

@@ -11,7 +11,9 @@ import math
 
 import numpy as np
 
-from linkcli.mechanisms.columns import TRANSMISSION_BAND, angle_out as _ang, rows_of, turn_out as _dang
+from linkcli.mechanisms.columns import TRANSMISSION_BAND, rows_of
+from linkcli.mechanisms.columns import angle_out as _ang
+from linkcli.mechanisms.columns import turn_out as _dang
 from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.noise import snap, snap_series
 from linkcli.textnum import num

@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from linkcli.angles import wrap  # the one wrap: angles in (-pi, pi]
-from linkcli.mechanisms.slider_crank.model import SliderCrank  # the dataclass lives with FourBar (no numpy: `check` reads it)
+from linkcli.mechanisms.slider_crank.model import SliderCrank  # noqa: F401  (re-exported: the dataclass lives with FourBar, no numpy)
 
 TWO_PI = 2.0 * math.pi
 BRANCHES = ("open", "crossed")

@@ -13,9 +13,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from linkcli.mechanisms.newton_euler import (NO_MASS, SINGULAR_TOLERANCE, fill_input_and_coupler,
-                                             finite_max, in_frame, mechanical_advantage, points,
-                                             scales, solve, unit_angle)
+from linkcli.mechanisms.newton_euler import (
+    NO_MASS,
+    SINGULAR_TOLERANCE,
+    fill_input_and_coupler,
+    finite_max,
+    in_frame,
+    mechanical_advantage,
+    points,
+    scales,
+    solve,
+    unit_angle,
+)
 from linkcli.mechanisms.protocol import LoadRows
 from linkcli.model import Loads, Masses
 

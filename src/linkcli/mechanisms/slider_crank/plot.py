@@ -15,9 +15,20 @@ import numpy as np
 
 from linkcli.mechanisms.columns import TRANSMISSION_BAND
 from linkcli.mechanisms.slider_crank import kinematics as sc
+from linkcli.plots.common import (
+    BAND_COLOR,
+    CURVE_COLOR,
+    LINK_COLORS,
+    TARGET_COLOR,
+    angle_ticks,
+    drawn,
+    frame_drawing,
+    no_linkage,
+    num,
+    panels,
+    robust_ylim,
+)
 from linkcli.units import Units
-from linkcli.plots.common import (BAND_COLOR, CURVE_COLOR, LINK_COLORS, TARGET_COLOR, angle_ticks,
-                                  drawn, frame_drawing, no_linkage, num, panels, robust_ylim)
 
 SAMPLES = 720
 

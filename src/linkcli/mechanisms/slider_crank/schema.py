@@ -5,8 +5,8 @@ from __future__ import annotations
 
 from linkcli.io.bounds import ASSEMBLY_RTOL, MAX_LENGTH, bounded_length, bounded_point, refuse_ratio
 from linkcli.io.reader import Table
-from linkcli.mechanisms.slider_crank.model import BRANCHES, SliderCrank
 from linkcli.mechanisms.schema import ForceParts, Schema, coupler_point_headings, has_coupler_point
+from linkcli.mechanisms.slider_crank.model import BRANCHES, SliderCrank
 
 CARRIED = {"A0": ("ground", "input"), "A": ("input", "coupler"), "B": ("coupler", "slider")}  # each pin -> the bodies it joins
 

@@ -15,7 +15,9 @@ import math
 
 import numpy as np
 
-from linkcli.mechanisms.columns import TRANSMISSION_BAND, angle_out as _ang, rows_of, turn_out as _dang
+from linkcli.mechanisms.columns import TRANSMISSION_BAND, rows_of
+from linkcli.mechanisms.columns import angle_out as _ang
+from linkcli.mechanisms.columns import turn_out as _dang
 from linkcli.mechanisms.protocol import Study
 from linkcli.mechanisms.slider_crank import kinematics as sc
 from linkcli.noise import first_max, first_min, snap, snap_series

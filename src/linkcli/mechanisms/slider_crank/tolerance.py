@@ -38,8 +38,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from linkcli.mechanisms.slider_crank.kinematics import (TWO_PI, arc_contains, arc_sweep, choose_arc,
-                                                        input_arcs, slider_from_trig, slider_partials)
+from linkcli.mechanisms.slider_crank.kinematics import (
+    TWO_PI,
+    arc_contains,
+    arc_sweep,
+    choose_arc,
+    input_arcs,
+    slider_from_trig,
+    slider_partials,
+)
 from linkcli.mechanisms.slider_crank.model import SliderCrank
 
 LENGTH_KEYS = ("input", "coupler", "offset")

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import math
 
-from linkcli.model import FlipperCylinderProblem, Meta
 from linkcli.io.reader import Table
+from linkcli.model import FlipperCylinderProblem, Meta
 
 OBJECTIVES = ("peak-force", "cylinder-length")
 STANDARD_GRAVITY = 9.80665  # m/s^2

@@ -136,7 +136,7 @@ class Goal:
 class Outcome:
     best: Best
     converged: bool
-    archive: "Archive | None" = None  # every design of the global stage
+    archive: Archive | None = None  # every design of the global stage
     completed: bool = False  # a search ran to its own end (not stopped by the budget)
 
 
@@ -174,7 +174,7 @@ class Archive:
         firsts = dict.fromkeys(fam[order].tolist())
         return [p[order[np.argmax(fam[order] == f)]] for f in firsts]
 
-    def basins(self, space: "Space", radius: float) -> list[np.ndarray]:
+    def basins(self, space: Space, radius: float) -> list[np.ndarray]:
         """Designs with no better design (Deb's rules) within `radius` in the unit box: one
         per basin of the sample, best first (the start rule of multi-level single linkage,
         Rinnooy Kan & Timmer 1987; an infeasible basin leads SLSQP towards feasibility).

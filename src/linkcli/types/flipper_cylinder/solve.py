@@ -17,15 +17,25 @@ from dataclasses import replace
 
 import numpy as np
 
-from linkcli.types.flipper_cylinder.statics import Statics
 from linkcli.search.budget import Budget
-from linkcli.types.flipper_cylinder.sections import cylinder_section, facts, pareto_rows
 from linkcli.solution import Solution, SolverRecord, Status
-from linkcli.types.flipper_cylinder.search import (DEFAULT_BUDGET, PARETO_BUDGET, PARETO_SHARE, TOLERANCE,
-                                            SETTLE_EVALUATIONS, SETTLE_SHARE, Goal, Judge, Space,
-                                            optimize, pareto, settle)
 from linkcli.textnum import num
-
+from linkcli.types.flipper_cylinder.search import (
+    DEFAULT_BUDGET,
+    PARETO_BUDGET,
+    PARETO_SHARE,
+    SETTLE_EVALUATIONS,
+    SETTLE_SHARE,
+    TOLERANCE,
+    Goal,
+    Judge,
+    Space,
+    optimize,
+    pareto,
+    settle,
+)
+from linkcli.types.flipper_cylinder.sections import cylinder_section, facts, pareto_rows
+from linkcli.types.flipper_cylinder.statics import Statics
 
 NEGLIGIBLE = 1e-3  # a closed length below this share of the largest pivot bound: the pivots all but meet
 

@@ -39,6 +39,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
 from linkcli.noise import TIE, first_max
 
 STEP = math.radians(0.5)  # largest spacing of the sweep grid

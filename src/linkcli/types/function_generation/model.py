@@ -64,7 +64,7 @@ class Batch:
     violation: np.ndarray  # (N, K) >= 0, one column per constraint of Model.names
     penalized: np.ndarray  # (N,) f + W * sum(violation)
 
-    def take(self, rows) -> "Batch":
+    def take(self, rows) -> Batch:
         """The candidates `rows` of the batch."""
         return Batch(self.f[rows], self.err[rows], self.violation[rows], self.penalized[rows])
 

@@ -15,8 +15,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkcli.textnum import num
-
 DEFAULT_DIGITS = 6  # the default --precision
 MAX_DIGITS = 17
 

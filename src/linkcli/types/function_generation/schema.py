@@ -24,10 +24,10 @@ import math
 from dataclasses import replace
 
 from linkcli.expr import ExpressionError, compile_expression
-from linkcli.model import FunctionGenerationProblem, Meta
-from linkcli.mechanisms.four_bar.model import LINKS
 from linkcli.io.bounds import MAX_LENGTH, MAX_RATIO, MIN_LENGTH, over_ratio
 from linkcli.io.reader import Table
+from linkcli.mechanisms.four_bar.model import LINKS
+from linkcli.model import FunctionGenerationProblem, Meta
 from linkcli.reading.pareto_keys import read_front
 from linkcli.reading.robust_keys import read_objective
 
@@ -144,7 +144,7 @@ def read_lengths(root: Table, link: Table | None, bnd: Table | None):
             bnd.error(k, f"a range within [{MIN_LENGTH:g}, {MAX_LENGTH:g}]", raw_got=_show(bnd.raw(k)))
             rng, ok = None, False
         if in_link and in_bnd:
-            bnd.error(k, f"a length either fixed in [linkage] or bounded in [bounds], not both",
+            bnd.error(k, "a length either fixed in [linkage] or bounded in [bounds], not both",
                       raw_got=f"linkage.{k} = {_show(link.raw(k))} and bounds.{k} = {_show(bnd.raw(k))}")
             ok = False
         elif not in_link and not in_bnd and unjudged:
@@ -248,7 +248,7 @@ def read_starts(tgt: Table, bnd: Table | None, u, needs_psi0: bool = True):
         value = tgt.number(k, what=f"an angle ({u.angle})") if in_tgt else None
         rng = bnd.range(k) if in_bnd else None
         if in_tgt and in_bnd:
-            bnd.error(k, f"a start angle either given in [target] or bounded in [bounds], not both",
+            bnd.error(k, "a start angle either given in [target] or bounded in [bounds], not both",
                       raw_got=f"target.{k} = {_show(tgt.raw(k))} and bounds.{k} = {_show(bnd.raw(k))}")
             ok = False
         elif not in_tgt and not in_bnd:

@@ -30,22 +30,22 @@ import math
 
 import numpy as np
 
-from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.errors import SolveInputError
-from linkcli.types.function_generation.printed_digits import digits_note
-from linkcli.model import FunctionGenerationProblem
+from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.mechanisms.four_bar.model import FourBar
-from linkcli.solution import Positions, Solution, SolverRecord, Status
+from linkcli.model import FunctionGenerationProblem
 from linkcli.search import kkt, linalg
 from linkcli.search.budget import BudgetSpent
 from linkcli.search.evolution import evolve
 from linkcli.search.sampling import latin_hypercube
+from linkcli.solution import Positions, Solution, SolverRecord, Status
+from linkcli.textnum import num
 from linkcli.types.function_generation.auto import auto
 from linkcli.types.function_generation.model import BRANCH_SIGN, GRASHOF_MARGIN, STARTS, Model
+from linkcli.types.function_generation.printed_digits import digits_note
 from linkcli.types.function_generation.search import FEASIBLE, STEP, Best, Local, Search, polish
 from linkcli.types.function_generation.sections import structural_error, target_section
 from linkcli.types.function_generation.starts import SEED_PAIRS, check_law, distinct, freudenstein_seeds
-from linkcli.textnum import num
 
 DEFAULT_BUDGET_PER_VARIABLE = 4000  # default budget: this many candidates per design variable
 POPULATION_PER_VARIABLE = 10  # differential evolution population size per variable

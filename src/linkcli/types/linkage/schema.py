@@ -7,11 +7,16 @@ precision-position files and result files alike, and the mechanism's schema read
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from linkcli.io.reader import Table
-from linkcli.mechanisms.schema import mechanism_of
 from linkcli.mechanisms import schema_of
-from linkcli.reading.linkage import keys_mechanism, read_linkage
+from linkcli.mechanisms.schema import mechanism_of
 from linkcli.model import Meta
+from linkcli.reading.linkage import keys_mechanism, read_linkage
+
+if TYPE_CHECKING:  # names of annotations only (imported where they are used)
+    from linkcli.model.linkage import LinkageProblem
 
 
 def parse(root: Table, meta: Meta) -> LinkageProblem | None:

@@ -64,7 +64,7 @@ class Coefficients:
         jm = self.m + np.einsum("...iab,...b->...ia", self.B, ground)
         return np.concatenate([jg, jm], -1)
 
-    def take(self, sets) -> "Coefficients":
+    def take(self, sets) -> Coefficients:
         """The coefficients of a stack of pose sets (`coefficients` of (S, n, 3)) picked by
         `sets`: one pose set a point, whose leading axes the points' then match."""
         return Coefficients(self.k[sets], self.g[sets], self.m[sets], self.B[sets])

@@ -19,10 +19,16 @@ from __future__ import annotations
 import math
 
 from linkcli.io.reader import MISSING, Table, describe
-from linkcli.model import Meta, MotionGenerationProblem
 from linkcli.mechanisms.four_bar.model import LINKS
-from linkcli.types.path_generation.schema import (MAX_MAGNITUDE, angle_range, length_bound,
-                                                  point_range, read_constraints, read_input_angles)
+from linkcli.model import Meta, MotionGenerationProblem
+from linkcli.types.path_generation.schema import (
+    MAX_MAGNITUDE,
+    angle_range,
+    length_bound,
+    point_range,
+    read_constraints,
+    read_input_angles,
+)
 
 MIN_POSES = 2
 MAX_POSES = 200  # free timing adds one input angle per pose to the unknowns

@@ -13,10 +13,10 @@ import math
 
 import numpy as np
 
+from linkcli.analysis.sections import gap
 from linkcli.io.tables import KeyValues, Rows
 from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.noise import NOISE_FLOOR, snap
-from linkcli.analysis.sections import gap
 
 from .screen import DEFECTS
 

@@ -35,7 +35,7 @@ from linkcli.atlas import descriptors, family
 from linkcli.atlas.build import LOOP_REST, LOOPS, OPEN_COUNT, stretch_of
 from linkcli.atlas.cache import Atlas
 from linkcli.types.path_generation import starts as path_starts
-from linkcli.types.path_generation.model import N_LINK, SHORTEST, Design
+from linkcli.types.path_generation.model import N_LINK, Design
 
 HITS = 160  # nearest stretches placed back
 LOOP_SHIFTS = 4  # a closed target is described from this many starts around itself

@@ -89,7 +89,7 @@ class Space:
     def u(self, x: np.ndarray) -> np.ndarray:
         return (np.asarray(x)[self.free] - self.lo[self.free]) / (self.hi - self.lo)[self.free]
 
-    def holding(self, x: np.ndarray, held) -> "Space":
+    def holding(self, x: np.ndarray, held) -> Space:
         """This space with the variables `held` (indices into VARIABLES) fixed at x's values."""
         if not len(held):
             return self

@@ -29,9 +29,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from linkcli.mechanisms.four_bar import kinematics as kin
-from linkcli.mechanisms.four_bar import closure
 from linkcli.io.bounds import MIN_LENGTH as FILE_MIN_LENGTH
+from linkcli.mechanisms.four_bar import closure
+from linkcli.mechanisms.four_bar import kinematics as kin
 
 NAMES = ("ground", "input", "coupler", "output", "coupler_point_x", "coupler_point_y",
          "ground_pivot_x", "ground_pivot_y", "ground_angle")

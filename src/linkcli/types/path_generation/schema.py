@@ -16,13 +16,13 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from linkcli.model import Meta, PathGenerationProblem
-from linkcli.mechanisms.four_bar.model import LINKS
-from linkcli.reading.meta import in_motion_order
 from linkcli.io.bounds import MAX_LENGTH, MIN_LENGTH
+from linkcli.io.reader import MISSING, Table, describe
+from linkcli.mechanisms.four_bar.model import LINKS
+from linkcli.model import Meta, PathGenerationProblem
+from linkcli.reading.meta import in_motion_order
 from linkcli.reading.pareto_keys import read_front
 from linkcli.reading.robust_keys import read_objective
-from linkcli.io.reader import MISSING, Table, describe
 
 GRASHOF = ("any", "crank-rocker", "double-crank", "rocker-crank", "double-rocker", "triple-rocker")
 BRANCHES = ("open", "crossed", "either")

@@ -33,8 +33,8 @@ import numpy as np
 
 from linkcli.search import levenberg_marquardt, sampling
 from linkcli.search.budget import Budget
-from linkcli.search.increments import Increments
 from linkcli.search.evolution import evolve
+from linkcli.search.increments import Increments
 from linkcli.types.path_generation import derivatives
 from linkcli.types.path_generation.derivatives import LINEAR
 from linkcli.types.path_generation.model import N_LINK, Design

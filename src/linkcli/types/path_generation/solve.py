@@ -34,14 +34,21 @@ import numpy as np
 
 from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.mechanisms.four_bar.model import FourBar
+from linkcli.noise import snap
 from linkcli.search.budget import Budget, BudgetSpent
 from linkcli.solution import Positions, Solution, SolverRecord, Status
+from linkcli.textnum import num
 from linkcli.types.path_generation import starts
 from linkcli.types.path_generation.model import N_LINK, SHORTEST, Design, build, rho2_extremes
-from linkcli.types.path_generation.search import (POLISH_ITERATIONS, Space, batch_lm, differential_evolution,
-                                                 distinct, polish, settle)
-from linkcli.noise import snap
-from linkcli.textnum import num
+from linkcli.types.path_generation.search import (
+    POLISH_ITERATIONS,
+    Space,
+    batch_lm,
+    differential_evolution,
+    distinct,
+    polish,
+    settle,
+)
 
 DEFAULT_BUDGET = {"multistart": 2_000_000, "least-squares": 200_000, "differential-evolution": 200_000,
                   "de-polish": 200_000}

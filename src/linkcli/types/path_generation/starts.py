@@ -27,9 +27,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from linkcli.mechanisms.four_bar import closure
 from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.search import linalg
-from linkcli.mechanisms.four_bar import closure
 from linkcli.types.path_generation.model import N_LINK, SHORTEST, Design
 
 CURVE_SAMPLES = 120  # samples of the coupler curve over one turn (free timing)

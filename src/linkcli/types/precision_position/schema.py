@@ -5,16 +5,16 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from linkcli.model import Meta, PrecisionPositionProblem
-from linkcli.reading.meta import in_motion_order
-from linkcli.io.bounds import MAX_LENGTH, bounded_length
 from linkcli.errors import SchemaError
+from linkcli.io.bounds import MAX_LENGTH, bounded_length
 from linkcli.io.reader import Table
-from linkcli.types.precision_position.system import position_problem
-from linkcli.types.precision_position.slider_system import slider_position_problem
-from linkcli.reading.linkage import read_mechanism, refuse_foreign
-from linkcli.reading.pareto_keys import is_front, read_front
 from linkcli.mechanisms.schema import read_drive_motion
+from linkcli.model import Meta, PrecisionPositionProblem
+from linkcli.reading.linkage import read_mechanism, refuse_foreign
+from linkcli.reading.meta import in_motion_order
+from linkcli.reading.pareto_keys import is_front, read_front
+from linkcli.types.precision_position.slider_system import slider_position_problem
+from linkcli.types.precision_position.system import position_problem
 
 MAX_POSITIONS = 1000
 

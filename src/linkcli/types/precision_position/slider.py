@@ -17,9 +17,9 @@ import math
 
 import numpy as np
 
-from linkcli.types.precision_position.slider_synthesis import synthesize
 from linkcli.solution import Positions, Solution, SolverRecord, Status
 from linkcli.textnum import num
+from linkcli.types.precision_position.slider_synthesis import synthesize
 
 MISS_RTOL = 1e-6  # relative to max(crank, rod, |offset|): an exact fit meets its targets to ~1e-12
 

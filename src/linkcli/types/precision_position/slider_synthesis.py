@@ -139,7 +139,7 @@ def refine(x0, sign, phi, s, max_iter=MAX_ITER):
     gradient is at round-off). Returns (x, cost, converged, iterations)."""
     x = np.array(x0, dtype=float)
     sign = np.asarray(sign, dtype=float)
-    k, n = x.shape[0], len(phi)
+    k = x.shape[0]
     cp, sp = np.cos(phi), np.sin(phi)
     r, h, w, cost = _residuals(x, sign, cp, sp, s)
     lam = np.full(k, LAMBDA0)

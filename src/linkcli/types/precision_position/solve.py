@@ -23,13 +23,20 @@ import numpy as np
 from linkcli.errors import SolveInputError
 from linkcli.mechanisms.four_bar.kinematics import ground_distance, pose, wrap
 from linkcli.mechanisms.four_bar.model import FourBar
+from linkcli.noise import TIE
 from linkcli.solution import Positions, Solution, SolverRecord, Status
-from linkcli.types.precision_position.starts import (closure_gap, freudenstein_system, lengths_of, make_starts,
-                                              physical_angles, refine, travels)
+from linkcli.textnum import num
+from linkcli.types.precision_position.starts import (
+    closure_gap,
+    freudenstein_system,
+    lengths_of,
+    make_starts,
+    physical_angles,
+    refine,
+    travels,
+)
 from linkcli.types.precision_position.system import ILL_CONDITIONED  # one threshold with check
 from linkcli.types.precision_position.verdict import verdict
-from linkcli.noise import TIE
-from linkcli.textnum import num
 
 BRANCHES = ("open", "crossed")
 HELD = 1e-6  # rad: an exact fit's closure on a branch within this of psi holds the position

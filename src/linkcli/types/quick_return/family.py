@@ -25,8 +25,8 @@ precision (scan of 4096 points + bisection/golden refinement of every local maxi
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Mapping
 
 import numpy as np
 

@@ -20,8 +20,8 @@ candidate wins; ties (equal within 1e-13) go to the smaller x.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 

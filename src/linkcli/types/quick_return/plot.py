@@ -10,10 +10,9 @@ import math
 import numpy as np
 
 from linkcli.mechanisms.four_bar import kinematics as kin
-from linkcli.mechanisms.slider_crank import kinematics as sc
 from linkcli.mechanisms.four_bar.drawing import Geometry, draw_linkage, joint_paths, link_legend
-from linkcli.plots.common import (BAND_COLOR, LINK_COLORS, angle_ticks, drawn, frame_drawing,
-                                  header, no_linkage, num)
+from linkcli.mechanisms.slider_crank import kinematics as sc
+from linkcli.plots.common import BAND_COLOR, LINK_COLORS, angle_ticks, drawn, frame_drawing, header, no_linkage, num
 from linkcli.units import Units
 
 from . import family

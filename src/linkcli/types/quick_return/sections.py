@@ -11,7 +11,6 @@ The linkage, class, transmission, motion and kinematics sections are the shared 
 
 from __future__ import annotations
 
-
 import numpy as np
 
 from linkcli.io.tables import KeyValues, Rows

@@ -16,8 +16,8 @@ family shows (no member within [bounds] or the link ratio) are exit 2 with the f
 from __future__ import annotations
 
 from linkcli.errors import SchemaError, SolveInputError
-from linkcli.mechanisms.slider_crank.model import SliderCrank
 from linkcli.mechanisms.four_bar.model import FourBar
+from linkcli.mechanisms.slider_crank.model import SliderCrank
 from linkcli.search.budget import Budget
 from linkcli.solution import Solution, SolverRecord, Status
 from linkcli.textnum import num
@@ -135,8 +135,8 @@ def limit_notes(problem, design) -> list[str]:
     links = [v for k, v in design.lengths.items() if k != "offset"]
     ratio = max(links) / min(links)
     if ratio >= family.MAX_LINK_RATIO * (1 - 1e-9):
-        why = (f"time ratio 1: the best member lies at infinity (the worst transmission angle rises "
-               f"without reaching its limit as the links grow); " if problem.time_ratio == 1.0 else "")
+        why = ("time ratio 1: the best member lies at infinity (the worst transmission angle rises "
+               "without reaching its limit as the links grow); " if problem.time_ratio == 1.0 else "")
         return [f"{why}the reported member sits on the documented limit of the family, longest link "
                 f"{num(family.MAX_LINK_RATIO)} times the shortest ([bounds] chooses another)"]
     active = []
