@@ -24,11 +24,16 @@ FOUR_BAR = ('type = "linkage"\n[linkage]\nground = 50\ninput = 27.6293\ncoupler 
 
 def peak_rss_mb(path: str) -> tuple[float, dict]:
     """(peak resident size in MB, report) of `run(path)` in a fresh Python process."""
-    code = ("import json, resource, sys\n"
+    # VmHWM (Linux: the peak of this process's own memory, reset at exec); ru_maxrss instead
+    # carries the forking parent's peak across exec (a pytest worker's hundreds of MB)
+    code = ("import json, re, resource, sys\n"
+            "from pathlib import Path\n"
             "from linkcli.pipeline import Request, run\n"
             f"outcome = run({path!r}, Request())\n"
-            "json.dump({'rss': resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, "
-            "'tolerance': outcome.result.report['tolerance']}, sys.stdout)\n")
+            "status = Path('/proc/self/status')\n"
+            "hwm = re.search(r'VmHWM:\\s*(\\d+) kB', status.read_text()) if status.exists() else None\n"
+            "rss = int(hwm.group(1)) if hwm else resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
+            "json.dump({'rss': rss, 'tolerance': outcome.result.report['tolerance']}, sys.stdout)\n")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=ENV, cwd=ROOT,
                           timeout=600)
     assert done.returncode == 0, done.stderr
