@@ -1,3 +1,3 @@
-"""linkcli: a command-line design tool for planar four-bar linkages."""
+"""linkcli: a command-line design tool for planar linkages."""
 
 __version__ = "0.1.0"

@@ -34,8 +34,13 @@ NO_ATLAS = " (no atlas)"  # the method column of a run with [solver] atlas = fal
 def settings_for(problem) -> list[tuple[str, int | None, bool | None]]:
     """(method, budget, atlas) of each setting: the type's settings (atlas as the file
     says), and for a search that uses the coupler-curve atlas, `auto` once more with
-    atlas = false, so that the bench shows both sides."""
+    atlas = false, so that the bench shows both sides. Of those, only the methods the
+    problem accepts when a problem narrows its type's (`methods`: a five-bar path's one
+    search, which `synth` refuses any other method for)."""
     from linkcli.registry import problem_type
+    own = getattr(problem, "bench_settings", None)  # a problem solved by a strategy of its own
+    if own:
+        return list(own)
     spec = problem_type(problem.meta.type)
     if spec.bench_settings:
         out = [(m, b, None) for m, b in spec.bench_settings]
@@ -43,7 +48,8 @@ def settings_for(problem) -> list[tuple[str, int | None, bool | None]]:
         out = [(m, problem.meta.solver.budget, None) for m in spec.methods]
     if spec.atlas and spec.module("solve").uses_atlas(problem):
         out.insert(1, ("auto", None, False))
-    return out
+    accepted = getattr(problem, "methods", None)
+    return [s for s in out if accepted is None or s[0] in accepted]
 
 
 class Run(NamedTuple):
@@ -183,20 +189,26 @@ def command(files: list[str], fmt: str, seeds: int, precision: int, debug: bool,
             errors[path].extend(exc.lines())
             worst = max(worst, exc.exit_code)
     rows_of: dict[str, list[dict]] = {path: [] for path in files}
+    bar = _display(runs)  # on a terminal: the runs done of all, and the one running
     try:
         with contextlib.closing(outcomes(runs, cluster)) as done:
-            for outcome in done:
+            for k, outcome in enumerate(done):
                 if outcome.row is not None:
                     rows_of[outcome.path].append(outcome.row)
                 errors[outcome.path].extend(line for line in outcome.errors
                                             if line not in errors[outcome.path])
                 worst = max(worst, outcome.exit_code)
+                if bar is not None:
+                    bar.update(bar.task_ids[0], advance=1, description=_running(runs, k + 1))
     except LinkcliError as exc:  # the cluster itself failed (unreachable, lost)
         if debug:
             raise
         for line in exc.lines():
             write_error(line)
         return max(worst, exc.exit_code)
+    finally:
+        if bar is not None:
+            bar.stop()
     for path in dict.fromkeys(files):  # a file named twice: its runs ran twice, in rows_of
         for line in errors[path]:
             write_error(line)
@@ -220,6 +232,27 @@ def command(files: list[str], fmt: str, seeds: int, precision: int, debug: bool,
         print_table(out, _table("reliability over the seeds (within 1e-6 of the best known)", summary(rows),
                                 SUMMARY_COLUMNS, precision))  # on a terminal: in blocks of columns
     return worst
+
+
+def _display(runs: list[Run]):
+    """The progress display of a bench (linkcli.progress.display: a terminal only): a bar of
+    the runs done, the problem, method and seed running. None elsewhere."""
+    from linkcli import progress
+    shown = progress.display() if runs else None
+    if shown is not None:
+        shown.add_task(_running(runs, 0), total=len(runs), work="")
+        shown.start()
+    return shown
+
+
+def _running(runs: list[Run], done: int) -> str:
+    """"bench: PROBLEM METHOD seed N" of the run after `done` ones (escaped: no rich markup)."""
+    if done >= len(runs):
+        return "bench: done"
+    from rich.markup import escape
+    run = runs[done]
+    name = os.path.splitext(os.path.basename(run.path))[0]
+    return escape(one_line(f"bench: {name} {run.method} seed {run.seed}"))
 
 
 def _table(title: str, rows: list[dict], columns: tuple[str, ...], precision: int):

@@ -19,9 +19,11 @@ import typer
 
 from linkcli import __version__
 
-app = typer.Typer(add_completion=False, no_args_is_help=True, rich_markup_mode=None,
-                  pretty_exceptions_enable=False,
-                  help="Design planar four-bar linkages from TOML problem files.")
+from linkcli.usage_errors import OneLineErrors  # noqa: E402  (click's usage errors as one line)
+
+app = typer.Typer(name="linkcli", add_completion=False, no_args_is_help=True, rich_markup_mode=None,
+                  pretty_exceptions_enable=False, cls=OneLineErrors,
+                  help="Design planar linkages from TOML problem files.")
 
 
 class PlainUsage(typer.core.TyperCommand):
@@ -41,6 +43,7 @@ class Format(str, Enum):
 
 
 EXT = {"table": "txt", "json": "json", "toml": "toml", "csv": "csv"}
+MAX_SEEDS = 1000  # bench --seeds: every setting of every problem runs this many times
 
 
 def _version(value: bool) -> None:
@@ -54,7 +57,7 @@ def main_callback(
     version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
                                  help="Show the version and exit."),
 ) -> None:
-    """Design planar four-bar linkages from TOML problem files."""
+    """Design planar linkages from TOML problem files."""
 
 
 def _err(line: str) -> None:
@@ -66,14 +69,35 @@ def _err(line: str) -> None:
 def _progress(total: int):
     """A rich progress display on stderr (a spinner, the file being solved, the files
     done, the evaluations the solve has spent so far and the elapsed time) for batches and
-    long solves; None (nothing shown, nothing counted) when stderr is not a terminal."""
-    if not sys.stderr.isatty():
-        return None
-    from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
-    return Progress(SpinnerColumn(), TextColumn("{task.description}"), BarColumn(),
-                    MofNCompleteColumn(), TextColumn("{task.fields[work]}"), TimeElapsedColumn(),
-                    console=Console(file=sys.stderr), transient=True)
+    long solves; None (nothing shown, nothing counted) when stderr is not a terminal
+    (linkcli.progress.display)."""
+    from linkcli import progress
+    return progress.display()
+
+
+@contextlib.contextmanager
+def _watched(description: str):
+    """A progress display of the work linkcli.progress counts (the frames of an animation)
+    while the block runs, on a terminal only (as _progress): a bar of the frames drawn."""
+    prog = _progress(1)
+    if prog is None:
+        yield
+        return
+    from linkcli import progress
+
+    task = prog.add_task(description, total=None, work="")
+
+    def watch(what: str, done: int, total: int | None) -> None:
+        prog.update(task, completed=done, total=total, work=what)
+
+    progress.reset()
+    progress.watch = watch
+    prog.start()
+    try:
+        yield
+    finally:
+        progress.watch = None
+        prog.stop()
 
 
 def _solving(name: str) -> str:
@@ -85,13 +109,14 @@ def _solving(name: str) -> str:
 
 
 class _Evaluations:
-    """The evaluations a serial solve spends (search.budget.watch), shown in the progress
-    display at most every `every` seconds; `reset()` for the next file."""
+    """The evaluations a serial solve spends (search.budget.watch), and the work of its
+    analysis (linkcli.progress.watch: the tolerance study's sample-targets ...), shown in the
+    progress display at most every `every` seconds; `reset()` for the next file."""
 
     def __init__(self, prog, task, every: float = 0.1) -> None:
         import time
         self.prog, self.task, self.every, self.clock = prog, task, every, time.monotonic
-        self.count, self.shown = 0, 0.0
+        self.count, self.shown, self.what = 0, 0.0, ""
 
     def __call__(self, n: int) -> None:
         self.count += n
@@ -100,12 +125,33 @@ class _Evaluations:
             self.shown = now
             self.prog.update(self.task, work=f"{self.count:,} evaluations")
 
+    def work(self, what: str, done: int, total: int | None) -> None:
+        """Shown at most every `every` seconds, and at once when a new kind of work begins
+        (a phase shorter than a refresh is still seen)."""
+        now = self.clock()
+        new = what != self.what
+        if new or now - self.shown >= self.every:
+            self.shown, self.what = now, what
+            of = f" of {total:,}" if total else ""
+            self.prog.update(self.task, work=f"{done:,}{of} {what}", refresh=new)
+
     def reset(self) -> None:
-        self.count, self.shown = 0, 0.0
+        from linkcli import progress
+        progress.reset()
+        self.count, self.shown, self.what = 0, 0.0, ""
         self.prog.update(self.task, work="")
 
 
 _ctrl_c_seen = [False]  # set by _interruptible's handler; read by _stop_if_interrupted
+_term_seen = [False]  # the same for SIGTERM
+TERMINATED_EXIT = 143  # 128 + SIGTERM, as a shell reports a command the signal ended
+
+
+class Terminated(BaseException):
+    """SIGTERM to the command (`kill PID`, a job scheduler's time limit): raised by the
+    handler _interruptible installs, so that the executors clean up on the way out (--jobs
+    ends its workers, --cluster cancels its tasks) before "terminated" and exit 143. A
+    BaseException, as KeyboardInterrupt is: no `except Exception` of a solver swallows it."""
 
 
 def _on_ctrl_c(signum, frame) -> None:
@@ -116,20 +162,32 @@ def _on_ctrl_c(signum, frame) -> None:
     raise KeyboardInterrupt
 
 
+def _on_term(signum, frame) -> None:
+    """SIGTERM handler: remember it, then raise Terminated (as _on_ctrl_c does)."""
+    _term_seen[0] = True
+    raise Terminated
+
+
 def _quiet_lost_ctrl_c(previous):
-    """A sys.unraisablehook that takes a KeyboardInterrupt Python could not raise (it
-    landed in a garbage-collector callback) as the recorded Ctrl-C, instead of printing
-    "Exception ignored in ..." with a traceback; anything else goes to `previous`."""
+    """A sys.unraisablehook that takes a KeyboardInterrupt (or Terminated) Python could not
+    raise (it landed in a garbage-collector callback) as the recorded signal, instead of
+    printing "Exception ignored in ..." with a traceback; anything else goes to `previous`."""
     def hook(unraisable) -> None:
         if isinstance(unraisable.exc_value, KeyboardInterrupt):
             _ctrl_c_seen[0] = True
+            return
+        if isinstance(unraisable.exc_value, Terminated):
+            _term_seen[0] = True
             return
         previous(unraisable)
     return hook
 
 
 def _stop_if_interrupted() -> None:
-    """Raise KeyboardInterrupt if a Ctrl-C came whose exception was swallowed on the way."""
+    """Raise KeyboardInterrupt (or Terminated) if a Ctrl-C (or SIGTERM) came whose exception
+    was swallowed on the way."""
+    if _term_seen[0]:
+        raise Terminated
     if _ctrl_c_seen[0]:
         raise KeyboardInterrupt
 
@@ -137,17 +195,22 @@ def _stop_if_interrupted() -> None:
 @contextlib.contextmanager
 def _interruptible():
     """Ctrl-C in a command: "interrupted" on stderr and exit 130 (typer would exit 130
-    silently), also when the KeyboardInterrupt was swallowed where it landed (checked
-    after each file and at the end; not printed as an ignored exception either). The
-    executors clean up on the way out (--cluster cancels its tasks)."""
+    silently); SIGTERM: "terminated" and exit 143 (Python would die at once, leaving
+    --jobs workers computing); also when the exception was swallowed where it landed
+    (checked after each file and at the end; not printed as an ignored exception either).
+    The executors clean up on the way out (--jobs ends its workers, --cluster cancels its
+    tasks)."""
     import signal
     import threading
-    _ctrl_c_seen[0] = False
+    _ctrl_c_seen[0] = _term_seen[0] = False
+    main = threading.current_thread() is threading.main_thread()
     # only where Ctrl-C raises KeyboardInterrupt already: a process started with SIGINT
-    # ignored (`linkcli ... &` in a script, nohup) keeps ignoring it
-    own = (threading.current_thread() is threading.main_thread()
-           and signal.getsignal(signal.SIGINT) is signal.default_int_handler)
+    # ignored (`linkcli ... &` in a script, nohup) keeps ignoring it; SIGTERM likewise only
+    # where it has its default action
+    own = main and signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    own_term = main and signal.getsignal(signal.SIGTERM) == signal.SIG_DFL
     previous = signal.signal(signal.SIGINT, _on_ctrl_c) if own else None
+    previous_term = signal.signal(signal.SIGTERM, _on_term) if own_term else None
     unraisable = sys.unraisablehook
     sys.unraisablehook = _quiet_lost_ctrl_c(unraisable)
     try:
@@ -156,10 +219,15 @@ def _interruptible():
     except KeyboardInterrupt:
         _err("interrupted")
         raise typer.Exit(130) from None
+    except Terminated:
+        _err("terminated")
+        raise typer.Exit(TERMINATED_EXIT) from None
     finally:
         sys.unraisablehook = unraisable
         if own:
             signal.signal(signal.SIGINT, previous)
+        if own_term:
+            signal.signal(signal.SIGTERM, previous_term)
 
 
 def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], precision: int,
@@ -205,7 +273,9 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
         task = prog.add_task(_solving(names[0]), total=len(names), work="")
         counter = _Evaluations(prog, task)
         if execute is serial:  # solves in this process count here (a forked --jobs worker must not
-            budget.watch = counter  # touch the display: its lock may have been held at the fork)
+            from linkcli import progress  # touch the display: its lock may have been held at the fork)
+            budget.watch = counter
+            progress.watch = counter.work
     try:
         with contextlib.closing(execute(names, request)) as outcomes:  # Ctrl-C: closed at once
             for name, outcome in zip(names, outcomes):
@@ -246,8 +316,9 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
         return max(worst, _fail(exc, debug))
     finally:
         if prog is not None:
+            from linkcli import progress
             from linkcli.search import budget
-            budget.watch = None
+            budget.watch = progress.watch = None
             prog.stop()
     if out is not None:
         worst = max(worst, _write_out([r for r in reports if "type" in r], out, fmt, precision, table))
@@ -261,7 +332,9 @@ def _solve_command(files: list[str], request, fmt: Format, out: Optional[Path], 
         worst = max(worst, _plot(results, len(names), plot, debug, precision))
     if any(exports) and results:
         from linkcli import exports as export_files
-        worst = max(worst, export_files.write(results, len(names), *exports, debug))
+        with _watched("writing " + ("the animation" if exports[0] is not None else "the drawing")
+                      + ("s" if len(results) > 1 else "")):
+            worst = max(worst, export_files.write(results, len(names), *exports, debug))
     if len(names) > 1:
         _err(f"{len(names)} files: {counts[0]} solved, {counts[1]} infeasible or not converged, "
              f"{counts[2]} bad input")
@@ -383,6 +456,24 @@ def _plot(results, files: int, plot: Path, debug: bool, precision: int = 6) -> i
     return plotting.plot_command(results, files, plot, debug, precision)
 
 
+PATH_WANTED = {"out": "a folder name", "plot": "a .png or .svg file name (a folder with several files)",
+               "animate": "a .gif, .mp4 or .svg file name (a folder with several files)",
+               "dxf": "a .dxf file name (a folder with several files)"}
+
+
+def _paths(**given: Optional[str]) -> list[Optional[Path]]:
+    """The path options as Paths (None where not given); an empty one is one line and exit 2
+    (pathlib reads "" as ".", the current folder: `--out ""` wrote there, and the other
+    options' errors named "."). Plain strings on the command line for that reason, as FILE."""
+    out = []
+    for name, value in given.items():
+        if value == "":
+            _err(f"--{name}: expected {PATH_WANTED[name]}, found an empty argument")
+            raise typer.Exit(2)
+        out.append(None if value is None else Path(value))
+    return out
+
+
 # metavars are written for people: FILE..., N, DIR (not click's {files}... or <int range>)
 # FILE arguments are plain strings: click's Path would refuse an unreadable file for the
 # whole batch before anything runs, and pathlib would rewrite the names ("" -> ".",
@@ -413,13 +504,14 @@ CLUSTER = typer.Option(None, "--cluster", metavar="ADDRESS",
 
 
 @app.command(cls=PlainUsage)
-def synth(files: List[str] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
+def synth(files: List[str] = FILES, format: Format = FORMAT, out: Optional[str] = OUT,
           seed: Optional[int] = SEED, precision: int = PRECISION, jobs: int = JOBS,
-          plot: Optional[Path] = PLOT, debug: bool = DEBUG, timing: bool = TIMING,
+          plot: Optional[str] = PLOT, debug: bool = DEBUG, timing: bool = TIMING,
           table: Optional[str] = TABLE, cluster: Optional[str] = CLUSTER,
-          animate: Optional[Path] = ANIMATE, dxf: Optional[Path] = DXF) -> None:
+          animate: Optional[str] = ANIMATE, dxf: Optional[str] = DXF) -> None:
     """Solve each problem file and print its report."""
     from linkcli.pipeline import Request
+    out, plot, animate, dxf = _paths(out=out, plot=plot, animate=animate, dxf=dxf)
     request = Request(mode="synth", seed=seed, debug=debug, timing=timing,
                       plot=plot is not None or animate is not None or dxf is not None)
     with _interruptible():
@@ -428,12 +520,13 @@ def synth(files: List[str] = FILES, format: Format = FORMAT, out: Optional[Path]
 
 
 @app.command(cls=PlainUsage)
-def analyze(files: List[str] = FILES, format: Format = FORMAT, out: Optional[Path] = OUT,
-            precision: int = PRECISION, jobs: int = JOBS, plot: Optional[Path] = PLOT,
+def analyze(files: List[str] = FILES, format: Format = FORMAT, out: Optional[str] = OUT,
+            precision: int = PRECISION, jobs: int = JOBS, plot: Optional[str] = PLOT,
             debug: bool = DEBUG, table: Optional[str] = TABLE,
-            animate: Optional[Path] = ANIMATE, dxf: Optional[Path] = DXF) -> None:
+            animate: Optional[str] = ANIMATE, dxf: Optional[str] = DXF) -> None:
     """Analyse given linkages: `type = "linkage"` files or results of `synth --format toml`."""
     from linkcli.pipeline import Request
+    out, plot, animate, dxf = _paths(out=out, plot=plot, animate=animate, dxf=dxf)
     request = Request(mode="analyze", debug=debug,
                       plot=plot is not None or animate is not None or dxf is not None)
     with _interruptible():
@@ -462,7 +555,8 @@ def bench(files: List[str] = typer.Argument(None, metavar="[FILE...]",
                                                   "a copy of problems/bench/)."),
           format: Format = typer.Option(Format.table, "--format", "-f", metavar="table|json|toml|csv",
                                         help="Output format (csv: one row per run)."),
-          seeds: int = typer.Option(3, "--seeds", metavar="N", help="Seeds per setting.", min=1),
+          seeds: int = typer.Option(3, "--seeds", metavar="N", min=1, max=MAX_SEEDS,
+                                    help=f"Seeds per setting (1 .. {MAX_SEEDS}: the seeds 0 .. N-1)."),
           precision: int = typer.Option(4, "--precision", metavar="N",
                                         help="Significant digits in the output (1 .. 17).", min=1, max=17),
           summary: bool = typer.Option(False, "--summary",
@@ -480,25 +574,38 @@ def bench(files: List[str] = typer.Argument(None, metavar="[FILE...]",
 
 
 @app.command(cls=PlainUsage)
-def new(type_name: str = typer.Argument(..., metavar="TYPE", help="The problem type, e.g. linkage."),
-        file: Optional[Path] = typer.Argument(None, metavar="[FILE]",
+def new(type_name: str = typer.Argument(..., metavar="TYPE",
+                                        help="The problem type (e.g. linkage, path-generation), or a mechanism "
+                                             "with a template of its own (five-bar, drawn)."),
+        file: Optional[str] = typer.Argument(None, metavar="[FILE]",
                                               help="Write the template here (never over an existing file); "
                                                    "without FILE, print it.")) -> None:
     """Write a commented template problem file of TYPE (to FILE, or to stdout)."""
-    from linkcli.templates import template_names, template_text
+    from linkcli.io.terminal_text import shown
+    from linkcli.templates import nearest_name, template_names, template_text
     names = template_names()
     if type_name not in names:
-        _err(f"{type_name}: expected a problem type, one of: {', '.join(names)}")
+        hint = nearest_name(type_name)
+        extra = f' (did you mean "{hint}"?)' if hint else ""
+        _err(f"TYPE: expected a problem type or a mechanism with a template{extra}, one of: {', '.join(names)}; "
+             f'found "{shown(type_name, 60)}"')
         raise typer.Exit(2)
     text = template_text(type_name)
     if file is None:
         sys.stdout.write(text)
         raise typer.Exit(0)
+    if file == "":
+        _err('"": expected a new file name, found an empty argument')
+        raise typer.Exit(2)
     try:
         with open(file, "x", encoding="utf-8") as handle:  # "x": refuses an existing file
             handle.write(text)
     except FileExistsError:
-        _err(f"{file}: expected a new file name, found an existing file (not overwritten)")
+        what = "an existing folder" if Path(file).is_dir() else "an existing file (not overwritten)"
+        _err(f"{file}: expected a new file name, found {what}")
+        raise typer.Exit(2)
+    except IsADirectoryError:
+        _err(f"{file}: expected a new file name, found an existing folder")
         raise typer.Exit(2)
     except OSError as exc:
         _err(f"{file}: expected a writable new file, found {exc.strerror or exc}")
@@ -529,8 +636,11 @@ def atlas_build(out: Optional[Path] = typer.Option(None, "--out", metavar="PATH"
 def main() -> None:
     """Console-script entry point. Standard output is guarded (io.output_guard): a reader
     that closes the pipe ends the command quietly with exit 141, an output that refuses the
-    text (a full device, a closed stdout) is one line and exit 2."""
-    from linkcli.io.output_guard import Guarded, OutputLost, exit_code
+    text (a full device, a closed stdout) is one line and exit 2. A closed stderr (`2>&-`)
+    becomes /dev/null first, so that nothing which writes there (the progress display,
+    rich, a warning) can change the result."""
+    from linkcli.io.output_guard import Guarded, OutputLost, exit_code, sink_for_closed_stderr
+    sink_for_closed_stderr()
     sys.stdout = Guarded(sys.stdout)
     try:
         try:
@@ -541,6 +651,9 @@ def main() -> None:
     except KeyboardInterrupt:
         _err("interrupted")
         code = 130
+    except Terminated:
+        _err("terminated")
+        code = TERMINATED_EXIT
     except OutputLost as lost:
         code = exit_code(lost, _err)
     sys.exit(code)

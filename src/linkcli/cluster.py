@@ -152,7 +152,7 @@ def _connect(address: str, timeout: float, items: int = 1) -> tuple[Any, Any]:
         except BaseException:
             cluster.close()
             raise
-    reason = probe_scheduler(address, timeout)
+    reason = address_problem(address, timeout) or probe_scheduler(address, timeout)
     if reason is None:
         try:
             return None, Client(address, set_as_default=False, timeout=timeout)
@@ -207,6 +207,53 @@ def local_workers(address: str, items: int = 1) -> int:
         raise InputError("local:N with N a whole number of worker processes >= 1",
                          shown(repr(address), 60), path=OPTION)
     return max(1, min(int(text), items, os.cpu_count() or 1))
+
+
+NETWORK_SCHEMES = ("tcp", "tls", "ws", "wss")  # addresses of a host and a port
+
+
+def address_problem(address: str, timeout: float) -> str | None:
+    """What is wrong with a host:port address before anything connects, in words, or None: a
+    port outside 1..65535 (`tcp://127.0.0.1:99999`), a host name that does not resolve
+    (looked up within `timeout` seconds). Dask would try to connect to either until its
+    timeout, and the probe would then blame "a listener that did not answer". Other schemes
+    (inproc://, ucx://) are left to Dask."""
+    import socket
+    import threading
+    scheme, sep, rest = address.partition("://")
+    if not sep:
+        scheme, rest = "tcp", address
+    if scheme not in NETWORK_SCHEMES:
+        return None
+    rest = rest.split("/", 1)[0]
+    if rest.startswith("["):  # [IPv6]:port
+        host, _, port = rest[1:].partition("]")
+        port = port[1:] if port.startswith(":") else ""
+    else:
+        host, _, port = rest.rpartition(":")
+        if not host:
+            host, port = rest, ""
+    if not port:
+        return f"no port in {address!r} (an address is tcp://HOST:PORT)"
+    if not (port.isascii() and port.isdigit() and 1 <= int(port) <= 65535):
+        return f"port {port[:20]}, not a port number (1 to 65535)"
+    found: list = []
+
+    def look_up() -> None:
+        try:
+            socket.getaddrinfo(host, int(port), type=socket.SOCK_STREAM)
+            found.append(None)
+        except (OSError, UnicodeError) as exc:
+            found.append(getattr(exc, "strerror", None) or str(exc))
+
+    worker = threading.Thread(target=look_up, daemon=True)  # a resolver that hangs: bounded here
+    worker.start()
+    worker.join(timeout)
+    if not found:
+        return f"host {host!r}, whose name could not be looked up within {timeout:g} s"
+    if found[0] is not None:
+        return f"host {host!r}, a name that does not resolve ({found[0]})"
+    return None
 
 
 def probe_scheduler(address: str, timeout: float) -> str | None:

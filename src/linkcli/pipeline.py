@@ -6,7 +6,7 @@
 report)` when the file was solved, and the error lines when it was not. Everything in
 it pickles (errors too), so an executor may run `run` in another process or on a Dask
 cluster: an executor is a function `(files, request) -> Outcome per file, in argument
-order`; three exist, `serial`, `processes(jobs)` (`--jobs`) and `on_cluster(address)`
+order`; three exist, `serial`, `processes(jobs)` (`--jobs`, linkcli.workers) and `on_cluster(address)`
 (`--cluster`). numpy, scipy and the type modules are imported only inside `run`, dask
 only inside `on_cluster`'s executor. The records are
 NamedTuples (immutable, picklable, and about 7 times cheaper to define at start-up than
@@ -23,7 +23,6 @@ from typing import Any, Iterator, NamedTuple
 from linkcli.errors import InputError, LinkcliError, located
 
 MODES = ("synth", "analyze", "check")
-CHUNKS_PER_JOB = 4  # --jobs: files are sent in about this many chunks per process
 BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS",
                 "VECLIB_MAXIMUM_THREADS")
 
@@ -165,25 +164,29 @@ def serial(files: list[str], request: Request) -> Iterator[Outcome]:
 
 
 def processes(jobs: int):
-    """An executor that runs files in `jobs` processes; outcomes keep argument order.
-
-    The files go in chunks (about CHUNKS_PER_JOB per process, so that a small file's cost
-    is not dwarfed by one round trip per file, while the last chunks still balance the
-    processes), and each outcome comes back with what is printed only (`printed`). On
-    systems that fork, this process imports what `run` needs first (numpy included, with
-    the BLAS threads `single_threaded_blas` set): the forked workers share it instead of
-    each importing it again."""
+    """An executor that runs files in `jobs` worker processes (linkcli.workers); outcomes
+    keep argument order, and each comes back with what is printed only (`printed`). A
+    worker that dies mid-file (the out-of-memory killer) costs that file alone: one error
+    line in its slot, the other files' results kept. On systems that fork, this process
+    imports what `run` needs first (numpy included, with the BLAS threads
+    `single_threaded_blas` set): the forked workers share it instead of each importing it
+    again."""
     def execute(files: list[str], request: Request) -> Iterator[Outcome]:
         import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor
-        context = None
+
+        from linkcli.workers import solve_in_processes
         if "fork" in multiprocessing.get_all_start_methods():
             import linkcli.reading.load  # noqa: F401  (numpy and the reader, shared by the forks)
             context = multiprocessing.get_context("fork")
-        chunk = max(1, len(files) // (jobs * CHUNKS_PER_JOB))
-        with ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
-            yield from pool.map(run_printed, files, [request] * len(files), chunksize=chunk)
+        else:
+            context = multiprocessing.get_context()
+        yield from solve_in_processes(files, request, jobs, run_printed, context, _lost)
     return execute
+
+
+def _lost(path: str, line: str) -> Outcome:
+    """The outcome of a file whose --jobs worker died: exit code 1 and its one line."""
+    return Outcome(path, 1, errors=(line,))
 
 
 def run_printed(path: str, request: Request) -> Outcome:

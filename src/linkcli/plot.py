@@ -10,6 +10,7 @@ fixed metadata and a fixed SVG hash salt give identical bytes from run to run.
 
 from __future__ import annotations
 
+import contextlib
 import io
 from pathlib import Path
 
@@ -40,13 +41,19 @@ def plot_command(results: list, files: int, plot_path, debug: bool, digits: int 
                       "plotting")
 
 
+WRITTEN = {"plotting": "plot", "animating": "animation", "drawing": "DXF drawing"}
+
+
 def write_each(results: list, targets: list[Path], write_one, debug: bool, doing: str) -> int:
-    """`write_one(result, target)` for each Result; the worst exit code: 2 for a PlotError
-    (bad input: its line), a LinkcliError's own, 1 for a bug (one line; --debug raises)."""
+    """`write_one(result, target)` for each Result, and a line on stderr saying where each
+    went (`FILE: plot written to PATH`: the report on stdout does not say it); the worst
+    exit code: 2 for a PlotError (bad input: its line), a LinkcliError's own, 1 for a bug
+    (one line; --debug raises)."""
     worst = 0
     for result, target in zip(results, targets):
         try:
             write_one(result, target)
+            _err(f"{result.report.get('file') or 'linkcli'}: {WRITTEN.get(doing, 'file')} written to {target}")
         except PlotError as exc:
             _err(str(exc))
             worst = max(worst, exc.exit_code)
@@ -167,13 +174,37 @@ def write(result, target: Path, digits: int = 6) -> None:
 
 
 def write_bytes(target: Path, data: bytes) -> None:
-    """Write a picture (its folder created); a path that cannot be written is bad input."""
+    """Write a picture, an animation or a drawing (its folder created); a path that cannot
+    be written is bad input. The bytes go to a temporary file beside the target, renamed
+    over it once complete: a write that fails (a full disk, a quota) leaves no partial file
+    behind, and an existing file is replaced whole or not at all."""
+    import os
+    import tempfile
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
-        target.write_bytes(data)
+        handle, temporary = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part", dir=target.parent)
     except OSError as exc:
         raise PlotError(f"{target}: expected a file name that can be written, "
                         f"found {exc.strerror or type(exc).__name__}") from None
+    try:
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(data)
+        os.chmod(temporary, 0o666 & ~_umask())
+        os.replace(temporary, target)
+    except OSError as exc:
+        with contextlib.suppress(OSError):
+            os.unlink(temporary)
+        raise PlotError(f"{target}: expected a file name that can be written, "
+                        f"found {exc.strerror or type(exc).__name__}") from None
+
+
+def _umask() -> int:
+    """The process's umask (read by setting it and setting it back): a file made through
+    mkstemp (mode 0600) gets the mode a plain open would have given it."""
+    import os
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
 
 
 def plot_path_problem(plot: Path, names: list[str], **rules) -> str | None:

@@ -296,10 +296,30 @@ def _linkage_rows(lk: dict, lu: str, au: str) -> list[tuple[str, object]]:
     length unit, `*_angle` keys in the angle unit."""
     rows = []
     for key, value in lk.items():
+        if isinstance(value, dict):  # a designed drawing (a drawn linkage's): one row per entry
+            rows += _drawing_rows(key, value, lu, au)
+            continue
         label = key.replace("_", " ")
         if not isinstance(value, str):
             label += f" ({au})" if key.endswith("_angle") else f" ({lu})"
         rows.append((label, value))
+    return rows
+
+
+def _drawing_rows(key: str, entries: dict, lu: str, au: str) -> list[tuple[str, object]]:
+    """A designed drawing's joints (`joint J (unit)`: its place, and ground, slider angle and
+    guide where they apply), links (`link L`: its joints) and drive (`drive L`: its speed)."""
+    rows = []
+    for name, entry in entries.items():
+        if key == "joints":
+            what = ", ground" if entry.get("ground") else ""
+            what += f", slider at {entry['slider']:.6g} {au}" if "slider" in entry else ""
+            what += f" on {entry['guide']}" if "guide" in entry else ""
+            rows.append((f"joint {name}{what} ({lu})", list(entry["at"])))
+        elif key == "links":
+            rows.append((f"link {name}", ", ".join(entry)))
+        else:
+            rows.append((f"{key} {name} ({au}/s)", entry.get("speed")))
     return rows
 
 
@@ -337,7 +357,8 @@ def _position_heads(r: dict, lu: str, au: str) -> dict[str, str]:
     with a position error (length) and an angle error."""
     from linkcli.mechanisms import DEFAULT, schema_of
     mechanism = r.get("linkage", {}).get("mechanism", DEFAULT)
-    length_output = schema_of(mechanism).output == "length"  # a slider's position
+    length_output = schema_of(mechanism).output == "length" and r["type"] != "function-generation"
+    # a slider's position (a function's output is an angle, whatever the mechanism)
     unit = lu if r["type"] == "path-generation" or length_output else au
     heads = {"input": f"input ({au})", "position_error": f"position error ({lu})",
              "angle_error": f"angle error ({au})"}

@@ -336,5 +336,6 @@ def test_a_result_with_nothing_to_move_is_bad_input_naming_the_file(mpl, tmp_pat
     assert err == [f"{folder / 'apart.gif'}: expected a result with a linkage to animate, found problems/apart.toml: "
                    "the linkage cannot assemble at any input angle",
                    f"{folder / 'lost.gif'}: expected a result with a linkage to animate, found problems/lost.toml: "
-                   "no linkage in the result (the solver did not converge)"]
+                   "no linkage in the result (the solver did not converge)",
+                   f"problems/slider_crank.toml: animation written to {folder / 'slider_crank.gif'}"]
     assert sorted(p.name for p in folder.iterdir()) == ["slider_crank.gif"]

@@ -43,7 +43,8 @@ def test_new_prints_the_template_and_writes_it_once(name, tmp_path):
 def test_new_unknown_type_lists_the_types():
     code, out, err = run_cli("new", "four-bar")
     assert code == 2 and out == ""
-    assert err == f"four-bar: expected a problem type, one of: {', '.join(template_names())}\n"
+    assert err == ('TYPE: expected a problem type or a mechanism with a template (did you mean "linkage"?), '
+                   f'one of: {", ".join(template_names())}; found "four-bar"\n')
 
 
 def test_templates_are_package_data_in_pyproject():

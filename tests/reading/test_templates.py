@@ -23,11 +23,51 @@ COMMENTED_HEADER = re.compile(r"^# (\[[A-Za-z_][A-Za-z0-9_]*\])")
 HEADER = re.compile(r"^\[[A-Za-z_][A-Za-z0-9_]*\]")
 
 
+MECHANISM_TEMPLATES = ("five-bar", "drawn")  # `new five-bar`, `new drawn`: type = "linkage" of that mechanism
+
+
 def test_every_existing_type_has_a_template_and_every_template_a_type():
+    from linkcli.mechanisms import NAMES as MECHANISMS
     names = template_names()
-    assert set(EXISTING) <= set(names)
-    assert set(names) <= set(TYPES)
+    assert set(EXISTING) <= set(names) and set(MECHANISM_TEMPLATES) <= set(names)
+    assert set(names) <= set(TYPES) | set(MECHANISMS)
     assert list(names) == sorted(names)
+
+
+@pytest.mark.parametrize("name", MECHANISM_TEMPLATES)
+def test_a_mechanism_template_is_a_linkage_of_it_that_check_synth_and_analyze_accept(name, tmp_path):
+    """`linkcli new five-bar` and `linkcli new drawn` (issue 47: `new` had only the commented
+    drawn block of the linkage template, and no five-bar): real problem files."""
+    text = template_text(name)
+    data = tomllib.loads(text)
+    assert data["type"] == "linkage" and data["linkage"]["mechanism"] == name
+    path = tmp_path / f"{name}.toml"
+    path.write_text(text, encoding="utf-8")
+    assert run_cli("check", str(path)) == (0, f"{path}: ok\n", "")
+    for command in ("synth", "analyze"):
+        code, out, err = run_cli(command, str(path), "--format", "json")
+        assert code == 0, err
+        report = json.loads(out)
+        assert report["status"] == "ok" and report["linkage"]["mechanism"] == name
+    if name == "drawn":
+        assert report["grashof"]["class"] == "six-bar (Watt)"
+    else:
+        assert len(report["kinematics"]) == len(data["motion"]["path"])
+
+
+@pytest.mark.parametrize("name", MECHANISM_TEMPLATES)
+def test_every_commented_out_key_of_a_mechanism_template_is_accepted(name, tmp_path):
+    variants = list(uncommented_variants(template_text(name)))
+    assert len(variants) >= 3
+    for key, text in variants:
+        tomllib.loads(text)
+        path = tmp_path / f"{name}.toml"
+        path.write_text(text, encoding="utf-8")
+        try:
+            load(str(path))
+        except InputErrors as exc:
+            unknown = [str(e) for e in exc.errors if "unknown key" in str(e)]
+            assert not unknown, (key, unknown)
 
 
 def test_an_unknown_type_names_the_known_ones():

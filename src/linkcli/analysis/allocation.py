@@ -19,7 +19,17 @@ models (analysis.cost_models) subject to the failure probability staying at or b
    constraint is smooth in t. At the optimum -c_i'(t_i) = mu dp/dt_i, so the weights become
    w_i = (dp_s/dt_i) / t_i, from per-sample forward differences on the common draws; mu is
    set so that p_s meets the target (Illinois regula falsi) and the round repeats until the
-   tolerances settle (relative SETTLE) or MAX_ROUNDS.
+   tolerances settle (relative SETTLE) or MAX_ROUNDS. Where a round does not at least halve
+   the change of the round before (CONTRACTION: the weights overshoot, as when several links
+   act on the error together, a ternary link's three distances), the next weights are
+   Anderson's mixing of the last ANDERSON_DEPTH rounds, in logarithms (Anderson 1965;
+   Walker & Ni 2011, "Anderson acceleration for fixed-point iterations", SIAM J. Numer.
+   Anal. 49), each weight moving by at most a factor e^MAX_LOG_STEP a round (few samples
+   near the limit make the gradient rough: a full step threw every link to a bound). The
+   drawn Watt six-bar's ten distances oscillated, the change growing, through all twelve
+   rounds (its allocation costing 18.02 against 18.25 uniform at 20,000 samples) and now
+   settle (16.97 against 18.98 at 4,000 samples; 17.62 against 19.70 at 2,000). The fire
+   door's rounds contract six-fold each: no mixing, the same rounds as before.
 3. Along the last weights, mu is bisected on the exact count of failures of the common
    draws to the largest tolerances with at most k_target failures (relative
    BISECTION_RTOL on every t_i).
@@ -33,6 +43,13 @@ models (analysis.cost_models) subject to the failure probability staying at or b
 The uniform allocation, the same tolerance on every link (within its bounds) at the same
 target on the same draws, is reported beside it, with its cost: the saving is what the
 cost models buy. Vectorized over samples; numpy only.
+
+Work: a few hundred passes over the common draws (about ten per round and dimension), each
+assembling every sample at every target; on a terminal the progress display counts the
+sample-targets (linkcli.progress). An allocation of more than MAX_WORK samples x targets x
+toleranced dimensions is refused (exit 2, naming the limit and the largest samples the file
+could ask): the fire door's four links at 3 targets take 1,000,000 samples, a drawn Watt
+six-bar's ten distances at 36 targets 46,000.
 """
 
 from __future__ import annotations
@@ -49,12 +66,17 @@ from linkcli.analysis.tolerance import VERIFY_STREAM, Draws, chunks, plan_of, ru
 
 SMOOTH = 0.05  # bandwidth of the smoothed failure indicator, a share of allowed_error
 FD_STEP = 1e-4  # relative step of the per-sample forward differences
-MAX_ROUNDS = 12
+MAX_ROUNDS = 16
 SETTLE = 1e-6
 BISECTION_RTOL = 1e-6
 SMOOTH_RTOL = 1e-9  # the smoothed level, relative to the target
 Z_MARGIN = 1.645
 VERIFY_ROUNDS = 3
+ANDERSON_DEPTH = 4  # rounds mixed once a round does not contract
+CONTRACTION = 0.5  # a round whose change is not at most this share of the one before: mixing starts
+MAX_LOG_STEP = 2.0  # a mixed round changes each weight by at most this factor's logarithm (e^2)
+WEIGHT_FLOOR = 1e-6  # mixing: a weight of 0 (no sample sensitive) becomes this share of the largest
+MAX_WORK = 2**24  # samples x targets x toleranced dimensions an allocation may take
 NORMAL = NormalDist()
 
 
@@ -145,12 +167,25 @@ def linearized(prob: Allocation, level: float) -> np.ndarray:
 def corrected(prob: Allocation, t: np.ndarray, target: float) -> tuple[np.ndarray, np.ndarray, float, int]:
     """Step 2: (t, w, log mu, rounds) after the Monte Carlo corrections (module docstring)."""
     w, log_mu, rounds = np.ones(len(t)), None, 0
+    given: list[np.ndarray] = []  # log w each round used, and the log w its tolerances gave
+    found: list[np.ndarray] = []
+    previous, mixing = math.inf, False
     for rounds in range(1, MAX_ROUNDS + 1):
         _, grad = prob.gradient(t)
-        w = np.maximum(grad, 0.0) / t
-        if not np.any(w > 0):  # no link's tolerance matters: every one at its upper bound
+        new_w = np.maximum(grad, 0.0) / t
+        if not np.any(new_w > 0):  # no link's tolerance matters: every one at its upper bound
             w = np.ones(len(t))
             return prob.costs.hi.copy(), w, prob.mu_range(w)[0], rounds
+        if mixing:  # a link no sample is sensitive to (a round at the bounds): a small weight, not 0
+            new_w = np.maximum(new_w, WEIGHT_FLOOR * float(np.max(new_w)))
+        if rounds > 1:
+            given.append(np.log(w))
+            with np.errstate(divide="ignore"):
+                found.append(np.log(new_w))
+        if mixing:
+            mixed = anderson(given[-(ANDERSON_DEPTH + 1):], found[-(ANDERSON_DEPTH + 1):], new_w)
+            new_w = w * np.exp(np.clip(np.log(mixed / w), -MAX_LOG_STEP, MAX_LOG_STEP))
+        w = new_w
         guess = log_mu if log_mu is not None else _log_mu_of(prob, t, w)
         log_mu = smooth_level(prob, w, target, guess)
         new = prob.path(log_mu, w)
@@ -158,7 +193,29 @@ def corrected(prob: Allocation, t: np.ndarray, target: float) -> tuple[np.ndarra
         t = new
         if change <= SETTLE:
             break
+        mixing = mixing or change > CONTRACTION * previous
+        previous = change
     return t, w, log_mu, rounds
+
+
+def anderson(given: list[np.ndarray], found: list[np.ndarray], plain: np.ndarray) -> np.ndarray:
+    """The weights of Anderson's mixing (module docstring, step 2) of the rounds' log weights
+    `given` and the log weights each gave (`found`), the last round last: x = g_k - dG gamma,
+    gamma the least-squares solution of dR gamma = r_k (r = g - x, dR and dG the differences
+    of successive rounds), solved without BLAS (search.linalg: the same bits on every
+    machine). `plain` (the last round's own weights) where a weight is 0 (a log of -inf) or
+    the differences are singular."""
+    from linkcli.search.linalg import gram, matvec, solve
+    if len(given) < 2 or not all(np.all(np.isfinite(x)) for x in given + found):
+        return plain
+    r = [g - x for x, g in zip(given, found)]
+    d_r = np.stack([b - a for a, b in zip(r, r[1:])], axis=1)  # (links, depth)
+    d_g = np.stack([b - a for a, b in zip(found, found[1:])], axis=1)
+    normal = gram(d_r)
+    normal = normal + 1e-12 * np.trace(normal) * np.eye(len(normal))  # a repeated round: still solvable
+    gamma = solve(normal, matvec(d_r.T, r[-1]))
+    mixed = found[-1] - matvec(d_g, gamma)
+    return np.exp(mixed) if np.all(np.isfinite(mixed)) else plain
 
 
 def _log_mu_of(prob: Allocation, t: np.ndarray, w: np.ndarray) -> float:
@@ -323,6 +380,7 @@ def allocation_section(problem, model, parts: Parts, level: float) -> dict:
     (`total_cost`, as a scheme's); the fresh check (module docstring)."""
     from linkcli.analysis.schemes import scheme_cost
     tol = problem.meta.tolerance
+    refuse_oversized(problem, model)
     prob = Allocation(model, parts, tol.cost, int(problem.meta.solver.seed), tol.samples, tol.distribution,
                    float(tol.allowed_error))
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
@@ -358,6 +416,39 @@ def allocation_section(problem, model, parts: Parts, level: float) -> dict:
                           "the fresh check's Wilson upper bound exceeds the limit: more samples would "
                           "separate the allocation from the limit")
     return out
+
+
+def shortfall(tolerance: dict) -> str | None:
+    """The report's message when the least-cost allocation does not meet its limit (the
+    report's status is then `infeasible`, exit 1, as for a broken constraint): the limit and
+    what the fresh check reached; None when it meets it or there is no allocation."""
+    alloc = tolerance.get("allocation")
+    if not alloc or alloc.get("meets", True):
+        return None
+    level = alloc["max_failure_probability"]
+    reached = alloc["failure_probability"]
+    upper = alloc["failure_probability_ci95"][1]
+    why = alloc.get("message", "")
+    return (f"tolerance allocation: max_failure_probability {level:g} not met: the fresh check's "
+            f"failure probability is {reached:.6g} (Wilson 95 % upper bound {upper:.6g})"
+            + (f"; {why}" if why else ""))
+
+
+def refuse_oversized(problem, model) -> None:
+    """SolveInputError (exit 2) for an allocation of more than MAX_WORK samples x targets x
+    toleranced dimensions (module docstring, Work), naming the samples the file could ask."""
+    from linkcli.errors import SolveInputError
+    tol = problem.meta.tolerance
+    targets, dimensions = max(len(model.inputs), 1), max(len(model.inverse), 1)
+    work = tol.samples * targets * dimensions
+    if work <= MAX_WORK:
+        return
+    raise SolveInputError(
+        f"samples x targets x toleranced dimensions of at most {MAX_WORK:,} for a least-cost allocation "
+        f"([tolerance.cost] assembles every sample at every target a few hundred times): at most "
+        f"{MAX_WORK // (targets * dimensions):,} samples here",
+        f"{tol.samples:,} samples x {targets} targets x {dimensions} dimensions = {work:,}",
+        path=problem.meta.path, line=tol.lines.get("samples"), key="tolerance.samples")
 
 
 def role(t: float, t_uniform: float, lo: float, hi: float) -> str:

@@ -61,7 +61,7 @@ def section(mech, study, speed: float, steps: int, case, units, notes: list,
     if cycle["singular_rows"]:
         out["dead_points"] = cycle["singular_rows"]
     out["rows"] = forces_rows(rows, inputs, others)
-    _notes(rows, inputs, study.unit(units), mech.DEAD_POINT, notes)
+    _notes(rows, inputs, study.unit(units), mech.DEAD_POINT, notes, mech.TOGGLE)
     return out
 
 
@@ -71,13 +71,13 @@ def _listed(values, unit: str) -> str:
     return f"{shown}{more} {unit}"
 
 
-def _notes(rows: LoadRows, inputs, unit: str, dead_point: str, notes: list) -> None:
+def _notes(rows: LoadRows, inputs, unit: str, dead_point: str, notes: list,
+           toggle_means: str = "input and coupler in line, the output stands still") -> None:
     dead = inputs[rows.singular]
     advantage = rows.mechanical_advantage
     toggle = inputs[~rows.singular & ~np.isfinite(advantage)] if advantage is not None else inputs[:0]
-    if toggle.size:
-        notes.append("mechanical advantage infinite (toggle: input and coupler in line, the output "
-                     f"stands still) at input {_listed(toggle, unit)}")
+    if toggle.size:  # what a toggle is: the mechanism's (a drawn linkage has no "coupler")
+        notes.append(f"mechanical advantage infinite (toggle: {toggle_means}) at input {_listed(toggle, unit)}")
     if dead.size:
         notes.append(f"dead point ({dead_point}): the input cannot drive the linkage, forces unbounded "
                      f"(null, left out of the load cycle) at input {_listed(dead, unit)}")

@@ -124,13 +124,15 @@ def fit_zones(names: tuple[str, ...], fits: dict, problem, what: str, where) -> 
 def parts(model, problem, *, lengths: dict | None = None, general: dict | None = None,
           fits: dict | None = None, where=None) -> Parts:
     """The made parts of the file's [tolerance] (or of a scheme: its lengths, general classes
-    and fits, which use fits for every pin and the guide's fit when it has one)."""
+    and fits; a scheme that names fits uses fits for every pin, the ones it does not name
+    from [joints], and the guide's fit when it has one; a scheme of lengths alone keeps the
+    [tolerance] clearance, a number or "fits")."""
     tol = problem.meta.tolerance
     lengths = tol.lengths if lengths is None else lengths
     general = tol.general if general is None else general
     where = where or ("tolerance.lengths", tol.lines.get("lengths"))
     scale = scales(model, problem, lengths, general, where)
-    scheme = fits is not None
+    scheme = bool(fits)  # a scheme of lengths alone compares lengths at the file's clearance
     fits = fits or {}
     clearance: float | FitZones = float(tol.clearance)
     play: float | FitZones = float(model.play_size(tol))

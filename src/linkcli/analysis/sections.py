@@ -64,7 +64,13 @@ def _build(problem, solution: Solution) -> dict:
             rep[name] = section
     if "tolerance" in want and meta.tolerance is not None and mech is not None:
         from linkcli.analysis import tolerance
+        from linkcli.analysis.allocation import shortfall as allocation_shortfall
         rep["tolerance"] = tolerance.analyse(problem, solution)
+        short = allocation_shortfall(rep["tolerance"])  # tolerances that miss their limit: a status
+        if short and rep["status"] == "ok":
+            rep["status"], rep["message"] = "infeasible", short
+        elif short:
+            notes.append(short)
     if "solver" in want and solution.solver is not None:
         rep["solver"] = solution.solver.report()
         if meta.reference is not None and solution.objective is not None:

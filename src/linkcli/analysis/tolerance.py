@@ -35,12 +35,14 @@ from typing import NamedTuple, Protocol
 
 import numpy as np
 
+from linkcli import progress
 from linkcli.analysis.made_parts import FitZones, Parts
 from linkcli.model import InverseTolerance, Tolerance
 from linkcli.noise import first_max, snap
 
 CHUNK_ELEMENTS = 2**17  # samples x targets assembled at once
 KEEP_ELEMENTS = 2**24  # unit draws kept in memory for common random numbers (128 MB)
+WORK = "tolerance sample-targets"  # what the progress display counts (linkcli.progress)
 VERIFY_STREAM = (1,)  # the fresh Monte Carlo that checks a chosen design: default_rng([seed, k, 1])
 Z95 = 1.959963984540054  # two-sided 95 % normal quantile
 TWO_PI = 2.0 * math.pi
@@ -247,6 +249,7 @@ def clearance_terms(model: Model, ch: Chunk, parts: Parts):
 def chunk_errors(model: Model, ch: Chunk, parts: Parts, terms=None):
     """(err, ok) of one chunk's made parts: deviations u * scale, and the clearance terms
     (given, or computed here)."""
+    progress.count(WORK, ch.u.shape[0] * max(len(model.inputs), 1))
     dl = ch.u * parts.scale[None, :]
     terms, jammed = terms if terms is not None else clearance_terms(model, ch, parts)
     use = getattr(model, "errors_from_terms", None)
@@ -300,6 +303,7 @@ def run_rows(model: Model, draws, parts: Parts) -> RowDraws:
     per-row model's `row_errors`): samples x rows floats, which the model's schema bounds."""
     pieces: list = []
     for _, ch in draws:
+        progress.count(WORK, ch.u.shape[0] * max(len(model.inputs), 1))
         (pins, plays), jammed = clearance_terms(model, ch, parts)
         dev, ok, events = model.row_errors(ch.u * parts.scale[None, :], pins, plays)
         if jammed is not None:
@@ -508,11 +512,14 @@ def fit_rows(problem, parts: Parts) -> list[dict]:
     from linkcli.standards import iso286
     joints = {j.name: j for j in problem.meta.joints}
     mm = problem.meta.units.mm_per_length
-    rows = []
+    rows, seen = [], set()
     for zones in (parts.clearance, parts.play):
         if not isinstance(zones, FitZones):
             continue
         for name, text in zip(zones.names, zones.fits):
+            if name in seen:  # a drawn pin of three bodies: two bearings, one fit
+                continue
+            seen.add(name)
             fit = iso286.limits(text, joints[name].diameter * mm)
             least, largest = fit.clearance
             rows.append({"joint": name, "fit": text, "diameter": joints[name].diameter,

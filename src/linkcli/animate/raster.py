@@ -18,6 +18,7 @@ import numpy as np
 from linkcli.animate.figure import Movie
 
 FRAME_MS = 50  # milliseconds a frame: 20 frames a second
+FRAMES = "frames drawn"  # what the progress display counts
 PALETTE_FRAMES = 3
 MP4_OPTIONS = ["-crf", "20", "-preset", "medium", "-threads", "1", "-fflags", "+bitexact",
                "-flags:v", "+bitexact", "-map_metadata", "-1"]
@@ -29,7 +30,9 @@ def rgb_frames(mv: Movie):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     from linkcli.plots.common import STYLE
+    from linkcli import progress
     canvas = FigureCanvasAgg(mv.figure)
+    progress.start(FRAMES)
     with matplotlib.rc_context(STYLE):
         canvas.draw()  # the still parts (animated artists are left out)
         still = canvas.copy_from_bbox(mv.figure.bbox)
@@ -39,6 +42,7 @@ def rgb_frames(mv: Movie):
             for part in mv.parts:
                 mv.axes.draw_artist(part.artist)
             yield np.asarray(canvas.buffer_rgba())[..., :3].copy()
+            progress.count(FRAMES, 1, mv.frames)  # a terminal's progress display (linkcli.progress)
 
 
 def common_colours(rgb: np.ndarray, most: int = 256) -> np.ndarray:

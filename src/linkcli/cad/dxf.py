@@ -8,7 +8,7 @@ the middle of a rocking arc; the flipper at its start), each kind on its own lay
 | layer | what | entities |
 |---|---|---|
 | GROUND | ground pivots | CIRCLE |
-| PINS | moving pins | CIRCLE |
+| PINS | moving pins (a pin whose path is traced too: its circle and a PATHS point) | CIRCLE |
 | LINKS | each link: a line between consecutive pins (a plate closed round its pins) | LINE |
 | OUTLINES | each link with a width: its pins wrapped at half the width (cad.outline) | LINE, ARC |
 | GUIDES | slider guides over the slider's travel | LINE |
@@ -30,6 +30,7 @@ from __future__ import annotations
 import contextlib
 import io
 import math
+from collections import Counter
 
 import numpy as np
 
@@ -72,10 +73,12 @@ def render(scene: Scene, widths: dict[str, float] | None = None, diameters: dict
         msp.add_text(words, height=text, dxfattribs={"layer": layer}).set_placement(
             q(np.asarray(xy) + 0.6 * text), align=TextEntityAlignment.BOTTOM_LEFT)
 
+    carried = Counter(j for joints in ref.links.values() for j in joints)
     for name, xy in at.items():
-        if name in ref.traced and name not in ref.ground:
+        traced = name in ref.traced and name not in ref.ground
+        if traced:
             msp.add_point(q(xy), dxfattribs={"layer": "PATHS"})
-        else:
+        if not traced or carried[name] >= 2 or name in ref.sliders:  # a pin, traced or not
             radius = 0.5 * (diameters.get(name) or PIN_SHARE * size)
             msp.add_circle(q(xy), radius, dxfattribs={"layer": "GROUND" if name in ref.ground else "PINS"})
         label(name, xy)

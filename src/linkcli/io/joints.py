@@ -75,7 +75,8 @@ def _read_joints(root: Table, schema, units) -> tuple[JointSpec, ...] | None:
     mechanism = schema.name
     names = None if schema.draws else schema.joints  # a drawing names its own joints
     errors = len(root.reader.errors)
-    entries = named_tables(t, names, "joint", mechanism, "{ diameter = 8, width = 10 }")
+    example = "{ at = [10, 20] }" if names is None else "{ diameter = 8, width = 10 }"  # a drawing's joint: its place
+    entries = named_tables(t, names, "joint", mechanism, example)
     if entries is None:
         return None
     out = [_joint(joint, name, drawing=names is None, mechanism=mechanism, units=units,
@@ -92,6 +93,7 @@ def named_tables(t: Table, names, kind: str, mechanism: str, example: str):
     keys = list(t.keys())
     if len(keys) > MAX_JOINTS:
         t.error(None, f"at most {MAX_JOINTS} {kind}s", raw_got=f"{len(keys)} {kind}s")
+        t.allow(*keys)  # that one line says it all: not one more per entry, each blamed as unknown
         return None
     out = []
     for name in keys:
@@ -102,10 +104,11 @@ def named_tables(t: Table, names, kind: str, mechanism: str, example: str):
             t.error(name, f"a {kind} of the {mechanism}: one of {', '.join(names)}{extra}",
                     raw_got=f'{kind} "{name}"')
             continue
-        entry = t.table(name)
-        if entry is None:
-            t.error(name, f"an inline table of the {kind}'s keys, e.g. {example}", t.raw(name))
+        value = t.raw(name)
+        if not isinstance(value, dict):  # one line (Table.table would add "expected a table")
+            t.error(name, f"an inline table of the {kind}'s keys, e.g. {example}", value)
             continue
+        entry = t.table(name)
         out.append((name, entry))
     return out
 

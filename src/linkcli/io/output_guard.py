@@ -70,6 +70,20 @@ class Guarded:
         return getattr(self._stream, name)
 
 
+def sink_for_closed_stderr() -> None:
+    """A closed stderr (`2>&-`: Python's sys.stderr is None) made /dev/null: what linkcli writes
+    there (error lines, the progress display, a library's warning) is dropped, as the README
+    promises, instead of failing on None. File descriptor 2 is the lowest one free then, so
+    opening /dev/null also gives the process (and its --jobs workers) a valid descriptor 2."""
+    import sys
+    if sys.stderr is not None:
+        return
+    try:
+        sys.stderr = open(os.devnull, "w", encoding="utf-8")
+    except OSError:  # nothing to open: the writers already tolerate None
+        pass
+
+
 def silence_stdout() -> None:
     """Point file descriptor 1 at /dev/null, so that what is still buffered for the lost
     output is dropped when Python flushes it at exit (not reported as an ignored error)."""

@@ -251,11 +251,12 @@ class Mechanism(ABC):
 
     Class attributes: `name` (the `[linkage] mechanism` value), `NO_ASSEMBLY` (the note
     when it never assembles), `DEAD_POINT` (what a dead point of its loads means, for the
-    forces note)."""
+    forces note), `TOGGLE` (what an infinite mechanical advantage means, for the same note)."""
 
     name: ClassVar[str]
     NO_ASSEMBLY: ClassVar[str]
     DEAD_POINT: ClassVar[str]
+    TOGGLE: ClassVar[str] = "input and coupler in line, the output stands still"
 
     def __init__(self, linkage) -> None:
         self.linkage = linkage

@@ -187,6 +187,15 @@ def read_drive_motion(root: Table) -> tuple[float | None, int | None]:
     return speed, steps
 
 
+def mechanism_of(root: Table) -> str:
+    """The mechanism [linkage] names (`mechanism`, default mechanisms.DEFAULT; the [linkage]
+    reader checks the key itself: an unknown one is taken as the default here)."""
+    from linkcli.mechanisms import DEFAULT, NAMES
+    link = root.data.get("linkage")
+    mechanism = link.get("mechanism") if isinstance(link, dict) else None
+    return mechanism if mechanism in NAMES else DEFAULT
+
+
 def has_coupler_point(root: Table, kind: str) -> bool:
     """The linkage the forces act on has a coupler point: the type solves for one, or its
     [linkage] table gives one."""

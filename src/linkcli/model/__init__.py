@@ -30,6 +30,7 @@ HOMES = {  # class -> the submodule of linkcli.model that defines it (imported o
     "FunctionGenerationProblem": "function_generation",
     "FlipperCylinderProblem": "flipper_cylinder",
     "QuickReturnProblem": "quick_return",
+    "DrawnDesignProblem": "drawn_design",
 }
 
 

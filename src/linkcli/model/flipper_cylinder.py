@@ -52,3 +52,9 @@ class FlipperCylinderProblem:
     def fixed(self) -> bool:
         """Every pivot coordinate given as a number: the design is only evaluated."""
         return all(lo == hi for lo, hi in self.bounds)
+
+    @property
+    def methods(self) -> tuple[str, ...] | None:
+        """The [solver] methods that change anything (bench's settings): a fixed design is
+        evaluated, whatever the method; None: every method of the type."""
+        return ("auto",) if self.fixed else None

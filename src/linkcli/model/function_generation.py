@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 
 @dataclass(frozen=True)
@@ -16,6 +17,7 @@ class FunctionGenerationProblem:
     The evaluation points sit at phi_k = phi0 + fractions[k] * input_sweep.
     """
 
+    mechanism: ClassVar[str] = "four-bar"  # the mechanism designed (its home's synthesis face)
     meta: Meta
     fixed: dict  # link -> length held fixed (at least one: it sets the scale)
     bounds: dict  # link -> (lo, hi) of each free length

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 
 @dataclass(frozen=True)
@@ -11,6 +12,7 @@ class MotionGenerationProblem:
     in the length unit and radians, global frame; pivots as given ((x, y) pairs: A0 and B0
     global, or A and B in the body frame), bounds like PathGenerationProblem."""
 
+    mechanism: ClassVar[str] = "four-bar"  # the mechanism designed (its home's synthesis face)
     meta: Meta
     poses: tuple[tuple[float, float, float], ...]
     timing: str  # "free" or "prescribed"

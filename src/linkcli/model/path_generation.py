@@ -14,7 +14,7 @@ class PathGenerationProblem:
     length's lo may be 0: the solver keeps it strictly positive), angles in radians.
     `input_angles` (prescribed timing) are measured in the local frame from A0 -> B0."""
 
-    mechanism: ClassVar[str] = "four-bar"  # the mechanism designed (types.path_generation.schema.DESIGNS)
+    mechanism: ClassVar[str] = "four-bar"  # the mechanism designed (its home's synthesis face)
     meta: Meta
     points: tuple[tuple[float, float], ...]  # targets, global frame
     timing: str  # "prescribed" or "free"

@@ -57,7 +57,7 @@ def read_dynamics(root: Table, kind: str, has_linkage: bool, units, joints):
             root.error(name, f"a problem whose result is a linkage that takes [loads] and [masses] "
                        f"({takers}) for [{name}]", raw_got=f'type = "{kind}"')
         return None
-    from linkcli.reading.loads import mechanism_of
+    from linkcli.mechanisms.schema import mechanism_of
     from linkcli.mechanisms import NAMES, schema_of
     mechanism = mechanism_of(root)
     parts = schema_of(mechanism).force_parts(root, kind)

@@ -13,15 +13,7 @@ one place for every problem whose result is a linkage (and for result files read
 from __future__ import annotations
 
 from linkcli.io.reader import Table
-
-
-def mechanism_of(root: Table) -> str:
-    """The mechanism [linkage] names (`mechanism`, default mechanisms.DEFAULT; the [linkage]
-    reader checks the key itself: an unknown one is taken as the default here)."""
-    from linkcli.mechanisms import DEFAULT, NAMES
-    link = root.data.get("linkage")
-    mechanism = link.get("mechanism") if isinstance(link, dict) else None
-    return mechanism if mechanism in NAMES else DEFAULT
+from linkcli.mechanisms.schema import mechanism_of
 
 
 def refuse_loads(root: Table, kind: str, types_with_linkage: tuple[str, ...]) -> None:

@@ -125,9 +125,11 @@ def read_load_case(root: Table, kind: str, spec: ProblemType, sections: tuple[st
 def read_joint_table(root: Table, kind: str, spec: ProblemType, units: Units):
     """[joints] (linkcli.io.joints) on a type whose result is a linkage; refused, located, on
     one that has none."""
-    from linkcli.reading.loads import mechanism_of
+    from linkcli.mechanisms.schema import mechanism_of
+    from linkcli.mechanisms import schema_of
     from linkcli.registry import NAMES, problem_type
-    if "forces" not in spec.sections:
+    drawing = schema_of(mechanism_of(root)).draws  # [joints] is a drawing, read with it
+    if "forces" not in spec.sections and not drawing:
         if "joints" in root:
             root.raw("joints")
             with_linkage = ", ".join(n for n in NAMES if "forces" in problem_type(n).sections)
@@ -137,7 +139,6 @@ def read_joint_table(root: Table, kind: str, spec: ProblemType, units: Units):
     if "joints" not in root:
         return ()  # what read_joints gives without the table, without importing io.joints
     from linkcli.io.joints import read_joints
-    from linkcli.mechanisms import schema_of
     return read_joints(root, schema_of(mechanism_of(root)), units)
 
 
@@ -145,7 +146,7 @@ def read_strength_tables(root: Table, kind: str, spec: ProblemType, sections: tu
                          loads, joints):
     """[sections], [material], [strength] (linkcli.reading.strength): (link sections, the strength
     spec or None)."""
-    from linkcli.reading.loads import mechanism_of
+    from linkcli.mechanisms.schema import mechanism_of
     from linkcli.reading.strength import read_parts
     has_loads = loads is not None or "loads" in root or "masses" in root
     return read_parts(root, kind, spec.sections, sections, has_loads, mechanism_of(root), joints)
@@ -234,7 +235,7 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     t = root.table("tolerance")
     if t is None:
         return None
-    from linkcli.reading.loads import mechanism_of
+    from linkcli.mechanisms.schema import mechanism_of
     from linkcli.reading.tolerance_keys import check_cost_bounds, read_clearance, read_cost, read_lengths, read_schemes
     from linkcli.mechanisms import NAMES, schema_of
     from linkcli.model import InverseTolerance, Tolerance
@@ -267,7 +268,8 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     samples = t.number("samples", 20000, integer=True, lo=1, hi=MAX_SAMPLES)
     allowed = t.number("allowed_error", None, positive=True)
     if allowed is not None:
-        allowed = units.to_rad(allowed) if not (path_type or own.output == "length") else allowed
+        angle = root.raw("type") == "function-generation" or not (path_type or own.output == "length")
+        allowed = units.to_rad(allowed) if angle else allowed  # a function's output is an angle
     level = read_level(t)
     if level is not None and allowed is None and "allowed_error" not in t:
         t.error("allowed_error", "a positive number (needed by max_failure_probability: a "
@@ -288,7 +290,7 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
                 f"({MIN_FAILURES} expected failures)", samples)
     line_of = root.reader.line_of
     lines = {".".join(k): line_of(("tolerance",) + k)
-             for k in [("lengths",), ("clearance",), ("clearance_slider",), ("lock_play",)]
+             for k in [("lengths",), ("clearance",), ("clearance_slider",), ("lock_play",), ("samples",)]
              + [("lengths", link) for link in per_link] + [(f"schemes[{i}]",) for i in range(len(schemes))]}
     base = dict(lengths=lengths, distribution=distribution or "uniform", clearance=clearance or 0.0,
                 clearance_slider=clearance_slider or 0.0, lock_play=units.to_rad(lock_play or 0.0),

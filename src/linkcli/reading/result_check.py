@@ -117,7 +117,10 @@ def check_sections(root: Table) -> None:
 
 
 def _judge(reader, path: tuple[str, ...], value, tree: dict) -> None:
-    """`value` at `path` against its key tree; iterative over rows (100,000 of them)."""
+    """`value` at `path` against its key tree; iterative over rows (100,000 of them). A table
+    where the writer writes a value (a number, a string, an array of numbers), and a value
+    or an array of tables where it writes a table, is an error on its line: the writer never
+    writes one (a table inserted into a row of [[kinematics]] analysed without a word)."""
     stack = [(path, value, tree)]
     while stack:
         path, value, tree = stack.pop()
@@ -127,10 +130,21 @@ def _judge(reader, path: tuple[str, ...], value, tree: dict) -> None:
                 head, last = path[:-1], path[-1]
                 stack.extend((head + (f"{last}[{i}]",), item, rows) for i, item in enumerate(value)
                              if isinstance(item, dict))
-        elif isinstance(value, dict) and tree:  # (a table where the writer writes a value: not judged here)
+            elif any(isinstance(item, dict) for item in value):
+                reader.error(path, "a value as linkcli writes it there (a number, a string or an array "
+                             "of numbers)", raw_got="an array of tables")
+        elif isinstance(value, dict) and tree:
             if OPEN in tree:  # a map of names: any name, each judged by the same keys
                 stack.extend((path + (name,), item, tree[OPEN]) for name, item in value.items())
                 continue
             reader.expect(path, value, tree[None])
             stack.extend((path + (key,), item, tree[key]) for key, item in value.items()
-                         if key in tree and tree[key])
+                         if key in tree)
+        elif isinstance(value, dict):  # a table where the writer writes a value
+            reader.error(path, "a value as linkcli writes it there (a number, a string or an array "
+                         "of numbers), not a table", raw_got=f"a table of {len(value)} key"
+                         + ("" if len(value) == 1 else "s"))
+        elif tree and not (set(tree) - {None}) <= {ROWS, OPEN}:
+            reader.error(path, "a table as linkcli writes it there (of the keys "
+                         f"{', '.join(sorted(k for k in tree if k not in (None, ROWS, OPEN)))[:200]})",
+                         value)

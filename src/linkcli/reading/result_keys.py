@@ -52,7 +52,7 @@ KEYS = {
         'push_force', 'push_pressure', 'rod', 'rod_motion', 'rod_pivot', 'stroke',
     ),
     'defects': (
-        'assembles', 'branch', 'branch_defect', 'order_defect',
+        'assembles', 'branch', 'branch_defect', 'drive_defect', 'order_defect',
     ),
     'design': (
         'chosen_by', 'max_condition', 'maximize', 'mechanism', 'min_transmission',
@@ -160,7 +160,8 @@ KEYS = {
         'input_start', 'input_sweep', 'output_start', 'output_sweep', 'points', 'spacing', 'x',
     ),
     'timing': (
-        'direction', 'first_input', 'input_offset', 'input_sweep', 'timing',
+        'direction', 'drawn_drive_angle', 'first_input', 'input_offset', 'input_start',
+        'input_sweep', 'output_start', 'timing',
     ),
     'tolerance': (
         'allocation.check_samples', 'allocation.checks', 'allocation.cost',

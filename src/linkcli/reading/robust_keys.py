@@ -37,6 +37,9 @@ def read_objective(root: Table, meta) -> tuple[str, float] | None:
         return None
     if minimize == "failure-probability":
         tol = meta.tolerance
+        raw = root.data.get("tolerance")
+        if tol is not None and tol.allowed_error is None and isinstance(raw, dict) and "allowed_error" in raw:
+            return None  # given, but bad: its own line says so
         if tol is None or tol.allowed_error is None:
             where = ("tolerance", "allowed_error") if "tolerance" in root else ("objective", "minimize")
             root.reader.error(where, 'a [tolerance] table with allowed_error for minimize = '

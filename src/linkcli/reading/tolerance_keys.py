@@ -109,8 +109,7 @@ def _cost_keys(t: Table, seen: set) -> dict:
             if v is not None and v > MAX_COST:
                 t.error(key, f"a constant of at most {MAX_COST:g}", v)
                 v = None
-            if v is not None:
-                out[key] = (v, t)
+            out[key] = (v, t)  # None: given but bad (its line is out; the model is not "missing" it)
     if "bounds" in t:
         b = t.number_list("bounds", length=2, positive=True, what="tolerances [lo, hi] (length unit)")
         if b is not None and not b[0] < b[1]:
@@ -139,6 +138,8 @@ def cost_model(keys: dict, seen: set) -> CostModel | None:
     if name == "michael-siddall":
         values = {"b": 0.0}
     for key in ("a", "b", "k"):
+        if key in keys and keys[key][0] is None:  # a bad value, already reported on its line
+            return None
         if key in keys:
             values[key] = keys[key][0]
         elif key not in values:

@@ -222,6 +222,10 @@ def parse(text: str) -> tuple[str, int, str, int]:
     if m is None:
         raise FitError(f'a fit "HOLE/shaft" such as "H7/g6" (hole letters upper case, shaft '
                        f'letters lower case, each with its grade), found "{text}"')
+    for grade in (m.group(2), m.group(4)):
+        if len(grade) > 1 and grade.startswith("0"):  # IT01 (not int("01") = IT1), or a grade written "07"
+            raise FitError(f'a grade from 1 to 18 written without a leading 0 (IT01 is not in '
+                           f'linkcli\'s tables), found "{grade}" in "{text}"')
     return m.group(1), int(m.group(2)), m.group(3), int(m.group(4))
 
 

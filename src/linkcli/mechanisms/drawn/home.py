@@ -111,10 +111,16 @@ class DrawnMechanism(Mechanism):
     name = "drawn"
     NO_ASSEMBLY = "the drawing does not close"
     DEAD_POINT = "a closure in line"
+    TOGGLE = "the output stands still at an end of its travel"
 
     @property
     def solved(self) -> Solved:
-        return solved(self.linkage)
+        # kept on the home: the lru_cache key hashes the whole drawing, once per call (a
+        # section asks a few hundred times: quadratic in the drawing's size)
+        own = self.__dict__.get("_solved")
+        if own is None:
+            own = self.__dict__["_solved"] = solved(self.linkage)
+        return own
 
     def size(self) -> float:
         from linkcli.mechanisms.drawn.sections import size
@@ -201,7 +207,7 @@ class DrawnMechanism(Mechanism):
 
     def tolerance_model(self, problem, solution):
         from linkcli.mechanisms.drawn.tolerance import model
-        return model(self, problem)
+        return model(self, problem, solution)
 
     def skeleton(self, phi) -> Skeleton:
         """Every joint and link at leading-drive values phi; ground joints as pivots, slider

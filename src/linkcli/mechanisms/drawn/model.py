@@ -53,7 +53,8 @@ class Drawn:
     values; the others move in proportion to their speeds), the points whose paths are
     reported, the span of the leading drive (offsets from its drawn value; None: a full
     turn, or its whole range when it cannot turn fully), and the output the mechanical
-    advantage is measured on (a link or a slider joint; None: the last link)."""
+    advantage is measured on (a link or a slider joint; None: the last link). A designed drawing
+(`designed`, synthesis) is reported with its joints, links and drive."""
 
     mechanism: ClassVar[str] = "drawn"  # its home: linkcli.mechanisms
     joints: tuple[DrawnJoint, ...]
@@ -62,6 +63,8 @@ class Drawn:
     points: tuple[str, ...] = ()
     span: tuple[float, float] | None = None
     output: str | None = None
+    designed: bool = False  # a design's drawing: the report's linkage section keeps it (a result
+    # file is analysed again: mechanisms.drawn.kept)
 
     def joint(self, name: str) -> DrawnJoint:
         return next(j for j in self.joints if j.name == name)

@@ -1,7 +1,8 @@
 """A drawn linkage's analysis figure: the linkage to scale as drawn (plots.common.draw_skeleton)
 with the paths of the asked points over the drive's range and a few ghost positions, beside
 its motion study over the leading drive: every link's angular velocity, and every closure's
-transmission angle against the recommended band (40..140 deg)."""
+transmission angle against the recommended band (40..140 deg). A design (path, motion or
+function generation) draws its targets instead (design_plot)."""
 
 from __future__ import annotations
 
@@ -19,6 +20,9 @@ GHOSTS = 4
 
 def draw(fig, result) -> None:
     from linkcli import mechanisms
+    if getattr(result.problem, "kind", None) is not None and result.solution.linkage.designed:
+        from linkcli.mechanisms.drawn.design_plot import draw as draw_design
+        return draw_design(fig, result)  # a design: its targets
     from linkcli.mechanisms.drawn.motion import closure_vectors, transmission
     drawn(result)
     u, ax_link, (ax_w, ax_mu) = panels(fig, result, 2, [1.0, 1.25])

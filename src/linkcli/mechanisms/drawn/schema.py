@@ -16,7 +16,8 @@ from linkcli.mechanisms.schema import ForceParts, Schema
 # .model (its dataclasses) is imported inside the functions that build them: every other
 # mechanism's [linkage] reads this module for its keys alone (reading.linkage.refuse_foreign)
 
-MAX_LINKS = 1000
+MAX_LINKS = 100  # a drawing's links: its analysis takes about 10 ms of CPU per link (1 s at the cap)
+MAX_DISTANCES = 2000  # distances between two joints of one link (and of the ground), each one reported
 MAX_SPAN_TURNS = 2.0  # a turning drive's span: at most two turns either way
 MAX_SPEED = 1e9
 MIN_SPEED = 1e-9  # a drive's |speed|: below, the speed ratios over- or underflow (a denormal is 0)
@@ -30,12 +31,13 @@ class DrawnSchema(Schema):
 
     name = "drawn"
     draws = True
+    reported_motion = ("dead_points", "links", "sliders", "drives")  # a design's result [motion]: not read back
     plays = {"clearance_slider": "radial play of each slider block in its guide (length unit)"}
     output = "length"
     class_keys = ("class", "mobility", "drives", "links", "sliders", "groups")
 
     def read(self, t: Table, units) -> Drawn | None:
-        return _read(t, units)
+        return read(t, units)
 
     def joint_names(self, root: Table) -> tuple[str, ...]:
         """The joint names of the drawing's [joints], unchecked (they are checked where the
@@ -135,14 +137,17 @@ def toleranced(root: Table) -> tuple[str, ...]:
     return (("ground",) if grounded >= 2 else ()) + tuple(n for n in names if n != "ground")
 
 
-def _read(t: Table, units) -> Drawn | None:
+def read(t: Table, units) -> Drawn | None:
     """The drawing ([joints], [links], [drive], [motion]) of a `mechanism = "drawn"` [linkage];
     None when in error (every error recorded, structural ones naming the joints)."""
     from linkcli.mechanisms.drawn.model import Drawn
     from linkcli.io.joints import read_joints
     root = t.reader.root()
     errors = len(root.reader.errors)
-    if "status" in root.data and "joints" not in root.data:  # a result file keeps no drawing
+    if "status" in root.data and "joints" not in root.data and isinstance(t.data.get("joints"), dict):
+        from linkcli.mechanisms.drawn.kept import read_kept
+        return read_kept(t, units)  # a design's result keeps its drawing in [linkage]
+    if "status" in root.data and "joints" not in root.data:  # a result file that keeps no drawing
         t.error("mechanism", "a drawing to analyse: `analyze` reads a drawn linkage from its problem "
                 "file (with [joints], [links] and [drive]), not from a result file",
                 raw_got='a result file of a drawn linkage')
@@ -233,7 +238,9 @@ def _links(root: Table, joints) -> tuple[DrawnLink, ...] | None:
     names = {j.name: j for j in joints or ()}
     keys = list(t.keys())
     if len(keys) > MAX_LINKS:
-        t.error(None, f"at most {MAX_LINKS} links", raw_got=f"{len(keys)} links")
+        t.error(None, f"at most {MAX_LINKS} links (the analysis of a drawing takes about 10 ms per link)",
+                raw_got=f"{len(keys)} links")
+        t.allow(*keys)  # that one line says it all: not one more per link, each blamed as unknown
         return None
     if not keys:
         t.error(None, "at least one link = [its joints]", raw_got="an empty table")
@@ -244,6 +251,17 @@ def _links(root: Table, joints) -> tuple[DrawnLink, ...] | None:
         where = f"link {name}" if name else "a link"
         if not name:
             t.error(name, "a link name of at least one character", raw_got='an empty name ""')
+            ok = False
+            continue
+        if name == "ground":
+            t.error(name, "a link name other than ground (the ground is implicit: [tolerance] lengths, "
+                    "[masses] and the report call it ground)", raw_got='a link named "ground"')
+            ok = False
+            continue
+        if name in names and names[name].slider is not None:
+            t.error(name, f"a link name that no slider joint has ([drive], [masses] and [motion] output "
+                    f'name a slider joint for its block: "{name}" would name both)',
+                    raw_got=f'link "{name}", also the name of slider joint {name}')
             ok = False
             continue
         if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
@@ -289,7 +307,29 @@ def _links(root: Table, joints) -> tuple[DrawnLink, ...] | None:
         out.append(DrawnLink(name, tuple(value)))
     if not ok or joints is None:
         return None
+    if _too_many_distances(root, t, joints, out):
+        return None
     return _carried(root, t, joints, tuple(out))
+
+
+def _too_many_distances(root: Table, t: Table, joints, links) -> bool:
+    """A located error (and True) when the links (and the ground) have more than
+    MAX_DISTANCES distances between two of their joints: the report lists each (a plate of
+    990 joints listed 490,000 of them), blamed on the body with the most."""
+    ground = sum(1 for j in joints if j.ground)
+    bodies = [("ground", ground)] + [(k.name, len(k.joints)) for k in links]
+    total = sum(k * (k - 1) // 2 for _, k in bodies)
+    if total <= MAX_DISTANCES:
+        return False
+    name, most = max(bodies, key=lambda b: b[1])
+    what = (f"at most {MAX_DISTANCES} distances between two joints of one link or of the ground "
+            f"(the report lists each: a plate of 63 joints has 1953)")
+    found = f"{total:,} distances ({'the ground has' if name == 'ground' else f'link {name} carries'} {most} joints)"
+    if name == "ground":
+        root.table("joints").error(None, what, raw_got=found)
+    else:
+        t.error(name, what, raw_got=found)
+    return True
 
 
 def _same_place(value, names) -> tuple[str, str] | None:
@@ -451,6 +491,9 @@ def read_load_case(root: Table, kind: str):
         return None
     raw_links = root.data.get("links")
     raw_joints = root.data.get("joints")
+    kept = root.data.get("linkage")
+    if raw_joints is None and isinstance(kept, dict) and "status" in root.data:  # a design's result:
+        raw_links, raw_joints = kept.get("links"), kept.get("joints")  # its drawing in [linkage]
     if not (isinstance(raw_joints, dict) and isinstance(raw_links, dict)):  # no drawing to name the
         # links and joints (its absence is its own line; a result file keeps none): judged against
         # nothing, every name was one more line

@@ -42,24 +42,51 @@ def size(drawing) -> float:
 
 
 def linkage_section(drawing, u) -> dict:
-    return {"mechanism": "drawn", **distances(drawing)}
+    """mechanism, (a designed drawing: its `drawing_section`), then every distance."""
+    kept = drawing_section(drawing, u) if drawing.designed else {}
+    return {"mechanism": "drawn", **kept, **distances(drawing)}
+
+
+def drawing_section(drawing, u) -> dict:
+    """The drawing as a file gives it (mechanisms.drawn.kept reads it back): joints (name ->
+    at, and ground, slider (angle unit) and guide where they apply), links (name -> joints),
+    drive (name -> speed, angle unit/s or length unit/s)."""
+    from linkcli.mechanisms.drawn.model import TURN
+    joints = {}
+    for j in drawing.joints:
+        entry = {"at": [float(j.at[0]), float(j.at[1])]}
+        if j.ground:
+            entry["ground"] = True
+        if j.slider is not None:
+            entry["slider"] = float(u.from_rad(j.slider))
+        if j.guide is not None:
+            entry["guide"] = j.guide
+        joints[j.name] = entry
+    return {"joints": joints, "links": {k.name: list(k.joints) for k in drawing.links},
+            "drive": {d.name: {"speed": float(u.from_rad(d.speed)) if d.kind == TURN else float(d.speed)}
+                      for d in drawing.drives}}
 
 
 def class_section(structure) -> dict:
     """The structure: the class by count of bodies (ground, links, slider blocks), Watt or
-    Stephenson for a six-bar of pins with two ternary links (adjacent: Watt), the mobility
-    and the plan (the Assur groups in solve order)."""
+    Stephenson for a six-bar of pins with two ternary bodies, the others binary (Watt: the
+    two ternary bodies share a joint; Stephenson: they do not). The ground is a body like
+    the links: with three pivots it is ternary (the Watt II and Stephenson III drawings,
+    whose one ternary link is pinned to the ground, are Watt and Stephenson six-bars too).
+    A body's joints are counted as pins only when another body shares them: a traced point
+    carried by one link alone (a coupler point) does not make it ternary.
+    Also the mobility and the plan (the Assur groups in solve order)."""
     bodies = structure.bodies
     name = CLASS_NAMES.get(bodies, f"{bodies}-bar")
-    ternary = [k for k in structure.drawing.links if len(k.joints) == 3]
-    if bodies == 6 and not structure.prismatic_pairs and len(ternary) == 2 and \
-            all(len(k.joints) <= 3 for k in structure.drawing.links):
-        ground = [j.name for j in structure.drawing.joints if j.ground]
-        t = [set(k.joints) for k in ternary]
-        grounded = [len(set(ground) & tj) for tj in t]
-        # the ground is a ternary link too when it has three pivots: then it is one of the two
-        adjacent = bool(t[0] & t[1]) if len(ground) != 3 else any(g for g in grounded)
-        name = f"{name} ({'Watt' if adjacent else 'Stephenson'})"
+    drawing = structure.drawing
+    ground = {j.name for j in drawing.joints if j.ground}
+    carried = [ground] + [set(k.joints) for k in drawing.links]
+    shared = {j for j in ground | {n for k in drawing.links for n in k.joints}
+              if sum(j in body for body in carried) >= 2}
+    joints = [body & shared for body in carried]
+    ternary = [j for j in joints if len(j) == 3]
+    if bodies == 6 and not structure.prismatic_pairs and len(ternary) == 2 and all(len(j) <= 3 for j in joints):
+        name = f"{name} ({'Watt' if ternary[0] & ternary[1] else 'Stephenson'})"
     return {"class": name, "mobility": structure.mobility, "drives": len(structure.drawing.drives),
             "links": len(structure.drawing.links), "sliders": structure.prismatic_pairs,
             "groups": describe_plan(structure)}
@@ -160,11 +187,17 @@ def _extremes(home, study, evaluate, count, periodic=False):
 
 
 def _sweep_key(home, study):
-    """Ties go to the first in sweep order: from drive value 0 for a full turn, from the
-    range's start otherwise."""
+    """Ties go to the first the linkage reaches: a full turn from drive value 0 in the
+    direction the drive turns (counter-clockwise for a positive speed, clockwise for a
+    negative one: a time ratio taken between tied extremes follows the motion, not the
+    rows' order); a rocking drive (which runs both ways) from its range's start."""
     lo, _, full = _span(home, study)
     start = home.solved.start
-    return (lambda q: (start + q) % TWO_PI) if full else (lambda q: q - lo)
+    if not full:
+        return lambda q: q - lo
+    if home.linkage.drives[0].speed < 0:
+        return lambda q: (-(start + q)) % TWO_PI
+    return lambda q: (start + q) % TWO_PI
 
 
 TWO_PI = 2.0 * math.pi

@@ -17,7 +17,11 @@ Error of one sample: the largest distance, over the targets and the traced point
 ([motion] points, else every joint that moves), between the made linkage's point and the
 nominal one, each made part assembled on the drawn branches at the targets (36 values of
 the leading drive over the study's range: every 10 deg of a full turn, else the centres of 36
-cells); it fails when a length comes out <= 0 or it cannot assemble at a target.
+cells); it fails when a length comes out <= 0 or it cannot assemble at a target. A design
+(path, motion or function generation, synthesis.schema) is measured where it
+was designed: at its targets' drive values, on its target joint (path), its followed link's
+frame origin (motion) or that link's angle (function: errors in radians), each against
+the target, as a four-bar design is.
 Sensitivity: per distance, the largest |d(point)/d(length)| over targets and points, by a
 central difference on the nominal linkage.
 """
@@ -69,7 +73,7 @@ class Model:
     no_assembly = "the drawing does not close"
     no_allowed_error = NO_ALLOWED_ERROR
 
-    def __init__(self, home, problem):
+    def __init__(self, home, problem, solution=None):
         d = home.linkage
         sv = home.solved
         self.home, self.drawing, self.structure = home, d, sv.structure
@@ -92,16 +96,36 @@ class Model:
                 links = [bs[0]]
             self.bearings += [(b, joint) for b in links]
         self.pins = len(self.bearings)
+        # fits (clearance = "fits"): each bearing's clearance from its joint's fit, drawn per
+        # bearing (every link pinned there has its own bore on the pin); a slider's play from
+        # its joint's fit (the block's width in its guide)
+        self.pin_names = tuple(joint for _, joint in self.bearings)
         self.sliders = [j.name for j in d.joints if j.slider is not None]
+        self.play_names = tuple(self.sliders)
         self.plays = len(self.sliders)
         self.traced = d.points or tuple(j.name for j in d.joints if not j.ground)
         self.measure = f"largest distance of {', '.join(self.traced)} from the nominal places"
-        study = home.study()
-        x, _ = study.rows(GRID)
-        self.q = sv.q_of(x, study.full_turn)
-        self.inputs = np.asarray(x, dtype=float)
+        self.link = None  # a function design: the angle of this link is measured (kind "angle")
+        kind = getattr(problem, "kind", None)
+        if kind is not None and solution is not None:
+            q = np.asarray(_design_inputs(solution, problem.meta.units), dtype=float)
+            self.q, self.inputs = q, sv.start + q
+            if kind == "function":
+                self.kind, self.link = "angle", problem.link
+                self.measure = f"deviation of link {problem.link}'s angle from the targets"
+            else:
+                self.traced = (problem.joint,) if kind == "path" else (d.link(problem.link).joints[0],)
+                self.measure = f"distance of {self.traced[0]} from the targets"
+        else:
+            study = home.study()
+            x, _ = study.rows(GRID)
+            self.q = sv.q_of(x, study.full_turn)
+            self.inputs = np.asarray(x, dtype=float)
         nominal = self.nominal.run(self.q, rates=False)
         self.places = np.stack([nominal.pos[p] for p in self.traced], axis=1)  # (M, P, 2)
+        self.angles = nominal.theta[self.link] if self.link is not None else None
+        if kind is not None and solution is not None:  # a design misses its targets, not its nominal
+            self.places, self.angles = _design_targets(solution, problem, sv, self.places, self.angles)
         from linkcli.mechanisms.drawn.sections import size
         from linkcli.mechanisms.drawn.schema import known_lengths
         self.scale = size(d)
@@ -124,25 +148,39 @@ class Model:
         return float(tol.clearance_slider) if self.sliders else 0.0
 
     def errors(self, dl, pins, plays):
-        places, ok = self.made_places(dl, pins, plays)
-        dist = np.linalg.norm(places - self.places[None], axis=-1).max(axis=-1)  # (n, M)
-        ok = ok.all(axis=1) & np.all(np.isfinite(dist), axis=1)
+        dist = self.deviations(dl, (pins, plays))
+        ok = np.all(np.isfinite(dist), axis=1)
         err = np.where(ok, np.max(np.where(np.isfinite(dist), dist, 0.0), axis=1), np.inf)
         return err, ok
+
+    def deviations(self, dl, terms):
+        """(n, M) each made linkage's deviation at each target (the largest over the traced
+        points, or the measured link's angle deviation), inf where it fails there."""
+        pins, plays = terms
+        places, ok, angles = self.made_places(dl, pins, plays, angles=True)
+        if self.link is not None:
+            dist = np.abs(np.angle(np.exp(1j * (angles - self.angles[None]))))
+        else:
+            dist = np.linalg.norm(places - self.places[None], axis=-1).max(axis=-1)  # (n, M)
+        return np.where(ok & np.isfinite(dist), dist, np.inf)
 
     def sensitivity(self) -> dict:
         h = 1e-6 * self.scale
         c = len(self.columns)
         dl = np.concatenate([np.eye(c) * h, -np.eye(c) * h])
-        places, ok = self.made_places(dl, None, None)
-        slope = np.linalg.norm(places[:c] - places[c:], axis=-1).max(axis=(1, 2)) / (2 * h)
+        places, ok, angles = self.made_places(dl, None, None, angles=True)
+        if self.link is not None:
+            slope = np.abs(np.angle(np.exp(1j * (angles[:c] - angles[c:])))).max(axis=1) / (2 * h)
+        else:
+            slope = np.linalg.norm(places[:c] - places[c:], axis=-1).max(axis=(1, 2)) / (2 * h)
         good = ok[:c].all(axis=1) & ok[c:].all(axis=1)
         return {name: (float(s) if g and math.isfinite(s) else None)
                 for name, s, g in zip(self.columns, slope, good)}
 
     # ------------------------------------------------------------ made parts
-    def made_places(self, dl, pins, plays):
-        """(places (n, M, P, 2), ok (n, M)) of n made linkages at the M targets."""
+    def made_places(self, dl, pins, plays, angles: bool = False):
+        """(places (n, M, P, 2), ok (n, M)) of n made linkages at the M targets (and, with
+        `angles`, the measured link's angle (n, M), or None)."""
         dl = np.asarray(dl, dtype=float)
         n, m = dl.shape[0], len(self.q)
         rows = n * m
@@ -172,6 +210,8 @@ class Model:
             st = kin.run(np.tile(self.q, n), rates=False)
         places = np.stack([st.pos[p] for p in self.traced], axis=1).reshape(n, m, len(self.traced), 2)
         ok = st.valid.reshape(n, m) & made[:, None]
+        if angles:
+            return places, ok, (st.theta[self.link].reshape(n, m) if self.link is not None else None)
         return places, ok
 
     def _rebuild(self, body, lengths, n) -> dict:
@@ -203,6 +243,27 @@ class Model:
         return out
 
 
-def model(home, problem) -> Model:
-    return Model(home, problem)
+def model(home, problem, solution=None) -> Model:
+    return Model(home, problem, solution)
+
+
+def _design_targets(solution, problem, sv, places, angles):
+    """What a design's made linkages must reproduce: the target points (path), the target
+    poses' origins (motion), or the link's target angles (function, from its drawn angle), as
+    a four-bar design's tolerance measures them (mechanisms.four_bar.tolerance.targets)."""
+    pos = solution.positions
+    if problem.kind == "path":
+        return np.asarray(pos.target, dtype=float).reshape(-1, 1, 2), angles
+    if problem.kind == "function":
+        return places, sv.kin.geometry.angle0[problem.link] + np.asarray(pos.target, dtype=float)
+    rows = solution.sections["positions"]
+    return np.array([row["target"][:2] for row in rows], dtype=float).reshape(-1, 1, 2), angles
+
+
+def _design_inputs(solution, units):
+    """A design's targets' drive values (offsets from its drawing): its positions' inputs, or
+    (motion generation, whose rows are its own section) the rows' inputs."""
+    if solution.positions is not None:
+        return solution.positions.input
+    return [units.to_rad(row["input"]) for row in solution.sections["positions"]]
 

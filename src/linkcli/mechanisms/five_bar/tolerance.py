@@ -57,6 +57,8 @@ class Model:
 
     columns = inverse = TOLERANCED
     pins = len(PINS)
+    pin_names = PINS  # as [joints] names them, in the order of the offsets (fits: clearance = "fits")
+    play_names = ()  # the locks' plays are angular, not fitted
     kind = "length"
     per_row = True
     measure = "largest distance of P from its nominal position over the rows"

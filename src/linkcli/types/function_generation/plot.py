@@ -1,6 +1,14 @@
-"""The picture of this type: the linkage at its positions and the output angle against
-the input (shared with the other angle-function type, linkcli.mechanisms.four_bar.angle_plot)."""
+"""The picture of this type, by the mechanism's synthesis face: the four-bar at its positions
+and the output angle against the input (mechanisms.four_bar.angle_plot, shared with precision
+positions); a drawn design draws itself (its home's plot: its law and errors)."""
 
-from linkcli.mechanisms.four_bar.angle_plot import NEEDS, draw
+from linkcli.mechanisms.four_bar.angle_plot import NEEDS
+
+
+def draw(fig, result) -> None:
+    """The design's figure, by its mechanism's synthesis face (the four-bar's: angle_plot)."""
+    from linkcli.mechanisms import synthesis
+    return synthesis.draw("function-generation", fig, result)
+
 
 __all__ = ["NEEDS", "draw"]

@@ -57,7 +57,15 @@ def fractions(points: int, spacing: str) -> tuple[float, ...]:
     return tuple(k / (points - 1) for k in range(points))
 
 
-def parse(root: Table, meta: Meta) -> FunctionGenerationProblem | None:
+def parse(root: Table, meta: Meta):
+    """The problem of the mechanism [linkage] names, read by its home's synthesis face
+    (mechanisms.synthesis): the four-bar's below (`parse_four_bar`), another home's keys."""
+    from linkcli.mechanisms import synthesis
+    return synthesis.read("function-generation", root, meta)
+
+
+def parse_four_bar(root: Table, meta: Meta) -> FunctionGenerationProblem | None:
+    """A four-bar's output angle following a law (the module docstring's keys)."""
     u = meta.units
     ok = True
     link = root.table("linkage")

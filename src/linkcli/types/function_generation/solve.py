@@ -154,7 +154,14 @@ def evolution_alone(search: Search, branch: str, evaluations: int, seed: int) ->
 STRATEGIES = {"slsqp": multistart, "differential-evolution": evolution_alone, "dual-annealing": dual_annealing}
 
 
-def solve(problem: FunctionGenerationProblem) -> Solution:
+def solve(problem) -> Solution:
+    """The design of the problem's mechanism, by its home's synthesis face
+    (mechanisms.synthesis): the four-bar's below (`solve_four_bar`)."""
+    from linkcli.mechanisms import synthesis
+    return synthesis.solve("function-generation", problem)
+
+
+def solve_four_bar(problem: FunctionGenerationProblem) -> Solution:
     """`auto` on every branch asked for at once; another method on each branch in turn
     with its share of the budget (a share left unused passes to the next branch); the
     best feasible result of any branch wins."""

@@ -8,9 +8,9 @@ precision-position files and result files alike, and the mechanism's schema read
 from __future__ import annotations
 
 from linkcli.io.reader import Table
-from linkcli.reading.loads import mechanism_of
+from linkcli.mechanisms.schema import mechanism_of
 from linkcli.mechanisms import schema_of
-from linkcli.reading.linkage import read_linkage
+from linkcli.reading.linkage import keys_mechanism, read_linkage
 from linkcli.model import Meta
 
 
@@ -18,7 +18,8 @@ def parse(root: Table, meta: Meta) -> LinkageProblem | None:
     from linkcli.model import LinkageProblem
     link = root.table("linkage", required=True)
     linkage = read_linkage(link, meta.units) if link else None
-    study = schema_of(mechanism_of(root)).read_motion(root, meta, linkage)  # its [motion]
+    named = mechanism_of(root)  # [motion] as the keys' mechanism's, when [linkage] holds another's
+    study = schema_of(keys_mechanism(link, named) or named).read_motion(root, meta, linkage)  # its [motion]
     if linkage is None or study is None:
         return None
     linkage, speed, steps = study

@@ -31,6 +31,12 @@ def _frame(ax, points) -> None:
 
 
 def draw(fig, result) -> None:
+    """The design's figure, by its mechanism's synthesis face: the four-bar's below."""
+    from linkcli.mechanisms import synthesis
+    return synthesis.draw("motion-generation", fig, result)
+
+
+def draw_four_bar(fig, result) -> None:
     report, problem = drawn(result), result.problem
     u, ax, (ax_pos, ax_ang) = panels(fig, result, 2, [1.45, 1.0])
     lu, au = u.length, u.angle

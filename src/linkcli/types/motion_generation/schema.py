@@ -107,7 +107,15 @@ def _pivot_pair(t: Table, key: str, n: int | None, timing: str | None):
     return tuple(pts)
 
 
-def parse(root: Table, meta: Meta) -> MotionGenerationProblem | None:
+def parse(root: Table, meta: Meta):
+    """The problem of the mechanism [linkage] names, read by its home's synthesis face
+    (mechanisms.synthesis): the four-bar's below (`parse_four_bar`), another home's keys."""
+    from linkcli.mechanisms import synthesis
+    return synthesis.read("motion-generation", root, meta)
+
+
+def parse_four_bar(root: Table, meta: Meta) -> MotionGenerationProblem | None:
+    """A four-bar's coupler guiding a body through poses (the module docstring's keys)."""
     u = meta.units
     tgt = root.table("target", required=True)
     if tgt is None:

@@ -58,6 +58,14 @@ DEFECT_TEXT = {"assembly": "does not reach every pose", "branch": "branch defect
 
 
 def solve(problem) -> Solution:
+    """The design of the problem's mechanism, by its home's synthesis face
+    (mechanisms.synthesis): the four-bar's below (`solve_four_bar`)."""
+    from linkcli.mechanisms import synthesis
+    return synthesis.solve("motion-generation", problem)
+
+
+def solve_four_bar(problem) -> Solution:
+    """The four-bar's motion design (the module docstring's strategy by pose count)."""
     poses = as_poses(problem.poses)
     n = len(poses)
     scale = characteristic_length(poses)

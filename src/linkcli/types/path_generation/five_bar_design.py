@@ -46,6 +46,7 @@ class FiveBarPathProblem:
     sin(min_transmission)), None without one."""
 
     mechanism: ClassVar[str] = "five-bar"
+    methods: ClassVar[tuple[str, ...]] = ("auto",)  # its one search ([solver] method, bench settings)
     meta: Meta
     points: tuple[tuple[float, float], ...]
     bounds: dict
@@ -127,7 +128,9 @@ def parse(root: Table, meta: Meta) -> FiveBarPathProblem | None:
             obj.error("tradeoff", 'minimize = "failure-probability" with tradeoff (the table of the two '
                       "objectives)", raw_got=f"tradeoff = {describe(obj.raw('tradeoff'))}")
         tradeoff = obj.number("tradeoff", 5, integer=True, lo=2, hi=MAX_TRADEOFF)
-    if minimize is not None and (meta.tolerance is None or meta.tolerance.allowed_error is None):
+    raw_tolerance = root.data.get("tolerance")
+    given_bad = isinstance(raw_tolerance, dict) and "allowed_error" in raw_tolerance  # its own line says so
+    if minimize is not None and (meta.tolerance is None or meta.tolerance.allowed_error is None) and not given_bad:
         where = "objective" if meta.tolerance is None else "tolerance"
         root.reader.error((where, "minimize") if where == "objective" else ("tolerance",),
                           "a [tolerance] table with allowed_error (the failure probability minimized is "
@@ -138,7 +141,7 @@ def parse(root: Table, meta: Meta) -> FiveBarPathProblem | None:
     modes = _modes(con)
     branch = con.string("branch", "either", choices=SIDES + ("either",)) if con is not None else "either"
     floor, floor_ok = _floor(con, maximize or "conditioning", u)
-    if meta.solver.method != "auto":
+    if meta.solver.method not in FiveBarPathProblem.methods:
         root.reader.error(("solver", "method"), 'method = "auto" for a five-bar (its one search: seeded '
                           "differential evolution, then Newton on the optimum's KKT conditions)",
                           raw_got=f'"{meta.solver.method}"')

@@ -17,10 +17,12 @@ LABEL_ALL = 12  # up to this many targets each one is numbered; beyond, every k-
 
 
 def draw(fig, result) -> None:
-    linkage = result.solution.linkage
-    if linkage is not None and linkage.mechanism != "four-bar":  # another mechanism's design: its study
-        from linkcli import mechanisms
-        return mechanisms.module(linkage.mechanism, "plot").draw(fig, result)
+    """The design's figure, by its mechanism's synthesis face: the four-bar's below."""
+    from linkcli.mechanisms import synthesis
+    return synthesis.draw("path-generation", fig, result)
+
+
+def draw_four_bar(fig, result) -> None:
     report = drawn(result)
     u, ax, (ax_err, ax_in) = panels(fig, result, 2, [1.45, 1.0])
     au, lu = u.angle, u.length

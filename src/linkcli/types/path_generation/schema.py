@@ -19,7 +19,6 @@ from linkcli.model import Meta, PathGenerationProblem
 from linkcli.mechanisms.four_bar.model import LINKS
 from linkcli.reading.meta import in_motion_order
 from linkcli.io.bounds import MAX_LENGTH, MIN_LENGTH
-from linkcli.reading.loads import mechanism_of
 from linkcli.reading.robust_keys import read_objective
 from linkcli.io.reader import MISSING, Table, describe
 
@@ -182,14 +181,15 @@ def transmission_window(t: Table, units):
     return (units.to_rad(w[0]), units.to_rad(w[1])), True
 
 
-DESIGNS = {"five-bar": "five_bar_design"}  # [linkage] mechanism -> its own path design (schema, solve)
+def parse(root: Table, meta: Meta):
+    """The problem of the mechanism [linkage] names, read by its home's synthesis face
+    (mechanisms.synthesis): the four-bar's below (`parse_four_bar`), another home's keys."""
+    from linkcli.mechanisms import synthesis
+    return synthesis.read("path-generation", root, meta)
 
 
-def parse(root: Table, meta: Meta) -> PathGenerationProblem | None:
-    design = DESIGNS.get(mechanism_of(root)) if "linkage" in root else None
-    if design is not None:
-        from importlib import import_module
-        return import_module(f"linkcli.types.path_generation.{design}").parse(root, meta)
+def parse_four_bar(root: Table, meta: Meta) -> PathGenerationProblem | None:
+    """A four-bar's coupler point through target points (the module docstring's keys)."""
     u = meta.units
     tgt = root.table("target", required=True)
     if tgt is None:

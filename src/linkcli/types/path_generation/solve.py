@@ -37,7 +37,6 @@ from linkcli.mechanisms.four_bar.model import FourBar
 from linkcli.search.budget import Budget, BudgetSpent
 from linkcli.solution import Positions, Solution, SolverRecord, Status
 from linkcli.types.path_generation import starts
-from linkcli.types.path_generation.schema import DESIGNS
 from linkcli.types.path_generation.model import N_LINK, SHORTEST, Design, build, rho2_extremes
 from linkcli.types.path_generation.search import (POLISH_ITERATIONS, Space, batch_lm, differential_evolution,
                                                  distinct, polish, settle)
@@ -128,9 +127,14 @@ class Candidate:
 
 
 def solve(problem) -> Solution:
-    if problem.mechanism in DESIGNS:  # another mechanism's path design: its own solve module
-        from importlib import import_module
-        return import_module(f"linkcli.types.path_generation.{DESIGNS[problem.mechanism]}_solve").solve(problem)
+    """The design of the problem's mechanism, by its home's synthesis face
+    (mechanisms.synthesis): the four-bar's below (`solve_four_bar`)."""
+    from linkcli.mechanisms import synthesis
+    return synthesis.solve("path-generation", problem)
+
+
+def solve_four_bar(problem) -> Solution:
+    """The four-bar's path design (the module docstring's methods)."""
     design = build(problem)
     opts = problem.meta.solver
     method = "multistart" if opts.method == "auto" else opts.method

@@ -1,17 +1,14 @@
-"""The picture of this type: the four-bar at its positions and the output angle against
-the input (shared with the other angle-function type, linkcli.mechanisms.four_bar.angle_plot); a
-slider-crank draws itself (its home's plot: slider travel with the targets)."""
+"""The picture of this type, by the mechanism's synthesis face: the four-bar at its positions
+and the output angle against the input (mechanisms.four_bar.angle_plot, shared with function
+generation); a slider-crank draws itself (its home's plot: slider travel with the targets)."""
 
-from linkcli.mechanisms.four_bar import angle_plot
 from linkcli.mechanisms.four_bar.angle_plot import NEEDS
 
 
 def draw(fig, result) -> None:
-    from linkcli import mechanisms
-    linkage = result.solution.linkage
-    if linkage is not None and linkage.mechanism != "four-bar":
-        return mechanisms.module(linkage.mechanism, "plot").draw(fig, result)
-    return angle_plot.draw(fig, result)
+    """The design's figure, by its mechanism's synthesis face (the four-bar's: angle_plot)."""
+    from linkcli.mechanisms import synthesis
+    return synthesis.draw("precision-position", fig, result)
 
 
 __all__ = ["NEEDS", "draw"]

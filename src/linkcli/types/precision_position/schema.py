@@ -15,16 +15,24 @@ from linkcli.reading.linkage import read_mechanism, refuse_foreign
 from linkcli.mechanisms.schema import read_drive_motion
 
 MAX_POSITIONS = 1000
-SYNTHESIZED = ("four-bar", "slider-crank")  # the mechanisms precision positions can design
 
 
 def parse(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
+    """The problem of the mechanism [linkage] names, read by its home's synthesis face
+    (mechanisms.synthesis): the four-bar's and the slider-crank's are `parse_positions`."""
+    from linkcli.mechanisms import synthesis
+    return synthesis.read("precision-position", root, meta)
+
+
+def parse_positions(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
+    """Positions of a four-bar (output angles) or a slider-crank (slider positions)."""
+    from linkcli.mechanisms.synthesis import designers
     link = root.table("linkage", required=True)
-    mechanism = read_mechanism(link, SYNTHESIZED) if link else "four-bar"
+    mechanism = read_mechanism(link, designers("precision-position")) if link else "four-bar"
     if link is not None and mechanism is not None and refuse_foreign(link, mechanism):
         mechanism = None
     if mechanism == "slider-crank":
-        return _parse_slider(root, meta)
+        return parse_slider(root, meta)
     ground = bounded_length(link, "ground") if link else None
     pos = root.table("positions", required=True)
     phi = psi = None
@@ -80,7 +88,7 @@ def within_sizes(pos: Table, s: list[float]) -> bool:
     return True
 
 
-def _parse_slider(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
+def parse_slider(root: Table, meta: Meta) -> PrecisionPositionProblem | None:
     """A slider-crank through (crank angle, slider position) pairs: [linkage] holds only
     `mechanism` (the lengths are the answer); positions.output are slider positions s_i
     (length unit, x of the slider pin). Impossible data (coincident angles, a singular

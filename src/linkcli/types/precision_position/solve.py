@@ -176,9 +176,15 @@ def _least_squares(problem, phi, psi, d):
 
 
 def solve(problem) -> Solution:
-    if problem.mechanism == "slider-crank":
-        from linkcli.types.precision_position.slider import solve as solve_slider
-        return solve_slider(problem)
+    """The design of the problem's mechanism, by its home's synthesis face
+    (mechanisms.synthesis): the four-bar's below (`solve_four_bar`), the slider-crank's in
+    slider.py."""
+    from linkcli.mechanisms import synthesis
+    return synthesis.solve("precision-position", problem)
+
+
+def solve_four_bar(problem) -> Solution:
+    """Freudenstein's positions: exact for three, least squares beyond (module docstring)."""
     phi = np.array(problem.input_angles)
     psi = np.array(problem.output_angles)
     d = problem.ground

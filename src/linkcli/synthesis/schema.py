@@ -1,0 +1,317 @@
+"""The keys of a drawn linkage's design (docs/drawn_synthesis.md): path-, motion- and
+function-generation with `[linkage] mechanism = "drawn"`. Pure Python (`check` reads it
+without numpy).
+
+    [linkage]      mechanism = "drawn" (nothing else)
+    [joints], [links], [drive]   the starting design, as for analysis (drawn.schema): one
+                   drive, a link turning about its ground joint; every closure in closed
+                   form (a dyad, RRP or RPR: no group solved by Newton's method)
+    [motion]       steps (the kinematics section's rows), points, output (as for analysis)
+    [target]       path: joint = "F" (a joint that moves), points, timing, input_angles,
+                   direction (as four-bar path generation); motion: link = "name", poses,
+                   timing, input_angles, angle_weight (as four-bar motion generation);
+                   function: link = "name", output = "<law in phi, phi0, psi0>" or
+                   function = "<f(x)>" with x and output_sweep, input_sweep, points,
+                   spacing, input_start and output_start (angles from the drawn position:
+                   default 0, or free with [bounds])
+    [bounds]       a free joint: NAME = { x = [lo, hi], y = [lo, hi] } (a number fixes the
+                   coordinate), each box holding the joint's drawn place; input_offset
+                   (prescribed timing); input_start, output_start (function generation)
+    [constraints]  transmission = [lo, hi] (every closure), drive = "crank" (the driving
+                   link turns fully) | "any" (default: it may rock), defect_free
+    [objective]    minimize = "error" | "failure-probability" (io.robust_keys)
+"""
+
+from __future__ import annotations
+
+import difflib
+
+from linkcli.io.reader import Table, describe
+
+DRIVES = ("any", "crank")
+KINDS = {"path-generation": "path", "motion-generation": "motion", "function-generation": "function"}
+TARGET_KEYS = {
+    "path": ("joint", "points", "timing", "input_angles", "direction"),
+    "motion": ("link", "poses", "timing", "input_angles", "angle_weight"),
+    "function": ("link", "output", "function", "input_start", "output_start", "input_sweep",
+                 "output_sweep", "x", "points", "spacing"),
+}
+TIMING_BOUNDS = {"path": ("input_offset",), "motion": ("input_offset",),
+                 "function": ("input_start", "output_start")}
+
+
+def read_path(root: Table, meta):
+    return read(root, meta, "path-generation")
+
+
+def read_motion(root: Table, meta):
+    return read(root, meta, "motion-generation")
+
+
+def read_function(root: Table, meta):
+    return read(root, meta, "function-generation")
+
+
+def read(root: Table, meta, type_name: str):
+    """The DrawnDesignProblem of a design file; None after recording every error found."""
+    from linkcli.model import DrawnDesignProblem
+    from linkcli.reading.robust_keys import read_objective
+    from linkcli.mechanisms.drawn.schema import read as read_drawing
+    from linkcli.mechanisms.schema import read_drive_motion as read_steps
+    kind = KINDS[type_name]
+    u = meta.units
+    if meta.solver.method != "auto":  # the shared search is the one strategy of a drawn design
+        root.reader.error(("solver", "method"), 'method = "auto" for a drawn linkage (the shared search: '
+                          "docs/drawn_synthesis.md)", raw_got=f'"{meta.solver.method}"')
+    drawing = read_drawing(root.table("linkage"), u)
+    _, steps = read_steps(root)
+    drawing = drawing if drawing is None else _one_turning_drive(root, drawing)
+    tgt = root.table("target", required=True)
+    if tgt is not None:
+        tgt.allow(*TARGET_KEYS[kind])
+    bnd = root.table("bounds")
+    boxes = _boxes(bnd, drawing, kind) if drawing is not None else None
+    drive, window = _constraints(root, u)
+    robust = read_objective(root, meta)
+    fields = None
+    if tgt is not None and drawing is not None:
+        fields = {"path": _path_target, "motion": _motion_target, "function": _function_target}[kind](
+            tgt, bnd, drawing, u)
+    if None in (drawing, boxes, drive, fields, robust, steps) or window is False:
+        return None
+    lines = {".".join(k): root.reader.line_of(k) for k in (("target",), ("bounds",), ("constraints",))}
+    return DrawnDesignProblem(meta=meta, kind=kind, drawing=drawing, boxes=boxes, drive=drive,
+                              transmission=window, steps=steps, lines=lines, objective=robust[0],
+                              defect_free=robust[1], **fields)
+
+
+# ---------------------------------------------------------------- the drawing
+
+def _one_turning_drive(root: Table, drawing):
+    """The drawing when it has one drive turning a link (synthesis measures its angle), and
+    every closure in closed form; else None (error recorded, located)."""
+    from linkcli.mechanisms.drawn.model import TURN
+    from linkcli.mechanisms.drawn.structure import analyse
+    drives = drawing.drives
+    if len(drives) != 1 or drives[0].kind != TURN:
+        found = (f"{len(drives)} drives ({', '.join(d.name for d in drives)})" if len(drives) != 1
+                 else f"slider {drives[0].name} moved along its guide")
+        root.reader.error(("drive",), "one drive turning a link about its ground joint (a design measures "
+                          "its targets by that link's angle)", raw_got=found)
+        return None
+    group = closed_form_problem(analyse(drawing))
+    if group is not None:
+        root.reader.error(("links", group[0]), "a drawing whose closures are dyads, RRP or RPR (closed "
+                          "forms a design can run over a whole population)",
+                          raw_got=f"links {', '.join(group)} closed together by Newton's method "
+                                  "(a group of more than two links)")
+        return None
+    return drawing
+
+
+def _boxes(bnd: Table | None, drawing, kind: str):
+    """((joint, ((x lo, x hi), (y lo, y hi))), ...) in file order: each box holds the
+    joint's drawn place; None after an error."""
+    if bnd is None:
+        return ()
+    names = [j.name for j in drawing.joints]
+    timing = TIMING_BOUNDS[kind]
+    out, ok = [], True
+    for key in list(bnd.keys()):
+        if key in timing:
+            continue  # read with the target (it depends on the timing)
+        if key not in names:
+            hint = difflib.get_close_matches(key, names + list(timing), n=1, cutoff=0.5)
+            extra = f' (did you mean "{hint[0]}"?)' if hint else ""
+            bnd.raw(key)
+            bnd.error(key, f"a joint of [joints] (its box: {{ x = [lo, hi], y = [lo, hi] }}) or one of: "
+                      f"{', '.join(timing)}{extra}", raw_got=f'"{key}", which the drawing does not have')
+            ok = False
+            continue
+        box = bnd.point_range(key)
+        if box is None:
+            ok = False
+            continue
+        at = drawing.joint(key).at
+        sub = bnd.table(key)
+        for c, (lo, hi), v in zip("xy", box, at):
+            if not lo <= v <= hi:
+                sub.error(c, f"a range holding {key}'s drawn {c} = {v:g} (the box of a free joint holds its "
+                          "drawn place: the starting design)", raw_got=f"[{lo:g}, {hi:g}]" if lo < hi else f"{lo:g}")
+                ok = False
+        out.append((key, box))
+    return tuple(out) if ok else None
+
+
+def _constraints(root: Table, u):
+    """(drive, window): window None without one, False after an error; drive None after one."""
+    from linkcli.types.path_generation.schema import transmission_window
+    con = root.table("constraints")
+    if con is None:
+        return "any", None
+    con.allow("transmission", "drive", "defect_free")  # defect_free: io.robust_keys
+    drive = con.string("drive", "any", choices=DRIVES)
+    window, ok = transmission_window(con, u)
+    return drive, (window if ok else False)
+
+
+def _moving_joint(tgt: Table, drawing):
+    name = tgt.string("joint")
+    if name is None:
+        return None
+    names = [j.name for j in drawing.joints]
+    if name not in names:
+        hint = difflib.get_close_matches(name, names, n=1, cutoff=0.5)
+        extra = f' (did you mean "{hint[0]}"?)' if hint else ""
+        tgt.error("joint", f"a joint of [joints]{extra}", raw_got=f'"{name}", which the drawing does not have')
+        return None
+    if drawing.joint(name).ground:
+        tgt.error("joint", "a joint that moves (the path of a ground pivot is a point)",
+                  raw_got=f'"{name}", a ground joint')
+        return None
+    return name
+
+
+def _moving_link(tgt: Table, drawing):
+    name = tgt.string("link")
+    if name is None:
+        return None
+    links = [k.name for k in drawing.links]
+    if name not in links:
+        hint = difflib.get_close_matches(name, links, n=1, cutoff=0.5)
+        extra = f' (did you mean "{hint[0]}"?)' if hint else ""
+        why = "the ground, which does not move" if name == "ground" else "which [links] does not have"
+        tgt.error("link", f"a link of [links]{extra}", raw_got=f'"{name}", {why}')
+        return None
+    return name
+
+
+# ---------------------------------------------------------------- targets
+
+def _timing(tgt: Table, bnd: Table | None, n: int | None, u, item: str):
+    """(timing, input_angles, input_offset, direction) of a path or motion target; None after an
+    error."""
+    from linkcli.types.path_generation.schema import DIRECTIONS, angle_range, read_input_angles
+    timing = tgt.string("timing", "prescribed" if "input_angles" in tgt else "free",
+                        choices=("prescribed", "free"))
+    if timing is None:
+        return None
+    direction = "either"
+    if timing == "free":
+        direction = tgt.string("direction", "either", choices=DIRECTIONS) if "direction" in tgt else "either"
+    elif "direction" in tgt:
+        tgt.error("direction", 'no direction with timing = "prescribed" (the input angles set it)',
+                  raw_got=describe(tgt.raw("direction")))
+        return None
+    angles = read_input_angles(tgt, timing, n, u, item=item) if n is not None else None
+    offset = None
+    if bnd is not None and "input_offset" in bnd:
+        if timing == "free":
+            bnd.error("input_offset", 'no input_offset with timing = "free" (every input angle is free)',
+                      raw_got=describe(bnd.raw("input_offset")))
+            return None
+        offset = angle_range(bnd, "input_offset", None, u)
+        if offset is None:
+            return None
+    if direction is None or angles is None:
+        return None
+    return timing, (angles if timing == "prescribed" else None), offset, direction
+
+
+def _path_target(tgt: Table, bnd, drawing, u):
+    from linkcli.types.path_generation.schema import MAX_FREE_POINTS, _points
+    joint = _moving_joint(tgt, drawing)
+    points = _points(tgt)
+    timing = _timing(tgt, bnd, len(points) if points is not None else None, u, "point")
+    if timing is not None and points is not None and timing[0] == "free" and len(points) > MAX_FREE_POINTS:
+        tgt.error("points", f"at most {MAX_FREE_POINTS} points with free timing (each point adds an input "
+                  "angle to the unknowns)", raw_got=f"an array of {len(points)}")
+        return None
+    if joint is None or points is None or timing is None:
+        return None
+    return dict(joint=joint, points=tuple(points), timing=timing[0], input_angles=timing[1],
+                input_offset=timing[2], direction=timing[3])
+
+
+def _motion_target(tgt: Table, bnd, drawing, u):
+    from linkcli.types.motion_generation.schema import _poses
+    link = _moving_link(tgt, drawing)
+    poses = _poses(tgt, u)
+    timing = _timing(tgt, bnd, len(poses) if poses is not None else None, u, "pose")
+    weight = tgt.number("angle_weight", None, positive=True, what="a positive length") \
+        if "angle_weight" in tgt else None
+    if link is None or poses is None or timing is None or ("angle_weight" in tgt and weight is None):
+        return None
+    return dict(link=link, poses=tuple(poses), timing=timing[0], input_angles=timing[1],
+                input_offset=timing[2], direction=timing[3], angle_weight=weight)
+
+
+def _function_target(tgt: Table, bnd, drawing, u):
+    """The law of a link's angle (function generation's keys; the start angles measured from the
+    drawn position, default 0, or free with [bounds])."""
+    from linkcli.types.function_generation import schema as fg
+    link = _moving_link(tgt, drawing)
+    form_law = fg.read_law(tgt)
+    sweep = fg.read_sweep(tgt, "input_sweep", u)
+    points = tgt.number("points", fg.DEFAULT_POINTS, integer=True, lo=2, hi=fg.MAX_POINTS)
+    spacing = tgt.string("spacing", "uniform", choices=fg.SPACINGS)
+    function = fg.read_function_keys(tgt, form_law[0] if form_law else None, u)
+    starts = _starts(tgt, bnd, u)
+    if None in (link, form_law, sweep, points, spacing, function, starts):
+        return None
+    form, law = form_law
+    given, bounds = starts
+    t = fg.fractions(points, spacing)
+    output_sweep, x_range = function
+    shape: tuple = ()
+    if form == "function":
+        shape = fg.function_shape(tgt, law, x_range, t)
+        if shape is None:
+            return None
+    elif not bounds:
+        if not fg.check_law_at_points(tgt, law, given, sweep, t, u):
+            return None
+    elif not fg.check_law_for_some_start(tgt, law, given, bounds, sweep, t, u):
+        return None
+    return dict(link=link, law=law, form=form, input_sweep=sweep, fractions=t,
+                input_start=given.get("input_start"), output_start=given.get("output_start"),
+                start_bounds=bounds, output_sweep=output_sweep, x_range=x_range, shape=shape)
+
+
+def _starts(tgt: Table, bnd: Table | None, u):
+    """(given, bounds) of input_start and output_start: given in [target] (angle), free in
+    [bounds] (range), never both; absent: 0 (the drawn position, the link's drawn angle)."""
+    from linkcli.types.path_generation.schema import angle_range
+    given, bounds, ok = {}, {}, True
+    for key in ("input_start", "output_start"):
+        in_tgt, in_bnd = key in tgt, bnd is not None and key in bnd
+        if in_tgt and in_bnd:
+            bnd.raw(key)
+            bnd.error(key, "a start angle either given in [target] or bounded in [bounds], not both",
+                      raw_got=f"target.{key} = {describe(tgt.raw(key))} and bounds.{key} = {describe(bnd.data[key])}")
+            ok = False
+        elif in_bnd:
+            r = angle_range(bnd, key, None, u)
+            if r is None:
+                ok = False
+            elif r[0] == r[1]:
+                given[key] = r[0]
+            else:
+                bounds[key] = r
+        elif in_tgt:
+            value = tgt.number(key, what=f"an angle ({u.angle}) from the drawn position")
+            if value is None:
+                ok = False
+            else:
+                given[key] = u.to_rad(value)
+        else:
+            given[key] = 0.0
+    return (given, bounds) if ok else None
+
+
+def closed_form_problem(structure) -> tuple[str, ...] | None:
+    """The links of the first group the plan solves by Newton's method (drawn.groups: no
+    closed form over a population), or None."""
+    from linkcli.mechanisms.drawn.structure import Group
+    groups = [op for op in structure.plan if isinstance(op, Group)]
+    return groups[0].links if groups else None
