@@ -14,7 +14,14 @@ def report_tables(name: str, section, lu: str, au: str) -> list:
                  "stop_speed": f"{au}/s", "flywheel_inertia": "kg m2"}
         rows = []
         for k, v in section.items():
-            if k == "start":
+            if k == "start" and "angle" not in v:  # several drives: each drive's start
+                for drive, at in v.items():
+                    rows += [(f"start angle {drive} ({au})", at["angle"]),
+                             (f"start speed {drive} ({au}/s)", at["speed"])]
+            elif isinstance(v, dict) and k != "friction" and k != "start":  # several drives: per drive
+                rows += [(f"{k.replace('_', ' ')} {drive}" + (f" ({units[k]})" if k in units else ""), x)
+                         for drive, x in v.items()]
+            elif k == "start":
                 rows += [(f"start angle ({au})", v["angle"]), (f"start speed ({au}/s)", v["speed"])]
             elif k == "friction":
                 rows += [("friction coefficient", v["coefficient"]),
@@ -28,7 +35,14 @@ def report_tables(name: str, section, lu: str, au: str) -> list:
         base = tuple(heads)
         rows = []
         for r in section:
-            row = {k: r.get(k) for k in base}
+            row = {}
+            for k in base:
+                if isinstance(r.get(k), dict):  # several drives: a column per drive
+                    for drive, v in r[k].items():
+                        row[f"{k} {drive}"] = v
+                        heads.setdefault(f"{k} {drive}", heads[k].replace(" (", f" {drive} (", 1))
+                else:
+                    row[k] = r.get(k)
             for pin, force in r.get("pins", {}).items():
                 row[f"pin {pin}"] = force["magnitude"]
                 heads.setdefault(f"pin {pin}", f"{pin} (N)")
@@ -41,6 +55,17 @@ def report_tables(name: str, section, lu: str, au: str) -> list:
         return [KeyValues("Events", [("events", "none")])]
     if name == "events" and isinstance(section, list) and section:
         heads = {"event": "event", "time": "time (s)", "angle": f"angle ({au})", "speed": f"speed ({au}/s)"}
+        if any(isinstance(r.get("angle"), dict) for r in section):  # several drives: per drive
+            heads = {"event": "event", "drive": "drive", "time": "time (s)"}
+            rows = []
+            for r in section:
+                row = {"event": r["event"], "drive": r.get("drive", ""), "time": r["time"]}
+                for key, unit in (("angle", au), ("speed", f"{au}/s")):
+                    for drive, v in r[key].items():
+                        row[f"{key} {drive}"] = v
+                        heads.setdefault(f"{key} {drive}", f"{key} {drive} ({unit})")
+                rows.append(row)
+            return [Rows("Events", rows, heads)]
         return [Rows("Events", section, heads)]
     if name == "energy" and isinstance(section, dict):
         rows = [(f"{k.replace('_', ' ')} (J)", v) for k, v in section.items() if k != "start"]

@@ -87,10 +87,9 @@ class FiveBarSchema(Schema):
 
     def force_parts(self, root: Table, kind: str) -> ForceParts:
         """Joints A0, A, P, B, B0; links input, input2, coupler, coupler2; pins A0, A, P, B, B0;
-        two drives, input and input2 (each a crank's angle); no counterweight rule."""
-        return ForceParts(points=dict(CARRIED), links=LINKS, pins=tuple(CARRIED), drives=DRIVE_NAMES,
-                          refused="a one-drive linkage (four-bar, slider-crank or a drawn linkage with one "
-                                  "turning drive): the five-bar's two drives are not modelled")
+        two drives, input and input2 (each a crank's angle: [dynamics.input], [dynamics.input2]);
+        no counterweight rule."""
+        return ForceParts(points=dict(CARRIED), links=LINKS, pins=tuple(CARRIED), drives=DRIVE_NAMES)
 
 
 def _read(t: Table, units) -> FiveBar | None:

@@ -1,0 +1,425 @@
+"""The equation of motion of a linkage of several drives (k degrees of freedom, the drive values
+q = (q_1 .. q_k) its generalized coordinates: the five-bar's input and input2), from its kinematic
+coefficients (mechanisms.protocol.Coefficients of k drives). Lagrange's equations written with
+the velocity coefficients (Kane's form; Uicker, Pennock & Shigley, Theory of Machines and
+Mechanisms, ch. 16, for one input; Haug, Computer-Aided Kinematics and Dynamics of Mechanical
+Systems, ch. 6, for several):
+
+    M(q) q'' + h(q, q') = Q(q, q')
+
+    M_ij = sum_b m_b G_b,i . G_b,j + I_b theta_b,i theta_b,j        (+ flywheel_j on drive j)
+    h_i  = sum_b m_b G_b,i . (sum_jl G_b,jl q_j' q_l') + I_b theta_b,i (sum_jl theta_b,jl q_j' q_l')
+    Q_i  = -dV/dq_i - sum_e F_e g_e,i + T_i(q_i') + Q_friction,i
+
+G_b,i = dG_b/dq_i (the centre's velocity per unit speed of drive i), G_b,jl its second partials,
+theta_b likewise; V gravity's and the constant [loads] forces' potential; F_e each element's
+force on its coordinate g_e (a distance or an angle; g_e,i its partials), T_i drive i's torque on
+the body it turns (whose angle is its drawn angle plus q_i: rate coefficients delta_ij). The
+kinetic energy is q'^T M q' / 2, and h is what its time derivative leaves: with no damping,
+friction or drive, kinetic + potential + spring energy is constant. One drive is the case k = 1
+of the same equation (dynamics.system tabulates it; here it is evaluated exactly at every step).
+
+The integrator's right-hand side (`rhs`) evaluates the coefficients at the state in Python floats
+(the home's `coefficients_at`: no array per step) and solves the k x k system by Gaussian
+elimination; with pin friction it solves the Newton-Euler equations of all bodies at the state
+instead (dynamics.body_forces: the couples depend on the pin forces), which gives the
+accelerations with friction in one solve per pass. The history (`state`) evaluates everything
+exactly for all output rows at once (numpy), the pin forces by body_forces.
+
+State y = (q_1..q_k, q_1'..q_k', W_drive, W_dampers, W_friction, a_1..a_m): the works done on the
+linkage since the start (their powers integrated with the motion), and each angle coordinate of a
+torsional element followed continuously (its rate integrated; the exact angle is the home's,
+moved by the whole turns that bring it nearest this one), so that a spring wound past a turn
+keeps its whole deflection.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from linkcli.analysis.dynamics import bodies, body_forces
+from linkcli.analysis.dynamics.elements import DriveLaw, compile_elements
+from linkcli.analysis.dynamics.system import located_error
+
+TWO_PI = 2.0 * math.pi
+
+
+class Several:
+    """A linkage of k drives with its force elements and drive laws, ready to integrate
+    (module docstring). `setups`: the DriveSetups in the order of the drive values."""
+
+    def __init__(self, mech, dyn, case, units, metres: float, path: str | None = None) -> None:
+        from linkcli.model import LoadCase
+        self.mech, self.dyn, self.units, self.metres, self.path = mech, dyn, units, metres, path
+        self.case = case = case or LoadCase()
+        graph = self.graph = mech.body_graph(case, metres)
+        self.names = tuple(name for name, _ in graph.driven)
+        self.k = len(self.names)
+        by_name = {s.name: s for s in dyn.drives}
+        self.setups = tuple(by_name[name] for name in self.names)
+        self.laws = [DriveLaw(s.drive) for s in self.setups]
+        self.flywheels = [s.flywheel_inertia for s in self.setups]
+        self.elements = compile_elements(dyn, graph, metres, units)
+        self.coordinates, self.coordinate_of = [], []
+        for element in self.elements:
+            if element.coordinate not in self.coordinates:
+                self.coordinates.append(element.coordinate)
+            self.coordinate_of.append(self.coordinates.index(element.coordinate))
+        self.angles = [k for k, c in enumerate(self.coordinates) if c.kind == "angle"]
+        self.threshold = math.sin(dyn.dead_point)
+        self.massive = [(b, graph.masses[b]) for b in graph.bodies if graph.masses.get(b) is not None]
+        self.friction = None
+        if dyn.friction:
+            from linkcli.analysis.dynamics.history import friction_of
+            self.friction = friction_of(self)
+
+    def error(self, key: str, expected: str, got: str):
+        return located_error(self.dyn, self.path, key, expected, got)
+
+    # ------------------------------------------------------------ the start
+    def start(self) -> np.ndarray:
+        """The initial state y0 (module docstring), after checking the start assembles away from
+        a dead point; each angle coordinate starts in (-pi, pi]."""
+        q0 = [s.start[0] for s in self.setups]
+        w0 = [s.start[1] for s in self.setups]
+        pc = self.mech.coefficients_at(q0, self.metres)
+        if not pc.valid or pc.lock < self.threshold:
+            u = self.units
+            said = ", ".join(f"{n} {u.from_rad(q):.6g}" for n, q in zip(self.names, q0))
+            why = ("where the linkage does not assemble" if not pc.valid else
+                   f"within dead_point ({u.from_rad(self.dyn.dead_point):g} {u.angle}) of a dead point")
+            raise self.error(f"dynamics.{self.names[-1]}.start.angle",
+                             "start angles where the linkage assembles, away from its dead points "
+                             "(the distal links not in line)", f"{said} ({u.angle}), {why}")
+        angles = []
+        for k in self.angles:
+            g = self._point_coordinate(pc, self.coordinates[k])[0]
+            angles.append(math.remainder(g, TWO_PI) if abs(math.remainder(g, TWO_PI)) < math.pi else math.pi)
+        return np.array(q0 + w0 + [0.0, 0.0, 0.0] + angles, dtype=float)
+
+    # ------------------------------------------------------------ floats: the integrator's
+    def _point(self, pc, body: str, local):
+        """(p, p_j, p_jl) of a body's point at one state (floats; module docstring of bodies)."""
+        k = self.k
+        if body == bodies.GROUND:
+            zero = (0.0, 0.0)
+            return (float(local[0]), float(local[1])), [zero] * k, [[zero] * k for _ in range(k)]
+        (x, dx, ddx), (th, dth, ddth) = pc.origin[body], pc.angle[body]
+        c, s = math.cos(th), math.sin(th)
+        rx, ry = c * local[0] - s * local[1], s * local[0] + c * local[1]
+        first = [(dx[j][0] - dth[j] * ry, dx[j][1] + dth[j] * rx) for j in range(k)]
+        second = [[(ddx[i][j][0] - ddth[i][j] * ry - dth[i] * dth[j] * rx,
+                    ddx[i][j][1] + ddth[i][j] * rx - dth[i] * dth[j] * ry) for j in range(k)] for i in range(k)]
+        return (x[0] + rx, x[1] + ry), first, second
+
+    def _end(self, pc, end):
+        if end.point is not None:
+            body, local = self.graph.points[end.point]
+            return self._point(pc, body, local)
+        return self._point(pc, bodies.GROUND, (end.at[0] * self.metres, end.at[1] * self.metres))
+
+    def _point_coordinate(self, pc, c):
+        """(g, g_j) of a coordinate at one state: a distance, or an angle (the home's, wrapped)."""
+        if c.kind == "distance":
+            p1, d1, _ = self._end(pc, c.first)
+            p2, d2, _ = self._end(pc, c.second)
+            dx, dy = p2[0] - p1[0], p2[1] - p1[1]
+            length = math.hypot(dx, dy)
+            rate = [(dx * (d2[j][0] - d1[j][0]) + dy * (d2[j][1] - d1[j][1])) / length for j in range(self.k)]
+            return length, rate
+        t2, r2 = self._angle_of(pc, c.second)
+        t1, r1 = self._angle_of(pc, c.first)
+        return t2 - t1, [a - b for a, b in zip(r2, r1)]
+
+    def _angle_of(self, pc, body):
+        if body is None:
+            return 0.0, [0.0] * self.k
+        theta, first, _ = pc.angle[body]
+        return theta, list(first)
+
+    def rhs_function(self, budget: int):
+        """f(t, y) of the state (module docstring), counting its calls against `budget`."""
+        from linkcli.analysis.dynamics.motion import OutOfBudget
+        k, graph, mech, metres = self.k, self.graph, self.mech, self.metres
+        gx, gy = (float(v) for v in graph.gravity)
+        slots = [self.angles.index(c) if c in self.angles else None for c in range(len(self.coordinates))]
+        items = list(zip(self.coordinate_of, self.elements))
+        forces_at = [(graph.points[name], tuple(float(v) for v in f)) for name, f in graph.forces]
+        drive_bodies = [body for _, body in graph.driven]
+        count = [0]
+        nan = [math.nan] * (2 * k + 3 + len(self.angles))
+        works = 2 * k
+
+        def rhs(t, y):
+            count[0] += 1
+            if count[0] > budget:
+                raise OutOfBudget
+            y = y.tolist() if hasattr(y, "tolist") else list(y)
+            q, w = y[:k], y[k:2 * k]
+            if self.friction is not None:
+                return self._rhs_friction(y)
+            pc = mech.coefficients_at(q, metres)
+            if not pc.valid:
+                return nan
+            m = [[0.0] * k for _ in range(k)]
+            h = [0.0] * k
+            gen = [0.0] * k
+            for body, mass in self.massive:
+                _, g1, g2 = self._point(pc, body, mass.center)
+                acc = [sum(g2[i][j][0] * w[i] * w[j] for i in range(k) for j in range(k)),
+                       sum(g2[i][j][1] * w[i] * w[j] for i in range(k) for j in range(k))]
+                rot = None
+                if mass.inertia and body not in graph.blocks:
+                    _, dth, ddth = pc.angle[body]
+                    rot = sum(ddth[i][j] * w[i] * w[j] for i in range(k) for j in range(k))
+                for i in range(k):
+                    for j in range(k):
+                        m[i][j] += mass.mass * (g1[i][0] * g1[j][0] + g1[i][1] * g1[j][1])
+                    h[i] += mass.mass * (g1[i][0] * acc[0] + g1[i][1] * acc[1])
+                    gen[i] += mass.mass * (gx * g1[i][0] + gy * g1[i][1])
+                    if rot is not None:
+                        for j in range(k):
+                            m[i][j] += mass.inertia * dth[i] * dth[j]
+                        h[i] += mass.inertia * dth[i] * rot
+            for (body, local), (fx, fy) in forces_at:
+                _, p1, _ = self._point(pc, body, local)
+                for i in range(k):
+                    gen[i] += fx * p1[i][0] + fy * p1[i][1]
+            for j, body in enumerate(drive_bodies):
+                if self.flywheels[j]:
+                    dth = pc.angle[body][1]
+                    for i in range(k):
+                        for l in range(k):
+                            m[i][l] += self.flywheels[j] * dth[i] * dth[l]
+                    h_rot = sum(pc.angle[body][2][a][b] * w[a] * w[b] for a in range(k) for b in range(k))
+                    for i in range(k):
+                        h[i] += self.flywheels[j] * dth[i] * h_rot
+            damping = 0.0
+            at = []  # per coordinate: (g followed, g_j, rate)
+            for coordinate, slot in zip(self.coordinates, slots):
+                g, dg = self._point_coordinate(pc, coordinate)
+                if slot is not None:
+                    tracked = y[works + 3 + slot]
+                    g += TWO_PI * round((tracked - g) / TWO_PI)
+                at.append((g, dg, sum(dg[i] * w[i] for i in range(k))))
+            for c, element in items:
+                g, dg, rate = at[c]
+                force = float(element.force(g, rate))
+                if element.role == "damper":
+                    damping -= force * rate
+                for i in range(k):
+                    gen[i] -= force * dg[i]
+            rates = [at[c][2] for c in self.angles]
+            torques = [law.scalar(w[j]) for j, law in enumerate(self.laws)]
+            for j in range(k):
+                gen[j] += torques[j]
+            qdd = _solve(m, [gen[i] - h[i] for i in range(k)])
+            power = sum(torques[j] * w[j] for j in range(k))
+            return list(w) + qdd + [power, damping, 0.0] + rates
+
+        return rhs, count
+
+    def _rhs_friction(self, y):
+        """The right-hand side with pin friction: the Newton-Euler equations at the state
+        (history.state on one row; module docstring)."""
+        k = self.k
+        q = np.array([y[:k]])
+        w = np.array([y[k:2 * k]])
+        tracked = np.array([y[2 * k + 3:]])
+        st = state(self, q, w, tracked)
+        if not st.valid[0] or not np.all(np.isfinite(st.acceleration[0])):
+            return [math.nan] * len(y)
+        qdd = st.acceleration[0].tolist()
+        power = float(np.sum(st.torque[0] * w[0]))
+        rates = [float(np.sum(st.coords[c][1][0] * w[0])) for c in self.angles]
+        return (list(y[k:2 * k]) + qdd + [power, float(st.damper_power[0]), float(st.friction_power[0])]
+                + rates)
+
+    # ------------------------------------------------------------ scales
+    def scales(self, y0) -> tuple[np.ndarray, float]:
+        """(speed scale per drive rad/s, energy scale J) of a run: the start's kinetic energy,
+        the drives' work over a turn, the springs' energy at the start, gravity's and the
+        constant loads' work over the linkage's size, against the smallest generalized inertia."""
+        k = self.k
+        st = state(self, y0[None, :k], y0[None, k:2 * k], y0[None, 2 * k + 3:])
+        size = self.mech.size() * self.metres
+        g = math.hypot(*self.graph.gravity)
+        energy = max(float(st.kinetic[0]), float(st.spring[0]),
+                     sum(law.scale for law in self.laws) * TWO_PI,
+                     sum(mass.mass for _, mass in self.massive) * g * size,
+                     sum(math.hypot(*f) for _, f in self.graph.forces) * size, 1e-300)
+        for element in self.elements:
+            if element.role == "couple":
+                energy = max(energy, abs(element.torque) * TWO_PI)
+        m_min = float(np.min(np.linalg.eigvalsh(st.inertia[0])))
+        speed = math.sqrt(2.0 * energy / max(m_min, 1e-300))
+        return np.maximum(np.abs(y0[k:2 * k]), speed), energy
+
+    def stiffness(self, y0) -> float:
+        """The fastest rate (1/s) at which the speeds relax at the start: the largest eigenvalue
+        of M^-1 D, D = sum over dampers of their steepest slope g_e g_e^T plus the motors' curves'
+        steepest slopes on the diagonal (dynamics.motion.stiffness for k drives)."""
+        k = self.k
+        st = state(self, y0[None, :k], y0[None, k:2 * k], y0[None, 2 * k + 3:])
+        d = np.zeros((k, k))
+        for element, c in zip(self.elements, self.coordinate_of):
+            if element.role == "damper":
+                slope = element.law.steepest if element.law is not None else element.coefficient
+                dg = st.coords[c][1][0]
+                d += slope * np.outer(dg, dg)
+        for j, law in enumerate(self.laws):
+            if law.law is not None:
+                d[j, j] += law.law.steepest
+        rates = np.linalg.eigvals(np.linalg.solve(st.inertia[0], d))
+        return float(np.max(np.abs(rates)))
+
+
+def _solve(a: list, b: list) -> list:
+    """x with a x = b, a small dense system in Python floats (Gaussian elimination with partial
+    pivoting: the same digits on every CPU)."""
+    n = len(b)
+    a = [row[:] + [b[i]] for i, row in enumerate(a)]
+    for col in range(n):
+        pivot = max(range(col, n), key=lambda r: abs(a[r][col]))
+        a[col], a[pivot] = a[pivot], a[col]
+        p = a[col][col]
+        if p == 0.0:
+            return [math.nan] * n
+        for r in range(col + 1, n):
+            f = a[r][col] / p
+            if f:
+                for c in range(col, n + 1):
+                    a[r][c] -= f * a[col][c]
+    x = [0.0] * n
+    for r in range(n - 1, -1, -1):
+        x[r] = (a[r][n] - sum(a[r][c] * x[c] for c in range(r + 1, n))) / a[r][r]
+    return x
+
+
+# ---------------------------------------------------------------- numpy: the history's rows
+
+@dataclass
+class State:
+    """The exact state at rows (q, w (n, k); the followed angles (n, m)): coords per coordinate
+    (g followed, g_j (n, k)); forces: element name -> (n,); inertia M (n, k, k); h (n, k);
+    generalized Q without friction (n, k); torque (n, k) the drives'; acceleration (n, k);
+    solved: body_forces.BodyForces; kinetic, potential (gravity, constant loads and couples),
+    spring (n,); damper_power, friction_power (n,): the power each does on the linkage; lock,
+    valid (n,)."""
+
+    q: np.ndarray
+    w: np.ndarray
+    coef: object
+    coords: list
+    forces: dict
+    inertia: np.ndarray
+    h: np.ndarray
+    generalized: np.ndarray
+    torque: np.ndarray
+    acceleration: np.ndarray
+    solved: object
+    kinetic: np.ndarray
+    potential: np.ndarray
+    spring: np.ndarray
+    damper_power: np.ndarray
+    friction_power: np.ndarray
+    lock: np.ndarray
+    valid: np.ndarray
+
+
+def inertia_terms(system, coef, w):
+    """(M (n, k, k), h (n, k), V (n,), dV/dq (n, k)) over the rows (module docstring)."""
+    graph = system.graph
+    n, k = len(coef.q), system.k
+    m, h = np.zeros((n, k, k)), np.zeros((n, k))
+    v, dv = np.zeros(n), np.zeros((n, k))
+    g = np.asarray(graph.gravity, dtype=float)
+    ww = w[:, :, None] * w[:, None, :]
+    for body, mass in system.massive:
+        p, d1, d2 = bodies.centre(graph, coef, body)
+        acc = np.sum(d2 * ww[:, None], axis=(2, 3))  # (n, 2)
+        m += mass.mass * np.einsum("nai,naj->nij", d1, d1)
+        h += mass.mass * np.einsum("nai,na->ni", d1, acc)
+        v -= mass.mass * (p @ g)
+        dv -= mass.mass * np.einsum("nai,a->ni", d1, g)
+        if mass.inertia and body not in graph.blocks:
+            _, dth, ddth = coef.angle[body]
+            m += mass.inertia * dth[:, :, None] * dth[:, None, :]
+            h += mass.inertia * dth * np.sum(ddth * ww, axis=(1, 2))[:, None]
+    for j, (_, body) in enumerate(graph.driven):
+        if system.flywheels[j]:
+            _, dth, ddth = coef.angle[body]
+            m += system.flywheels[j] * dth[:, :, None] * dth[:, None, :]
+            h += system.flywheels[j] * dth * np.sum(ddth * ww, axis=(1, 2))[:, None]
+    for name, force in graph.forces:
+        p, d1, _ = bodies.point(graph, coef, name)
+        f = np.asarray(force, dtype=float)
+        v -= p @ f
+        dv -= np.einsum("nai,a->ni", d1, f)
+    return m, h, v, dv
+
+
+def coordinate_rows(system, coef, c):
+    """(g, g_j (n, k)) of a coordinate over the rows: a distance, or an angle (the home's)."""
+    if c.kind == "distance":
+        p1, d1, _ = bodies.end_point(system.graph, coef, c.first, system.metres)
+        p2, d2, _ = bodies.end_point(system.graph, coef, c.second, system.metres)
+        d = p2 - p1
+        length = np.hypot(d[:, 0], d[:, 1])
+        with np.errstate(all="ignore"):
+            rate = np.einsum("na,nai->ni", d, d2 - d1) / length[:, None]
+        return length, rate
+    t2, r2, _ = bodies.angle(coef, c.second or bodies.GROUND)
+    t1, r1, _ = bodies.angle(coef, c.first or bodies.GROUND)
+    return t2 - t1, r2 - r1
+
+
+def state(system, q, w, tracked) -> State:
+    """The exact state at rows q, w (n, k), `tracked` (n, m) the followed angle coordinates
+    (module docstring): the drives' torques from their laws, the accelerations from the
+    equation of motion (with friction: from the Newton-Euler equations, which hold it), the
+    pin forces by body_forces."""
+    from linkcli.analysis.dynamics.history import element_loads
+    q = np.atleast_2d(np.asarray(q, dtype=float))
+    w = np.atleast_2d(np.asarray(w, dtype=float))
+    tracked = np.asarray(tracked, dtype=float).reshape(len(q), -1)
+    coef = system.mech.coefficients(q, system.metres)
+    m, h, v, dv = inertia_terms(system, coef, w)
+    coords = []
+    for k, c in enumerate(system.coordinates):
+        g, dg = coordinate_rows(system, coef, c)
+        if c.kind == "angle":
+            near = tracked[:, system.angles.index(k)]
+            g = g + TWO_PI * np.round((near - g) / TWO_PI)
+        coords.append((g, dg))
+    rates = [np.sum(dg * w, axis=1) for _, dg in coords]
+    per_element, forces, loads, spring, couple_energy = element_loads(system, coef, coords, rates)
+    generalized = -dv
+    damper_power = np.zeros(len(q))
+    for element, k, force in zip(system.elements, system.coordinate_of, per_element):
+        generalized = generalized - force[:, None] * coords[k][1]
+        if element.role == "damper":
+            damper_power = damper_power - force * rates[k]
+    torque = np.stack([law(w[:, j]) for j, law in enumerate(system.laws)], axis=1)
+    valid = coef.valid & (coef.lock > 0)
+    solved = body_forces.solve(system.graph, coef, w, loads, torque=torque, friction=system.friction)
+    if system.friction is not None:
+        qdd = solved.drive
+        power = np.zeros(len(q))
+        pin_rate, _ = body_forces.Assembly(system.graph, coef, True).rates_at_pins(w)
+        for name, couple in solved.pin_friction.items():
+            power = power + couple * np.sum(pin_rate[name] * w, axis=1)
+    else:
+        with np.errstate(all="ignore"):
+            qdd = np.linalg.solve(np.where(valid[:, None, None], m, np.eye(system.k)),
+                                  (generalized + torque - h)[..., None])[..., 0]
+        qdd = np.where(valid[:, None], qdd, np.nan)
+        power = np.zeros(len(q))
+    kinetic = 0.5 * np.einsum("ni,nij,nj->n", w, m, w)
+    for energy in couple_energy:
+        v = v + energy
+    return State(q, w, coef, coords, forces, m, h, generalized, torque, qdd, solved, kinetic,
+                 v, spring, damper_power, power, coef.lock, valid)
