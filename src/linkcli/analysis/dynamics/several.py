@@ -45,6 +45,7 @@ from linkcli.analysis.dynamics.elements import DriveLaw, compile_elements
 from linkcli.analysis.dynamics.system import located_error
 
 TWO_PI = 2.0 * math.pi
+INERTIA_RTOL = 1e-12  # the generalized inertia's smallest eigenvalue below this of its largest: singular
 
 
 class Several:
@@ -94,6 +95,13 @@ class Several:
             raise self.error(f"dynamics.{self.names[-1]}.start.angle",
                              "start angles where the linkage assembles, away from its dead points "
                              "(the distal links not in line)", f"{said} ({u.angle}), {why}")
+        y = np.array(q0 + w0, dtype=float)
+        inertia = inertia_terms(self, self.mech.coefficients(np.array([q0]), self.metres), y[None, self.k:])[0][0]
+        values, vectors = np.linalg.eigh(inertia)
+        if not values[0] > INERTIA_RTOL * max(values[-1], 0.0):
+            name = self.names[int(np.argmax(np.abs(vectors[:, 0])))]
+            raise self.error(f"dynamics.{name}.start.angle", f"masses that move with every drive ([masses] on "
+                             f"the links {name} turns, or its flywheel_inertia)", f"no inertia for {name}")
         angles = []
         for k in self.angles:
             g = self._point_coordinate(pc, self.coordinates[k])[0]
