@@ -18,7 +18,9 @@ block's sliding speed. Its sign is smoothed at rest, sign(x) ~ x / sqrt(x^2 + ep
 the file's friction_speed (pins: rad/s; guides: that times the linkage's size, m/s), so the
 equation stays smooth and an integrator does not chatter. The couples depend on the pin forces,
 which depend on the couples: solved by fixed-point iteration (each pass one linear solve of all
-rows), until the forces change by less than FRICTION_RTOL of their scale; a row that does not
+rows), until the forces change by less than FRICTION_RTOL of their scale, or by less than
+FRICTION_STALL of it and no less than the pass before (the round-off of a larger system, as the
+five-bar's twelve equations, stalls above FRICTION_RTOL); a row that does not
 converge in FRICTION_ITERATIONS passes (friction locks the linkage) is NaN.
 """
 
@@ -31,6 +33,7 @@ import numpy as np
 from linkcli.analysis.dynamics import bodies
 
 FRICTION_RTOL = 1e-15  # to round-off: the couples are then a smooth function of the state
+FRICTION_STALL = 1e-12  # or a change this small that no longer shrinks: round-off of a larger system
 FRICTION_ITERATIONS = 200
 SINGULAR_RCOND = 1e-13  # a row whose system is this near singular (a dead point) is NaN
 
@@ -382,6 +385,7 @@ def _with_friction(a: Assembly, inverse, rhs, x, w, friction):
     slide = {name: smooth_sign(_rate(rate, w), friction.eps_v) for name, rate in guide_rate.items()}
     scale = np.nanmax(np.abs(x), axis=1, initial=0.0)
     done = np.zeros(n, dtype=bool)
+    last = np.full(n, np.inf)
     pin_friction, guide_friction = {}, {}
     for _ in range(FRICTION_ITERATIONS):
         b = rhs.copy()
@@ -398,7 +402,10 @@ def _with_friction(a: Assembly, inverse, rhs, x, w, friction):
         change = np.nanmax(np.abs(new - x), axis=1, initial=0.0)
         scale = np.maximum(scale, np.nanmax(np.abs(new), axis=1, initial=0.0))
         x = new
-        done = np.isfinite(x).all(axis=1) & (change <= FRICTION_RTOL * np.maximum(scale, 1e-300))
+        floor = np.maximum(scale, 1e-300)
+        settled = (change <= FRICTION_RTOL * floor) | ((change <= FRICTION_STALL * floor) & (change >= last))
+        done = np.isfinite(x).all(axis=1) & settled
+        last = change
         if done.all():
             break
     x = np.where(done[:, None], x, np.nan)

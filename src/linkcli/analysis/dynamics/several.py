@@ -109,31 +109,26 @@ class Several:
         return np.array(q0 + w0 + [0.0, 0.0, 0.0] + angles, dtype=float)
 
     # ------------------------------------------------------------ floats: the integrator's
-    def _point(self, pc, body: str, local):
-        """(p, p_j, p_jl) of a body's point at one state (floats; module docstring of bodies)."""
-        k = self.k
+    def _first(self, pc, body: str, local):
+        """(p, p_j) of a body's point at one state (floats; module docstring of bodies)."""
         if body == bodies.GROUND:
-            zero = (0.0, 0.0)
-            return (float(local[0]), float(local[1])), [zero] * k, [[zero] * k for _ in range(k)]
-        (x, dx, ddx), (th, dth, ddth) = pc.origin[body], pc.angle[body]
+            return (float(local[0]), float(local[1])), [(0.0, 0.0)] * self.k
+        (x, dx, _), (th, dth, _) = pc.origin[body], pc.angle[body]
         c, s = math.cos(th), math.sin(th)
         rx, ry = c * local[0] - s * local[1], s * local[0] + c * local[1]
-        first = [(dx[j][0] - dth[j] * ry, dx[j][1] + dth[j] * rx) for j in range(k)]
-        second = [[(ddx[i][j][0] - ddth[i][j] * ry - dth[i] * dth[j] * rx,
-                    ddx[i][j][1] + ddth[i][j] * rx - dth[i] * dth[j] * ry) for j in range(k)] for i in range(k)]
-        return (x[0] + rx, x[1] + ry), first, second
+        return (x[0] + rx, x[1] + ry), [(dx[j][0] - dth[j] * ry, dx[j][1] + dth[j] * rx) for j in range(self.k)]
 
     def _end(self, pc, end):
         if end.point is not None:
             body, local = self.graph.points[end.point]
-            return self._point(pc, body, local)
-        return self._point(pc, bodies.GROUND, (end.at[0] * self.metres, end.at[1] * self.metres))
+            return self._first(pc, body, local)
+        return self._first(pc, bodies.GROUND, (end.at[0] * self.metres, end.at[1] * self.metres))
 
     def _point_coordinate(self, pc, c):
         """(g, g_j) of a coordinate at one state: a distance, or an angle (the home's, wrapped)."""
         if c.kind == "distance":
-            p1, d1, _ = self._end(pc, c.first)
-            p2, d2, _ = self._end(pc, c.second)
+            p1, d1 = self._end(pc, c.first)
+            p2, d2 = self._end(pc, c.second)
             dx, dy = p2[0] - p1[0], p2[1] - p1[1]
             length = math.hypot(dx, dy)
             rate = [(dx * (d2[j][0] - d1[j][0]) + dy * (d2[j][1] - d1[j][1])) / length for j in range(self.k)]
@@ -154,7 +149,12 @@ class Several:
         k, graph, mech, metres = self.k, self.graph, self.mech, self.metres
         gx, gy = (float(v) for v in graph.gravity)
         slots = [self.angles.index(c) if c in self.angles else None for c in range(len(self.coordinates))]
-        items = list(zip(self.coordinate_of, self.elements))
+        items = [(c, e.role, e.linear, e.stiffness, e.free, e.preload, e.coefficient,
+                  e.law.scalar if e.law is not None else None, e.torque)
+                 for c, e in zip(self.coordinate_of, self.elements)]  # Element.force in floats
+        bodies_at = [(body, mass, float(mass.center[0]), float(mass.center[1]),
+                      mass.inertia if mass.inertia and body not in graph.blocks else 0.0)
+                     for body, mass in self.massive]
         forces_at = [(graph.points[name], tuple(float(v) for v in f)) for name, f in graph.forces]
         drive_bodies = [body for _, body in graph.driven]
         count = [0]
@@ -172,38 +172,55 @@ class Several:
             pc = mech.coefficients_at(q, metres)
             if not pc.valid:
                 return nan
+            pairs = [(i, j, w[i] * w[j]) for i in range(k) for j in range(k)]
             m = [[0.0] * k for _ in range(k)]
             h = [0.0] * k
             gen = [0.0] * k
-            for body, mass in self.massive:
-                _, g1, g2 = self._point(pc, body, mass.center)
-                acc = [sum(g2[i][j][0] * w[i] * w[j] for i in range(k) for j in range(k)),
-                       sum(g2[i][j][1] * w[i] * w[j] for i in range(k) for j in range(k))]
-                rot = None
-                if mass.inertia and body not in graph.blocks:
-                    _, dth, ddth = pc.angle[body]
-                    rot = sum(ddth[i][j] * w[i] * w[j] for i in range(k) for j in range(k))
+            for body, mass, cx, cy, spins in bodies_at:
+                (x, dx, ddx), (th, dth, ddth) = pc.origin[body], pc.angle[body]
+                c, s = math.cos(th), math.sin(th)
+                rx, ry = c * cx - s * cy, s * cx + c * cy
+                # G_j = x_j + theta_j perp(R c); sum_ij G_ij w_i w_j = X + Th perp(R c) - om^2 R c
+                g1 = [(dx[j][0] - dth[j] * ry, dx[j][1] + dth[j] * rx) for j in range(k)]
+                ax = ay = rot = 0.0
+                for i, j, ww in pairs:
+                    ax += ddx[i][j][0] * ww
+                    ay += ddx[i][j][1] * ww
+                    rot += ddth[i][j] * ww
+                om = 0.0
+                for j in range(k):
+                    om += dth[j] * w[j]
+                om2 = om * om
+                ax += -rot * ry - om2 * rx
+                ay += rot * rx - om2 * ry
+                mm = mass.mass
                 for i in range(k):
+                    gi = g1[i]
+                    row = m[i]
                     for j in range(k):
-                        m[i][j] += mass.mass * (g1[i][0] * g1[j][0] + g1[i][1] * g1[j][1])
-                    h[i] += mass.mass * (g1[i][0] * acc[0] + g1[i][1] * acc[1])
-                    gen[i] += mass.mass * (gx * g1[i][0] + gy * g1[i][1])
-                    if rot is not None:
+                        row[j] += mm * (gi[0] * g1[j][0] + gi[1] * g1[j][1])
+                    h[i] += mm * (gi[0] * ax + gi[1] * ay)
+                    gen[i] += mm * (gx * gi[0] + gy * gi[1])
+                if spins:
+                    inertia = spins
+                    for i in range(k):
+                        row = m[i]
                         for j in range(k):
-                            m[i][j] += mass.inertia * dth[i] * dth[j]
-                        h[i] += mass.inertia * dth[i] * rot
+                            row[j] += inertia * dth[i] * dth[j]
+                        h[i] += inertia * dth[i] * rot
             for (body, local), (fx, fy) in forces_at:
-                _, p1, _ = self._point(pc, body, local)
+                _, p1 = self._first(pc, body, local)
                 for i in range(k):
                     gen[i] += fx * p1[i][0] + fy * p1[i][1]
             for j, body in enumerate(drive_bodies):
                 if self.flywheels[j]:
-                    dth = pc.angle[body][1]
+                    _, dth, ddth = pc.angle[body]
+                    h_rot = 0.0
+                    for a, b, ww in pairs:
+                        h_rot += ddth[a][b] * ww
                     for i in range(k):
                         for l in range(k):
                             m[i][l] += self.flywheels[j] * dth[i] * dth[l]
-                    h_rot = sum(pc.angle[body][2][a][b] * w[a] * w[b] for a in range(k) for b in range(k))
-                    for i in range(k):
                         h[i] += self.flywheels[j] * dth[i] * h_rot
             damping = 0.0
             at = []  # per coordinate: (g followed, g_j, rate)
@@ -212,12 +229,19 @@ class Several:
                 if slot is not None:
                     tracked = y[works + 3 + slot]
                     g += TWO_PI * round((tracked - g) / TWO_PI)
-                at.append((g, dg, sum(dg[i] * w[i] for i in range(k))))
-            for c, element in items:
+                rate = 0.0
+                for i in range(k):
+                    rate += dg[i] * w[i]
+                at.append((g, dg, rate))
+            for c, role, linear, stiffness, free, preload, coefficient, law, torque in items:
                 g, dg, rate = at[c]
-                force = float(element.force(g, rate))
-                if element.role == "damper":
+                if role == "spring":
+                    force = (preload if linear else 0.0) + stiffness * (g - free)
+                elif role == "damper":
+                    force = law(rate) if law is not None else coefficient * rate
                     damping -= force * rate
+                else:
+                    force = -torque
                 for i in range(k):
                     gen[i] -= force * dg[i]
             rates = [at[c][2] for c in self.angles]
@@ -237,7 +261,7 @@ class Several:
         q = np.array([y[:k]])
         w = np.array([y[k:2 * k]])
         tracked = np.array([y[2 * k + 3:]])
-        st = state(self, q, w, tracked)
+        st = state(self, q, w, tracked, lean=True)
         if not st.valid[0] or not np.all(np.isfinite(st.acceleration[0])):
             return [math.nan] * len(y)
         qdd = st.acceleration[0].tolist()
@@ -385,17 +409,22 @@ def coordinate_rows(system, coef, c):
     return t2 - t1, r2 - r1
 
 
-def state(system, q, w, tracked) -> State:
+def state(system, q, w, tracked, lean: bool = False) -> State:
     """The exact state at rows q, w (n, k), `tracked` (n, m) the followed angle coordinates
     (module docstring): the drives' torques from their laws, the accelerations from the
     equation of motion (with friction: from the Newton-Euler equations, which hold it), the
-    pin forces by body_forces."""
+    pin forces by body_forces. `lean` (the integrator's friction, one row): without the
+    inertia matrix and the energies (their fields zero)."""
     from linkcli.analysis.dynamics.history import element_loads
     q = np.atleast_2d(np.asarray(q, dtype=float))
     w = np.atleast_2d(np.asarray(w, dtype=float))
     tracked = np.asarray(tracked, dtype=float).reshape(len(q), -1)
     coef = system.mech.coefficients(q, system.metres)
-    m, h, v, dv = inertia_terms(system, coef, w)
+    if lean and system.friction is not None:
+        n, k = len(q), system.k
+        m, h, v, dv = np.zeros((n, k, k)), np.zeros((n, k)), np.zeros(n), np.zeros((n, k))
+    else:
+        m, h, v, dv = inertia_terms(system, coef, w)
     coords = []
     for k, c in enumerate(system.coordinates):
         g, dg = coordinate_rows(system, coef, c)
@@ -417,9 +446,9 @@ def state(system, q, w, tracked) -> State:
     if system.friction is not None:
         qdd = solved.drive
         power = np.zeros(len(q))
-        pin_rate, _ = body_forces.Assembly(system.graph, coef, True).rates_at_pins(w)
-        for name, couple in solved.pin_friction.items():
-            power = power + couple * np.sum(pin_rate[name] * w, axis=1)
+        for name, _, exerting, acted in system.graph.pins:  # the couple times the relative rotation
+            rate = bodies.angle(coef, acted)[1] - bodies.angle(coef, exerting)[1]
+            power = power + solved.pin_friction[name] * np.sum(rate * w, axis=1)
     else:
         with np.errstate(all="ignore"):
             qdd = np.linalg.solve(np.where(valid[:, None, None], m, np.eye(system.k)),
