@@ -46,7 +46,7 @@ def report(text: str) -> dict:
 
 def per_drive(rep: dict, key: str) -> np.ndarray:
     """(n, 2) of a history column per drive (input, input2)."""
-    return np.array([[row[key]["input"], row[key]["input2"]] for row in rep["history"]], dtype=float)
+    return np.array([[row["drives"][d][key] for d in ("input", "input2")] for row in rep["history"]], dtype=float)
 
 
 def times(rep: dict) -> np.ndarray:
@@ -351,7 +351,7 @@ start = { angle = 60, speed = -100 }
     q = per_drive(rep, "angle") * DEG
     w = per_drive(rep, "speed") * DEG
     al = per_drive(rep, "acceleration") * DEG
-    torque = per_drive(rep, "drive_torque")
+    torque = per_drive(rep, "torque")
     assert np.max(np.abs(al)) > 0 and np.ptp(q[:, 0]) > 10 * DEG
     assert np.all(np.abs(w / DEG - [100, -100]) < 20)  # held near a constant speed
     fb = FiveBar(ground=GROUND, input=A1, input2=A2, coupler=B1, coupler2=B2)

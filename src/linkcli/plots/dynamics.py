@@ -31,11 +31,11 @@ class History:
         au = result.problem.meta.units.angle
         t = _column(rows, lambda r: r["time"])
         ax_a, ax_t, ax_f = fig.subplots(1, 3, sharex=True)
-        drives = list(rows[0]["angle"]) if isinstance(rows[0]["angle"], dict) else [None]  # several drives: each
+        drives = list(rows[0]["drives"]) if "drives" in rows[0] else [None]  # several drives: each
         ax_s = ax_a.twinx()
         for drive, style in zip(drives, ("-", "--", ":")):
             def pick(r, key, d=drive):
-                return r[key] if d is None else r[key][d]
+                return r[key] if d is None else r["drives"][d][{"drive_torque": "torque"}.get(key, key)]
             tag = "" if drive is None else f" {drive}"
             ax_a.plot(t, _column(rows, lambda r: pick(r, "angle")), color="#1f77b4", lw=1.8, ls=style, label=f"angle{tag}")
             ax_s.plot(t, _column(rows, lambda r: pick(r, "speed")), color="#ff7f0e", lw=1.4, ls=style, label=f"speed{tag}")

@@ -14,13 +14,11 @@ def report_tables(name: str, section, lu: str, au: str) -> list:
                  "stop_speed": f"{au}/s", "flywheel_inertia": "kg m2"}
         rows = []
         for k, v in section.items():
-            if k == "start" and "angle" not in v:  # several drives: each drive's start
-                for drive, at in v.items():
-                    rows += [(f"start angle {drive} ({au})", at["angle"]),
-                             (f"start speed {drive} ({au}/s)", at["speed"])]
-            elif isinstance(v, dict) and k != "friction" and k != "start":  # several drives: per drive
-                rows += [(f"{k.replace('_', ' ')} {drive}" + (f" ({units[k]})" if k in units else ""), x)
-                         for drive, x in v.items()]
+            if k == "drives":  # several drives: each one's start and end
+                drive_units = {"start_angle": au, "start_speed": f"{au}/s", "end_angle": au,
+                               "end_speed": f"{au}/s", "flywheel_inertia": "kg m2"}
+                for drive, values in v.items():
+                    rows += [(f"{drive} {key.replace('_', ' ')} ({drive_units[key]})", x) for key, x in values.items()]
             elif k == "start":
                 rows += [(f"start angle ({au})", v["angle"]), (f"start speed ({au}/s)", v["speed"])]
             elif k == "friction":
@@ -33,16 +31,21 @@ def report_tables(name: str, section, lu: str, au: str) -> list:
         heads = {"time": "time (s)", "angle": f"angle ({au})", "speed": f"speed ({au}/s)",
                  "acceleration": f"accel. ({au}/s2)", "drive_torque": "drive (N m)"}
         base = tuple(heads)
+        several = "drives" in section[0]
+        if several:  # a column per drive and quantity
+            heads = {"time": "time (s)"}
+            for drive in section[0]["drives"]:
+                heads.update({f"{drive} {k}": f"{drive} {h}" for k, h in (
+                    ("angle", f"({au})"), ("speed", f"speed ({au}/s)"), ("acceleration", f"accel. ({au}/s2)"),
+                    ("torque", "torque (N m)"))})
         rows = []
         for r in section:
-            row = {}
-            for k in base:
-                if isinstance(r.get(k), dict):  # several drives: a column per drive
-                    for drive, v in r[k].items():
-                        row[f"{k} {drive}"] = v
-                        heads.setdefault(f"{k} {drive}", heads[k].replace(" (", f" {drive} (", 1))
-                else:
-                    row[k] = r.get(k)
+            if several:
+                row = {"time": r["time"]}
+                for drive, values in r["drives"].items():
+                    row.update({f"{drive} {k}": v for k, v in values.items()})
+            else:
+                row = {k: r.get(k) for k in base}
             for pin, force in r.get("pins", {}).items():
                 row[f"pin {pin}"] = force["magnitude"]
                 heads.setdefault(f"pin {pin}", f"{pin} (N)")
@@ -55,15 +58,15 @@ def report_tables(name: str, section, lu: str, au: str) -> list:
         return [KeyValues("Events", [("events", "none")])]
     if name == "events" and isinstance(section, list) and section:
         heads = {"event": "event", "time": "time (s)", "angle": f"angle ({au})", "speed": f"speed ({au}/s)"}
-        if any(isinstance(r.get("angle"), dict) for r in section):  # several drives: per drive
+        if any("drives" in r for r in section):  # several drives: per drive
             heads = {"event": "event", "drive": "drive", "time": "time (s)"}
             rows = []
             for r in section:
                 row = {"event": r["event"], "drive": r.get("drive", ""), "time": r["time"]}
-                for key, unit in (("angle", au), ("speed", f"{au}/s")):
-                    for drive, v in r[key].items():
-                        row[f"{key} {drive}"] = v
-                        heads.setdefault(f"{key} {drive}", f"{key} {drive} ({unit})")
+                for drive, values in r["drives"].items():
+                    for key, unit in (("angle", au), ("speed", f"{au}/s")):
+                        row[f"{drive} {key}"] = values[key]
+                        heads.setdefault(f"{drive} {key}", f"{drive} {key} ({unit})")
                 rows.append(row)
             return [Rows("Events", rows, heads)]
         return [Rows("Events", section, heads)]

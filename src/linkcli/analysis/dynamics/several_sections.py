@@ -50,42 +50,40 @@ def add_sections(rep: dict, problem, mech, notes: list) -> tuple[str, str] | Non
     return None
 
 
-def _per_drive(system, values) -> dict:
-    return {name: values[j] for j, name in enumerate(system.names)}
-
-
 def _summary(system, run, y, speed_scale, units) -> dict:
+    """method, rtol; per drive its start and end angle and speed (and flywheel_inertia); why the
+    run ended and when; with a stop, its time and the drive that reached its stop angle."""
     from linkcli.analysis.dynamics.motion import RTOL
     k = system.k
-    out = {"method": run.method, "rtol": RTOL[run.method],
-           "start": {n: {"angle": float(units.from_rad(s.start[0])), "speed": float(units.from_rad(s.start[1]))}
-                     for n, s in zip(system.names, system.setups)},
-           "end": run.end, "end_time": snap(run.t_end, 1.0),
-           "end_angle": _per_drive(system, [float(units.from_rad(y[j, -1])) for j in range(k)]),
-           "end_speed": _per_drive(system, [_snapped(units.from_rad(y[k + j, -1]), units.from_rad(speed_scale[j]))
-                                            for j in range(k)])}
+    drives = {}
+    for j, (name, setup) in enumerate(zip(system.names, system.setups)):
+        drives[name] = {"start_angle": float(units.from_rad(setup.start[0])),
+                        "start_speed": float(units.from_rad(setup.start[1])),
+                        "end_angle": float(units.from_rad(y[j, -1])),
+                        "end_speed": _snapped(units.from_rad(y[k + j, -1]), units.from_rad(speed_scale[j]))}
+        if setup.flywheel_inertia:
+            drives[name]["flywheel_inertia"] = setup.flywheel_inertia
+    out = {"method": run.method, "rtol": RTOL[run.method], "drives": drives, "end": run.end,
+           "end_time": snap(run.t_end, 1.0)}
     if run.end == "stop":
         out["stop_time"] = out["end_time"]
         last = [e for e in run.events if not isinstance(e[0], str) and e[0][0] == "stop"]
-        out["stop_drive"] = last[-1][0][1] if last else None
-        out["stop_speed"] = out["end_speed"]
+        out["stop_drive"] = last[-1][0][1]
     dyn = system.dyn
     if dyn.friction:
         out["friction"] = {"coefficient": dyn.friction,
                            "regularization_speed": float(units.from_rad(dyn.friction_speed))}
-    if any(system.flywheels):
-        out["flywheel_inertia"] = _per_drive(system, list(system.flywheels))
     return out
 
 
 def _rows(system, times, y, st, speed_scale, units) -> list[dict]:
-    """`history` rows: time; angle, speed, acceleration and drive_torque per drive; pins {x, y,
+    """`history` rows: time; drives {name: {angle, speed, acceleration, torque}}; pins {x, y,
     magnitude}; elements {name: force}; friction {pin: couple} with friction."""
     k = system.k
     per = {"angle": [column(units.from_rad(y[j]), scale=units.from_rad(1.0)) for j in range(k)],
            "speed": [column(units.from_rad(y[k + j]), scale=units.from_rad(speed_scale[j])) for j in range(k)],
            "acceleration": [column(units.from_rad(st.acceleration[:, j])) for j in range(k)],
-           "drive_torque": [column(st.torque[:, j]) for j in range(k)]}
+           "torque": [column(st.torque[:, j]) for j in range(k)]}
     time = column(times)
     pins_forces = st.solved.pins
     force_scale = max([float(np.nanmax(np.abs(v), initial=0.0)) for v in pins_forces.values()] + [0.0])
@@ -96,9 +94,8 @@ def _rows(system, times, y, st, speed_scale, units) -> list[dict]:
                 if system.dyn.friction else {})
     rows = []
     for r in range(len(times)):
-        row = {"time": time[r]}
-        for key, cols in per.items():
-            row[key] = {name: cols[j][r] for j, name in enumerate(system.names)}
+        row = {"time": time[r],
+               "drives": {name: {key: cols[j][r] for key, cols in per.items()} for j, name in enumerate(system.names)}}
         row["pins"] = {name: {"x": x[r], "y": yy[r], "magnitude": size[r]} for name, (x, yy, size) in pins.items()}
         if elements:
             row["elements"] = {name: values[r] for name, values in elements.items()}
@@ -109,8 +106,8 @@ def _rows(system, times, y, st, speed_scale, units) -> list[dict]:
 
 
 def _events(system, run, units, notes) -> list[dict]:
-    """Every event: its kind, the drive it concerns (stop, reversal, mark), time, every drive's
-    angle and speed."""
+    """Every event: its kind, the drive it concerns (stop, reversal, mark), time, drives {name:
+    {angle, speed}}."""
     rows, counted = [], 0
     w_scale = max([max(abs(v) for v in e[3]) for e in run.events] + [1e-300])
     for kind, t, q, w in run.events:
@@ -122,10 +119,10 @@ def _events(system, run, units, notes) -> list[dict]:
         if drive is not None:
             row["drive"] = drive
         row["time"] = float(t)
-        row["angle"] = _per_drive(system, [float(units.from_rad(v)) for v in q])
-        row["speed"] = _per_drive(system, [0.0 if name == "reversal" and n == drive else
-                                           _snapped(units.from_rad(v), units.from_rad(w_scale))
-                                           for n, v in zip(system.names, w)])
+        row["drives"] = {n: {"angle": float(units.from_rad(a)),
+                             "speed": 0.0 if name == "reversal" and n == drive
+                             else _snapped(units.from_rad(v), units.from_rad(w_scale))}
+                         for n, a, v in zip(system.names, q, w)}
         rows.append(row)
     if counted > len(rows):
         notes.append(f"{counted} events; the first {len(rows)} are listed")
