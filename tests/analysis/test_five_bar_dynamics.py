@@ -371,7 +371,7 @@ def test_the_integrators_equation_and_the_newton_euler_rows_give_one_acceleratio
     """The right-hand side (Python floats, the equation of motion) and the history's Newton-Euler
     solve of all bodies (numpy, body_forces) agree at random states, springs and dampers on."""
     from linkcli import mechanisms
-    from linkcli.analysis.dynamics.several import Several, state
+    from linkcli.analysis.dynamics.several import Several, one_row, state
     from linkcli.reading.load import load
     text = LINKAGE + masses_toml() + """[loads]
 gravity = [0, -9.81]
@@ -404,6 +404,10 @@ start = { angle = 60 }
         assert_allclose(fast[2:4], st.acceleration[0], rtol=0, atol=1e-10 * scale)
         inverse = st.solved.drive  # forward Newton-Euler: the accelerations
         assert_allclose(inverse[0], st.acceleration[0], rtol=0, atol=1e-9 * scale)
+        row = one_row(mech.coefficients_at(q, 1e-3), q[None])  # the friction path's coefficients
+        for body in ("input", "input2", "coupler", "coupler2"):
+            for got, want in zip(row.origin[body] + row.angle[body], st.coef.origin[body] + st.coef.angle[body]):
+                assert_allclose(got, want, rtol=1e-12, atol=1e-12)
 
 
 # ---------------------------------------------------------------- bad input found when solved

@@ -255,20 +255,79 @@ class Several:
         return rhs, count
 
     def _rhs_friction(self, y):
-        """The right-hand side with pin friction: the Newton-Euler equations at the state
-        (history.state on one row; module docstring)."""
-        k = self.k
+        """The right-hand side with pin friction: the Newton-Euler equations of all bodies at the
+        state (body_forces.Assembly, the accelerations unknown) solved once for the known loads
+        and once per pin for a unit friction couple there; the couples' fixed point
+        (tau_p = -mu r_p |F_p| sign~(relative rotation), as body_forces' friction) is then
+        iterated on that small linear map in Python floats, as dynamics.friction does for one
+        drive."""
+        from linkcli.analysis.dynamics.history import element_loads
+        k, graph, f = self.k, self.graph, self.friction
         q = np.array([y[:k]])
         w = np.array([y[k:2 * k]])
-        tracked = np.array([y[2 * k + 3:]])
-        st = state(self, q, w, tracked, lean=True)
-        if not st.valid[0] or not np.all(np.isfinite(st.acceleration[0])):
+        pc = self.mech.coefficients_at(y[:k], self.metres)
+        if not (pc.valid and pc.lock > 0):
             return [math.nan] * len(y)
-        qdd = st.acceleration[0].tolist()
-        power = float(np.sum(st.torque[0] * w[0]))
-        rates = [float(np.sum(st.coords[c][1][0] * w[0])) for c in self.angles]
-        return (list(y[k:2 * k]) + qdd + [power, float(st.damper_power[0]), float(st.friction_power[0])]
-                + rates)
+        coef = one_row(pc, q)
+        tracked = y[2 * k + 3:]
+        coords = []
+        for c, coordinate in enumerate(self.coordinates):
+            g, dg = coordinate_rows(self, coef, coordinate)
+            if coordinate.kind == "angle":
+                near = tracked[self.angles.index(c)]
+                g = g + TWO_PI * np.round((near - g) / TWO_PI)
+            coords.append((g, dg))
+        rates = [np.sum(dg * w, axis=1) for _, dg in coords]
+        per_element, _, loads, _, _ = element_loads(self, coef, coords, rates)
+        damping = 0.0
+        for element, c, force in zip(self.elements, self.coordinate_of, per_element):
+            if element.role == "damper":
+                damping -= float(force[0] * rates[c][0])
+        torque = [law.scalar(y[k + j]) for j, law in enumerate(self.laws)]
+        assembly = body_forces.Assembly(graph, coef, True)
+        columns = [assembly.rhs(w)]
+        assembly.add_loads(columns[0], loads)
+        assembly.add_drive(columns[0], np.array([torque]))
+        pins = [name for name, *_ in graph.pins]
+        for name in pins:
+            b = np.zeros_like(columns[0])
+            assembly.add_pin_friction(b, name, np.ones(1))
+            columns.append(b)
+        x = assembly.inverse().solve(np.stack(columns, axis=2))[0]  # (m, 1 + pins)
+        if not np.all(np.isfinite(x)):
+            return [math.nan] * len(y)
+        base, unit = x[:, 0].tolist(), x[:, 1:].T.tolist()
+        layout = assembly.layout
+        cols = [layout.pin_col[p] for p in pins]
+        rel = []  # each pin's relative rotation rate
+        for _, _, exerting, acted in graph.pins:
+            r = bodies.angle(coef, acted)[1][0] - bodies.angle(coef, exerting)[1][0]
+            rel.append(float(np.sum(r * w[0])))
+        weights = [-f.mu * f.radii[p] * v / math.sqrt(v * v + f.eps * f.eps) for p, v in zip(pins, rel)]
+        amounts = [0.0] * len(pins)
+        current = list(base)
+        scale = max(abs(v) for v in base) if base else 0.0
+        last = math.inf
+        for _ in range(body_forces.FRICTION_ITERATIONS):
+            new = [wt * math.hypot(current[c], current[c + 1]) for wt, c in zip(weights, cols)]
+            current = list(base)
+            for amount, column in zip(new, unit):
+                for r in range(len(current)):
+                    current[r] += column[r] * amount
+            change = max([abs(a - b) for a, b in zip(new, amounts)] + [0.0])
+            amounts = new
+            scale = max([scale] + [abs(v) for v in current])
+            floor = max(scale, 1e-300) * max(f.radii.values())
+            if change <= body_forces.FRICTION_RTOL * floor or (change <= body_forces.FRICTION_STALL * floor
+                                                                and change >= last):
+                break
+            last = change
+        else:
+            return [math.nan] * len(y)
+        qdd = [current[c] for c in layout.drive_cols]
+        power = sum(t * v for t, v in zip(torque, y[k:2 * k]))
+        lost = sum(a * r for a, r in zip(amounts, rel))
+        return list(y[k:2 * k]) + qdd + [power, damping, lost] + [float(rates[c][0]) for c in self.angles]
 
     # ------------------------------------------------------------ scales
     def scales(self, y0) -> tuple[np.ndarray, float]:
@@ -307,6 +366,18 @@ class Several:
                 d[j, j] += law.law.steepest
         rates = np.linalg.eigvals(np.linalg.solve(st.inertia[0], d))
         return float(np.max(np.abs(rates)))
+
+
+def one_row(pc, q):
+    """The Coefficients of one row (numpy, drive axes last) from the floats of `coefficients_at`:
+    the integrator's friction builds its Newton-Euler equations on them (the numpy path's
+    construction costs more than its arithmetic for one row)."""
+    from linkcli.mechanisms.protocol import Coefficients
+    origin = {b: (np.array([x]), np.array([first]).transpose(0, 2, 1), np.array([second]).transpose(0, 3, 1, 2))
+              for b, (x, first, second) in pc.origin.items()}
+    angle = {b: (np.array([t]), np.array([first]), np.array([second])) for b, (t, first, second) in pc.angle.items()}
+    return Coefficients(q=q, origin=origin, angle=angle, valid=np.array([pc.valid]), lock=np.array([pc.lock]),
+                        watched={name: np.array([v]) for name, v in pc.watched.items()})
 
 
 def _solve(a: list, b: list) -> list:
