@@ -124,8 +124,3 @@ class Dynamics:
     @property
     def simulates(self) -> bool:
         return self.start is not None or any(d.start is not None for d in self.drives)
-
-    def setups(self, drive: str) -> tuple[DriveSetup, ...]:
-        """Every drive's DriveSetup: `drives`, or the one drive's fields under the name `drive`."""
-        return self.drives or (DriveSetup(drive, self.drive, self.start, self.stop, self.marks,
-                                          self.flywheel_inertia),)
