@@ -197,9 +197,7 @@ def _several(root: Table, t: Table, parts, units, lines, springs, dampers, masse
             if misnamed or (refused and not any(n in t for n in names)):  # one problem, one line
                 setups.append(None)
                 continue
-            if name in t:
-                t.error(name, f"a table of the drive's keys ({', '.join(DRIVE_TABLE_KEYS)})", t.raw(name))
-            else:
+            if name not in t:  # (a value that is not a table: Table.table said so)
                 t.error(name, f"a table [dynamics.{name}] with start = {{ angle, speed }} (every drive of a "
                         "linkage of several starts somewhere)", raw_got=f"no [dynamics.{name}]")
             setups.append(None)
