@@ -466,3 +466,75 @@ def test_a_drive_no_mass_turns_with_is_one_located_line(tmp_path):
     assert code == 2 and out == ""
     assert err.count("\n") == 1 and "dynamics.input2.start.angle: expected masses that move with every drive" in err
     assert "found no inertia for input2" in err
+
+
+# ---------------------------------------------------------------- one drive locked: a four-bar
+
+@pytest.mark.parametrize("friction", [False, True])
+def test_with_one_drive_locked_the_five_bar_moves_as_the_four_bar_it_leaves(friction):
+    """input2 held at 60 deg: B stands still, and A0-A-P-B is a four-bar (ground A0 -> B,
+    input, coupler A -> P, output B -> P) run by the one-drive code (tables, its own integrator
+    path); the same masses (the five-bar's coupler2 is the four-bar's output, same frame),
+    gravity, a torsional spring on the input and a damper between A and the ground. Both give
+    the input's angle and speed over time, and the torque that holds input2 (massless here) is
+    the moment about B0 of the force the four-bar's ground exerts at B: (B - B0) x F_B0 (with
+    friction, plus the friction couple there, which the held crank carries)."""
+    from linkcli.mechanisms.four_bar import kinematics as kin
+    q2 = 60 * DEG
+    b = np.array([GROUND + A2 * math.cos(q2), A2 * math.sin(q2)])
+    ground, gamma = float(np.hypot(*b)), math.atan2(b[1], b[0])
+    masses = {k: MASSES[k] for k in ("input", "coupler", "coupler2")}
+    common = f"""[loads]
+gravity = [0, -9.81]
+[springs]
+crank = {{ link = "input", stiffness = 0.4, free_angle = 100 }}
+[dampers]
+slow = {{ between = ["A", [-20, 10]], coefficient = 0.002 }}
+"""
+    joints = ("[joints]\n" + "\n".join(f"{j} = {{ diameter = 4 }}" for j in ("A0", "A", "P", "B", "B0")) + "\n"
+              if friction else "")
+    run = "duration = 1.5\nsteps = 151\n" + ("friction = 0.2\nfriction_speed = 1\n" if friction else "")
+    five = report(LINKAGE + masses_toml(masses) + joints + common + f"""[dynamics]
+{run}[dynamics.input]
+start = {{ angle = 125, speed = 200 }}
+[dynamics.input2]
+start = {{ angle = 60 }}
+locked = true
+""")
+    f, p = frames(125 * DEG, q2)
+    branch = "open"
+    for candidate in ("open", "crossed"):  # the four-bar's branch where its B is the five-bar's P
+        pose = kin.pose(A1, B1, B2, ground, 125 * DEG - gamma, candidate)
+        psi = float(pose.psi) + gamma
+        if np.allclose(b / 1000 + B2 / 1000 * np.array([math.cos(psi), math.sin(psi)]), p, atol=1e-9):
+            branch = candidate
+    four_masses = masses_toml({"input": masses["input"], "coupler": masses["coupler"], "output": masses["coupler2"]})
+    four_joints = ("[joints]\n" + "\n".join(f"{j} = {{ diameter = 4 }}" for j in ("A0", "A", "B", "B0")) + "\n"
+                   if friction else "")
+    four = report(f"""type = "linkage"
+[linkage]
+ground = {ground!r}
+input = {A1}
+coupler = {B1}
+output = {B2}
+ground_angle = {math.degrees(gamma)!r}
+branch = "{branch}"
+""" + four_masses + four_joints + common.replace('"A"', '"A"') + f"""[dynamics]
+{run}start = {{ angle = {125 - math.degrees(gamma)!r}, speed = 200 }}
+""")
+    angle5 = per_drive(five, "angle")
+    angle4 = np.array([r["angle"] for r in four["history"]]) + math.degrees(gamma)
+    assert np.ptp(angle5[:, 0]) > 20
+    assert_allclose(angle5[:, 1], 60, rtol=0, atol=1e-12)  # held
+    assert np.all(per_drive(five, "speed")[:, 1] == 0)
+    assert_allclose(angle5[:, 0], angle4, rtol=0, atol=1e-6)
+    assert_allclose(per_drive(five, "speed")[:, 0], [r["speed"] for r in four["history"]], rtol=0, atol=1e-5)
+    f_b0 = np.array([[r["pins"]["B0"]["x"], r["pins"]["B0"]["y"]] for r in four["history"]])
+    arm = (b - np.array([GROUND, 0.0])) / 1000
+    holding = arm[0] * f_b0[:, 1] - arm[1] * f_b0[:, 0]
+    if friction:  # and the friction couple of the pin B, which the held crank carries (the four-bar's at B0)
+        holding = holding + np.array([r["friction"]["B0"] for r in four["history"]])
+    assert_allclose(per_drive(five, "torque")[:, 1], holding, rtol=0, atol=1e-6 * np.max(np.abs(holding)))
+    if friction:
+        assert five["energy"]["friction_work"] < 0
+        assert_allclose(five["energy"]["friction_work"], four["energy"]["friction_work"], rtol=1e-5)

@@ -78,6 +78,7 @@ class DriveSetup:
     stop: float | None = None
     marks: tuple[float, ...] = ()
     flywheel_inertia: float = 0.0
+    locked: bool = False  # held at its start angle (a brake): its speed stays 0, its torque is the reaction
 
 
 @dataclass(frozen=True)

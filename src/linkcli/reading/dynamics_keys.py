@@ -156,7 +156,6 @@ def read_dynamics(root: Table, kind: str, has_linkage: bool, units, joints):
 # ---------------------------------------------------------------- several drives
 
 ONE_DRIVE_KEYS = ("drive", "start", "stop", "marks", "flywheel_inertia")  # per drive with several
-DRIVE_TABLE_KEYS = ONE_DRIVE_KEYS
 ONE_DRIVE_ONLY = ("fluctuation", "mean_speed", "balance", "counterweights")
 
 
@@ -215,10 +214,19 @@ def _several(root: Table, t: Table, parts, units, lines, springs, dampers, masse
         marks = _marks(d, units)
         flywheel = d.number("flywheel_inertia", 0.0, nonnegative=True, hi=MAX_VALUE,
                             what="an inertia >= 0 (kg m^2)")
-        if None in (drive, start, marks, flywheel) or ("stop" in d and stop is None):
+        locked = d.boolean("locked", False)
+        if locked:  # held at its start: no law, no speed, nothing of its own to stop or mark
+            for key in ("drive", "stop", "marks", "flywheel_inertia"):
+                if key in d:
+                    d.error(key, f"no {key} on a locked drive (it is held at its start angle)",
+                            raw_got=f"{key} with locked = true")
+            if start is not None and start[1] != 0.0:
+                d.error("start", "a speed of 0 for a locked drive (it is held at its start angle)",
+                        raw_got=f"speed = {units.from_rad(start[1]):g}")
+        if None in (drive, start, marks, flywheel, locked) or ("stop" in d and stop is None):
             setups.append(None)
             continue
-        setups.append(DriveSetup(name, drive, start, stop, marks, flywheel))
+        setups.append(DriveSetup(name, drive, start, stop, marks, flywheel, bool(locked)))
     duration = t.number("duration", None, positive=True, hi=MAX_DURATION, what="a time in s")
     steps = t.number("steps", DEFAULT_STEPS, integer=True, lo=2, hi=MAX_STEPS)
     friction = t.number("friction", 0.0, nonnegative=True, hi=MAX_FRICTION,
@@ -230,6 +238,9 @@ def _several(root: Table, t: Table, parts, units, lines, springs, dampers, masse
     method = t.string("method", "auto", choices=METHODS)
     diameters = _diameters(t, friction, parts, joints)
     given = [s for s in setups if s is not None]
+    if given and len(given) == len(setups) and all(s.locked for s in given):
+        t.error(None, "at least one drive that is not locked (a linkage with every drive held does "
+                "not move)", raw_got="every drive locked")
     if duration is None and "duration" not in t and None not in setups \
             and not any(s.stop is not None for s in given):
         t.error("duration", "a time in s, or a drive's stop = { angle } (when the simulation ends)")

@@ -135,9 +135,10 @@ KEYS = {
     ),
     'simulation': (
         'drives.*.end_angle', 'drives.*.end_speed', 'drives.*.flywheel_inertia',
-        'drives.*.start_angle', 'drives.*.start_speed', 'end', 'end_angle', 'end_speed',
-        'end_time', 'flywheel_inertia', 'friction.coefficient', 'friction.regularization_speed',
-        'method', 'rtol', 'start.angle', 'start.speed', 'stop_drive', 'stop_speed', 'stop_time',
+        'drives.*.locked', 'drives.*.start_angle', 'drives.*.start_speed', 'end', 'end_angle',
+        'end_speed', 'end_time', 'flywheel_inertia', 'friction.coefficient',
+        'friction.regularization_speed', 'method', 'rtol', 'start.angle', 'start.speed',
+        'stop_drive', 'stop_speed', 'stop_time',
     ),
     'solver': (
         'best_known', 'converged', 'evaluations', 'gap', 'method', 'minimize', 'seconds',

@@ -108,8 +108,9 @@ class Assembly:
     drive's acceleration unknown; inverse: its torque), and the right-hand sides of the known
     loads (module docstring)."""
 
-    def __init__(self, graph, coef, forward: bool) -> None:
+    def __init__(self, graph, coef, forward: bool, held=()) -> None:
         self.graph, self.coef, self.forward = graph, coef, forward
+        self.held = tuple(held)  # forward: drives held still (acceleration 0, their torque unknown)
         layout = self.layout = Layout(graph)
         n, m = len(coef.q), layout.size
         self.n = n
@@ -129,11 +130,13 @@ class Assembly:
             self.rates[body] = (mm, inertia, dc, ddc, dth, ddth)
             if forward:
                 for j, col in enumerate(layout.drive_cols):
+                    if j in self.held:
+                        continue
                     matrix[:, r:r + 2, col] = -mm * dc[..., j]
                     if body not in graph.blocks:
                         matrix[:, r + 2, col] = -inertia * dth[:, j]
-        if not forward:
-            for (_, driven), col in zip(graph.driven, layout.drive_cols):
+        for j, ((_, driven), col) in enumerate(zip(graph.driven, layout.drive_cols)):
+            if not forward or j in self.held:
                 matrix[:, layout.row[driven] + 2, col] = 1.0
         self.joint_at = {}
         for name, joint, exerting, acted in graph.pins:
@@ -186,13 +189,15 @@ class Assembly:
             _known_couple(rhs, self.layout, body, couple)
 
     def add_drive(self, rhs, torque) -> None:
-        """The drives' torques ((n,), or (n, k) for k drives) on the bodies they turn."""
+        """The drives' torques ((n,), or (n, k) for k drives) on the bodies they turn (not the
+        held drives': theirs are unknowns)."""
         if self.k == 1:
             _known_couple(rhs, self.layout, self.graph.drive, torque)
             return
         torque = self.per_drive(torque)
         for j, (_, driven) in enumerate(self.graph.driven):
-            _known_couple(rhs, self.layout, driven, torque[:, j])
+            if j not in self.held:
+                _known_couple(rhs, self.layout, driven, torque[:, j])
 
     def add_pin_friction(self, rhs, name: str, couple) -> None:
         """`couple` on the pin's body acted on, its opposite on the body exerting."""
@@ -246,12 +251,13 @@ class Assembly:
 
 
 def solve(graph, coef, speed, loads: Loads, *, torque=None, acceleration=None,
-          friction: Friction | None = None) -> BodyForces:
+          friction: Friction | None = None, held=()) -> BodyForces:
     """The pin and guide forces and the drive's acceleration (given `torque`, (n,) N m) or torque
     (given `acceleration`, (n,) rad/s^2) at rows of the coefficients turning at `speed` (n,); a
-    linkage of k drives: (n, k) each, the drives' accelerations or torques."""
+    linkage of k drives: (n, k) each, the drives' accelerations or torques; forward, the drives
+    `held` (indices) stand still: their acceleration is 0 and `drive` gives their torque."""
     forward = torque is not None
-    a = Assembly(graph, coef, forward)
+    a = Assembly(graph, coef, forward, held)
     n = a.n
     w = np.broadcast_to(np.asarray(speed, dtype=float), (n,)) if a.k == 1 else a.per_drive(speed)
     rhs = a.rhs(w, acceleration=None if forward else acceleration)

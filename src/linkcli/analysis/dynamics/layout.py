@@ -18,7 +18,8 @@ def report_tables(name: str, section, lu: str, au: str) -> list:
                 drive_units = {"start_angle": au, "start_speed": f"{au}/s", "end_angle": au,
                                "end_speed": f"{au}/s", "flywheel_inertia": "kg m2"}
                 for drive, values in v.items():
-                    rows += [(f"{drive} {key.replace('_', ' ')} ({drive_units[key]})", x) for key, x in values.items()]
+                    rows += [(f"{drive} {key.replace('_', ' ')}" + (f" ({drive_units[key]})" if key in drive_units else ""), x)
+                             for key, x in values.items()]
             elif k == "start":
                 rows += [(f"start angle ({au})", v["angle"]), (f"start speed ({au}/s)", v["speed"])]
             elif k == "friction":

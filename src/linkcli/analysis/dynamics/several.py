@@ -63,6 +63,8 @@ class Several:
         self.setups = tuple(by_name[name] for name in self.names)
         self.laws = [DriveLaw(s.drive) for s in self.setups]
         self.flywheels = [s.flywheel_inertia for s in self.setups]
+        self.locked = tuple(j for j, s in enumerate(self.setups) if s.locked)  # held at their start
+        self.free = tuple(j for j in range(self.k) if j not in self.locked)
         self.elements = compile_elements(dyn, graph, metres, units)
         self.coordinates, self.coordinate_of = [], []
         for element in self.elements:
@@ -97,9 +99,10 @@ class Several:
                              "(the distal links not in line)", f"{said} ({u.angle}), {why}")
         y = np.array(q0 + w0, dtype=float)
         inertia = inertia_terms(self, self.mech.coefficients(np.array([q0]), self.metres), y[None, self.k:])[0][0]
-        values, vectors = np.linalg.eigh(inertia)
+        free = list(self.free)
+        values, vectors = np.linalg.eigh(inertia[np.ix_(free, free)])
         if not values[0] > INERTIA_RTOL * max(values[-1], 0.0):
-            name = self.names[int(np.argmax(np.abs(vectors[:, 0])))]
+            name = self.names[free[int(np.argmax(np.abs(vectors[:, 0])))]]
             raise self.error(f"dynamics.{name}.start.angle", f"masses that move with every drive ([masses] on "
                              f"the links {name} turns, or its flywheel_inertia)", f"no inertia for {name}")
         angles = []
@@ -157,6 +160,7 @@ class Several:
                      for body, mass in self.massive]
         forces_at = [(graph.points[name], tuple(float(v) for v in f)) for name, f in graph.forces]
         drive_bodies = [body for _, body in graph.driven]
+        free_drives = self.free
         count = [0]
         nan = [math.nan] * (2 * k + 3 + len(self.angles))
         works = 2 * k
@@ -248,7 +252,10 @@ class Several:
             torques = [law.scalar(w[j]) for j, law in enumerate(self.laws)]
             for j in range(k):
                 gen[j] += torques[j]
-            qdd = _solve(m, [gen[i] - h[i] for i in range(k)])
+            qdd = [0.0] * k  # a locked drive's row is its reaction: not solved for
+            for j, v in zip(free_drives, _solve([[m[i][l] for l in free_drives] for i in free_drives],
+                                                [gen[i] - h[i] for i in free_drives])):
+                qdd[j] = v
             power = sum(torques[j] * w[j] for j in range(k))
             return list(w) + qdd + [power, damping, 0.0] + rates
 
@@ -284,7 +291,7 @@ class Several:
             if element.role == "damper":
                 damping -= float(force[0] * rates[c][0])
         torque = [law.scalar(y[k + j]) for j, law in enumerate(self.laws)]
-        assembly = body_forces.Assembly(graph, coef, True)
+        assembly = body_forces.Assembly(graph, coef, True, self.locked)
         columns = [assembly.rhs(w)]
         assembly.add_loads(columns[0], loads)
         assembly.add_drive(columns[0], np.array([torque]))
@@ -324,7 +331,7 @@ class Several:
             last = change
         else:
             return [math.nan] * len(y)
-        qdd = [current[c] for c in layout.drive_cols]
+        qdd = [0.0 if j in self.locked else current[c] for j, c in enumerate(layout.drive_cols)]
         power = sum(t * v for t, v in zip(torque, y[k:2 * k]))
         lost = sum(a * r for a, r in zip(amounts, rel))
         return list(y[k:2 * k]) + qdd + [power, damping, lost] + [float(rates[c][0]) for c in self.angles]
@@ -513,17 +520,27 @@ def state(system, q, w, tracked, lean: bool = False) -> State:
             damper_power = damper_power - force * rates[k]
     torque = np.stack([law(w[:, j]) for j, law in enumerate(system.laws)], axis=1)
     valid = coef.valid & (coef.lock > 0)
-    solved = body_forces.solve(system.graph, coef, w, loads, torque=torque, friction=system.friction)
+    locked, free = list(system.locked), list(system.free)
+    solved = body_forces.solve(system.graph, coef, w, loads, torque=torque, friction=system.friction,
+                               held=system.locked)
     if system.friction is not None:
-        qdd = solved.drive
+        qdd = solved.drive.copy()
+        torque = torque.copy()
+        torque[:, locked] = qdd[:, locked]  # a locked drive's unknown is its holding torque
+        qdd[:, locked] = 0.0
         power = np.zeros(len(q))
         for name, _, exerting, acted in system.graph.pins:  # the couple times the relative rotation
             rate = bodies.angle(coef, acted)[1] - bodies.angle(coef, exerting)[1]
             power = power + solved.pin_friction[name] * np.sum(rate * w, axis=1)
     else:
+        qdd = np.zeros((len(q), system.k))
+        reduced = m[:, free][:, :, free]
         with np.errstate(all="ignore"):
-            qdd = np.linalg.solve(np.where(valid[:, None, None], m, np.eye(system.k)),
-                                  (generalized + torque - h)[..., None])[..., 0]
+            qdd[:, free] = np.linalg.solve(np.where(valid[:, None, None], reduced, np.eye(len(free))),
+                                           (generalized + torque - h)[:, free, None])[..., 0]
+            if locked:  # the torque that holds a locked drive: its row of the equation
+                torque = torque.copy()
+                torque[:, locked] = (np.einsum("nij,nj->ni", m, qdd) + h - generalized)[:, locked]
         qdd = np.where(valid[:, None], qdd, np.nan)
         power = np.zeros(len(q))
     kinetic = 0.5 * np.einsum("ni,nij,nj->n", w, m, w)

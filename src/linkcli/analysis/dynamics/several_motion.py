@@ -60,7 +60,8 @@ def integrate(system, t_end: float, *, method: str = "auto", budget: int = motio
         if setup.stop is not None:
             add(lambda t, y, j=j, s=setup.stop: y[j] - s, ("stop", name), True)
     for j, name in enumerate(system.names):
-        add(lambda t, y, j=j: y[k + j], ("reversal", name), False)
+        if j in system.free:  # a locked drive's speed stays 0
+            add(lambda t, y, j=j: y[k + j], ("reversal", name), False)
     for j, (name, setup) in enumerate(zip(system.names, system.setups)):
         for mark in setup.marks:
             add(lambda t, y, j=j, m=mark: y[j] - m, ("mark", name), False)

@@ -63,6 +63,8 @@ def _summary(system, run, y, speed_scale, units) -> dict:
                         "end_speed": _snapped(units.from_rad(y[k + j, -1]), units.from_rad(speed_scale[j]))}
         if setup.flywheel_inertia:
             drives[name]["flywheel_inertia"] = setup.flywheel_inertia
+        if setup.locked:
+            drives[name]["locked"] = True
     out = {"method": run.method, "rtol": RTOL[run.method], "drives": drives, "end": run.end,
            "end_time": snap(run.t_end, 1.0)}
     if run.end == "stop":
