@@ -337,24 +337,55 @@ class Several:
         return list(y[k:2 * k]) + qdd + [power, damping, lost] + [float(rates[c][0]) for c in self.angles]
 
     # ------------------------------------------------------------ scales
+    def inertia_at(self, pc) -> list:
+        """M (k x k lists) at one state, in Python floats (module docstring)."""
+        k = self.k
+        m = [[0.0] * k for _ in range(k)]
+        for body, mass in self.massive:
+            _, g1 = self._first(pc, body, mass.center)
+            spins = mass.inertia if mass.inertia and body not in self.graph.blocks else 0.0
+            dth = pc.angle[body][1]
+            for i in range(k):
+                for j in range(k):
+                    m[i][j] += mass.mass * (g1[i][0] * g1[j][0] + g1[i][1] * g1[j][1]) + spins * dth[i] * dth[j]
+        for fly, (_, body) in zip(self.flywheels, self.graph.driven):
+            dth = pc.angle[body][1]
+            for i in range(k):
+                for j in range(k):
+                    m[i][j] += fly * dth[i] * dth[j]
+        return m
+
     def scales(self, y0) -> tuple[np.ndarray, float]:
         """(speed scale per drive rad/s, energy scale J) of a run: the start's kinetic energy,
         the drives' work over a turn, the springs' energy at the start, gravity's and the
-        constant loads' work over the linkage's size, against the smallest generalized inertia."""
+        constant loads' work over the linkage's size, against the smallest generalized inertia
+        of the free drives. In Python floats: the tolerances, hence the steps, are the same on
+        every CPU."""
         k = self.k
-        st = state(self, y0[None, :k], y0[None, k:2 * k], y0[None, 2 * k + 3:])
+        y0 = [float(v) for v in y0]
+        pc = self.mech.coefficients_at(y0[:k], self.metres)
+        m = self.inertia_at(pc)
+        w = y0[k:2 * k]
+        kinetic = 0.5 * sum(w[i] * m[i][j] * w[j] for i in range(k) for j in range(k))
+        spring = 0.0
+        for element, c in zip(self.elements, self.coordinate_of):
+            if element.role == "spring":
+                g = self._point_coordinate(pc, self.coordinates[c])[0]
+                if c in self.angles:
+                    tracked = y0[2 * k + 3 + self.angles.index(c)]
+                    g += TWO_PI * round((tracked - g) / TWO_PI)
+                spring += float(element.energy(g))
         size = self.mech.size() * self.metres
         g = math.hypot(*self.graph.gravity)
-        energy = max(float(st.kinetic[0]), float(st.spring[0]),
-                     sum(law.scale for law in self.laws) * TWO_PI,
+        energy = max(kinetic, spring, sum(law.scale for law in self.laws) * TWO_PI,
                      sum(mass.mass for _, mass in self.massive) * g * size,
                      sum(math.hypot(*f) for _, f in self.graph.forces) * size, 1e-300)
         for element in self.elements:
             if element.role == "couple":
                 energy = max(energy, abs(element.torque) * TWO_PI)
-        m_min = float(np.min(np.linalg.eigvalsh(st.inertia[0])))
-        speed = math.sqrt(2.0 * energy / max(m_min, 1e-300))
-        return np.maximum(np.abs(y0[k:2 * k]), speed), energy
+        speed = math.sqrt(2.0 * energy / max(_smallest_eigenvalue([[m[i][j] for j in self.free] for i in self.free]),
+                                             1e-300))
+        return np.maximum(np.abs(np.array(y0[k:2 * k])), speed), energy
 
     def stiffness(self, y0) -> float:
         """The fastest rate (1/s) at which the speeds relax at the start: the largest eigenvalue
@@ -373,6 +404,17 @@ class Several:
                 d[j, j] += law.law.steepest
         rates = np.linalg.eigvals(np.linalg.solve(st.inertia[0], d))
         return float(np.max(np.abs(rates)))
+
+
+def _smallest_eigenvalue(m: list) -> float:
+    """The smallest eigenvalue of a small symmetric matrix: closed forms for 1 x 1 and 2 x 2 (the
+    same digits on every CPU), LAPACK beyond."""
+    if len(m) == 1:
+        return m[0][0]
+    if len(m) == 2:
+        mean, half = 0.5 * (m[0][0] + m[1][1]), 0.5 * (m[0][0] - m[1][1])
+        return mean - math.hypot(half, 0.5 * (m[0][1] + m[1][0]))
+    return float(np.min(np.linalg.eigvalsh(np.array(m))))
 
 
 def one_row(pc, q):
