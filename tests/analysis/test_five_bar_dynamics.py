@@ -453,7 +453,7 @@ def test_a_start_outside_the_assembly_range_is_one_located_line(q1, q2, extra, w
     code, out, err = run_cli("synth", str(path))
     assert code == 2 and out == ""
     assert err == (f"{path}:{line}: dynamics.input2.start.angle: expected start angles where the linkage assembles, "
-                   "away from its dead points (the distal links not in line), found input "
+                   "away from its dead points (the distal links in line), found input "
                    f"{q1}, input2 {q2} (deg), {why}\n")
 
 

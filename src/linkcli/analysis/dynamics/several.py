@@ -96,13 +96,12 @@ class Several:
                    f"within dead_point ({u.from_rad(self.dyn.dead_point):g} {u.angle}) of a dead point")
             raise self.error(f"dynamics.{self.names[-1]}.start.angle",
                              "start angles where the linkage assembles, away from its dead points "
-                             "(the distal links not in line)", f"{said} ({u.angle}), {why}")
-        y = np.array(q0 + w0, dtype=float)
-        inertia = inertia_terms(self, self.mech.coefficients(np.array([q0]), self.metres), y[None, self.k:])[0][0]
+                             f"({self.mech.DEAD_POINT})", f"{said} ({u.angle}), {why}")
+        m = self.inertia_at(pc)
         free = list(self.free)
-        values, vectors = np.linalg.eigh(inertia[np.ix_(free, free)])
-        if not values[0] > INERTIA_RTOL * max(values[-1], 0.0):
-            name = self.names[free[int(np.argmax(np.abs(vectors[:, 0])))]]
+        reduced = [[m[i][j] for j in free] for i in free]
+        if not _smallest_eigenvalue(reduced) > INERTIA_RTOL * sum(reduced[i][i] for i in range(len(free))):
+            name = self.names[min(free, key=lambda j: m[j][j])]  # the drive that turns least mass
             raise self.error(f"dynamics.{name}.start.angle", f"masses that move with every drive ([masses] on "
                              f"the links {name} turns, or its flywheel_inertia)", f"no inertia for {name}")
         angles = []

@@ -12,9 +12,9 @@ state's scale (1 rad; each drive's speed scale; the energies' scale; 1 rad).
 Events (solve_ivp's root finding on the dense output):
 
     stop        a drive reaches its stop angle: the run ends      (kind ("stop", drive))
-    dead-point  the distal links come within dead_point of in line (the transmission angle at
-                the joint the closure is made at, the home's `lock`): the run ends -- past it
-                the linkage does not assemble, or takes the other branch
+    dead-point  a closure's transmission angle (the home's `lock`, |sin|) comes within
+                dead_point of 0 or 180 deg, or the linkage stops assembling: the run ends --
+                past it the linkage does not assemble, or takes the other branch
     reversal    a drive's speed changes sign                      (("reversal", drive))
     mark        a drive passes one of its marked angles           (("mark", drive))
 
