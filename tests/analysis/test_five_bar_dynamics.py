@@ -538,3 +538,31 @@ branch = "{branch}"
     if friction:
         assert five["energy"]["friction_work"] < 0
         assert_allclose(five["energy"]["friction_work"], four["energy"]["friction_work"], rtol=1e-5)
+
+
+def test_a_placed_five_bar_moves_as_the_unplaced_one_under_gravity_turned_back():
+    """ground_pivot and ground_angle move and turn the whole five-bar; its drive angles are
+    measured from its ground line. Under gravity g it moves as the unplaced five-bar under g
+    turned by -ground_angle (a torsional spring's free angle, a global angle, turned with it)."""
+    gamma = 30.0
+    c, s = math.cos(gamma * DEG), math.sin(gamma * DEG)
+    g = (-9.81 * s, -9.81 * c)  # R(-gamma) (0, -9.81)
+    run = """[dynamics]
+duration = 0.4
+steps = 41
+[dynamics.input]
+drive = { torque = 0.05 }
+start = { angle = 118, speed = 50 }
+[dynamics.input2]
+start = { angle = 62, speed = -20 }
+"""
+    placed = report(LINKAGE.replace(f"coupler2 = {B2}\n", f"coupler2 = {B2}\nground_pivot = [10, 5]\nground_angle = {gamma}\n")
+                    + masses_toml() + "[loads]\ngravity = [0, -9.81]\n"
+                    + f'[springs]\nleft = {{ link = "input", stiffness = 0.3, free_angle = {110 + gamma} }}\n' + run)
+    plain = report(LINKAGE + masses_toml() + f"[loads]\ngravity = [{g[0]!r}, {g[1]!r}]\n"
+                   + '[springs]\nleft = { link = "input", stiffness = 0.3, free_angle = 110 }\n' + run)
+    assert np.ptp(per_drive(plain, "angle")[:, 0]) > 5
+    assert_allclose(per_drive(placed, "angle"), per_drive(plain, "angle"), rtol=0, atol=1e-7)
+    assert_allclose(per_drive(placed, "torque"), per_drive(plain, "torque"), rtol=0, atol=1e-12)
+    for k in ("kinetic", "potential", "spring", "drive_work"):
+        assert placed["energy"][k] == pytest.approx(plain["energy"][k], rel=1e-7)
