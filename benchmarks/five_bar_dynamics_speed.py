@@ -89,7 +89,8 @@ def one(source: str) -> dict:
 
     from linkcli import mechanisms
     from linkcli.analysis.dynamics import several_motion
-    from linkcli.analysis.dynamics.several import Several, state
+    from linkcli.analysis.dynamics.several import Several
+    from linkcli.analysis.dynamics.several_rows import state
     from linkcli.reading.load import load
     problem = load("bench.toml", source.encode())
     meta = problem.meta

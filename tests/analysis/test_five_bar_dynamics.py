@@ -396,7 +396,8 @@ def test_the_integrators_equation_and_the_newton_euler_rows_give_one_acceleratio
     """The right-hand side (Python floats, the equation of motion) and the history's Newton-Euler
     solve of all bodies (numpy, body_forces) agree at random states, springs and dampers on."""
     from linkcli import mechanisms
-    from linkcli.analysis.dynamics.several import Several, one_row, state
+    from linkcli.analysis.dynamics.several import Several, one_row
+    from linkcli.analysis.dynamics.several_rows import state
     from linkcli.reading.load import load
     text = LINKAGE + masses_toml() + """[loads]
 gravity = [0, -9.81]
@@ -484,12 +485,12 @@ def test_with_one_drive_locked_the_five_bar_moves_as_the_four_bar_it_leaves(fric
     b = np.array([GROUND + A2 * math.cos(q2), A2 * math.sin(q2)])
     ground, gamma = float(np.hypot(*b)), math.atan2(b[1], b[0])
     masses = {k: MASSES[k] for k in ("input", "coupler", "coupler2")}
-    common = f"""[loads]
+    common = """[loads]
 gravity = [0, -9.81]
 [springs]
-crank = {{ link = "input", stiffness = 0.4, free_angle = 100 }}
+crank = { link = "input", stiffness = 0.4, free_angle = 100 }
 [dampers]
-slow = {{ between = ["A", [-20, 10]], coefficient = 0.002 }}
+slow = { between = ["A", [-20, 10]], coefficient = 0.002 }
 """
     joints = ("[joints]\n" + "\n".join(f"{j} = {{ diameter = 4 }}" for j in ("A0", "A", "P", "B", "B0")) + "\n"
               if friction else "")
@@ -501,7 +502,7 @@ start = {{ angle = 125, speed = 200 }}
 start = {{ angle = 60 }}
 locked = true
 """)
-    f, p = frames(125 * DEG, q2)
+    _, p = frames(125 * DEG, q2)
     branch = "open"
     for candidate in ("open", "crossed"):  # the four-bar's branch where its B is the five-bar's P
         pose = kin.pose(A1, B1, B2, ground, 125 * DEG - gamma, candidate)
@@ -519,7 +520,7 @@ coupler = {B1}
 output = {B2}
 ground_angle = {math.degrees(gamma)!r}
 branch = "{branch}"
-""" + four_masses + four_joints + common.replace('"A"', '"A"') + f"""[dynamics]
+""" + four_masses + four_joints + common + f"""[dynamics]
 {run}start = {{ angle = {125 - math.degrees(gamma)!r}, speed = 200 }}
 """)
     angle5 = per_drive(five, "angle")

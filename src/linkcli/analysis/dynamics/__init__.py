@@ -19,6 +19,7 @@ Shared code: it holds a mechanism's home (`linkcli.mechanisms.of`) and calls its
     balance      shaking force and moment; counterweights
     sections     the report sections; layout: their table view
     several      the equation of motion of several drives (M q'' + h = Q, k x k), exact at every step
+    several_rows       the same equation and every pin's force over the history's rows (numpy)
     several_motion     its integration: motion's settings and segments, events per drive
     several_sections   its report sections (simulation, history, events, energy per drive)
 """

@@ -253,7 +253,6 @@ def integrate(system, q0: float, w0: float, t_end: float, *, stop=None, marks=()
     """Integrate from (q0, w0) (internal q, rad/s) for at most t_end s; `stop` ends the run at a
     drive value; `marks` are drive values whose crossings are events; `extremes`: the speed's
     extremes (q'' = 0) are events too ("extreme")."""
-    from scipy.integrate import solve_ivp
     chosen = method_for(system, method, t_end)
     if method == "auto" and chosen == "DOP853":  # stiff after all (friction at rest): LSODA
         explicit = int(EXPLICIT_SHARE * budget)

@@ -16,7 +16,8 @@ def add_sections(rep: dict, problem, mech, notes: list) -> tuple[str, str] | Non
     """Add simulation, history, events and energy to `rep`; (status, message) when the run falls
     short (a stop not reached: infeasible; over its budget: not-converged), or None."""
     from linkcli.analysis.dynamics import several_motion, motion
-    from linkcli.analysis.dynamics.several import Several, state
+    from linkcli.analysis.dynamics.several import Several
+    from linkcli.analysis.dynamics.several_rows import state
     from linkcli.analysis.forces import metres_per_unit
     meta = problem.meta
     dyn, units = meta.dynamics, meta.units
