@@ -5,8 +5,10 @@ the events of k drives.
 State y = (q_1..q_k, q_1'..q_k', W_drive, W_dampers, W_friction, followed angles). Method "auto":
 DOP853 (motion.SteadyDOP853, its sums free of the machine's BLAS) unless the run is stiff -- its
 fastest relaxation at the start (`Several.stiffness`: the dampers' and motor curves' slopes
-through M^-1) times its duration above motion.STIFF, or DOP853 spending motion.EXPLICIT_SHARE of
-the budget -- then LSODA. Tolerances motion.RTOL; absolute, rtol x motion.ABSOLUTE of each
+through M^-1) times its duration above STIFF, or DOP853 spending motion.EXPLICIT_SHARE of the
+budget -- then LSODA. STIFF is ten times lower than one drive's: an evaluation here costs tens
+of microseconds (about 0.75 ms with friction), not a few, and DOP853's steps on a stiff run are
+set by stability at about two evaluations per unit of stiffness x duration. Tolerances motion.RTOL; absolute, rtol x motion.ABSOLUTE of each
 state's scale (1 rad; each drive's speed scale; the energies' scale; 1 rad).
 
 Events (solve_ivp's root finding on the dense output):
@@ -28,6 +30,8 @@ import numpy as np
 
 from linkcli.analysis.dynamics import motion
 
+STIFF = 1e4  # auto: LSODA at once beyond this stiffness x duration (one drive: motion.STIFF, 1e5)
+
 
 def integrate(system, t_end: float, *, method: str = "auto", budget: int = motion.DEFAULT_BUDGET) -> motion.Run:
     """Integrate from the start of every drive for at most t_end s (module docstring); the
@@ -35,7 +39,7 @@ def integrate(system, t_end: float, *, method: str = "auto", budget: int = motio
     y0 = system.start()
     chosen = method
     if method == "auto":
-        chosen = "LSODA" if system.stiffness(y0) * t_end > motion.STIFF else "DOP853"
+        chosen = "LSODA" if system.stiffness(y0) * t_end > STIFF else "DOP853"
         if chosen == "DOP853":
             explicit = int(motion.EXPLICIT_SHARE * budget)
             run = integrate(system, t_end, method="DOP853", budget=explicit)
