@@ -37,6 +37,7 @@ NAMED = (
     ("transmission", "closures"),
     ("tolerance", "lengths"), ("tolerance", "sensitivity"), ("tolerance", "general_tolerances"),
     ("history", ROWS, "pins"), ("history", ROWS, "elements"), ("history", ROWS, "friction"),
+    ("history", ROWS, "drives"), ("events", ROWS, "drives"), ("simulation", "drives"),
     ("balance", "unbalanced", "pins"), ("balance", "balanced", "pins"), ("balance", "counterweights"),
     ("front", "units"), ("front", "rows", ROWS, "objectives"),  # a Pareto front's objectives by name
     ("front", "rows", ROWS, "linkage"),  # each row's design: its mechanism's linkage section

@@ -373,23 +373,31 @@ def _position_heads(r: dict, lu: str, au: str) -> dict[str, str]:
 def _forces(forces: dict, digits: int, au: str) -> list:
     """The forces section: the input torque, the load cycle per pin (magnitudes; the x/y
     components are in JSON/TOML) and the rows with one column of magnitudes per pin."""
-    torque = forces["input_torque"]
-    rows = [("peak (N m)", torque["peak"]), (f"at input ({au})", torque["at_input"]),
-            ("rms (N m)", torque["rms"])]
-    if "dead_points" in forces:
-        rows.append(("dead points (rows left out)", forces["dead_points"]))
-    parts: list = [_kv("Input torque", rows, digits)]
+    others = [k[:-len("_torque")] for k in forces if k.endswith("_torque") and k != "input_torque"]
+    parts: list = []
+    for drive in ["input"] + others:
+        torque = forces[f"{drive}_torque"]
+        rows = [("peak (N m)", torque["peak"]), (f"at input ({au})", torque["at_input"])]
+        rows += [(f"at {k} ({au})", torque[f"at_{k}"]) for k in others if f"at_{k}" in torque]
+        rows.append(("rms (N m)", torque["rms"]))
+        if "dead_points" in forces and drive == ("input" if not others else others[-1]):
+            rows.append(("dead points (rows left out)", forces["dead_points"]))
+        parts.append(_kv("Input torque" if drive == "input" else f"{drive.capitalize()} torque", rows, digits))
     cycle = [{"pin": name, **{k: v for k, v in pin.items() if k not in ("x", "y")}}
              for name, pin in forces["pins"].items()]
     parts.append(_rows("Pin forces over the cycle (N, magnitude)", cycle, digits))
-    heads = {"input": f"input ({au})", "input_torque": "torque (N m)", "mechanical_advantage": "MA"}
+    heads = {"input": f"input ({au})", **{k: f"{k} ({au})" for k in others},
+             "input_torque": "torque (N m)" if not others else "input torque (N m)",
+             **{f"{k}_torque": f"{k} torque (N m)" for k in others}, "mechanical_advantage": "MA"}
     table = []
     for row in forces["rows"]:
-        line = {"input": row["input"], "input_torque": row["input_torque"]}
+        line = {"input": row["input"], **{k: row[k] for k in others}, "input_torque": row["input_torque"],
+                **{f"{k}_torque": row[f"{k}_torque"] for k in others}}
         for name, pin in row["pins"].items():
             line[name] = pin["magnitude"]
             heads[name] = f"|{name}| (N)"
-        line["mechanical_advantage"] = row["mechanical_advantage"]
+        if "mechanical_advantage" in row:
+            line["mechanical_advantage"] = row["mechanical_advantage"]
         table.append(line)
     parts.append(_rows("Forces", _as_cut(table, [forces["rows"]] if isinstance(forces["rows"], Elided) else []),
                        digits, heads))

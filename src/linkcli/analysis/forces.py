@@ -45,16 +45,22 @@ def section(mech, study, speed: float, steps: int, case, units, notes: list,
     """The `forces` section: input_torque {peak, at_input, rms}, pins {name: {max, min, mean,
     amplitude, x: {...}, y: {...}}}, rows [{input, input_torque, pins {name: {x, y,
     magnitude}}, mechanical_advantage}], at the rows of the motion study `study` = (full
-    turn, arc); `computed`: its `study_rows` when already solved. Notes name the toggles
+    turn, arc); `computed`: its `study_rows` when already solved. A linkage of several
+    drives adds each other drive's angle and torque (`<name>`, `<name>_torque`, LoadRows.
+    other_drives) and has no mechanical advantage. Notes name the toggles
     (infinite mechanical advantage) and dead points (unbounded forces, left out of the load
     cycle)."""
     _, inputs, rows = computed or study_rows(mech, study, speed, steps, case, units)
-    rows = replace(rows, mechanical_advantage=snap_series(rows.mechanical_advantage))
-    cycle = load_cycle(rows, inputs)
-    out = {"input_torque": cycle["input_torque"], "pins": cycle["pins"]}
+    if rows.mechanical_advantage is not None:
+        rows = replace(rows, mechanical_advantage=snap_series(rows.mechanical_advantage))
+    others = {name: study.printed(shown, units) for name, (shown, _) in rows.other_drives.items()}
+    cycle = load_cycle(rows, inputs, others)
+    out = {"input_torque": cycle["input_torque"]}
+    out.update({f"{name}_torque": cycle[f"{name}_torque"] for name in others})
+    out["pins"] = cycle["pins"]
     if cycle["singular_rows"]:
         out["dead_points"] = cycle["singular_rows"]
-    out["rows"] = forces_rows(rows, inputs)
+    out["rows"] = forces_rows(rows, inputs, others)
     _notes(rows, inputs, study.unit(units), mech.DEAD_POINT, notes, mech.TOGGLE)
     return out
 
@@ -68,7 +74,8 @@ def _listed(values, unit: str) -> str:
 def _notes(rows: LoadRows, inputs, unit: str, dead_point: str, notes: list,
            toggle_means: str = "input and coupler in line, the output stands still") -> None:
     dead = inputs[rows.singular]
-    toggle = inputs[~rows.singular & ~np.isfinite(rows.mechanical_advantage)]
+    advantage = rows.mechanical_advantage
+    toggle = inputs[~rows.singular & ~np.isfinite(advantage)] if advantage is not None else inputs[:0]
     if toggle.size:  # what a toggle is: the mechanism's (a drawn linkage has no "coupler")
         notes.append(f"mechanical advantage infinite (toggle: {toggle_means}) at input {_listed(toggle, unit)}")
     if dead.size:

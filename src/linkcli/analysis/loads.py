@@ -23,22 +23,33 @@ def _snap(values, scale):
     return np.asarray(snap(np.asarray(values, dtype=float), float(scale)), dtype=float)
 
 
-def forces_rows(rows: LoadRows, inputs) -> list[dict]:
-    """`forces.rows`: per row input, input_torque, pins {name: {x, y, magnitude}},
-    mechanical_advantage; None where the row is singular (forces) or a toggle (MA)."""
+def forces_rows(rows: LoadRows, inputs, others: dict | None = None) -> list[dict]:
+    """`forces.rows`: per row input (and each other drive's angle, `others`: name -> printed
+    angles), input_torque (and `<name>_torque` of each other drive), pins {name: {x, y,
+    magnitude}}, mechanical_advantage (when the home has one); None where the row is singular
+    (forces) or a toggle (MA)."""
     def column(values, scale=None):
         values = values if scale is None else _snap(values, scale)
         return [v if math.isfinite(v) else None for v in np.asarray(values).tolist()]
+    others = others or {}
     torque = column(rows.input_torque, rows.torque_scale)
-    advantage = column(rows.mechanical_advantage)
+    more = {name: (column(others[name]), column(t, rows.torque_scale))
+            for name, (_, t) in rows.other_drives.items()}
+    advantage = None if rows.mechanical_advantage is None else column(rows.mechanical_advantage)
     pins = {name: (column(rows.pins[name][:, 0], rows.force_scale),
                    column(rows.pins[name][:, 1], rows.force_scale),
                    column(rows.magnitude(name), rows.force_scale)) for name in rows.pin_names}
-    return [{"input": angle, "input_torque": torque[k],
-             "pins": {name: {"x": x[k], "y": y[k], "magnitude": size[k]}
-                      for name, (x, y, size) in pins.items()},
-             "mechanical_advantage": advantage[k]}
-            for k, angle in enumerate(np.asarray(inputs, dtype=float).tolist())]
+    out = []
+    for k, angle in enumerate(np.asarray(inputs, dtype=float).tolist()):
+        row = {"input": angle}
+        row.update({name: shown[k] for name, (shown, _) in more.items()})
+        row["input_torque"] = torque[k]
+        row.update({f"{name}_torque": t[k] for name, (_, t) in more.items()})
+        row["pins"] = {name: {"x": x[k], "y": y[k], "magnitude": size[k]} for name, (x, y, size) in pins.items()}
+        if advantage is not None:
+            row["mechanical_advantage"] = advantage[k]
+        out.append(row)
+    return out
 
 
 def _cycle(values, scale) -> dict:
@@ -49,15 +60,18 @@ def _cycle(values, scale) -> dict:
     return dict(zip(("max", "min", "mean", "amplitude"), map(float, snapped)))
 
 
-def load_cycle(rows: LoadRows, inputs) -> dict:
+def load_cycle(rows: LoadRows, inputs, others: dict | None = None) -> dict:
     """The load cycle over the valid (non-singular) rows, for a fatigue check.
 
     pins: per pin max, min, mean, amplitude (half the range) of the magnitude, and the same
     for x and y; input_torque: peak (the signed torque of largest magnitude; ties within a
     relative linkcli.noise.TIE go to the first row in sweep order), at_input (its input), rms;
+    the same for each other drive's torque (`<name>_torque`), each summary also naming the
+    other drives' angles at its peak (`at_<name>`; `others`: name -> printed angles);
     singular_rows: how many rows are dead points (left out; their loads are unbounded).
     """
     inputs = np.asarray(inputs, dtype=float)
+    others = others or {}
     valid = ~rows.singular
     pins = {}
     for name in rows.pin_names:
@@ -65,13 +79,21 @@ def load_cycle(rows: LoadRows, inputs) -> dict:
         pins[name] = _cycle(np.hypot(xy[:, 0], xy[:, 1]), rows.force_scale)
         pins[name]["x"] = _cycle(xy[:, 0], rows.force_scale)
         pins[name]["y"] = _cycle(xy[:, 1], rows.force_scale)
-    torque = rows.input_torque[valid]
-    if torque.size:
-        first = int(first_max(np.abs(torque)))
-        peak, at_input = torque[first], inputs[valid][first]
-        rms = np.sqrt(np.mean(torque ** 2))
-        summary = {"peak": float(_snap(peak, rows.torque_scale)), "at_input": float(at_input),
-                   "rms": float(_snap(rms, rows.torque_scale))}
-    else:
-        summary = {"peak": None, "at_input": None, "rms": None}
-    return {"pins": pins, "input_torque": summary, "singular_rows": int(np.sum(rows.singular))}
+    out = {"pins": pins, "input_torque": _peak(rows.input_torque, valid, inputs, others, rows.torque_scale)}
+    for name, (_, torque) in rows.other_drives.items():
+        out[f"{name}_torque"] = _peak(torque, valid, inputs, others, rows.torque_scale)
+    out["singular_rows"] = int(np.sum(rows.singular))
+    return out
+
+
+def _peak(torque, valid, inputs, others: dict, scale) -> dict:
+    """peak, at_input (and at_<name> of the other drives), rms of a drive's torque over the valid
+    rows."""
+    torque = np.asarray(torque, dtype=float)[valid]
+    if not torque.size:
+        return {"peak": None, "at_input": None, **{f"at_{k}": None for k in others}, "rms": None}
+    first = int(first_max(np.abs(torque)))
+    rms = np.sqrt(np.mean(torque ** 2))
+    return {"peak": float(_snap(torque[first], scale)), "at_input": float(inputs[valid][first]),
+            **{f"at_{k}": float(np.asarray(v, dtype=float)[valid][first]) for k, v in others.items()},
+            "rms": float(_snap(rms, scale))}

@@ -104,16 +104,20 @@ class LoadRows:
     link, counter-clockwise positive); pins {name: (n, 2) N}, each the force the ground or
     the neighbouring link exerts at that joint (the home documents on which link);
     singular (n,) bool (a dead point: forces NaN); mechanical_advantage (n,) (NaN at a
-    toggle: infinite); force_scale (N) and torque_scale (N m) for the noise floor;
-    pin_names in report order."""
+    toggle: infinite; None for a linkage of several drives, which has no one mechanical
+    advantage); force_scale (N) and torque_scale (N m) for the noise floor; pin_names in report
+    order; other_drives: a linkage of several drives' other drives, name -> (its angle at each
+    row as printed, rad, and its torque (n,) N m), reported as `<name>` and `<name>_torque`
+    beside `input` and `input_torque` (the five-bar's input2)."""
 
     input_torque: np.ndarray
     pins: dict[str, np.ndarray]
     singular: np.ndarray
-    mechanical_advantage: np.ndarray
+    mechanical_advantage: np.ndarray | None
     force_scale: float
     torque_scale: float
     pin_names: tuple[str, ...] = field(default=())
+    other_drives: dict[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
 
     def magnitude(self, pin: str) -> np.ndarray:
         return np.hypot(self.pins[pin][:, 0], self.pins[pin][:, 1])
@@ -170,7 +174,10 @@ class BodyGraph:
     reports it). guides: (report name, joint, guide body, block, (ux, uy) the guide's
     direction in the guide body's frame). drive: the body the drive turns, whose frame angle
     is its drawn angle plus the drive value q. forces: constant [loads] forces (point, (Fx, Fy)
-    N); couples: constant [loads] couples (body, N m); gravity (gx, gy) m/s^2."""
+    N); couples: constant [loads] couples (body, N m); gravity (gx, gy) m/s^2. A linkage of
+    several drives (k degrees of freedom, one drive value q_j each) lists them in `drives`,
+    (name as [dynamics] names it, body it turns), `drive` being the first's body; `traced`:
+    points whose path the history reports (the five-bar's P)."""
 
     bodies: tuple[str, ...]
     blocks: tuple[str, ...]
@@ -182,6 +189,14 @@ class BodyGraph:
     forces: tuple[tuple[str, tuple[float, float]], ...] = ()
     couples: tuple[tuple[str, float], ...] = ()
     gravity: tuple[float, float] = (0.0, 0.0)
+    drives: tuple[tuple[str, str], ...] = ()
+    traced: tuple[str, ...] = ()
+
+    @property
+    def driven(self) -> tuple[tuple[str, str], ...]:
+        """(drive name, body it turns) of every drive, in the order of the drive values q_j:
+        `drives` when the linkage has several, else ((body, `drive`),) (its one drive)."""
+        return self.drives or ((self.drive, self.drive),)
 
 
 @dataclass(frozen=True)
@@ -195,13 +210,40 @@ class Coefficients:
     p = x + R(theta) l, p' = x' + theta' perp(R l), p'' = x'' + theta'' perp(R l) - theta'^2 R l.
     valid: (n,) bool, the rows where it assembles; lock: (n,) the smallest |sin| of a
     transmission angle over its closures (0 at a dead point, where the coefficients grow
-    without bound)."""
+    without bound).
+
+    A linkage of k drives: q is (n, k), and each derivative gains an axis per drive: origin
+    (x (n, 2), dx/dq_j (n, 2, k), d2x/dq_i dq_j (n, 2, k, k)), angle (theta (n,), (n, k),
+    (n, k, k)). `watched`: name -> (n,) |sin| of an angle whose zero is a singularity the motion
+    passes through (the run reports it, it does not end there: the five-bar's type I)."""
 
     q: np.ndarray
     origin: dict
     angle: dict
     valid: np.ndarray
     lock: np.ndarray
+    watched: dict = field(default_factory=dict)
+
+    @property
+    def drives(self) -> int:
+        """k, the number of drive values."""
+        return 1 if np.ndim(self.q) == 1 else int(np.shape(self.q)[1])
+
+
+@dataclass(frozen=True)
+class PointCoefficients:
+    """The kinematic coefficients of a linkage of k drives at one state q (k drive values), in
+    Python floats: what the integrator's right-hand side reads at every step, where an array
+    per step would cost more than the arithmetic. origin: body -> ((x, y), first, second),
+    first[j] = (dx/dq_j, dy/dq_j), second[i][j] = the second partials d2/dq_i dq_j (pairs);
+    angle: body -> (theta, first[j], second[i][j]); lock and watched as Coefficients' (floats);
+    valid: the linkage assembles there (else the other fields may be empty)."""
+
+    origin: dict
+    angle: dict
+    lock: float
+    watched: dict
+    valid: bool
 
 
 class Mechanism(ABC):
@@ -286,8 +328,29 @@ class Mechanism(ABC):
 
     def coefficients(self, q, metres: float) -> Coefficients:
         """The kinematic coefficients (Coefficients) at drive values q, the drive's values as
-        the home reports its rows (`Study.rows`), lengths in metres."""
+        the home reports its rows (`Study.rows`; several drives: rows of (q_1 .. q_k), as its
+        body_graph lists them), lengths in metres."""
         raise NotImplementedError(f"{self.name} gives no kinematic coefficients")
+
+    def coefficients_at(self, q, metres: float) -> PointCoefficients:
+        """The kinematic coefficients at one state q (k drive values) in Python floats, for a
+        linkage of several drives (whose equation of motion is evaluated exactly at every step).
+        This default takes `coefficients` at one row; a home may give a faster path."""
+        coef = self.coefficients(np.asarray([q], dtype=float), metres)
+        k = coef.drives
+        if not bool(coef.valid[0]):
+            return PointCoefficients({}, {}, 0.0, {name: 0.0 for name in coef.watched}, False)
+
+        def pair(a):
+            return (float(a[0]), float(a[1]))
+        origin = {body: (pair(x[0]), tuple(pair(dx[0, :, j]) for j in range(k)),
+                         tuple(tuple(pair(ddx[0, :, i, j]) for j in range(k)) for i in range(k)))
+                  for body, (x, dx, ddx) in coef.origin.items()}
+        angle = {body: (float(t[0]), tuple(float(dt[0, j]) for j in range(k)),
+                        tuple(tuple(float(ddt[0, i, j]) for j in range(k)) for i in range(k)))
+                 for body, (t, dt, ddt) in coef.angle.items()}
+        return PointCoefficients(origin, angle, float(coef.lock[0]),
+                                 {name: float(v[0]) for name, v in coef.watched.items()}, True)
 
     def study_speed(self, speed: float) -> float:
         """The drive's speed (rad/s) of the motion study whose [motion] input speed is `speed`

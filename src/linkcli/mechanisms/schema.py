@@ -27,14 +27,16 @@ class ForceParts(NamedTuple):
     """The names a mechanism's home offers force elements (`Schema.force_parts`): points
     (joint or coupler point -> the links carrying it, "ground" for the frame), links that turn
     (torsional elements), revolute pins (friction: each needs a diameter), `refused`: why
-    this linkage has no dynamics (None when it has), and the links its counterweights go on
-    (none: its home has no balancing rule)."""
+    this linkage has no dynamics (None when it has), the links its counterweights go on
+    (none: its home has no balancing rule), and the names of its drives when it has several
+    (none: one drive; [dynamics] then names each drive in its per-drive keys)."""
 
     points: dict
     links: tuple[str, ...]
     pins: tuple[str, ...]
     refused: str | None = None
     counterweighted: tuple[str, ...] = ()  # links that take counterweights (a balancing rule)
+    drives: tuple[str, ...] = ()  # several drives: their names ([dynamics] drive, start, stop ...)
 
 
 class Schema:

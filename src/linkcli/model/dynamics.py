@@ -67,6 +67,21 @@ class Drive:
 
 
 @dataclass(frozen=True)
+class DriveSetup:
+    """One drive of a linkage of several (each [dynamics] key by drive name: the five-bar's
+    input and input2): its law, its start (angle rad, speed rad/s), the angle that stops the
+    run, marks (angles whose crossings are events) and the inertia turning with it (kg m^2)."""
+
+    name: str
+    drive: Drive = field(default_factory=Drive)
+    start: tuple[float, float] | None = None
+    stop: float | None = None
+    marks: tuple[float, ...] = ()
+    flywheel_inertia: float = 0.0
+    locked: bool = False  # held at its start angle (a brake): its speed stays 0, its torque is the reaction
+
+
+@dataclass(frozen=True)
 class Dynamics:
     """Everything [springs], [dampers] and [dynamics] ask for.
 
@@ -79,7 +94,11 @@ class Dynamics:
     turns with the drive. `fluctuation` (Cs) asks for the flywheel section, at the motor's
     mean speed or `mean_speed` (rad/s). `balance`: the shaking force and moment;
     `counterweights`: also the counterweights, at `counterweight_radii` (link -> length unit;
-    a link not named: its own length). `lines`: key path -> line, for errors found when solved."""
+    a link not named: its own length). `lines`: key path -> line, for errors found when solved.
+
+    A linkage of several drives holds each one's law, start, stop, marks and inertia in
+    `drives` (DriveSetup, in the order of its drive values); the one-drive fields `drive`,
+    `start`, `stop`, `marks` and `flywheel_inertia` are then unused (their defaults)."""
 
     springs: tuple[Spring, ...] = ()
     dampers: tuple[Damper, ...] = ()
@@ -100,8 +119,9 @@ class Dynamics:
     balance: bool = False
     counterweights: bool = False
     counterweight_radii: tuple[tuple[str, float], ...] = ()
+    drives: tuple[DriveSetup, ...] = ()
     lines: dict = field(default_factory=dict, compare=False)
 
     @property
     def simulates(self) -> bool:
-        return self.start is not None
+        return self.start is not None or any(d.start is not None for d in self.drives)

@@ -11,7 +11,7 @@ import numpy as np
 from linkcli.plots.common import drawn, num
 
 HEIGHT = 3.6  # inches added to the figure for each panel
-PIN_COLORS = {"A0": "#1f77b4", "A": "#d62728", "B": "#2ca02c", "B0": "#9467bd", "guide": "#8c564b"}
+PIN_COLORS = {"A0": "#1f77b4", "A": "#d62728", "B": "#2ca02c", "B0": "#9467bd", "guide": "#8c564b", "P": "#ff7f0e"}
 EVENT_COLORS = {"stop": "#111111", "dead-point": "#d62728", "reversal": "#7f7f7f", "mark": "#2ca02c"}
 
 
@@ -31,18 +31,28 @@ class History:
         au = result.problem.meta.units.angle
         t = _column(rows, lambda r: r["time"])
         ax_a, ax_t, ax_f = fig.subplots(1, 3, sharex=True)
-        ax_a.plot(t, _column(rows, lambda r: r["angle"]), color="#1f77b4", lw=1.8, label="angle")
-        ax_a.set_ylabel(f"drive angle ({au})", color="#1f77b4")
+        drives = list(rows[0]["drives"]) if "drives" in rows[0] else [None]  # several drives: each
         ax_s = ax_a.twinx()
-        ax_s.plot(t, _column(rows, lambda r: r["speed"]), color="#ff7f0e", lw=1.4, label="speed")
+        for drive, style in zip(drives, ("-", "--", ":")):
+            def pick(r, key, d=drive):
+                return r[key] if d is None else r["drives"][d][{"drive_torque": "torque"}.get(key, key)]
+            tag = "" if drive is None else f" {drive}"
+            ax_a.plot(t, _column(rows, lambda r: pick(r, "angle")), color="#1f77b4", lw=1.8, ls=style, label=f"angle{tag}")
+            ax_s.plot(t, _column(rows, lambda r: pick(r, "speed")), color="#ff7f0e", lw=1.4, ls=style, label=f"speed{tag}")
+            ax_t.plot(t, _column(rows, lambda r: pick(r, "drive_torque")), color="#111111", lw=1.8, ls=style,
+                      label="drive" if drive is None else drive)
+        ax_a.set_ylabel(f"drive angle ({au})", color="#1f77b4")
         ax_s.set_ylabel(f"speed ({au}/s)", color="#ff7f0e")
         ax_s.grid(False)
+        if drive is not None:
+            ax_a.legend(loc="best", framealpha=0.85)
         sim = report.get("simulation", {})
-        title = "Drive angle and speed"
-        if sim.get("stop_time") is not None:
+        title = "Drive angle and speed" if drive is None else "Drive angles and speeds"
+        if sim.get("stop_time") is not None and drive is None:
             title += f" (stop at {num(sim['stop_time'])} s, {num(sim['stop_speed'])} {au}/s)"
+        elif sim.get("stop_time") is not None:
+            title += f" ({sim.get('stop_drive')} stops at {num(sim['stop_time'])} s)"
         ax_a.set_title(title)
-        ax_t.plot(t, _column(rows, lambda r: r["drive_torque"]), color="#111111", lw=1.8, label="drive")
         for name in rows[0].get("elements", {}):
             ax_t.plot(t, _column(rows, lambda r, n=name: r["elements"][n]), lw=1.4, label=name)
         ax_t.axhline(0.0, color="#777777", lw=0.8)

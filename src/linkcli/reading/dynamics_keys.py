@@ -79,6 +79,8 @@ def read_dynamics(root: Table, kind: str, has_linkage: bool, units, joints):
                            "fluctuation (a flywheel)", raw_got="no [dynamics]")
         return None
     lines["dynamics"] = root.reader.line_of(("dynamics",))
+    if parts.drives:
+        return _several(root, t, parts, units, lines, springs, dampers, masses_given, joints, errors)
     for key in ("start.angle", "stop.angle", "drive", "fluctuation", "mean_speed", "counterweights",
                 "flywheel_inertia", "duration", "friction"):
         lines[key] = root.reader.line_of(("dynamics",) + tuple(key.split(".")))
@@ -149,6 +151,113 @@ def read_dynamics(root: Table, kind: str, has_linkage: bool, units, joints):
                     dead_point=units.to_rad(dead_point), method=method, flywheel_inertia=flywheel,
                     fluctuation=fluctuation, mean_speed=mean_speed, balance=bool(balance or counterweights),
                     counterweights=bool(counterweights), counterweight_radii=radii, lines=lines)
+
+
+# ---------------------------------------------------------------- several drives
+
+ONE_DRIVE_KEYS = ("drive", "start", "stop", "marks", "flywheel_inertia")  # per drive with several
+ONE_DRIVE_ONLY = ("fluctuation", "mean_speed", "balance", "counterweights")
+
+
+def _several(root: Table, t: Table, parts, units, lines, springs, dampers, masses_given, joints, errors):
+    """[dynamics] of a linkage of several drives (the five-bar's input and input2): one table per
+    drive with its drive law, start, stop, marks and flywheel_inertia; duration, steps, friction,
+    friction_speed, dead_point and method for the run. The flywheel (energy method) and
+    balancing are one-drive analyses: refused here."""
+    from linkcli.model.dynamics import DriveSetup, Dynamics
+    names = parts.drives
+    listed = ", ".join(names)
+    for key in ONE_DRIVE_KEYS:
+        if key in t:
+            t.raw(key)
+            t.error(key, f"{key} per drive, in [dynamics.{names[0]}] and [dynamics.{names[1]}] (a linkage "
+                    f"of several drives: {listed})", raw_got=f"{key} in [dynamics]")
+    for key in ONE_DRIVE_ONLY:
+        if key in t:
+            t.raw(key)
+            what = "the flywheel (energy method)" if key in ("fluctuation", "mean_speed") else "balancing"
+            t.error(key, f"a one-drive linkage for {key}: {what} is computed for one drive, and this "
+                    f"linkage has several ({listed})", raw_got=f'{key} = {_said(t.data[key])}')
+    known = set(names) | {"duration", "steps", "friction", "friction_speed", "dead_point", "method"} \
+        | set(ONE_DRIVE_KEYS) | set(ONE_DRIVE_ONLY)
+    for key in list(t.keys()):
+        if key not in known:
+            hint = difflib.get_close_matches(key, list(names), n=1, cutoff=0.5)
+            extra = f' (did you mean "{hint[0]}"?)' if hint else ""
+            t.raw(key)
+            t.error(key, f"a drive of the linkage ({listed}){extra} or a key of [dynamics] (duration, steps, "
+                    "friction, friction_speed, dead_point, method)", raw_got=f'"{key}"')
+    refused = any(key in t for key in ONE_DRIVE_KEYS + ONE_DRIVE_ONLY)
+    misnamed = any(key not in known and isinstance(t.data[key], dict) for key in t.keys())
+    setups = []
+    for name in names:
+        d = t.table(name)
+        if d is None:
+            if misnamed or (refused and not any(n in t for n in names)):  # one problem, one line
+                setups.append(None)
+                continue
+            if name not in t:  # (a value that is not a table: Table.table said so)
+                t.error(name, f"a table [dynamics.{name}] with start = {{ angle, speed }} (every drive of a "
+                        "linkage of several starts somewhere)", raw_got=f"no [dynamics.{name}]")
+            setups.append(None)
+            continue
+        for key in ("start.angle", "stop.angle", "drive", "flywheel_inertia"):
+            lines[f"dynamics.{name}.{key}"] = root.reader.line_of(("dynamics", name) + tuple(key.split(".")))
+        drive = _drive(d, units)
+        start = _start(d, units)
+        if start is None and "start" not in d:
+            d.error("start", "the drive's start = { angle, speed } (angle unit, angle unit/s)")
+        stop = _angle_in(d, "stop", units)
+        if stop is not None and start is not None and stop == start[0]:
+            d.error("stop", "a stop angle other than the start angle",
+                    raw_got=f"angle = {units.from_rad(stop):g}, the start's")
+        marks = _marks(d, units)
+        flywheel = d.number("flywheel_inertia", 0.0, nonnegative=True, hi=MAX_VALUE,
+                            what="an inertia >= 0 (kg m^2)")
+        locked = d.boolean("locked", False)
+        if locked:  # held at its start: no law, no speed, nothing of its own to stop or mark
+            for key in ("drive", "stop", "marks", "flywheel_inertia"):
+                if key in d:
+                    d.error(key, f"no {key} on a locked drive (it is held at its start angle)",
+                            raw_got=f"{key} with locked = true")
+            if start is not None and start[1] != 0.0:
+                d.error("start", "a speed of 0 for a locked drive (it is held at its start angle)",
+                        raw_got=f"speed = {units.from_rad(start[1]):g}")
+        if None in (drive, start, marks, flywheel, locked) or ("stop" in d and stop is None):
+            setups.append(None)
+            continue
+        setups.append(DriveSetup(name, drive, start, stop, marks, flywheel, bool(locked)))
+    duration = t.number("duration", None, positive=True, hi=MAX_DURATION, what="a time in s")
+    steps = t.number("steps", DEFAULT_STEPS, integer=True, lo=2, hi=MAX_STEPS)
+    friction = t.number("friction", 0.0, nonnegative=True, hi=MAX_FRICTION,
+                        what="a Coulomb friction coefficient")
+    friction_speed = t.number("friction_speed", units.from_rad(DEFAULT_FRICTION_SPEED), positive=True,
+                              hi=MAX_SPEED, what="a speed > 0 (angle unit/s)")
+    dead_point = t.number("dead_point", units.from_rad(DEFAULT_DEAD_POINT), positive=True,
+                          hi=units.from_rad(MAX_DEAD_POINT), what="an angle > 0 (angle unit)")
+    method = t.string("method", "auto", choices=METHODS)
+    diameters = _diameters(t, friction, parts, joints)
+    given = [s for s in setups if s is not None]
+    if given and len(given) == len(setups) and all(s.locked for s in given):
+        t.error(None, "at least one drive that is not locked (a linkage with every drive held does "
+                "not move)", raw_got="every drive locked")
+    if duration is None and "duration" not in t and None not in setups \
+            and not any(s.stop is not None for s in given):
+        t.error("duration", "a time in s, or a drive's stop = { angle } (when the simulation ends)")
+    if not masses_given and None not in setups and not any(s.flywheel_inertia for s in given):
+        t.error(None, "a [masses] table or a drive's flywheel_inertia (the simulation needs inertia)",
+                raw_got="neither")
+    if len(root.reader.errors) > errors or None in setups or None in (
+            steps, friction, friction_speed, dead_point, method, diameters, springs, dampers):
+        return None
+    return Dynamics(springs=springs, dampers=dampers, duration=duration if duration is not None else DEFAULT_DURATION,
+                    steps=steps, friction=friction, friction_speed=units.to_rad(friction_speed),
+                    pin_diameters=diameters, dead_point=units.to_rad(dead_point), method=method,
+                    drives=tuple(setups), lines=lines)
+
+
+def _said(value) -> str:
+    return "true" if value is True else "false" if value is False else repr(value)
 
 
 # ---------------------------------------------------------------- [springs], [dampers]

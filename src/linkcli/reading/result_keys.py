@@ -69,7 +69,8 @@ KEYS = {
         'objective', 'rms', 'rms_angle_error', 'rms_position_error',
     ),
     'events': (
-        '[].angle', '[].event', '[].speed', '[].time',
+        '[].angle', '[].drive', '[].drives.*.angle', '[].drives.*.speed', '[].event',
+        '[].speed', '[].time',
     ),
     'family': (
         '[].chosen', '[].coupler', '[].ground', '[].input', '[].inside_window', '[].offset',
@@ -82,12 +83,14 @@ KEYS = {
         'with_flywheel.max_speed', 'with_flywheel.min_speed',
     ),
     'forces': (
-        'dead_points', 'input_torque.at_input', 'input_torque.peak', 'input_torque.rms',
-        'pins.*.amplitude', 'pins.*.max', 'pins.*.mean', 'pins.*.min', 'pins.*.x.amplitude',
-        'pins.*.x.max', 'pins.*.x.mean', 'pins.*.x.min', 'pins.*.y.amplitude', 'pins.*.y.max',
-        'pins.*.y.mean', 'pins.*.y.min', 'rows.[].input', 'rows.[].input_torque',
-        'rows.[].mechanical_advantage', 'rows.[].pins.*.magnitude', 'rows.[].pins.*.x',
-        'rows.[].pins.*.y',
+        'dead_points', 'input2_torque.at_input', 'input2_torque.at_input2',
+        'input2_torque.peak', 'input2_torque.rms', 'input_torque.at_input',
+        'input_torque.at_input2', 'input_torque.peak', 'input_torque.rms', 'pins.*.amplitude',
+        'pins.*.max', 'pins.*.mean', 'pins.*.min', 'pins.*.x.amplitude', 'pins.*.x.max',
+        'pins.*.x.mean', 'pins.*.x.min', 'pins.*.y.amplitude', 'pins.*.y.max', 'pins.*.y.mean',
+        'pins.*.y.min', 'rows.[].input', 'rows.[].input2', 'rows.[].input2_torque',
+        'rows.[].input_torque', 'rows.[].mechanical_advantage', 'rows.[].pins.*.magnitude',
+        'rows.[].pins.*.x', 'rows.[].pins.*.y',
     ),
     'front': (
         'hypervolume', 'knee.index', 'knee.rule', 'method', 'objectives', 'reference_point',
@@ -102,8 +105,10 @@ KEYS = {
         'sliders', 'two_shortest_plus_longest',
     ),
     'history': (
-        '[].acceleration', '[].angle', '[].drive_torque', '[].elements.*', '[].friction.*',
-        '[].pins.*.magnitude', '[].pins.*.x', '[].pins.*.y', '[].speed', '[].time',
+        '[].acceleration', '[].angle', '[].drive_torque', '[].drives.*.acceleration',
+        '[].drives.*.angle', '[].drives.*.speed', '[].drives.*.torque', '[].elements.*',
+        '[].friction.*', '[].pins.*.magnitude', '[].pins.*.x', '[].pins.*.y', '[].speed',
+        '[].time',
     ),
     'kinematics': (
         '[].acceleration', '[].condition', '[].coupler', '[].coupler_acceleration',
@@ -134,9 +139,11 @@ KEYS = {
         'designs.[].output', 'objective', 'search', 'search_samples',
     ),
     'simulation': (
-        'end', 'end_angle', 'end_speed', 'end_time', 'flywheel_inertia', 'friction.coefficient',
+        'drives.*.end_angle', 'drives.*.end_speed', 'drives.*.flywheel_inertia',
+        'drives.*.locked', 'drives.*.start_angle', 'drives.*.start_speed', 'end', 'end_angle',
+        'end_speed', 'end_time', 'flywheel_inertia', 'friction.coefficient',
         'friction.regularization_speed', 'method', 'rtol', 'start.angle', 'start.speed',
-        'stop_speed', 'stop_time',
+        'stop_drive', 'stop_speed', 'stop_time',
     ),
     'solver': (
         'best_known', 'converged', 'evaluations', 'gap', 'method', 'minimize', 'seconds',

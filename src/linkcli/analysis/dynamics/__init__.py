@@ -1,6 +1,6 @@
-"""Forward dynamics of a one-drive linkage (docs/dynamics.md): force elements, the equation of
-motion from the kinematic coefficients, its integration, the energy balance, the flywheel by
-the energy method, and balancing.
+"""Forward dynamics of a linkage (docs/dynamics.md): force elements, the equation of motion from
+the kinematic coefficients, its integration, the energy balance, the flywheel by the energy
+method, and balancing (one drive); the same run for a linkage of several drives (the five-bar).
 
 Shared code: it holds a mechanism's home (`linkcli.mechanisms.of`) and calls its protocol
 (`body_graph`, `coefficients`, `counterweights`); it never asks which mechanism it holds.
@@ -18,4 +18,8 @@ Shared code: it holds a mechanism's home (`linkcli.mechanisms.of`) and calls its
     flywheel     steady running: speed fluctuation and the flywheel by the energy method
     balance      shaking force and moment; counterweights
     sections     the report sections; layout: their table view
+    several      the equation of motion of several drives (M q'' + h = Q, k x k), exact at every step
+    several_rows       the same equation and every pin's force over the history's rows (numpy)
+    several_motion     its integration: motion's settings and segments, events per drive
+    several_sections   its report sections (simulation, history, events, energy per drive)
 """

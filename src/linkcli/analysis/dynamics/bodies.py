@@ -40,19 +40,28 @@ def rotated(local, angle) -> np.ndarray:
 
 
 def body_point(coef, body: str, local):
-    """(p, p', p'') of the point `local` (2,) of `body` over the rows (module docstring)."""
+    """(p, p', p'') of the point `local` (2,) of `body` over the rows (module docstring); of a
+    linkage of k drives, the partials: p (n, 2), p_j (n, 2, k), p_ij (n, 2, k, k)."""
     n = len(coef.q)
     local = np.asarray(local, dtype=float)
     if body == GROUND:
         p = np.broadcast_to(local, (n, 2)).copy()
-        zero = np.zeros((n, 2))
-        return p, zero, zero.copy()
+        k = coef.drives
+        if k == 1:
+            zero = np.zeros((n, 2))
+            return p, zero, zero.copy()
+        return p, np.zeros((n, 2, k)), np.zeros((n, 2, k, k))
     x, dx, ddx = coef.origin[body]
     theta, dtheta, ddtheta = coef.angle[body]
     rl = rotated(local, theta)
     prl = perp(rl)
-    return (x + rl, dx + dtheta[:, None] * prl,
-            ddx + ddtheta[:, None] * prl - (dtheta ** 2)[:, None] * rl)
+    if np.ndim(dtheta) == 1:
+        return (x + rl, dx + dtheta[:, None] * prl,
+                ddx + ddtheta[:, None] * prl - (dtheta ** 2)[:, None] * rl)
+    # k drives: p_j = x_j + theta_j perp(R l), p_ij = x_ij + theta_ij perp(R l) - theta_i theta_j R l
+    both = dtheta[:, :, None] * dtheta[:, None, :]
+    return (x + rl, dx + dtheta[:, None, :] * prl[:, :, None],
+            ddx + ddtheta[:, None] * prl[:, :, None, None] - both[:, None] * rl[:, :, None, None])
 
 
 def point(graph, coef, name: str):
@@ -77,8 +86,11 @@ def centre(graph, coef, body: str):
 def angle(coef, body: str):
     """(theta, theta', theta'') of a body; the ground's is 0."""
     if body == GROUND:
-        zero = np.zeros(len(coef.q))
-        return zero, zero, zero
+        n, k = len(coef.q), coef.drives
+        if k == 1:
+            zero = np.zeros(n)
+            return zero, zero, zero
+        return np.zeros(n), np.zeros((n, k)), np.zeros((n, k, k))
     return coef.angle[body]
 
 

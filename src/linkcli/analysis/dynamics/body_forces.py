@@ -18,7 +18,9 @@ block's sliding speed. Its sign is smoothed at rest, sign(x) ~ x / sqrt(x^2 + ep
 the file's friction_speed (pins: rad/s; guides: that times the linkage's size, m/s), so the
 equation stays smooth and an integrator does not chatter. The couples depend on the pin forces,
 which depend on the couples: solved by fixed-point iteration (each pass one linear solve of all
-rows), until the forces change by less than FRICTION_RTOL of their scale; a row that does not
+rows), until the forces change by less than FRICTION_RTOL of their scale, or by less than
+FRICTION_STALL of it and no less than the pass before (the round-off of a larger system, as the
+five-bar's twelve equations, stalls above FRICTION_RTOL); a row that does not
 converge in FRICTION_ITERATIONS passes (friction locks the linkage) is NaN.
 """
 
@@ -31,6 +33,7 @@ import numpy as np
 from linkcli.analysis.dynamics import bodies
 
 FRICTION_RTOL = 1e-15  # to round-off: the couples are then a smooth function of the state
+FRICTION_STALL = 1e-12  # or a change this small that no longer shrinks: round-off of a larger system
 FRICTION_ITERATIONS = 200
 SINGULAR_RCOND = 1e-13  # a row whose system is this near singular (a dead point) is NaN
 
@@ -95,8 +98,9 @@ class Layout:
             self.guide_col[name] = col
             col += 1
         self.drive_col = col
-        if col + 1 != m:
-            raise ValueError(f"the body graph is not square: {m} equations, {col + 1} unknowns")
+        self.drive_cols = tuple(range(col, col + len(graph.driven)))  # one per drive value
+        if col + len(self.drive_cols) != m:
+            raise ValueError(f"the body graph is not square: {m} equations, {col + len(self.drive_cols)} unknowns")
 
 
 class Assembly:
@@ -104,11 +108,13 @@ class Assembly:
     drive's acceleration unknown; inverse: its torque), and the right-hand sides of the known
     loads (module docstring)."""
 
-    def __init__(self, graph, coef, forward: bool) -> None:
+    def __init__(self, graph, coef, forward: bool, held=()) -> None:
         self.graph, self.coef, self.forward = graph, coef, forward
+        self.held = tuple(held)  # forward: drives held still (acceleration 0, their torque unknown)
         layout = self.layout = Layout(graph)
         n, m = len(coef.q), layout.size
         self.n = n
+        self.k = coef.drives
         matrix = self.matrix = np.zeros((n, m, m))
         self.centres, self.rates = {}, {}
         for body in graph.bodies:
@@ -118,14 +124,20 @@ class Assembly:
             inertia = 0.0 if mass is None or body in graph.blocks else mass.inertia
             c, dc, ddc = bodies.centre(graph, coef, body)
             _, dth, ddth = coef.angle[body]
+            if self.k == 1:  # one drive: its rates with the drive axes of k drives (k = 1)
+                dc, ddc, dth, ddth = dc[..., None], ddc[..., None, None], dth[:, None], ddth[:, None, None]
             self.centres[body] = c
             self.rates[body] = (mm, inertia, dc, ddc, dth, ddth)
             if forward:
-                matrix[:, r:r + 2, layout.drive_col] = -mm * dc
-                if body not in graph.blocks:
-                    matrix[:, r + 2, layout.drive_col] = -inertia * dth
-        if not forward:
-            matrix[:, layout.row[graph.drive] + 2, layout.drive_col] = 1.0
+                for j, col in enumerate(layout.drive_cols):
+                    if j in self.held:
+                        continue
+                    matrix[:, r:r + 2, col] = -mm * dc[..., j]
+                    if body not in graph.blocks:
+                        matrix[:, r + 2, col] = -inertia * dth[:, j]
+        for j, ((_, driven), col) in enumerate(zip(graph.driven, layout.drive_cols)):
+            if not forward or j in self.held:
+                matrix[:, layout.row[driven] + 2, col] = 1.0
         self.joint_at = {}
         for name, joint, exerting, acted in graph.pins:
             at = bodies.point(graph, coef, joint)[0]
@@ -143,24 +155,31 @@ class Assembly:
             _unknown_along(matrix, layout, self.centres, block, at[0], normal, col, 1.0)
             _unknown_along(matrix, layout, self.centres, guide, at[0], normal, col, -1.0)
 
+    def per_drive(self, values) -> np.ndarray:
+        """Values per drive as (n, k): a scalar or (n,) for one drive, (n, k) or (k,) for k."""
+        return np.broadcast_to(np.asarray(values, dtype=float).reshape(-1, self.k)
+                               if np.ndim(values) else np.asarray(values, dtype=float), (self.n, self.k))
+
     def rhs(self, speed=0.0, gravity: bool = True, acceleration=None) -> np.ndarray:
-        """The inertia terms at `speed` (n,) (and the known `acceleration`, inverse) and, with
-        `gravity`, the weights: m (G'' q'^2 [+ G' q''] - g), I (theta'' q'^2 [+ theta' q''])."""
+        """The inertia terms at `speed` ((n,), or (n, k) for k drives) (and the known
+        `acceleration`, inverse) and, with `gravity`, the weights: m (sum_ij G_ij q_i' q_j'
+        [+ sum_j G_j q_j''] - g), I (sum_ij theta_ij q_i' q_j' [+ sum_j theta_j q_j''])."""
         layout = self.layout
         rhs = np.zeros((self.n, layout.size))
-        w2 = np.broadcast_to(np.asarray(speed, dtype=float) ** 2, (self.n,))
+        w = self.per_drive(speed)
+        ww = w[:, :, None] * w[:, None, :]
         g = np.asarray(self.graph.gravity, dtype=float) if gravity else np.zeros(2)
+        qdd = None if acceleration is None else self.per_drive(acceleration)
         for body in self.graph.bodies:
             r = layout.row[body]
             mm, inertia, dc, ddc, dth, ddth = self.rates[body]
-            rhs[:, r:r + 2] = mm * (ddc * w2[:, None] - g)
+            rhs[:, r:r + 2] = mm * (np.sum(ddc * ww[:, None], axis=(2, 3)) - g)
             if body not in self.graph.blocks:
-                rhs[:, r + 2] = inertia * ddth * w2
-            if acceleration is not None:
-                qdd = np.broadcast_to(np.asarray(acceleration, dtype=float), (self.n,))
-                rhs[:, r:r + 2] += mm * dc * qdd[:, None]
+                rhs[:, r + 2] = inertia * np.sum(ddth * ww, axis=(1, 2))
+            if qdd is not None:
+                rhs[:, r:r + 2] += mm * np.sum(dc * qdd[:, None, :], axis=2)
                 if body not in self.graph.blocks:
-                    rhs[:, r + 2] += inertia * dth * qdd
+                    rhs[:, r + 2] += inertia * np.sum(dth * qdd, axis=1)
         return rhs
 
     def add_loads(self, rhs, loads: Loads) -> None:
@@ -170,7 +189,15 @@ class Assembly:
             _known_couple(rhs, self.layout, body, couple)
 
     def add_drive(self, rhs, torque) -> None:
-        _known_couple(rhs, self.layout, self.graph.drive, torque)
+        """The drives' torques ((n,), or (n, k) for k drives) on the bodies they turn (not the
+        held drives': theirs are unknowns)."""
+        if self.k == 1:
+            _known_couple(rhs, self.layout, self.graph.drive, torque)
+            return
+        torque = self.per_drive(torque)
+        for j, (_, driven) in enumerate(self.graph.driven):
+            if j not in self.held:
+                _known_couple(rhs, self.layout, driven, torque[:, j])
 
     def add_pin_friction(self, rhs, name: str, couple) -> None:
         """`couple` on the pin's body acted on, its opposite on the body exerting."""
@@ -197,32 +224,42 @@ class Assembly:
             p, dp, _ = at
             if guide == bodies.GROUND:
                 carried = np.zeros_like(dp)
-            else:
+            elif self.k == 1:
                 o, do, _ = coef.origin[guide]
                 carried = do + coef.angle[guide][1][:, None] * bodies.perp(p - o)
-            guides[name] = bodies.dot(dp - carried, u)
+            else:
+                o, do, _ = coef.origin[guide]
+                carried = do + coef.angle[guide][1][:, None, :] * bodies.perp(p - o)[..., None]
+            slide = dp - carried
+            guides[name] = (bodies.dot(slide, u) if self.k == 1
+                            else slide[:, 0] * u[:, 0, None] + slide[:, 1] * u[:, 1, None])
         return pins, guides
 
     def inverse(self) -> _Inverse:
         return _Inverse(self.matrix)
 
     def unknowns(self, x) -> tuple[dict, dict, np.ndarray]:
-        """(pins name -> (n, 2), guides name -> (n, 2) normal force vectors, drive (n,))."""
+        """(pins name -> (n, 2), guides name -> (n, 2) normal force vectors, drive (n,), or
+        (n, k) for k drives)."""
         layout = self.layout
         pins = {name: x[:, layout.pin_col[name]:layout.pin_col[name] + 2] for name, *_ in self.graph.pins}
         guides = {name: x[:, layout.guide_col[name], None] * self.guide_dir[name][1]
                   for name, *_ in self.graph.guides}
+        if self.k > 1:
+            return pins, guides, x[:, list(layout.drive_cols)]
         return pins, guides, x[:, layout.drive_col]
 
 
 def solve(graph, coef, speed, loads: Loads, *, torque=None, acceleration=None,
-          friction: Friction | None = None) -> BodyForces:
+          friction: Friction | None = None, held=()) -> BodyForces:
     """The pin and guide forces and the drive's acceleration (given `torque`, (n,) N m) or torque
-    (given `acceleration`, (n,) rad/s^2) at rows of the coefficients turning at `speed` (n,)."""
+    (given `acceleration`, (n,) rad/s^2) at rows of the coefficients turning at `speed` (n,); a
+    linkage of k drives: (n, k) each, the drives' accelerations or torques; forward, the drives
+    `held` (indices) stand still: their acceleration is 0 and `drive` gives their torque."""
     forward = torque is not None
-    a = Assembly(graph, coef, forward)
+    a = Assembly(graph, coef, forward, held)
     n = a.n
-    w = np.broadcast_to(np.asarray(speed, dtype=float), (n,))
+    w = np.broadcast_to(np.asarray(speed, dtype=float), (n,)) if a.k == 1 else a.per_drive(speed)
     rhs = a.rhs(w, acceleration=None if forward else acceleration)
     a.add_loads(rhs, loads)
     if forward:
@@ -340,15 +377,21 @@ def _known_couple(rhs, layout, body, couple) -> None:
     rhs[:, layout.row[body] + 2] -= couple
 
 
+def _rate(coefficient, w):
+    """A rate from its coefficients and the drives' speeds: c w (one drive), sum_j c_j w_j."""
+    return coefficient * w if np.ndim(coefficient) == 1 else np.sum(coefficient * w, axis=1)
+
+
 def _with_friction(a: Assembly, inverse, rhs, x, w, friction):
     """Fixed-point iteration of the friction couples and forces (module docstring)."""
     graph, layout = a.graph, a.layout
     n = len(w)
     pin_rate, guide_rate = a.rates_at_pins(w)
-    rel = {name: smooth_sign(rate * w, friction.eps) for name, rate in pin_rate.items()}
-    slide = {name: smooth_sign(rate * w, friction.eps_v) for name, rate in guide_rate.items()}
+    rel = {name: smooth_sign(_rate(rate, w), friction.eps) for name, rate in pin_rate.items()}
+    slide = {name: smooth_sign(_rate(rate, w), friction.eps_v) for name, rate in guide_rate.items()}
     scale = np.nanmax(np.abs(x), axis=1, initial=0.0)
     done = np.zeros(n, dtype=bool)
+    last = np.full(n, np.inf)
     pin_friction, guide_friction = {}, {}
     for _ in range(FRICTION_ITERATIONS):
         b = rhs.copy()
@@ -365,7 +408,10 @@ def _with_friction(a: Assembly, inverse, rhs, x, w, friction):
         change = np.nanmax(np.abs(new - x), axis=1, initial=0.0)
         scale = np.maximum(scale, np.nanmax(np.abs(new), axis=1, initial=0.0))
         x = new
-        done = np.isfinite(x).all(axis=1) & (change <= FRICTION_RTOL * np.maximum(scale, 1e-300))
+        floor = np.maximum(scale, 1e-300)
+        settled = (change <= FRICTION_RTOL * floor) | ((change <= FRICTION_STALL * floor) & (change >= last))
+        done = np.isfinite(x).all(axis=1) & settled
+        last = change
         if done.all():
             break
     x = np.where(done[:, None], x, np.nan)

@@ -60,16 +60,44 @@ def state(system, q, w, *, acceleration=None) -> State:
             g = system.angle(k, q, g)
         coords.append((g, dg))
     graph, coef = system.graph, e.coef
-    forces, point_forces, couples = {}, [], []
+    per_element, forces, loads, spring, couple_energy = element_loads(
+        system, coef, coords, [dg * w for _, dg in coords])
     generalized = -e.d_potential
-    spring = np.zeros(len(q))
+    for element, k, force in zip(system.elements, system.coordinate_of, per_element):
+        generalized = generalized - force * coords[k][1]
     potential = e.potential.copy()
+    for energy in couple_energy:
+        potential = potential + energy
+    friction = friction_of(system)
+    if acceleration is None:
+        torque = system.drive(w)
+        solved = body_forces.solve(graph, coef, w, loads, torque=torque, friction=friction)
+        qdd = (generalized + torque - 0.5 * e.d_inertia * w * w) / e.inertia
+        if friction is not None:
+            qdd = solved.drive
+    else:
+        qdd = np.broadcast_to(np.asarray(acceleration, dtype=float), q.shape)
+        solved = body_forces.solve(graph, coef, w, loads, acceleration=qdd, friction=friction)
+        torque = solved.drive
+    kinetic = 0.5 * e.inertia * w * w
+    return State(q, w, e, coords, forces, torque, qdd, solved, kinetic, potential, spring)
+
+
+def element_loads(system, coef, coords, rates):
+    """Every element's force at the rows (from its coordinate (g, ...) in `coords` and its rate
+    in `rates`, per coordinate), as loads on the bodies, with the constant [loads] forces:
+    (forces per element in order, {name: force} of the springs and dampers, body_forces.Loads,
+    the springs' stored energy (n,), the constant couples' potentials [(n,), ...])."""
+    graph = system.graph
+    per_element, forces, point_forces, couples = [], {}, [], []
+    n = len(coef.q)
+    spring, couple_energy = np.zeros(n), []
     for element, k in zip(system.elements, system.coordinate_of):
-        g, dg = coords[k]
-        force = element.force(g, dg * w)
-        generalized = generalized - force * dg
+        g = coords[k][0]
+        force = element.force(g, rates[k])
+        per_element.append(force)
         if element.role == "couple":
-            potential = potential + element.energy(g)
+            couple_energy.append(element.energy(g))
         else:
             forces[element.name] = force
             spring = spring + element.energy(g)
@@ -88,20 +116,7 @@ def state(system, q, w, *, acceleration=None) -> State:
     for name, force in graph.forces:
         body, _ = graph.points[name]
         point_forces.append((body, bodies.point(graph, coef, name)[0], np.asarray(force, dtype=float)))
-    loads = body_forces.Loads(point_forces, couples)
-    friction = friction_of(system)
-    if acceleration is None:
-        torque = system.drive(w)
-        solved = body_forces.solve(graph, coef, w, loads, torque=torque, friction=friction)
-        qdd = (generalized + torque - 0.5 * e.d_inertia * w * w) / e.inertia
-        if friction is not None:
-            qdd = solved.drive
-    else:
-        qdd = np.broadcast_to(np.asarray(acceleration, dtype=float), q.shape)
-        solved = body_forces.solve(graph, coef, w, loads, acceleration=qdd, friction=friction)
-        torque = solved.drive
-    kinetic = 0.5 * e.inertia * w * w
-    return State(q, w, e, coords, forces, torque, qdd, solved, kinetic, potential, spring)
+    return per_element, forces, body_forces.Loads(point_forces, couples), spring, couple_energy
 
 
 def _body_of(graph, end) -> str:

@@ -14,7 +14,13 @@ def report_tables(name: str, section, lu: str, au: str) -> list:
                  "stop_speed": f"{au}/s", "flywheel_inertia": "kg m2"}
         rows = []
         for k, v in section.items():
-            if k == "start":
+            if k == "drives":  # several drives: each one's start and end
+                drive_units = {"start_angle": au, "start_speed": f"{au}/s", "end_angle": au,
+                               "end_speed": f"{au}/s", "flywheel_inertia": "kg m2"}
+                for drive, values in v.items():
+                    rows += [(f"{drive} {key.replace('_', ' ')}" + (f" ({drive_units[key]})" if key in drive_units else ""), x)
+                             for key, x in values.items()]
+            elif k == "start":
                 rows += [(f"start angle ({au})", v["angle"]), (f"start speed ({au}/s)", v["speed"])]
             elif k == "friction":
                 rows += [("friction coefficient", v["coefficient"]),
@@ -26,9 +32,21 @@ def report_tables(name: str, section, lu: str, au: str) -> list:
         heads = {"time": "time (s)", "angle": f"angle ({au})", "speed": f"speed ({au}/s)",
                  "acceleration": f"accel. ({au}/s2)", "drive_torque": "drive (N m)"}
         base = tuple(heads)
+        several = "drives" in section[0]
+        if several:  # a column per drive and quantity
+            heads = {"time": "time (s)"}
+            for drive in section[0]["drives"]:
+                heads.update({f"{drive} {k}": f"{drive} {h}" for k, h in (
+                    ("angle", f"({au})"), ("speed", f"speed ({au}/s)"), ("acceleration", f"accel. ({au}/s2)"),
+                    ("torque", "torque (N m)"))})
         rows = []
         for r in section:
-            row = {k: r.get(k) for k in base}
+            if several:
+                row = {"time": r["time"]}
+                for drive, values in r["drives"].items():
+                    row.update({f"{drive} {k}": v for k, v in values.items()})
+            else:
+                row = {k: r.get(k) for k in base}
             for pin, force in r.get("pins", {}).items():
                 row[f"pin {pin}"] = force["magnitude"]
                 heads.setdefault(f"pin {pin}", f"{pin} (N)")
@@ -41,6 +59,17 @@ def report_tables(name: str, section, lu: str, au: str) -> list:
         return [KeyValues("Events", [("events", "none")])]
     if name == "events" and isinstance(section, list) and section:
         heads = {"event": "event", "time": "time (s)", "angle": f"angle ({au})", "speed": f"speed ({au}/s)"}
+        if any("drives" in r for r in section):  # several drives: per drive
+            heads = {"event": "event", "drive": "drive", "time": "time (s)"}
+            rows = []
+            for r in section:
+                row = {"event": r["event"], "drive": r.get("drive", ""), "time": r["time"]}
+                for drive, values in r["drives"].items():
+                    for key, unit in (("angle", au), ("speed", f"{au}/s")):
+                        row[f"{drive} {key}"] = values[key]
+                        heads.setdefault(f"{drive} {key}", f"{drive} {key} ({unit})")
+                rows.append(row)
+            return [Rows("Events", rows, heads)]
         return [Rows("Events", section, heads)]
     if name == "energy" and isinstance(section, dict):
         rows = [(f"{k.replace('_', ' ')} (J)", v) for k, v in section.items() if k != "start"]

@@ -253,7 +253,6 @@ def integrate(system, q0: float, w0: float, t_end: float, *, stop=None, marks=()
     """Integrate from (q0, w0) (internal q, rad/s) for at most t_end s; `stop` ends the run at a
     drive value; `marks` are drive values whose crossings are events; `extremes`: the speed's
     extremes (q'' = 0) are events too ("extreme")."""
-    from scipy.integrate import solve_ivp
     chosen = method_for(system, method, t_end)
     if method == "auto" and chosen == "DOP853":  # stiff after all (friction at rest): LSODA
         explicit = int(EXPLICIT_SHARE * budget)
@@ -288,15 +287,28 @@ def integrate(system, q0: float, w0: float, t_end: float, *, stop=None, marks=()
     if not system.full_turn:
         add(lambda t, y: y[0] - system.lo, "dead-point", True)
         add(lambda t, y: y[0] - system.hi, "dead-point", True)
+    bases = len(events)
+    for kink in kink_functions(system):
+        add(kink, "kink", True)
+    y0 = np.array([q0, w0, 0.0, 0.0, 0.0])
+    return segments(rhs, count, y0, t_end, chosen, rtol, atol, events, kinds, bases,
+                    lambda y: (float(y[0]), float(y[1])))
+
+
+def segments(rhs, count, y0, t_end: float, chosen: str, rtol: float, atol, events: list, kinds: list,
+             bases: int, pick) -> Run:
+    """solve_ivp from (0, y0) to t_end with `events` (the first `bases` reported, the rest a
+    table law's rows: `kind` "kink", where the run restarts), by `chosen` (DOP853 as
+    stepper.SteadyDOP853 from stepper.first_step); each event found is (kind, t, *pick(y)).
+    The run ends at its duration or at a terminal event ("stop", "dead-point": the last such
+    kind found), or on the budget (rhs raising OutOfBudget) or a failed step."""
+    from scipy.integrate import solve_ivp
     stepper = chosen
     if chosen == "DOP853":  # its sums independent of the machine's BLAS (dynamics.stepper)
         from linkcli.analysis.dynamics.stepper import SteadyDOP853 as stepper
         from linkcli.analysis.dynamics.stepper import first_step
-    bases = len(events)
-    for kink in kink_functions(system):
-        add(kink, "kink", True)
     found, pieces = [], []
-    t0, y0 = 0.0, np.array([q0, w0, 0.0, 0.0, 0.0])
+    t0 = 0.0
     armed = _armed(events, bases, rhs, t0, y0, t_end)
     end = "duration"
     floor = 1e-12 * max(t_end, 1e-300)
@@ -309,7 +321,7 @@ def integrate(system, q0: float, w0: float, t_end: float, *, stop=None, marks=()
             return Run(None, "budget", 0.0, [], count[0], chosen)
         pieces.append(solution)
         for kind, times, states in zip(kinds[:bases], solution.t_events, solution.y_events):
-            found.extend((kind, float(t), float(y[0]), float(y[1])) for t, y in zip(times, states) if t > floor)
+            found.extend((kind, float(t), *pick(y)) for t, y in zip(times, states) if t > floor)
         if solution.status < 0:
             end = "failed"
             break
@@ -318,12 +330,17 @@ def integrate(system, q0: float, w0: float, t_end: float, *, stop=None, marks=()
         t_stop = solution.t[-1]
         if any(len(solution.t_events[k]) and solution.t_events[k][-1] == t_stop and kinds[k] != "kink"
                and events[k].terminal for k in range(bases)):
-            last = [e for e in found if e[0] in ("stop", "dead-point")]
-            end = last[-1][0] if last else "duration"
+            last = [e for e in found if _kind(e[0]) in ("stop", "dead-point")]
+            end = _kind(last[-1][0]) if last else "duration"
             break
         # a table's row crossed: restart there, so that no step straddles its corner
         t0, y0 = float(t_stop), solution.y[:, -1].copy()
         armed = _armed(events, bases, rhs, t0, y0, t_end)
-    found.sort(key=lambda e: (e[1], e[0]))
+    found.sort(key=lambda e: (e[1], str(e[0])))
     joined = Pieces(pieces)
     return Run(joined, end, float(joined.t[-1]), found, count[0], chosen)
+
+
+def _kind(kind) -> str:
+    """An event's kind: a name, or (name, drive) for an event of one of several drives."""
+    return kind if isinstance(kind, str) else kind[0]

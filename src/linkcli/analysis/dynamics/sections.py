@@ -30,6 +30,9 @@ def add_sections(rep: dict, problem, mech, notes: list) -> tuple[str, str] | Non
     from linkcli.analysis.forces import metres_per_unit
     meta = problem.meta
     dyn = meta.dynamics
+    if dyn.drives:  # a linkage of several drives: its own equation (dynamics.several)
+        from linkcli.analysis.dynamics.several_sections import add_sections as several
+        return several(rep, problem, mech, notes)
     units = meta.units
     metres = metres_per_unit(units)
     system = System(mech, dyn, meta.loads, units, metres, path=meta.path)
@@ -169,13 +172,17 @@ def _events(system, run, units, notes) -> list[dict]:
 
 
 def _energy(system, y, st) -> dict:
+    return energy_section(st.kinetic, st.potential, st.spring, y[2, -1], y[3, -1], y[4, -1])
+
+
+def energy_section(kinetic_rows, potential_rows, spring_rows, drive, damper, friction) -> dict:
     """At the end: kinetic (and at the start), potential (gravity and the constant loads,
-    relative to the start), spring (stored, and at the start), the work of the drive, the
-    dampers and friction, and their balance."""
-    kinetic, kinetic0 = float(st.kinetic[-1]), float(st.kinetic[0])
-    potential = float(st.potential[-1] - st.potential[0])
-    spring, spring0 = float(st.spring[-1]), float(st.spring[0])
-    drive, damper, friction = (float(y[k, -1]) for k in (2, 3, 4))
+    relative to the start), spring (stored, and at the start), the work of the drive(s), the
+    dampers and friction (the integrated works at the end), and their balance."""
+    kinetic, kinetic0 = float(kinetic_rows[-1]), float(kinetic_rows[0])
+    potential = float(potential_rows[-1] - potential_rows[0])
+    spring, spring0 = float(spring_rows[-1]), float(spring_rows[0])
+    drive, damper, friction = float(drive), float(damper), float(friction)
     balance = (kinetic - kinetic0) + potential + (spring - spring0) - drive - damper - friction
     scale = max(abs(kinetic), abs(kinetic0), abs(potential), abs(spring), abs(spring0), abs(drive),
                 abs(damper), abs(friction), 1e-300)

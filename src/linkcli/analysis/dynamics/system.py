@@ -33,6 +33,14 @@ TWO_PI = 2.0 * math.pi
 DOMAIN_LOCK = 0.5  # a rocking drive's table stops where |sin mu| = this x sin(dead_point)
 
 
+def located_error(dyn, path, key: str, expected: str, got: str) -> SolveInputError:
+    """An error found when solved, at the line of its key (or of [dynamics])."""
+    full = key if key.split(".")[0] in ("dynamics", "springs", "dampers") else f"dynamics.{key}"
+    line = dyn.lines.get(key) or dyn.lines.get(full.split(".", 1)[1] if full != key else key) \
+        or dyn.lines.get("dynamics")
+    return SolveInputError(expected, got, path=path, line=line, key=full)
+
+
 @dataclass
 class Exact:
     """The exact functions at rows q (internal values): the coefficients, M, M', V, V', each
@@ -80,9 +88,7 @@ class System:
 
     # ------------------------------------------------------------ errors
     def error(self, key: str, expected: str, got: str) -> SolveInputError:
-        line = self.dyn.lines.get(key) or self.dyn.lines.get("dynamics")
-        full = key if key.split(".")[0] in ("dynamics", "springs", "dampers") else f"dynamics.{key}"
-        return SolveInputError(expected, got, path=self.path, line=line, key=full)
+        return located_error(self.dyn, self.path, key, expected, got)
 
     # ------------------------------------------------------------ the drive's range
     def _domain(self) -> None:

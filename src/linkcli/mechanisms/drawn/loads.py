@@ -206,7 +206,7 @@ def drawn_loads(home, st, case, metres: float) -> LoadRows:
                                            sum(abs(t) for _, t in loads.torques), length)
         return DrawnLoadRows(solution[:, drive_columns[0]], pins, singular, _advantage(home, st, metres),
                              force_scale, torque_scale, tuple(name for name, _, _ in pin_names(d)),
-                             {drive.name: solution[:, col] for drive, col in zip(d.drives, drive_columns)})
+                             efforts={drive.name: solution[:, col] for drive, col in zip(d.drives, drive_columns)})
 
 
 def _apply_known(rhs, row_of, centre, target, point, force) -> None:

@@ -21,7 +21,7 @@ in radians (the unit does not change it).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -51,6 +51,7 @@ class FiveBarMechanism(Mechanism):
     def __init__(self, linkage) -> None:
         super().__init__(linkage)
         self._track = None
+        self._at = None
 
     def track(self):
         """The rows of [motion] solved once (track.solve); None without a motion."""
@@ -93,7 +94,56 @@ class FiveBarMechanism(Mechanism):
         return sections.kinematics_rows(study.detail, units)
 
     def load_rows(self, phi, speed, case, metres) -> LoadRows:
-        raise NotImplementedError("the five-bar's loads are not modelled (its schema refuses [loads])")
+        """Both drives' torques (input_torque; input2's beside it) and the pins A0 (ground ->
+        input), A (input -> coupler), P (coupler -> coupler2), B (input2 -> coupler2), B0
+        (ground -> input2) at rows `phi` (row numbers), each row at its own drive speeds and
+        accelerations (five_bar.loads); `speed` is not used."""
+        from linkcli.mechanisms.five_bar.loads import five_bar_loads
+        k = np.asarray(phi, dtype=int)
+        return five_bar_loads(self._state(k, metres), case, metres, wrap(self.track().pose.phi2[k]))
+
+    def member_forces(self, phi, speed, case, metres, rows):
+        """Links input (A0, A), input2 (B0, B), coupler (A, P), coupler2 (B, P); the drives'
+        torques at A0 and B0, the coupler force at P (five_bar.loads)."""
+        from linkcli.mechanisms.five_bar.loads import five_bar_members
+        return five_bar_members(self._state(np.asarray(phi, dtype=int), metres), case, metres, rows)
+
+    def _state(self, k, metres):
+        """The loads' state (five_bar.loads.FiveBarState) at rows k: their drive angles, speeds
+        and accelerations."""
+        from linkcli.mechanisms.five_bar.loads import state
+        track = self.track()
+        p = track.pose
+        q = np.stack([p.phi1[k], p.phi2[k]], axis=-1)
+        w = np.stack([track.w1[k], track.w2[k]], axis=-1)
+        al = np.stack([track.al1[k], track.al2[k]], axis=-1)
+        st = state(self.linkage_for_rows(), q, w, al, metres)
+        valid = st.valid & track.valid[k]
+        return type(st)(st.joints, st.omega, st.alpha, st.origin_a, st.lock, valid)
+
+    def linkage_for_rows(self):
+        """The linkage with the branch its rows run on (a path's first row decides it)."""
+        track = self.track()
+        if track is None:
+            return replace(self.linkage, branch=self.linkage.branch or "left")
+        return replace(self.linkage, branch="left" if track.side > 0 else "right")
+
+    def body_graph(self, case, metres):
+        """Bodies input, input2, coupler, coupler2; pins A0, A, P, B, B0; drives input and
+        input2 (mechanisms.five_bar.dynamics)."""
+        from linkcli.mechanisms.five_bar.dynamics import body_graph
+        return body_graph(self.linkage, case, metres)
+
+    def coefficients(self, q, metres):
+        """At rows q (n, 2) of (phi1, phi2) (five_bar.coefficients)."""
+        from linkcli.mechanisms.five_bar.coefficients import coefficients
+        return coefficients(self.linkage_for_rows(), q, metres)
+
+    def coefficients_at(self, q, metres):
+        from linkcli.mechanisms.five_bar.coefficients import coefficients_at
+        if self._at is None:
+            self._at = self.linkage_for_rows()
+        return coefficients_at(self._at, q, metres)
 
     def tolerance_model(self, problem, solution):
         from linkcli.mechanisms.five_bar.tolerance import Model

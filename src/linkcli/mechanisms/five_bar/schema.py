@@ -26,6 +26,12 @@ if TYPE_CHECKING:  # names of annotations only (imported where they are used)
 # mechanism's [linkage] reads this module for its keys alone (reading.linkage.refuse_foreign)
 
 TOLERANCED = ("ground", "input", "input2", "coupler", "coupler2")  # its lengths, [tolerance] table keys
+LINKS = ("input", "input2", "coupler", "coupler2")  # its moving links: [masses], [sections], torques
+CARRIED = {"A0": ("ground", "input"), "A": ("input", "coupler"), "P": ("coupler", "coupler2"),
+           "B": ("input2", "coupler2"), "B0": ("ground", "input2")}  # each pin -> the bodies it joins
+DRIVE_NAMES = ("input", "input2")  # its drives, as [motion] and [dynamics] name them (model.DRIVES)
+FOREIGN_LOADS = {"output_torque": "a four-bar's", "output_force": "a slider-crank's",
+                 "forces": "a drawn linkage's"}  # [loads] keys of other homes
 MOTION_KEYS = ("inputs", "path", "modes", "input_speeds", "input_accelerations", "phases")
 MAX_ROWS = MAX_ARRAY
 MIN_PATH = 2  # points of a path
@@ -35,13 +41,14 @@ TURN_RTOL = 1e-9  # a held drive's angle: equal within this share of a turn
 
 class FiveBarSchema(Schema):
     """The five-bar's vocabulary (mechanisms.schema.Schema): its output is the point P (an
-    allowed_error is a distance); a held drive's lock has a play of its own; its loads are not
-    modelled ([loads] and [masses] are refused); its [motion] is rows of both drives."""
+    allowed_error is a distance); a held drive's lock has a play of its own; its loads name its
+    links (a torque on any of them) and its one point load acts at P; its [motion] is rows of
+    both drives, and its [dynamics] names each drive."""
 
     name = "five-bar"
     keys = ("ground", "input", "input2", "coupler", "coupler2", "branch", "ground_pivot", "ground_angle")
     joints = ("A0", "A", "P", "B", "B0")
-    links = ("input", "input2", "coupler", "coupler2")
+    links = LINKS
     toleranced = TOLERANCED
     plays = {"lock_play": "the angular play of a held drive's lock, taken up when its phase ends"}
     output = "length"
@@ -55,13 +62,9 @@ class FiveBarSchema(Schema):
         return _read_motion(root, meta, linkage)
 
     def read_load_case(self, root: Table, kind: str):
-        """[loads] and [masses] of a five-bar: refused, one located line each (its inverse
-        dynamics is not modelled); None."""
-        for name in ("loads", "masses"):
-            if name in root:
-                root.raw(name)
-                root.error(name, f"no [{name}] for a five-bar (its loads are not modelled)", raw_got=f"a [{name}] table")
-        return None
+        """[loads] (coupler_force at P, gravity, torques by link) and [masses] (input, input2,
+        coupler, coupler2) of a five-bar: a model.LoadCase, or None when in error (recorded)."""
+        return _read_load_case(root)
 
     def class_block(self, g: dict, fmt) -> tuple[str, list[tuple[str, object]]]:
         """("Five-bar class", rows): Ting's class, the two shortest and the longest link, the two
@@ -88,9 +91,10 @@ class FiveBarSchema(Schema):
                 "input_speeds": f"{angle}/s", "input_accelerations": f"{angle}/s2"}
 
     def force_parts(self, root: Table, kind: str) -> ForceParts:
-        return ForceParts(points={}, links=(), pins=(),
-                     refused="a one-drive linkage (four-bar, slider-crank or a drawn linkage with one "
-                             "turning drive): the five-bar's two drives and its loads are not modelled")
+        """Joints A0, A, P, B, B0; links input, input2, coupler, coupler2; pins A0, A, P, B, B0;
+        two drives, input and input2 (each a crank's angle: [dynamics.input], [dynamics.input2]);
+        no counterweight rule."""
+        return ForceParts(points=dict(CARRIED), links=LINKS, pins=tuple(CARRIED), drives=DRIVE_NAMES)
 
 
 def _read(t: Table, units) -> FiveBar | None:
@@ -282,3 +286,72 @@ def _read_motion(root: Table, meta, linkage: FiveBar | None):
 
 
 SCHEMA = FiveBarSchema()
+
+
+def _read_load_case(root: Table):
+    """[loads] and [masses] of a five-bar (docs/five_bar.md, Loads):
+
+        [loads]   coupler_force = [Fx, Fy]   N at P (on the coupler, the left distal link)
+                  gravity = [gx, gy]         m/s^2
+                  torques = { input2 = T }   N m on a link, counter-clockwise positive
+        [masses]  input, input2, coupler, coupler2 = { mass, center, inertia } (each link's
+                  frame: input A0 -> A, input2 B0 -> B, coupler A -> P, coupler2 B -> P)
+
+    Keys of another home's [loads] are named as such; a link that is not the five-bar's gets a
+    "did you mean"."""
+    import difflib
+
+    from linkcli.io.quantities import MAX_LOAD, link_mass, pair
+    from linkcli.model import LoadCase, Loads, Masses
+    errors = len(root.reader.errors)
+    given: dict = {}
+    loads = Loads()
+    t = root.table("loads")
+    if t is not None:
+        force = pair(t, "coupler_force", "a force [Fx, Fy] of two finite numbers (N, at P)")
+        gravity = pair(t, "gravity", "an acceleration [gx, gy] of two finite numbers (m/s^2)")
+        for key, whose in FOREIGN_LOADS.items():
+            if key in t:
+                t.raw(key)
+                t.error(key, "torques = { link = T } (N m on input, input2, coupler or coupler2) and "
+                        f"coupler_force (N at P) on a five-bar; {key} is {whose}",
+                        raw_got=f"{key} = {describe(t.data[key])}")
+        torques = {}
+        sub = t.table("torques")
+        if sub is not None:
+            for name in list(sub.keys()):
+                if name not in LINKS:
+                    hint = difflib.get_close_matches(name, LINKS, n=1, cutoff=0.5)
+                    extra = f' (did you mean "{hint[0]}"?)' if hint else ""
+                    sub.raw(name)
+                    sub.error(name, f"a link of the five-bar: {', '.join(LINKS)}{extra}", raw_got=f'"{name}"')
+                    continue
+                value = sub.number(name, lo=-MAX_LOAD, hi=MAX_LOAD, what="a torque (N m, counter-clockwise positive)")
+                if value is not None:
+                    torques[name] = value
+        loads = Loads(coupler_force=tuple(force or (0.0, 0.0)), gravity=tuple(gravity or (0.0, 0.0)),
+                      torques=tuple(torques.items()))
+        given["loads"] = {"coupler_force": list(loads.coupler_force), "gravity": list(loads.gravity)}
+        if torques:
+            given["loads"]["torques"] = dict(torques)
+    masses = Masses()
+    m = root.table("masses")
+    if m is not None:
+        named = {}
+        for key in list(m.keys()):
+            if key not in LINKS:
+                hint = difflib.get_close_matches(key, LINKS, n=1, cutoff=0.5)
+                extra = f' (did you mean "{hint[0]}"?)' if hint else ""
+                m.raw(key)
+                m.error(key, f"masses of input, input2, coupler, coupler2 on a five-bar{extra}",
+                        raw_got=f"a mass for {key}")
+                continue
+            value = link_mass(m, key, False)
+            if value is not None:
+                named[key] = value
+        masses = Masses(named=tuple((k, named[k]) for k in LINKS if k in named))
+        given["masses"] = {k: {"mass": v.mass, "center": list(v.center), "inertia": v.inertia}
+                           for k, v in masses.named}
+    if len(root.reader.errors) > errors:
+        return None
+    return LoadCase(loads=loads, masses=masses, given=given)
