@@ -19,3 +19,34 @@ def test_bench_takes_a_drawn_design_whose_settings_are_its_own():
     assert settings_for(load(path)) == [("auto", None, None)]
     runs = runs_of(path, 2)
     assert [(r.method, r.budget, r.seed, r.atlas) for r in runs] == [("auto", None, 0, None), ("auto", None, 1, None)]
+
+
+def _small_files():
+    import resource
+    import signal
+    resource.setrlimit(resource.RLIMIT_FSIZE, (4096, 4096))
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # the write fails (EFBIG) instead of killing
+
+
+def _run(args, stdout=None, **env):
+    import os
+    import subprocess
+    import sys
+    environment = {**os.environ, "PYTHONPATH": str(ROOT / "src"), **env}
+    return subprocess.run([sys.executable, "-m", "linkcli", *args], stdout=stdout or subprocess.PIPE,
+                          stderr=subprocess.PIPE, text=True, env=environment, cwd=ROOT, timeout=300,
+                          preexec_fn=_small_files)
+
+
+def test_a_result_file_that_cannot_be_written_whole_leaves_nothing_behind(tmp_path):
+    """--out DIR wrote each result straight into its file: a write that failed midway (here a
+    file-size limit of 4096 bytes; a full disk or a quota alike) left the first 4096 bytes
+    of firedoor_motion.json behind, a truncated result file -- as issue 47 found of GIFs and
+    DXFs. Each format's file now appears whole or not at all."""
+    for fmt, name in (("json", "firedoor_motion.json"), ("toml", "firedoor_motion.toml"),
+                      ("table", "firedoor_motion.txt"), ("csv", "firedoor_motion.kinematics.csv")):
+        folder = tmp_path / fmt
+        done = _run(["analyze", "problems/firedoor_motion.toml", "--format", fmt, "--out", str(folder)])
+        assert done.returncode == 2, done.stderr
+        assert done.stderr.splitlines()[-1] == f"{folder / name}: expected a writable result file, found File too large"
+        assert list(folder.iterdir()) == []
