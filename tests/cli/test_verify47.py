@@ -50,3 +50,18 @@ def test_a_result_file_that_cannot_be_written_whole_leaves_nothing_behind(tmp_pa
         assert done.returncode == 2, done.stderr
         assert done.stderr.splitlines()[-1] == f"{folder / name}: expected a writable result file, found File too large"
         assert list(folder.iterdir()) == []
+
+
+def test_a_report_cut_by_a_full_output_file_is_exit_2_also_unbuffered(tmp_path):
+    """Standard output into a file that stops taking bytes midway (a file-size limit of 4096
+    bytes; a disk filling or a quota alike). With PYTHONUNBUFFERED=1 (or python -u: common in
+    containers and CI) stdout's buffer is the raw file, whose write takes part of the text
+    and TextIOWrapper drops the rest without a word: the report was cut at 4096 bytes and
+    the exit code 0. Buffered, the same run was already exit 2 and one line."""
+    for unbuffered in ("1", ""):
+        target = tmp_path / f"report{unbuffered}.json"
+        with open(target, "w") as handle:
+            done = _run(["analyze", "problems/firedoor_motion.toml", "--format", "json"], stdout=handle,
+                        PYTHONUNBUFFERED=unbuffered)
+        assert done.returncode == 2, (unbuffered, done.stderr)
+        assert done.stderr.splitlines() == ["standard output: expected an output that takes the report, found File too large"]
