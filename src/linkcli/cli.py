@@ -661,7 +661,7 @@ app.add_typer(atlas_app, name="atlas")
 
 
 @atlas_app.command("build", cls=PlainUsage)
-def atlas_build(out: Optional[Path] = typer.Option(None, "--out", metavar="PATH",
+def atlas_build(out: Optional[str] = typer.Option(None, "--out", metavar="PATH",
                                                    help="Write the atlas here (default: the user's cache, "
                                                         "where searches look for it)."),
                 size: int = typer.Option(100_000, "--size", metavar="N", help="Four-bars in the atlas."),
@@ -670,7 +670,7 @@ def atlas_build(out: Optional[Path] = typer.Option(None, "--out", metavar="PATH"
     seed on every machine)."""
     from linkcli.atlas.command import build_command
     with _interruptible():
-        code = build_command(None if out is None else str(out), size, seed)
+        code = build_command(out, size, seed)
     raise typer.Exit(code)
 
 

@@ -65,3 +65,22 @@ def test_a_report_cut_by_a_full_output_file_is_exit_2_also_unbuffered(tmp_path):
                         PYTHONUNBUFFERED=unbuffered)
         assert done.returncode == 2, (unbuffered, done.stderr)
         assert done.stderr.splitlines() == ["standard output: expected an output that takes the report, found File too large"]
+
+
+def test_atlas_build_names_an_empty_out_as_empty_not_as_the_current_folder():
+    """Issue 47 named empty paths for synth and analyze's options and new's FILE; atlas build's
+    --out was still a Path, read by pathlib as ".": `.: expected a file name for the atlas,
+    found a folder`."""
+    code, out, err = run_cli("atlas", "build", "--out", "")
+    assert (code, out, err) == (2, "", "--out: expected a file name for the atlas, found an empty argument\n")
+
+
+def test_a_cluster_address_without_a_host_is_not_blamed_on_its_port():
+    """`tcp://:8786` has a port and no host; it was reported as `found no port in
+    'tcp://:8786'`."""
+    from linkcli.cluster import address_problem
+    for address in ("tcp://:8786", ":8786", "tcp://[]:8786"):
+        assert address_problem(address, 5) == f"no host in {address!r} (an address is tcp://HOST:PORT)"
+    for address in ("tcp://127.0.0.1", "127.0.0.1:", "tcp://localhost"):
+        assert address_problem(address, 5) == f"no port in {address!r} (an address is tcp://HOST:PORT)"
+    assert address_problem("tcp://127.0.0.1:8786", 5) is None
