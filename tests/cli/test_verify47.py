@@ -3,7 +3,8 @@ designs): what the verification found still broken, each with the command that s
 
 from __future__ import annotations
 
-import json
+
+import pytest
 
 from conftest import ROOT, run_cli
 
@@ -84,3 +85,32 @@ def test_a_cluster_address_without_a_host_is_not_blamed_on_its_port():
     for address in ("tcp://127.0.0.1", "127.0.0.1:", "tcp://localhost"):
         assert address_problem(address, 5) == f"no port in {address!r} (an address is tcp://HOST:PORT)"
     assert address_problem("tcp://127.0.0.1:8786", 5) is None
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("sig", ["SIGKILL", "SIGHUP"])
+def test_a_jobs_supervisor_killed_outright_leaves_no_worker_behind(tmp_path, sig):
+    """The supervisor of `synth --jobs 2` killed without a chance to stop its workers (SIGKILL,
+    as the out-of-memory killer would; SIGHUP sent to it alone): both workers stayed behind
+    for good, reparented, each blocked on a pipe whose other end it held itself (inherited
+    through fork). They end now within about a second (each watches its parent)."""
+    import signal
+    import subprocess
+    import time
+    from test_hostile_plumbing import ENV, _children, linkcli, long_files
+    psutil = pytest.importorskip("psutil")
+    process = subprocess.Popen(linkcli("synth", *long_files(tmp_path, 4), "--jobs", "2"), cwd=ROOT, env=ENV,
+                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        workers = _children(process.pid, 2, time.monotonic() + 60)
+        assert len(workers) == 2
+        time.sleep(0.5)
+        process.send_signal(getattr(signal, sig))
+        process.wait(timeout=60)
+        gone, alive = psutil.wait_procs(workers, timeout=10)
+    finally:
+        if process.poll() is None:
+            process.kill()
+        for worker in psutil.Process().children(recursive=True):
+            worker.kill()
+    assert alive == []
