@@ -40,8 +40,8 @@ def settings_for(problem) -> list[tuple[str, int | None, bool | None]]:
     search, which `synth` refuses any other method for)."""
     from linkcli.registry import problem_type
     own = getattr(problem, "bench_settings", None)  # a problem solved by a strategy of its own
-    if own:
-        return list(own)
+    if own:  # (method, budget) pairs, as a type's: the atlas as the file says
+        return [(m, b, None) for m, b in own]
     spec = problem_type(problem.meta.type)
     if spec.bench_settings:
         out = [(m, b, None) for m, b in spec.bench_settings]

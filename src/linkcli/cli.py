@@ -453,6 +453,7 @@ def _print_csv(report: dict, table: str | None, precision: int) -> int:
 
 def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int, table: str | None = None) -> int:
     from linkcli.io.export import result_stems, to_toml, write_json
+    from linkcli.io.whole_file import whole_text_file
     from linkcli.report import render_text
     for rep, stem in zip(reports, result_stems([rep["file"] for rep in reports])):
         if fmt is Format.csv:  # one file per row table: <stem>.<table>.csv
@@ -464,7 +465,7 @@ def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int, tabl
             for name, rows in tables.items():
                 target = out / f"{stem}.{name}.csv"
                 try:
-                    with open(target, "w", encoding="utf-8", newline="") as handle:
+                    with whole_text_file(target, newline="") as handle:
                         write_csv(rows, precision, handle)
                 except OSError as exc:
                     _err(f"{target}: expected a writable result file, found {exc.strerror or exc}")
@@ -472,7 +473,7 @@ def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int, tabl
             continue
         target = out / f"{stem}.{EXT[fmt.value]}"
         try:
-            with open(target, "w", encoding="utf-8") as handle:
+            with whole_text_file(target) as handle:  # a failed write leaves no partial file
                 if fmt is Format.json:
                     write_json(rep, precision, handle)
                 else:
@@ -660,7 +661,7 @@ app.add_typer(atlas_app, name="atlas")
 
 
 @atlas_app.command("build", cls=PlainUsage)
-def atlas_build(out: Path | None = typer.Option(None, "--out", metavar="PATH",
+def atlas_build(out: str | None = typer.Option(None, "--out", metavar="PATH",
                                                    help="Write the atlas here (default: the user's cache, "
                                                         "where searches look for it)."),
                 size: int = typer.Option(100_000, "--size", metavar="N", help="Four-bars in the atlas."),
@@ -669,7 +670,7 @@ def atlas_build(out: Path | None = typer.Option(None, "--out", metavar="PATH",
     seed on every machine)."""
     from linkcli.atlas.command import build_command
     with _interruptible():
-        code = build_command(None if out is None else str(out), size, seed)
+        code = build_command(out, size, seed)
     raise typer.Exit(code)
 
 

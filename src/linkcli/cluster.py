@@ -231,11 +231,13 @@ def address_problem(address: str, timeout: float) -> str | None:
         host, _, port = rest[1:].partition("]")
         port = port[1:] if port.startswith(":") else ""
     else:
-        host, _, port = rest.rpartition(":")
-        if not host:
+        host, colon, port = rest.rpartition(":")
+        if not colon:  # a host alone
             host, port = rest, ""
     if not port:
         return f"no port in {address!r} (an address is tcp://HOST:PORT)"
+    if not host:
+        return f"no host in {address!r} (an address is tcp://HOST:PORT)"
     if not (port.isascii() and port.isdigit() and 1 <= int(port) <= 65535):
         return f"port {port[:20]}, not a port number (1 to 65535)"
     found: list = []

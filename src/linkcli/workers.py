@@ -13,7 +13,10 @@ Each worker is a process with a pipe of its own: it is handed one file at a time
   (a process pool marks itself broken and fails every file still in it);
 - outcomes come back as files finish and are yielded in argument order;
 - closing the iteration (Ctrl-C, SIGTERM, a reader gone) ends the workers at once: SIGTERM,
-  then SIGKILL for one that has not ended within STOP_SECONDS.
+  then SIGKILL for one that has not ended within STOP_SECONDS;
+- a supervisor that dies without closing it (SIGKILL, SIGHUP) leaves no worker behind: each
+  watches its parent and ends within WATCH_SECONDS of its death, and an idle one sees its
+  pipe closed (a forked worker closes the supervisor's ends it inherits).
 
 Workers ignore SIGINT (a terminal's Ctrl-C reaches the whole process group: it is the
 supervisor's to handle, as a --cluster worker's) and take SIGTERM's default action (the
@@ -25,12 +28,14 @@ microseconds per file through the pipe: nothing beside a solve.
 
 from __future__ import annotations
 
+import os
 import signal
 from collections import deque
 from collections.abc import Callable, Iterator
 from typing import NamedTuple
 
 STOP_SECONDS = 2.0  # a worker asked to end (SIGTERM) is killed after this
+WATCH_SECONDS = 0.5  # how often a worker checks that its supervisor is alive
 
 
 class Worker(NamedTuple):
@@ -40,10 +45,17 @@ class Worker(NamedTuple):
     conn: object
 
 
-def _serve(conn, request, work: Callable) -> None:
-    """A worker's loop: (index, path) in, (index, Outcome) out, until None or the pipe closes."""
+def _serve(conn, request, work: Callable, inherited: tuple = ()) -> None:
+    """A worker's loop: (index, path) in, (index, Outcome) out, until None or the pipe closes.
+    `inherited`: the supervisor's ends of the pipes, which a forked worker holds copies of;
+    closed first, so that the supervisor's death (SIGKILL, SIGHUP: no chance to stop its
+    workers) closes this worker's pipe and the worker ends after its file, not waiting for
+    a next one forever."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    for end in inherited:
+        end.close()
+    _end_with(os.getppid())
     while True:
         try:
             item = conn.recv()
@@ -52,7 +64,26 @@ def _serve(conn, request, work: Callable) -> None:
         if item is None:
             return
         index, path = item
-        conn.send((index, work(path, request)))
+        outcome = work(path, request)
+        try:
+            conn.send((index, outcome))
+        except OSError:  # the supervisor is gone
+            return
+
+
+def _end_with(parent: int) -> None:
+    """A watch thread: when the supervisor `parent` is gone (this process reparented), end
+    this worker at once with SIGTERM's default action, mid-file (the file's result has no
+    one to go to). Checked every WATCH_SECONDS."""
+    import threading
+    import time
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(WATCH_SECONDS)
+        os.kill(os.getpid(), signal.SIGTERM)
+
+    threading.Thread(target=watch, name="linkcli-supervisor-watch", daemon=True).start()
 
 
 def died(path: str, exitcode: int | None) -> str:
@@ -85,7 +116,9 @@ def solve_in_processes(files: list[str], request, jobs: int, work: Callable, con
 
     def start() -> Worker:
         mine, theirs = context.Pipe()
-        process = context.Process(target=_serve, args=(theirs, request, work), daemon=True)
+        forked = context.get_start_method() == "fork"  # a forked child inherits every open end
+        inherited = tuple(w.conn for w in workers) + (mine,) if forked else ()
+        process = context.Process(target=_serve, args=(theirs, request, work, inherited), daemon=True)
         process.start()
         theirs.close()
         return Worker(process, mine)

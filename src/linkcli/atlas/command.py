@@ -46,6 +46,9 @@ def build_command(out: str | None, size: int, seed: int) -> int:
     if not MIN_SIZE <= size <= MAX_SIZE:
         _err(f"--size: expected a number of four-bars within [{MIN_SIZE:,}, {MAX_SIZE:,}], found {size}")
         return EXIT_BAD
+    if out == "":  # a plain string (pathlib would read "" as ".", the current folder)
+        _err("--out: expected a file name for the atlas, found an empty argument")
+        return EXIT_BAD
     if out is None:
         folder = cache.cache_dir()
         try:

@@ -36,7 +36,7 @@ class Guarded:
     None, fails at its first write); anything else is the stream's own."""
 
     def __init__(self, stream) -> None:
-        self._stream = stream
+        self._stream = _retrying(stream)
 
     def _lost(self) -> OSError:
         return OSError(errno.EBADF, "no standard output (it is closed)")
@@ -68,6 +68,26 @@ class Guarded:
         if self._stream is None:
             raise AttributeError(name)
         return getattr(self._stream, name)
+
+
+def _retrying(stream):
+    """`stream`, or where its buffer is the raw file (PYTHONUNBUFFERED=1 or `python -u`, common
+    in containers and CI) the same file through a BufferedWriter, flushed at each line. A raw
+    file's write may take only part of the text (a disk that fills midway, a quota, a
+    file-size limit: the next write is the one that fails) and TextIOWrapper neither retries
+    nor reports the rest: the report was cut and the exit code 0. A BufferedWriter writes the
+    rest and raises the error. Its own FileIO on the descriptor (not closing it) leaves the
+    interpreter's stdout object untouched."""
+    import io
+    raw = getattr(stream, "buffer", None)
+    if not isinstance(raw, io.RawIOBase):
+        return stream
+    try:
+        fd = raw.fileno()
+    except (OSError, ValueError):
+        return stream
+    return io.TextIOWrapper(io.BufferedWriter(io.FileIO(fd, "w", closefd=False)), encoding=stream.encoding,
+                            errors=stream.errors, line_buffering=True)
 
 
 def sink_for_closed_stderr() -> None:
