@@ -168,11 +168,11 @@ class Measure:
         start, sweep = self.motion(sol)
         study = mech.study(start)
         if study is None:
-            return np.array([math.inf])
+            return np.full(2, math.inf)
         sec = mech.transmission_section(study, (start, sweep), self.units, [])
         lo, hi = sec.get("working_min"), sec.get("working_max")
         if lo is None or hi is None:
-            return np.array([math.inf])
+            return np.full(2, math.inf)
         right = float(self.units.from_rad(RIGHT))
         return np.array([right - float(lo), float(hi) - right])
 
@@ -193,7 +193,7 @@ class Measure:
         sk = of(sol.linkage).skeleton(phi)
         pts = np.stack([np.asarray(p, dtype=float).reshape(len(phi), 2) for p in sk.joints.values()], axis=1)
         if not np.all(np.isfinite(pts)):
-            return np.array([math.inf])
+            return np.full(pts.shape[1] ** 4, math.inf)
         ext = self.extremes(sol, phi, pts, full)
         width = np.maximum(ext[0, 1.0][:, None] - ext[0, -1.0][None, :], 0.0).ravel()
         height = np.maximum(ext[1, 1.0][:, None] - ext[1, -1.0][None, :], 0.0).ravel()
@@ -254,7 +254,7 @@ class Measure:
         phi = self.rows(sol, self.steps)
         rows = mech.load_rows(phi, self.speed, self.problem.meta.loads, metres_per_unit(self.units))
         if np.any(rows.singular):
-            return np.array([math.inf])
+            return np.full(len(phi) * (1 if name == "torque" else len(rows.pin_names)), math.inf)
         if name == "torque":
             return np.abs(np.asarray(rows.input_torque, dtype=float))
         return np.concatenate([rows.magnitude(pin) for pin in rows.pin_names])
@@ -270,7 +270,7 @@ def link_ratios(linkage) -> np.ndarray:
     """Every link over every other (the largest: longest over shortest)."""
     lengths = np.array([abs(float(v)) for v in schema_of(linkage.mechanism).known_lengths(linkage).values()])
     if not np.all(lengths > 0):
-        return np.array([math.inf])
+        return np.full(len(lengths) * (len(lengths) - 1), math.inf)
     ratio = lengths[:, None] / lengths[None, :]
     return ratio[~np.eye(len(lengths), dtype=bool)]
 
