@@ -10,7 +10,9 @@ linkcli.pareto.space). Values are in the report's units:
 - `max-error`: the largest error at a target (the angle unit, or the length unit: a target's
   residuals as one vector, so a pose's position and weighted angle errors together);
 - `transmission`: the worst deviation of the transmission angle from 90 deg over the motion,
-  max(90 - mu_min, mu_max - 90), from the home's transmission section (angle unit);
+  max(90 - mu_min, mu_max - 90), from the home's transmission section (angle unit: its
+  working range's extremes, or, where a home studies the motion itself -- the drawn home,
+  over its linkage's span -- the section's own);
 - `size`: the diagonal of the box swept by every joint and traced point (the coupler point)
   over the motion (length unit), from the home's skeleton at ROWS drive angles a turn, each
   joint's extreme coordinates refined on the skeleton (`Measure.extremes`);
@@ -171,6 +173,8 @@ class Measure:
             return np.full(2, math.inf)
         sec = mech.transmission_section(study, (start, sweep), self.units, [])
         lo, hi = sec.get("working_min"), sec.get("working_max")
+        if "working_min" not in sec and "working_max" not in sec:  # a home whose study is the
+            lo, hi = sec.get("min"), sec.get("max")  # motion itself (the drawn home: its span)
         if lo is None or hi is None:
             return np.full(2, math.inf)
         right = float(self.units.from_rad(RIGHT))
