@@ -169,14 +169,14 @@ class Measure:
         mech = of(sol.linkage)
         start, sweep = self.motion(sol)
         study = mech.study(start)
-        if study is None:
-            return np.full(2, math.inf)
+        if study is None:  # one piece (a search that meets it mid-step: front.UNMEASURED)
+            return np.array([math.inf])
         sec = mech.transmission_section(study, (start, sweep), self.units, [])
         lo, hi = sec.get("working_min"), sec.get("working_max")
         if "working_min" not in sec and "working_max" not in sec:  # a home whose study is the
             lo, hi = sec.get("min"), sec.get("max")  # motion itself (the drawn home: its span)
         if lo is None or hi is None:
-            return np.full(2, math.inf)
+            return np.array([math.inf])
         right = float(self.units.from_rad(RIGHT))
         return np.array([right - float(lo), float(hi) - right])
 
