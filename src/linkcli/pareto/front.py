@@ -47,6 +47,8 @@ ROUND_OFF = 1e-9  # relative: a certified end this close to the best merit seen 
 EPIGRAPH_ITERATIONS = 100  # SLSQP's, an epigraph's polish
 EPIGRAPH_FTOL = 1e-9  # SLSQP's tolerance on t (t in [0, 1] spans twice the objective's scale)
 SCALE_FLOOR = 1e-12  # relative: an objective with no spread over the anchors is scaled by its size
+UNMEASURED = (IndexError,)  # a design whose objective has fewer pieces than its neighbours' (the
+# transmission of a linkage that does not assemble: one infinite piece) ends a Newton settle
 
 
 @dataclass
@@ -110,7 +112,7 @@ def polish_from(problem: Scalarized, x) -> tuple[np.ndarray, bool]:
                     problem.value = value
                 u2 = last.get("u", u1)
             tried.append(u2)
-    except (BudgetSpent, ArithmeticError, ValueError, np.linalg.LinAlgError):
+    except (BudgetSpent, ArithmeticError, ValueError, np.linalg.LinAlgError, *UNMEASURED):
         certified = False
     merits = [problem.merit(u) for u in tried]
     k = int(np.argmin(merits))
@@ -176,7 +178,7 @@ def settle(problem: Scalarized, x) -> tuple[np.ndarray, bool]:
         with np.errstate(all="ignore"):
             out = kkt.settle(evaluate, u0, hessian_step=SETTLE_STEP, multipliers=problem.epigraph,
                              curvature=False if problem.epigraph else "stalled")
-    except (BudgetSpent, ArithmeticError, ValueError, np.linalg.LinAlgError):
+    except (BudgetSpent, ArithmeticError, ValueError, np.linalg.LinAlgError, *UNMEASURED):
         return np.asarray(x, float), False
     if not (out.converged and problem.feasible(out.u, SETTLED_FEASIBLE)
             and problem.merit(out.u) <= problem.merit(u0) + ROUND_OFF * max(abs(problem.merit(u0)), 1e-300)):

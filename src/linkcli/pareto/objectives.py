@@ -10,7 +10,9 @@ linkcli.pareto.space). Values are in the report's units:
 - `max-error`: the largest error at a target (the angle unit, or the length unit: a target's
   residuals as one vector, so a pose's position and weighted angle errors together);
 - `transmission`: the worst deviation of the transmission angle from 90 deg over the motion,
-  max(90 - mu_min, mu_max - 90), from the home's transmission section (angle unit);
+  max(90 - mu_min, mu_max - 90), from the home's transmission section (angle unit: its
+  working range's extremes, or, where a home studies the motion itself -- the drawn home,
+  over its linkage's span -- the section's own);
 - `size`: the diagonal of the box swept by every joint and traced point (the coupler point)
   over the motion (length unit), from the home's skeleton at ROWS drive angles a turn, each
   joint's extreme coordinates refined on the skeleton (`Measure.extremes`);
@@ -167,10 +169,12 @@ class Measure:
         mech = of(sol.linkage)
         start, sweep = self.motion(sol)
         study = mech.study(start)
-        if study is None:
+        if study is None:  # one piece (a search that meets it mid-step: front.UNMEASURED)
             return np.array([math.inf])
         sec = mech.transmission_section(study, (start, sweep), self.units, [])
         lo, hi = sec.get("working_min"), sec.get("working_max")
+        if "working_min" not in sec and "working_max" not in sec:  # a home whose study is the
+            lo, hi = sec.get("min"), sec.get("max")  # motion itself (the drawn home: its span)
         if lo is None or hi is None:
             return np.array([math.inf])
         right = float(self.units.from_rad(RIGHT))
@@ -193,7 +197,7 @@ class Measure:
         sk = of(sol.linkage).skeleton(phi)
         pts = np.stack([np.asarray(p, dtype=float).reshape(len(phi), 2) for p in sk.joints.values()], axis=1)
         if not np.all(np.isfinite(pts)):
-            return np.array([math.inf])
+            return np.full(pts.shape[1] ** 4, math.inf)
         ext = self.extremes(sol, phi, pts, full)
         width = np.maximum(ext[0, 1.0][:, None] - ext[0, -1.0][None, :], 0.0).ravel()
         height = np.maximum(ext[1, 1.0][:, None] - ext[1, -1.0][None, :], 0.0).ravel()
@@ -254,7 +258,7 @@ class Measure:
         phi = self.rows(sol, self.steps)
         rows = mech.load_rows(phi, self.speed, self.problem.meta.loads, metres_per_unit(self.units))
         if np.any(rows.singular):
-            return np.array([math.inf])
+            return np.full(len(phi) * (1 if name == "torque" else len(rows.pin_names)), math.inf)
         if name == "torque":
             return np.abs(np.asarray(rows.input_torque, dtype=float))
         return np.concatenate([rows.magnitude(pin) for pin in rows.pin_names])
@@ -270,7 +274,7 @@ def link_ratios(linkage) -> np.ndarray:
     """Every link over every other (the largest: longest over shortest)."""
     lengths = np.array([abs(float(v)) for v in schema_of(linkage.mechanism).known_lengths(linkage).values()])
     if not np.all(lengths > 0):
-        return np.array([math.inf])
+        return np.full(len(lengths) * (len(lengths) - 1), math.inf)
     ratio = lengths[:, None] / lengths[None, :]
     return ratio[~np.eye(len(lengths), dtype=bool)]
 

@@ -23,12 +23,14 @@ without numpy).
                    reach x the target's diagonal of its drawn place; default REACH)
     [constraints]  transmission = [lo, hi] (every closure), drive = "crank" (the driving
                    link turns fully) | "any" (default: it may rock), defect_free
-    [objective]    minimize = "error" | "failure-probability" (io.robust_keys)
+    [objective]    minimize = "error" | "failure-probability" (io.robust_keys), or an array of
+                   two or three objectives: a Pareto front (reading.pareto_keys, synthesis.pareto)
 """
 
 from __future__ import annotations
 
 import difflib
+from dataclasses import replace
 
 from linkcli.io.reader import Table, describe
 
@@ -92,19 +94,40 @@ def read(root: Table, meta, type_name: str):
         boxes = _boxes(bnd, drawing, kind)
     drive, window = _constraints(root, u)
     robust = read_objective(root, meta)
+    front_ok, front = _front(root, meta, kind, topology)  # [objective] minimize = [...]: a Pareto front
+    meta = replace(meta, front=front) if front is not None else meta
     fields = None
     if tgt is not None and (drawing is not None or topology):
         fields = {"path": _path_target, "motion": _motion_target, "function": _function_target}[kind](
             tgt, bnd, drawing, u)
     if topology is not None and fields is not None and topology:
         fields = _topology_timing(kind, fields)
-    if (None in (boxes, drive, fields, robust, steps, reach) or window is False or topology is False
+    if (None in (boxes, drive, fields, robust, steps, reach) or window is False or topology is False or not front_ok
             or (drawing is None and topology is None)):
         return None
     lines = {".".join(k): root.reader.line_of(k) for k in (("target",), ("bounds",), ("constraints",))}
     return DrawnDesignProblem(meta=meta, kind=kind, drawing=drawing, boxes=boxes, drive=drive,
                               transmission=window, steps=steps, lines=lines, objective=robust[0],
                               defect_free=robust[1], topology=topology, reach=reach, **fields)
+
+
+def _front(root: Table, meta, kind: str, topology):
+    """(ok, Front or None) of [objective] minimize = [...] (reading.pareto_keys): the
+    objectives the kind measures (motion generation: no [loads] or [tolerance], so no
+    torque, pin-force or failure-probability); not with a topology (a front is one
+    drawing's: docs/pareto.md)."""
+    from linkcli.reading.pareto_keys import KEYS, OBJECTIVES, is_front, read_front
+    if topology is not None and is_front(root):
+        t = root.table("objective")
+        t.allow(*KEYS)
+        t.error("minimize", "a drawn linkage's joints for a Pareto front (a front is one drawing's; "
+                "with [linkage] topology, design each catalogued drawing on its own)",
+                raw_got="[linkage] topology")
+        return False, None
+    if kind == "motion":
+        from linkcli.types.motion_generation.schema import OBJECTIVES as MOTION
+        return read_front(root, meta, MOTION)
+    return read_front(root, meta, OBJECTIVES)
 
 
 def _reach(bnd: Table | None, kind: str):

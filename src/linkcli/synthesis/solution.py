@@ -84,7 +84,11 @@ def design(problem, population) -> Solution:
         if problem.objective == "failure-probability":
             from linkcli.synthesis.robust import robust
             return robust(problem, model, best, budget, confirmed)
-        return solution(problem, model, best, violations(model, best.x, best.s), budget, confirmed)
+        found = solution(problem, model, best, violations(model, best.x, best.s), budget, confirmed)
+        if problem.meta.front is not None:  # a Pareto front from this design (linkcli.pareto)
+            from linkcli.synthesis.pareto import front
+            return front(problem, model, best, budget, confirmed, found)
+        return found
 
 
 # ---------------------------------------------------------------- the exact check

@@ -10,6 +10,9 @@
     [bounds]       ground, input, coupler, output, ground_pivot, ground_angle, input_offset
                    (prescribed timing): as path-generation (its helpers)
     [constraints]  grashof, transmission = [lo, hi], branch: as path-generation
+    [objective]    minimize = [...] (two or three of OBJECTIVES: a Pareto front,
+                   reading.pareto_keys; no [loads] or [tolerance] here, so no torque,
+                   pin-force or failure-probability), points, reference_point
 
 A missing bound is None here: the solver fills it from the poses (solve.DEFAULT_*). No numerics.
 """
@@ -17,6 +20,7 @@ A missing bound is None here: the solver fills it from the poses (solve.DEFAULT_
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from linkcli.io.reader import MISSING, Table, describe
 from linkcli.mechanisms.four_bar.model import LINKS
@@ -37,6 +41,7 @@ PIVOT_POSES = 3  # given pivots fix a dyad for at most three poses
 SAME_POSE = 1e-9  # relative (to the poses' extent, and to a full turn): two poses this close are one
 TARGET_KEYS = ("poses", "timing", "input_angles", "angle_weight")
 BOUND_KEYS = ("ground", "input", "coupler", "output", "ground_pivot", "ground_angle", "input_offset")
+OBJECTIVES = ("error", "max-error", "transmission", "size", "link-ratio")  # a front's: what the type measures
 
 
 def _number_row(item, size: int) -> bool:
@@ -171,8 +176,11 @@ def parse_four_bar(root: Table, meta: Meta) -> MotionGenerationProblem | None:
             offset_ok = offset is not None
 
     grashof, branch, window, window_ok = read_constraints(root, u)
+    from linkcli.reading.pareto_keys import read_front
+    front_ok, front = read_front(root, meta, OBJECTIVES)  # [objective] minimize = [...]: a Pareto front
+    meta = replace(meta, front=front) if front is not None else meta
 
-    if (poses is None or timing is None or angles is None or (weight is None and "angle_weight" in tgt)
+    if (not front_ok or poses is None or timing is None or angles is None or (weight is None and "angle_weight" in tgt)
             or not pivots_ok or not lengths_ok or gp is None or ga is None or not offset_ok
             or grashof is None or branch is None or not window_ok):
         return None

@@ -71,10 +71,15 @@ def solve_four_bar(problem) -> Solution:
     scale = characteristic_length(poses)
     with np.errstate(all="ignore"):
         if problem.timing == "prescribed" or n > EXACT_POSES:
-            return _least_squares(problem, poses, scale)
-        method, family, g1, m1, g2, m2, notes, *dyads_found = _exact_candidates(problem, poses, scale)
-        return _choose_exact(problem, poses, scale, method, family, g1, m1, g2, m2, notes,
-                             dyads_found[0] if dyads_found else None)
+            found, chosen = _least_squares(problem, poses, scale)
+        else:
+            method, family, g1, m1, g2, m2, notes, *dyads_found = _exact_candidates(problem, poses, scale)
+            found, chosen = _choose_exact(problem, poses, scale, method, family, g1, m1, g2, m2, notes,
+                                          dyads_found[0] if dyads_found else None)
+    if problem.meta.front is not None and chosen is not None:  # a Pareto front from this design
+        from .pareto import front  # (linkcli.pareto)
+        return front(problem, poses, scale, chosen, found)
+    return found
 
 
 # ---------------------------------------------------------------- exact synthesis
@@ -200,11 +205,12 @@ def _three_poses(problem, poses, scale, rng):
     return "inversion, search within bounds", "search", a0[ok], m1[ok], b0[ok], m2[ok], notes
 
 
-def _choose_exact(problem, poses, scale, method, family, g1, m1, g2, m2, notes, burmester_dyads=None) -> Solution:
-    """The best defect-free candidate (module docstring); `burmester_dyads`: five poses'
-    BurmesterResult, reported as the `burmester` section (its real_dyads may be 0 or 1,
-    when no candidate is left: the message says why). An exact family's search is
-    complete: `converged` is true also when it proves that nothing fits."""
+def _choose_exact(problem, poses, scale, method, family, g1, m1, g2, m2, notes, burmester_dyads=None):
+    """(Solution, chosen): the best defect-free candidate (module docstring) and its design
+    (params, input angles, branch sign, angle weight; None without a candidate);
+    `burmester_dyads`: five poses' BurmesterResult, reported as the `burmester` section (its
+    real_dyads may be 0 or 1, when no candidate is left: the message says why). An exact
+    family's search is complete: `converged` is true also when it proves that nothing fits."""
     u = problem.meta.units
     solver = SolverRecord(method, problem.meta.solver.seed, int(len(g1)), True)
     extra = {}
@@ -212,7 +218,7 @@ def _choose_exact(problem, poses, scale, method, family, g1, m1, g2, m2, notes, 
         extra["burmester"] = sections.burmester_section(burmester_dyads.ground, burmester_dyads.moving, u)
     if len(g1) == 0:
         return Solution(status=Status.INFEASIBLE, message="no candidate linkage: " + "; ".join(notes),
-                        solver=solver, sections=extra)
+                        solver=solver, sections=extra), None
     params, phi, signs = assemble.dyad_pair_params(poses, g1, m1, g2, m2)
     res = screen(problem, poses, params, phi, signs, scale, exact=True)
     k = _best(res["count"], res["quality"])
@@ -222,8 +228,9 @@ def _choose_exact(problem, poses, scale, method, family, g1, m1, g2, m2, notes, 
     extra = {"candidates": rows, **extra}
     if family in ("search", "curve"):
         extra["candidate_counts"] = sections.defect_counts(res)
+    chosen = (params[k], phi[k], float(signs[k][0]), problem.angle_weight or scale)
     return _solution(problem, poses, scale, params[k], phi[k], signs[k], res, k, feasible, solver, extra,
-                     notes, objective=None)
+                     notes, objective=None), chosen
 
 
 def _best(count, quality) -> int:
@@ -277,7 +284,9 @@ def _bounds(problem, poses, scale):
     return lo, hi
 
 
-def _least_squares(problem, poses, scale) -> Solution:
+def _least_squares(problem, poses, scale):
+    """(Solution, chosen): the least-squares design and its params, input angles, branch
+    sign and angle weight."""
     opts = problem.meta.solver
     counter = Budget(opts.budget or DEFAULT_BUDGET)
     lo, hi = _bounds(problem, poses, scale)
@@ -298,8 +307,9 @@ def _least_squares(problem, poses, scale) -> Solution:
     notes = [] if out.get("confirmed", True) or not feasible else [
         f"no second round of starts reached the best design within {least_squares.MAX_ROUNDS} rounds: "
         "another seed or a larger budget may end lower"]
+    chosen = (params[0], phis[0], float(signs[0][0]), float(out["angle_weight"]))
     return _solution(problem, poses, scale, params[0], phis[0], signs[0], res, 0, feasible, solver, extra,
-                     notes, objective=float(out["objective"]), weight=float(out["angle_weight"]))
+                     notes, objective=float(out["objective"]), weight=float(out["angle_weight"])), chosen
 
 
 # ---------------------------------------------------------------- the Solution
