@@ -144,16 +144,19 @@ def _rows(system, times, y, st, units) -> list[dict]:
     elements = {name: column(v) for name, v in st.forces.items()}
     friction = ({name: column(v) for name, v in solved.pin_friction.items()}
                 if system.dyn.friction else {})
-    rows = []
-    for k in range(len(times)):
-        row = {key: values[k] for key, values in cols.items()}
-        row["pins"] = {name: {"x": x[k], "y": yy[k], "magnitude": size[k]} for name, (x, yy, size) in pins.items()}
-        if elements:
-            row["elements"] = {name: values[k] for name, values in elements.items()}
-        if friction:
-            row["friction"] = {name: values[k] for name, values in friction.items()}
-        rows.append(row)
-    return rows
+    return [with_forces({key: values[k] for key, values in cols.items()}, k, pins, elements, friction)
+            for k in range(len(times))]
+
+
+def with_forces(row: dict, k: int, pins: dict, elements: dict, friction: dict) -> dict:
+    """A history row with row k's pin forces (x, y, magnitude), the force elements' values and
+    the pins' friction couples (the last two only when there are any)."""
+    row["pins"] = {name: {"x": x[k], "y": yy[k], "magnitude": size[k]} for name, (x, yy, size) in pins.items()}
+    if elements:
+        row["elements"] = {name: values[k] for name, values in elements.items()}
+    if friction:
+        row["friction"] = {name: values[k] for name, values in friction.items()}
+    return row
 
 
 def _events(system, run, units, notes) -> list[dict]:

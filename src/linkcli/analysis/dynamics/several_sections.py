@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkcli.analysis.dynamics.sections import MAX_EVENT_ROWS, _snapped, column, energy_section
+from linkcli.analysis.dynamics.sections import MAX_EVENT_ROWS, _snapped, column, energy_section, with_forces
 from linkcli.noise import snap
 
 
@@ -95,17 +95,10 @@ def _rows(system, times, y, st, speed_scale, units) -> list[dict]:
     elements = {name: column(v) for name, v in st.forces.items()}
     friction = ({name: column(v) for name, v in st.solved.pin_friction.items()}
                 if system.dyn.friction else {})
-    rows = []
-    for r in range(len(times)):
-        row = {"time": time[r],
-               "drives": {name: {key: cols[j][r] for key, cols in per.items()} for j, name in enumerate(system.names)}}
-        row["pins"] = {name: {"x": x[r], "y": yy[r], "magnitude": size[r]} for name, (x, yy, size) in pins.items()}
-        if elements:
-            row["elements"] = {name: values[r] for name, values in elements.items()}
-        if friction:
-            row["friction"] = {name: values[r] for name, values in friction.items()}
-        rows.append(row)
-    return rows
+    return [with_forces({"time": time[r], "drives": {name: {key: cols[j][r] for key, cols in per.items()}
+                                                     for j, name in enumerate(system.names)}},
+                        r, pins, elements, friction)
+            for r in range(len(times))]
 
 
 def _events(system, run, units, notes) -> list[dict]:
