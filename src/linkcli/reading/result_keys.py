@@ -199,6 +199,10 @@ KEYS = {
         'worst_row.error_p95', 'worst_row.failure_probability',
         'worst_row.failure_probability_ci95', 'worst_row.row',
     ),
+    'topologies': (
+        'budget_per_run', 'reach', 'rows.[].choice', 'rows.[].max_error', 'rows.[].note',
+        'rows.[].objective', 'rows.[].status', 'rows.[].topology', 'topology',
+    ),
     'tradeoff': (
         '[].coupler', '[].coupler2', '[].ground', '[].ground_angle', '[].ground_pivot',
         '[].input', '[].input2', '[].largest_failure_probability',
