@@ -266,7 +266,7 @@ def _solve_command(files: list[str], request, fmt: Format, out: Path | None, pre
     if any(exports) and _exports_problem(exports, names):  # --animate, --dxf
         return 2
     worst = 0
-    counts = {0: 0, 1: 0, 2: 0}
+    counts: dict = {0: 0, 1: 0, 2: 0}
     reports: list[dict] = []
     results = []
     printed = 0  # reports shown so far
@@ -298,7 +298,8 @@ def _solve_command(files: list[str], request, fmt: Format, out: Path | None, pre
                 for line in errors:
                     _err(line)
                 worst = max(worst, code)
-                counts[code] = counts.get(code, 0) + 1
+                kind = "error" if code == 1 and outcome.result is None else code  # no answer: a crash
+                counts[kind] = counts.get(kind, 0) + 1
                 if report is None and fmt is Format.json:
                     # keep one object per file, in argument order, for scripts
                     reports.append({"file": name, "status": "bad-input" if code == 2 else "error",
@@ -346,7 +347,7 @@ def _solve_command(files: list[str], request, fmt: Format, out: Path | None, pre
             worst = max(worst, export_files.write(results, len(names), *exports, debug))
     if len(names) > 1:
         _err(f"{len(names)} files: {counts[0]} solved, {counts[1]} infeasible or not converged, "
-             f"{counts[2]} bad input")
+             f"{counts[2]} bad input" + (f", {counts['error']} failed (internal error)" if counts.get("error") else ""))
     return worst
 
 

@@ -111,7 +111,7 @@ def test_a_killed_jobs_worker_costs_its_own_file_only(tmp_path):
     line = (f"{files[lost[0]]}: internal error: the worker process solving it was killed by SIGKILL "
             "(out of memory, or killed; the other files are not affected)")
     assert err.splitlines()[0] == line
-    assert err.splitlines()[-1] == "4 files: 3 solved, 1 infeasible or not converged, 0 bad input"
+    assert err.splitlines()[-1] == "4 files: 3 solved, 0 infeasible or not converged, 0 bad input, 1 failed (internal error)"
     serial = subprocess.run(linkcli("synth", *[f for k, f in enumerate(files) if k != lost[0]], "--format", "json"),
                             capture_output=True, text=True, env=ENV, cwd=ROOT, timeout=300)
     assert [r for k, r in enumerate(reports) if k != lost[0]] == json.loads(serial.stdout)

@@ -378,3 +378,64 @@ def test_a_topology_sweep_solves_a_problem_from_another_drawing():
     boxes["A"] = ((100.0, 110.0), (0.0, 1.0))
     with pytest.raises(SolveInputError, match="box of A"):
         design_drawing(problem, drawing, boxes=boxes)
+
+
+FREE_FOUR_BAR = """type = "function-generation"
+[linkage]
+mechanism = "drawn"
+[joints]
+O1 = { at = [0, 0], ground = true }
+O2 = { at = [40, 0], ground = true }
+A  = { at = [10, 12] }
+B  = { at = [45, 40] }
+[links]
+crank = ["O1", "A"]
+coupler = ["A", "B"]
+rocker = ["O2", "B"]
+[drive]
+crank = {}
+[target]
+link = "rocker"
+output = "0.35*(1 - cos(0.6*(abs(phi - pi/3) + phi - pi/3)))"
+input_sweep = 360
+points = 37
+[bounds]
+O1 = { x = [-20, 20], y = [-20, 20] }
+O2 = { x = [20, 60], y = [-20, 20] }
+A  = { x = [-10, 30], y = [-8, 32] }
+B  = { x = [25, 65], y = [20, 60] }
+[constraints]
+drive = "crank"
+transmission = [30, 150]
+[solver]
+budget = 60000
+"""
+
+
+def test_a_function_with_every_joint_free_is_printed_nearest_its_drawing(tmp_path):
+    """A function's turns do not change when the whole drawing moves, turns or scales: with every
+    joint free the design is printed as the similar copy nearest the drawing -- the joints' mean
+    is the drawing's and sum (d - d_m) conj(z - z_m) is real and positive (the least-squares
+    similarity from the printed places onto the drawing is the identity) -- and the printed
+    errors are the law's less the output's turn, recomputed here from the printed joints."""
+    f = tmp_path / "free.toml"
+    f.write_text(FREE_FOUR_BAR)
+    code, out, err = run_cli("synth", str(f), "--format", "json", "--precision", "15")
+    assert code in (0, 1), err
+    report = json.loads(out)
+    joints = report["linkage"]["joints"]
+    drawn = {"O1": (0, 0), "O2": (40, 0), "A": (10, 12), "B": (45, 40)}
+    z = np.array([complex(*joints[k]["at"]) for k in drawn])
+    d = np.array([complex(*v) for v in drawn.values()])
+    assert abs(z.mean() - d.mean()) < 1e-9
+    cross = np.sum((d - d.mean()) * np.conj(z - z.mean()))
+    assert cross.real > 0 and abs(cross.imag) < 1e-9 * cross.real
+    links = {k: list(v) for k, v in report["linkage"]["links"].items()}
+    phi = np.radians([p["input"] for p in report["positions"]])
+    places = reference_places(joints, links, "crank", phi)
+    o2, b0 = np.array(joints["O2"]["at"]), np.array(joints["B"]["at"])
+    turn = np.arctan2(*(places["B"] - o2).T[::-1]) - math.atan2(b0[1] - o2[1], b0[0] - o2[0])
+    phi = np.unwrap(phi)
+    law = 0.35 * (1 - np.cos(0.6 * (np.abs(phi - math.pi / 3) + phi - math.pi / 3)))
+    error = np.degrees(np.angle(np.exp(1j * (turn - law))))
+    np.testing.assert_allclose(error, [p["error"] for p in report["positions"]], atol=1e-9)

@@ -29,6 +29,14 @@ timing has a free phase, the home's `phase_variable` is then held at its drawn v
 drawn linkage: the coordinate of the driving link's pin that the turn moves the more): the
 drawing's phase is fixed, the timing's stays free, and every box keeps its meaning.
 
+The drawing's place, turn and size: a function's residuals are turns from drawn angles, which
+no similarity z -> g + u z of the whole drawing changes. Where every joint is free
+(Population.placement_free) that is a 4-dimensional flat direction of the objective: the
+settle (search.settled) holds GAUGE_HELD home variables where the search left them, and every
+settled design is printed as `canonical` makes it -- the similar copy nearest its starting
+drawing in least squares over the joints (Umeyama, IEEE PAMI 13(4), 1991, with scaling) -- a
+function of the design's shape alone, the same on every machine.
+
 Constraints, g <= 0 feasible, one per closure and kind (Population.constraints), each the
 worst over the drive's travel: the whole turn (`drive = "crank"`: the driving link turns
 fully), else the hull of the drawn position and the targets (the linkage moves from its
@@ -120,6 +128,7 @@ class Model:
         else:
             self.phase = None
         self.free = self.hi > self.lo
+        self.gauge = self.kind == "function" and population.placement_free()
         if self.kind == "path":
             ext = self.targets.max(axis=0) - self.targets.min(axis=0)
             self.scale = float(max(ext.max(), 1e-300))
@@ -138,6 +147,27 @@ class Model:
         self.angle_kind = np.array([kind == "transmission" for kind, _ in self.kinds])
         self.unit = np.where(self.angle_kind, 1.0, 1.0 / self.size)  # constraint -> dimensionless
         self.ranks: dict = {}  # a design's (infeasible, violation, objective), search.rank's
+
+    # ------------------------------------------------------------ the gauge
+    def canonical(self, x: np.ndarray) -> np.ndarray:
+        """x (nx,) with its home pairs (x, y) moved by the similarity z -> d_m + w (z - z_m)
+        that brings them nearest the drawn places d in least squares (module docstring):
+        w = sum (d - d_m) conj(z - z_m) / sum |z - z_m|^2, m the means. Unchanged without a
+        gauge."""
+        if not self.gauge:
+            return x
+        k = self.k_home
+        z = x[0:k:2] + 1j * x[1:k:2]
+        d = self.pop.drawn[0:k:2] + 1j * self.pop.drawn[1:k:2]
+        zc, dc = z - z.mean(), d - d.mean()
+        norm = float(np.sum(np.abs(zc) ** 2))
+        if not norm > 0.0:
+            return x
+        w = complex(np.sum(dc * np.conj(zc))) / norm
+        moved = d.mean() + w * zc
+        out = np.array(x, dtype=float, copy=True)
+        out[0:k:2], out[1:k:2] = moved.real, moved.imag
+        return out
 
     # ------------------------------------------------------------ timing
     def directions(self) -> tuple[float, ...]:

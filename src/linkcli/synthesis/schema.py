@@ -45,6 +45,9 @@ TARGET_KEYS = {
 TIMING_BOUNDS = {"path": ("input_offset",), "motion": ("input_offset",),
                  "function": ("input_start", "output_start")}
 REACH = 0.2  # a topology's joints: free within REACH x the target's diagonal of their drawn place
+FUNCTION_REACH = 0.5  # a function's moving joints (its ground pivots held where drawn: synthesis.sweep):
+# a function's error is in turns, so its shapes, not its size, need the room (the dwell of
+# problems/six_bar_dwell_sweep.toml: the four-bar's best within 0.2 is 0.030 rad^2, within 0.5 0.0078)
 MAX_REACH = 2.0
 TRACER = "P"  # a topology's path tracer (drawn.catalogue)
 OUTPUT = "output"  # a topology's function output link (drawn.catalogue)
@@ -133,19 +136,20 @@ def _front(root: Table, meta, kind: str, topology):
 def _reach(bnd: Table | None, kind: str):
     """[bounds] of a topology: `reach` and the timing keys, no joint's box (the joints are the
     catalogue's, drawn anew for each choice); None after an error."""
+    default = FUNCTION_REACH if kind == "function" else REACH
     if bnd is None:
-        return REACH
+        return default
     ok = True
     for key in list(bnd.keys()):
         if key in TIMING_BOUNDS[kind] or key == "reach":
             continue
         bnd.raw(key)
         bnd.error(key, f"no joint's box with [linkage] topology (each starting drawing's joints are free "
-                  f"within reach x the target's diagonal of their drawn place: reach = {REACH:g} unless "
+                  f"within reach x the target's diagonal of their drawn place: reach = {default:g} unless "
                   f"given) or one of: reach, {', '.join(TIMING_BOUNDS[kind])}", raw_got=f'"{key}"')
         ok = False
-    reach = bnd.number("reach", REACH, lo=0.0, hi=MAX_REACH, what=f"a fraction of the target's diagonal "
-                       f"in (0, {MAX_REACH:g}]") if "reach" in bnd else REACH
+    reach = bnd.number("reach", default, lo=0.0, hi=MAX_REACH, what=f"a fraction of the target's diagonal "
+                       f"in (0, {MAX_REACH:g}]") if "reach" in bnd else default
     if reach is not None and reach <= 0.0:
         bnd.error("reach", f"a fraction of the target's diagonal in (0, {MAX_REACH:g}]", raw_got=f"{reach:g}")
         reach = None
@@ -351,8 +355,7 @@ def _function_target(tgt: Table, bnd, drawing, u):
     points = tgt.number("points", fg.DEFAULT_POINTS, integer=True, lo=2, hi=fg.MAX_POINTS)
     spacing = tgt.string("spacing", "uniform", choices=fg.SPACINGS)
     function = fg.read_function_keys(tgt, form_law[0] if form_law else None, u)
-    free = () if drawing is not None or form_law is None else \
-        ("input_start", "output_start") if form_law[0] == "function" else ("input_start",)
+    free = ("output_start",) if drawing is None and form_law is not None and form_law[0] == "function" else ()
     starts = _starts(tgt, bnd, u, free)
     if None in (link, form_law, sweep, points, spacing, function, starts):
         return None
@@ -378,9 +381,9 @@ def _function_target(tgt: Table, bnd, drawing, u):
 def _starts(tgt: Table, bnd: Table | None, u, free: tuple[str, ...] = ()):
     """(given, bounds) of input_start and output_start: given in [target] (angle), free in
     [bounds] (range), never both; absent: 0 (the drawn position, the link's drawn angle), or
-    free over a turn for the keys in `free` (a topology's drawings are drawn at angles of
-    linkcli's choosing: the input start, and the output start of the function form, whose
-    law is a shape; the output form's law gives the output's turn itself)."""
+    free over a turn for the keys in `free` (a topology's function form: its law is a shape,
+    placed at an output start of the search's choosing; the input start stays the drawn
+    position, the drawings' free crank pins placing it)."""
     import math
 
     from linkcli.types.path_generation.schema import angle_range

@@ -48,6 +48,8 @@ POLISH_WEIGHTS = (1e3, 1e5, 1e7)
 MIN_ROUNDS = 2
 MAX_ROUNDS = 12
 MAX_STALE = 6
+GAUGE_HELD = 4  # home variables the settle holds where a similarity of the drawing is a flat
+# direction (model.Model.gauge): the first two joints' x, y fix its place, turn and size
 CONFIRM = 1e-6  # relative: a round's best this close to the best found so far confirms it
 IMPROVE = 1e-6
 TIE = 1e-9
@@ -327,9 +329,19 @@ def settled(model: Model, space: Space, best: Candidate, budget: Budget) -> Cand
     k = model.k_home
     order = space.linear
 
+    u0 = np.clip((best.x[space.idx] - space.lo) / width, 0.0, 1.0)
+    moving = np.ones(space.k, dtype=bool)
+    if model.gauge:  # the drawing's place, turn and size held (model.py): the first two joints'
+        moving[np.isin(space.idx, np.arange(GAUGE_HELD))] = False
+
+    def whole(us):
+        out = np.repeat(u0[None, :], len(us), axis=0)
+        out[:, moving] = us
+        return out
+
     def values(us):
         budget.add(len(us))
-        z = space.lo + np.clip(us, 0.0, 1.0) * width
+        z = space.lo + np.clip(whole(us), 0.0, 1.0) * width
         x = space.full(z)
         ev = model.evaluate(x, np.full(len(us), best.s))
         cols = [ev.r, -ev.g]
@@ -341,16 +353,16 @@ def settled(model: Model, space: Space, best: Candidate, budget: Budget) -> Cand
         v, jac = kkt.slopes_many(values, us)
         return kkt.least_squares_points(v, jac, m_t, gauss_newton)
 
-    u0 = np.clip((best.x[space.idx] - space.lo) / width, 0.0, 1.0)
     try:
-        out = kkt.settle(lambda u: points(np.asarray(u, float)[None, :], True)[0], u0,
+        out = kkt.settle(lambda u: points(np.asarray(u, float)[None, :], True)[0], u0[moving],
                          evaluate_many=lambda us: points(us, False), curvature="stalled",
                          hessian_step=CURVATURE_STEP)
     except BudgetSpent:
         return best
     if not out.converged:
         return best
-    cand = Candidate(space.full((space.lo + out.u * width)[None])[0], best.s, True, best.round)
+    x = space.full((space.lo + whole(out.u[None])[0] * width)[None])[0]
+    cand = Candidate(model.canonical(x), best.s, True, best.round)
     r = rank(model, cand)
     if r[0] or (not f0[0] and r[2] > f0[2] * (1.0 + 1e-9)):
         return best

@@ -2,7 +2,8 @@
 every choice of drive and target of the topology (drawn.catalogue.choices; for free timing
 only those whose curves or motions go beyond a four-bar's) is searched from its starting
 drawings (catalogue.starting_drawings, fitted into the target's bounding box), each joint free
-within `reach` x the target's diagonal of its drawn place, by the shared search
+within `reach` x the target's diagonal of its drawn place (a function's ground pivots held where
+drawn: `boxes_of`), by the shared search
 (solution.design_drawing); the four-bar is searched the same way as the baseline. The best
 six-bar is the result: feasible before infeasible, then the least objective, ties to the
 catalogue's order. The `topologies` section lists the best of every choice and the baseline.
@@ -37,9 +38,13 @@ def target_box(problem) -> tuple[float, float, float, float]:
     return min(xs), min(ys), max(xs), max(ys)
 
 
-def boxes_of(drawing, half: float) -> dict:
-    """Every joint of a starting drawing free within +-half of its drawn place."""
-    return {j.name: ((j.at[0] - half, j.at[0] + half), (j.at[1] - half, j.at[1] + half)) for j in drawing.joints}
+def boxes_of(drawing, half: float, kind: str = "path") -> dict:
+    """Every joint of a starting drawing free within +-half of its drawn place; a function's
+    ground pivots held where drawn (its error is in turns, which no move, turn or scaling of
+    the whole drawing changes: with the ground free that would be a flat direction of every
+    design, and the optimum's printed places would be where round-off left them)."""
+    return {j.name: ((j.at[0] - half, j.at[0] + half), (j.at[1] - half, j.at[1] + half)) for j in drawing.joints
+            if not (kind == "function" and j.ground)}
 
 
 def runs(problem):
@@ -83,7 +88,8 @@ def sweep(problem) -> Solution:
         for drawing in catalogue.starting_drawings(choice, box, seed=opts.seed or 0, count=DRAWINGS):
             joint = "P" if problem.kind == "path" else None
             link = choice.target if problem.kind != "path" else None
-            sol = design_drawing(run_problem, drawing, boxes_of(drawing, half), joint=joint, link=link)
+            sol = design_drawing(run_problem, drawing, boxes_of(drawing, half, problem.kind), joint=joint,
+                                 link=link)
             used += sol.solver.evaluations if sol.solver else 0
             if choice.label not in best_of or _rank(sol, index) < _rank(best_of[choice.label][0], index):
                 best_of[choice.label] = (sol, index)

@@ -231,9 +231,9 @@ def _mobility_problem(s: Structure) -> Problem:
                           s.revolute_pairs, s.prismatic_pairs)
         free = _plan(probe, quiet=True)
         where = f": joints {', '.join(free)} are not determined by the drive{plural}" if free else ""
-        return Problem(("drive",), f"{s.mobility} drives, one per degree of freedom ({counted})",
+        return Problem(("drive",), f"{_drives(s.mobility)}, one per degree of freedom ({counted})",
                        f"{drives} drive{plural}{where}")
-    return Problem(("drive",), f"{s.mobility} drives, one per degree of freedom ({counted})" if s.mobility > 0
+    return Problem(("drive",), f"{_drives(s.mobility)}, one per degree of freedom ({counted})" if s.mobility > 0
                    else f"a linkage that can move ({counted}: a structure)",
                    f"{drives} drive{plural}")
 
@@ -471,3 +471,7 @@ def _check_sides(s: Structure) -> None:
                                           "side it is drawn on)",
                                           f"{op.at} -> {op.joint} drawn normal to the guide (a dead point: "
                                           "no side)"))
+
+
+def _drives(n: int) -> str:
+    return f"{n} drive" if n == 1 else f"{n} drives"
