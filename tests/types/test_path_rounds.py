@@ -308,3 +308,55 @@ def test_rounds_without_improvement_go_on_while_the_best_is_unconfirmed():
     rep = json.loads(out)
     assert code == 0 and rep["status"] == "ok", rep["message"]
     assert abs(rep["error"]["objective"] - CASE88_BEST) <= 1e-9 * CASE88_BEST
+
+
+def _coupler_point(d, a, b, c, px, py, phi, gx, gy, gamma, sign=-1.0):
+    """The coupler point (complex, global frame) of a four-bar at input angle phi (rad),
+    docs/format.md's conventions, written here: A = a e^{i phi}; B at distance c from B0 = d
+    with the branch's sign of the triangle's angle at B0; P = A + (px + i py) e^{i theta}."""
+    A = a * complex(math.cos(phi), math.sin(phi))
+    v = A - d
+    alpha = math.acos(max(-1.0, min(1.0, (abs(v) ** 2 + c * c - b * b) / (2 * abs(v) * c))))
+    ang = math.atan2(v.imag, v.real) + sign * alpha
+    B = d + c * complex(math.cos(ang), math.sin(ang))
+    theta = math.atan2((B - A).imag, (B - A).real)
+    P = A + complex(px, py) * complex(math.cos(theta), math.sin(theta))
+    return complex(gx, gy) + P * complex(math.cos(gamma), math.sin(gamma))
+
+
+def test_a_batch_that_holds_an_exact_fit_settles_none_of_its_picks(monkeypatch, tmp_path):
+    """free_partial16's targets lie on a crank-rocker's coupler curve (its comments): the first
+    pair of rounds fits them exactly, which ends the search, so the other picks of the pair are
+    not settled (each settle is up to PICK_SETTLE evaluations; seed 0 settled three before).
+    The reported linkage still meets every target, by the closure written here."""
+    import json
+    import subprocess
+    import sys
+
+    from linkcli.search.budget import Budget
+    from linkcli.types.path_generation import solve as path_solve
+
+    settled = []
+    original = path_solve._settled_pick
+
+    def counted(design, budget, pick):
+        settled.append(pick)
+        return original(design, budget, pick)
+
+    monkeypatch.setattr(path_solve, "_settled_pick", counted)
+    design = design_of("free_partial16")
+    cands, confirmed = path_solve.multistart(design, Budget(2_000_000), np.random.default_rng(0),
+                                             atlas=True)
+    assert confirmed and settled == []
+    out = subprocess.run([sys.executable, "-m", "linkcli", "synth", str(ROOT / "problems" / "bench" / "free_partial16.toml"),
+                          "-f", "json", "--seed", "0", "--precision", "12"], capture_output=True, text=True)
+    report = json.loads(out.stdout)
+    assert report["status"] == "ok"
+    lk = report["linkage"]
+    size = max(lk["ground"], lk["input"], lk["coupler"], lk["output"])
+    for row in report["positions"]:
+        p = _coupler_point(lk["ground"], lk["input"], lk["coupler"], lk["output"], *lk["coupler_point"],
+                           math.radians(row["input"]),  # the input's angle from the ground line
+                           *lk["ground_pivot"], math.radians(lk["ground_angle"]),
+                           sign=-1.0 if lk["branch"] == "open" else 1.0)
+        assert abs(p - complex(*row["target"])) <= 1e-8 * size
