@@ -363,3 +363,44 @@ def test_the_round_off_rescue_needs_a_small_model_gain():
 
     out = kkt.settle(point, np.array([0.5 + 1e-3, 0.5 + 2e-7]))
     assert not out.converged
+
+
+def _flat_along_a_circle(calls):
+    """min (u0 - 1)^2 on the disc |u - (0.5, 0.5)| <= 0.4: the optimum (0.9, 0.5) in closed
+    form (multiplier 0.25); f is flat in u1, so Gauss-Newton's h = diag(2, 0) and only
+    the circle's own curvature holds u1 there (an epsilon level of a Pareto front)."""
+
+    def point(u):
+        calls.append(1)
+        d = np.asarray(u, float) - 0.5
+        c = 0.16 - float(d @ d)
+        return kkt.Point((float(u[0]) - 1.0) ** 2, np.array([2.0 * (float(u[0]) - 1.0), 0.0]), np.array([c]),
+                         np.array([-2.0 * d]), h=np.diag([2.0, 0.0]))
+
+    return point
+
+
+def test_whole_curvature_with_reuse_settles_a_level_held_by_a_constraint_alone(monkeypatch):
+    # from 1e-3 off the optimum along the circle: with the whole differenced Hessian of the
+    # Lagrangian (least-squares multipliers at the start) Newton lands on (0.9, 0.5) to
+    # round-off; `reuse` forms that Hessian again only where a step left NEAR (the first,
+    # 1e-3 long), not at every step nor for the settle's restart from its end
+    formed = []
+    original = kkt._lagrangian_hessian
+    monkeypatch.setattr(kkt, "_lagrangian_hessian", lambda *a, **k: formed.append(1) or original(*a, **k))
+    angle = 1e-3 / 0.4
+    start = np.array([0.5 + 0.4 * math.cos(angle), 0.5 + 0.4 * math.sin(angle)])
+    calls = []
+    out = kkt.settle(_flat_along_a_circle(calls), start, multipliers=True, curvature="whole", reuse=True)
+    assert out.converged
+    assert_allclose(out.u, [0.9, 0.5], rtol=0, atol=1e-12)
+    assert len(formed) == 2
+    fresh = []
+    again = kkt.settle(_flat_along_a_circle(fresh), start, multipliers=True, curvature="whole")
+    assert again.converged and len(fresh) > len(calls)  # a Hessian every step without reuse
+    assert_allclose(again.u, out.u, rtol=0, atol=1e-12)
+
+
+def test_curvature_must_be_one_of_its_modes():
+    with pytest.raises(ValueError):
+        kkt.settle(_flat_along_a_circle([]), np.array([0.9, 0.5]), curvature="always")

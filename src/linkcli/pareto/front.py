@@ -13,9 +13,10 @@
    each end (continuation: each level polished from the chain's last end, a few Gauss-Newton
    steps where a level is near the last; the two chains are independent solves, spread over
    processes or a cluster by linkcli.pareto.spread). The lower feasible end is the point
-   (the front often has branches: a chain follows one, the other chain another);
-   `certified` when its polish ended at a KKT point (SLSQP's test), `confirmed` when both
-   chains ended within CONFIRM of it.
+   (the front often has branches: a chain follows one, the other chain another), and it
+   alone is settled (`settle_point`: Newton-KKT to round-off, the printed digits the same on
+   every machine); `certified` when its polish ended at a KKT point (SLSQP's test) or its
+   settle converged, `confirmed` when both chains ended within CONFIRM of it.
 4. Rows. Each point's design is finished by the type (`space.final`: its exact checks of
    every constraint, from its lengths) and measured again (linkcli.pareto.objectives); a
    design that is not `ok` or not finite is dropped, as is one dominated by another (after
@@ -42,6 +43,10 @@ POINT_BUDGET = 20_000  # design evaluations of one start's polish, at most
 ACTIVE = 1e-6  # a scaled constraint (or unit-box variable) this close to its limit binds (kkt_holds)
 KKT_TOL = 1e-4  # relative: the first-order conditions' residual of a certified point (kkt_holds)
 SETTLE_STEP = 1e-4  # unit box: the differenced Hessian's step (kkt.settle)
+SETTLE_STEP_TOL = 1e-8  # unit box: a Newton step this small ends the settle. The slopes (central
+# differences of the refined size pieces, round-off ~1e-13 relative, at CENTRAL = 1e-6) leave steps
+# of 1e-10 to 2e-9 that never shrink further (the 10-point path's front); the printed digits (6
+# significant) resolve 1e-5 of a value, 1e-4 to 1e-5 of a bound's width: 1e-8 settles them
 SETTLED_FEASIBLE = 1e-10  # a settled point meets its (scaled) constraints to this
 ROUND_OFF = 1e-9  # relative: a certified end this close to the best merit seen is taken
 EPIGRAPH_ITERATIONS = 100  # SLSQP's, an epigraph's polish
@@ -174,10 +179,20 @@ def settle(problem: Scalarized, x) -> tuple[np.ndarray, bool]:
         g, jc, jr = problem.slope(u, central=True)
         return kkt.Point(f, g, c, jc, h=None if problem.epigraph else 2.0 * (jr.T @ jr))
 
+    def evaluate_many(us):  # the differenced Hessian's points: forward slopes (n + 1 designs, not
+        # 2n + 1); their error (~1e-6 relative) costs Newton's rate 1e-2 a step, not its root
+        out = []
+        for u in us:
+            f, c, _ = problem.value(u)
+            g, jc, _ = problem.slope(u, central=False)
+            out.append(kkt.Point(f, g, c, jc))
+        return out
+
     try:
         with np.errstate(all="ignore"):
-            out = kkt.settle(evaluate, u0, hessian_step=SETTLE_STEP, multipliers=problem.epigraph,
-                             curvature=False if problem.epigraph else "stalled")
+            out = kkt.settle(evaluate, u0, hessian_step=SETTLE_STEP, multipliers=True, step_tol=SETTLE_STEP_TOL,
+                             curvature=False if problem.epigraph else "whole", reuse=True,
+                             evaluate_many=evaluate_many)
     except (BudgetSpent, ArithmeticError, ValueError, np.linalg.LinAlgError, *UNMEASURED):
         return np.asarray(x, float), False
     if not (out.converged and problem.feasible(out.u, SETTLED_FEASIBLE)
@@ -207,7 +222,8 @@ def solve_chain(task: Task) -> tuple[list, int]:
     """A chain's levels in turn, each polished from the last feasible end before it (the
     chain's start at first): continuation along the front (top-level: another process or a
     cluster worker runs it). Returns (index, Point or None) per level, and the evaluations
-    spent."""
+    spent. The ends are not settled here: only each level's best end is (`settle_point`),
+    once the chains are compared (the settle costs ten times the polish)."""
     budget = Budget(POINT_BUDGET * max(1, len(task.levels)))
     out = []
     x = np.asarray(task.start, float)
@@ -216,8 +232,6 @@ def solve_chain(task: Task) -> tuple[list, int]:
         problem.t_scale = task.t_scale
         with budget.limit(POINT_BUDGET), np.errstate(all="ignore"):
             end, certified = polish_from(problem, x)
-            if certified:  # to round-off: the same digits whatever the machine (settle)
-                end, _ = settle(problem, end)
         u = problem.unit(end, t=1.0)
         values = task.measure.values(end)
         if not (problem.feasible(u, FEASIBLE) and np.all(np.isfinite(values))):  # (the failure
@@ -227,6 +241,36 @@ def solve_chain(task: Task) -> tuple[list, int]:
         out.append((index, Point(end, values, task.chain, certified, level=tuple(sorted(eps.items())))))
         x = end
     return out, budget.used
+
+
+@dataclass
+class Settle:
+    """One level's best end to settle, picklable: the measure, the primary objective, the
+    scales, the epigraph's t scale and the Point (its `level` the epsilon levels)."""
+
+    measure: Measure
+    primary: int
+    scales: np.ndarray
+    t_scale: float
+    point: Point
+
+
+def settle_point(task: Settle) -> tuple[Point, int]:
+    """A level's best end settled to round-off (`settle`: the same digits whatever the
+    machine) and measured again. A settle that converged ends at a KKT point of the level
+    (Newton-KKT's residual at round-off, multipliers of the right sign, feasible, no worse):
+    the point is then certified even where the polish stopped short of its own test. An
+    end whose settle fails stays as it was. Returns (Point, evaluations spent)."""
+    p = task.point
+    budget = Budget(POINT_BUDGET)
+    problem = Scalarized(task.measure, task.primary, dict(p.level), task.scales, budget)
+    problem.t_scale = task.t_scale
+    with np.errstate(all="ignore"):
+        end, settled = settle(problem, p.x)
+        values = task.measure.values(end) if settled else p.values
+    if not (settled and problem.feasible(problem.unit(end, t=1.0), FEASIBLE) and np.all(np.isfinite(values))):
+        return p, budget.used
+    return Point(end, values, p.start, True, p.confirmed, p.level), budget.used
 
 
 def best_of(points: list[Point], primary: int, scale: float) -> Point | None:

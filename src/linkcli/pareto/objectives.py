@@ -73,6 +73,11 @@ class Measure:
         self.failure = None
         self.cache: dict = {}
 
+    def __getstate__(self):
+        state = dict(self.__dict__)
+        state["cache"] = {}  # a worker's own (the front's tasks pickle the measure each)
+        return state
+
     # ------------------------------------------------------------ the motion
     def motion(self, sol) -> tuple[float, float]:
         """(start, signed sweep) rad of the motion the objectives measure."""
@@ -114,10 +119,12 @@ class Measure:
         p = self.piece(name, x, sol)
         return float(np.max(p)) if p.size and np.all(np.isfinite(p)) else math.inf
 
-    def pieces(self, x, sol=None) -> list[np.ndarray]:
+    def pieces(self, x, sol=None, wanted=None) -> list[np.ndarray]:
         """Per objective, its pieces at design x (the failure probability: its smoothed share).
         What the protocol measures depends on the linkage and its motion alone: kept for
-        CACHED linkages (a search's differences along a timing variable move neither)."""
+        CACHED linkages (a search's differences along a timing variable move neither).
+        `wanted` (objective indices, or None: all): the targeted objectives and the failure
+        probability outside it are not measured (None in their place)."""
         sol = self.space.solution(x) if sol is None else sol
         key = (sol.linkage, None if self.space.full_turn else sol.working_span)
         try:
@@ -127,10 +134,13 @@ class Measure:
         own = self.cache.get(key) if key is not None else None
         out = []
         for k, name in enumerate(self.names):
-            if name in TARGETED:
-                out.append(self.piece(name, x, sol))
-            elif name == "failure-probability":
-                out.append(np.array([self.smoothed_failure(x)]))
+            if name in TARGETED or name == "failure-probability":
+                if wanted is not None and k not in wanted:
+                    out.append(None)
+                elif name in TARGETED:
+                    out.append(self.piece(name, x, sol))
+                else:
+                    out.append(np.array([self.smoothed_failure(x)]))
             elif own is not None:
                 out.append(own[k])
             else:
@@ -208,47 +218,46 @@ class Measure:
         largest row, then REFINE rounds of a parabola through the skeleton at its vertex and
         DELTAS either side (the home's skeleton at any drive angle: a Newton step on the
         coordinate's slope, to round-off, so that the extreme is smooth in the design); an
-        end of an open arc is exact."""
+        end of an open arc is exact. The four (coordinate, sign) sets of every joint in one
+        array: one skeleton a round."""
         mech = of(sol.linkage)
         n, joints = pts.shape[0], pts.shape[1]
         step = float(phi[1] - phi[0]) if n > 1 else 0.0
         lo, hi = (min(phi[0], phi[-1]), max(phi[0], phi[-1]))
-        out, wanted = {}, []
-        for k in (0, 1):
-            for sign in (1.0, -1.0):
-                vals = sign * pts[:, :, k]
-                top = np.argmax(vals, axis=0)
-                best = vals[top, np.arange(joints)]
-                inner = np.ones(joints, bool) if full else (top > 0) & (top < n - 1)
-                out[k, sign] = best
-                wanted.append((k, sign, phi[top], inner))
-        sampled = dict(out)
+        keys = [(k, sign) for k in (0, 1) for sign in (1.0, -1.0)]
+        coord = np.array([k for k, _ in keys])
+        signs = np.array([sign for _, sign in keys])[:, None]  # (4, 1)
+        vals = signs[:, :, None] * np.moveaxis(pts[:, :, coord], 2, 0)  # (4, rows, joints)
+        top = np.argmax(vals, axis=1)  # (4, joints)
+        own, sets = np.arange(joints), np.arange(len(keys))[:, None]
+        sampled = vals[sets, top, own[None, :]]  # (4, joints): each joint's largest row
+        best = sampled.copy()
+        centre = phi[top]
+        inner = np.ones_like(top, dtype=bool) if full else (top > 0) & (top < n - 1)
         for delta in (step, step / 16.0, step / 256.0):
             if delta <= 0:
                 break
-            centres = np.concatenate([w[2] for w in wanted])
-            at = np.stack([centres - delta, centres, centres + delta], axis=1)
+            at = np.stack([centre - delta, centre, centre + delta], axis=-1)  # (4, joints, 3)
             if not full:
                 at = np.clip(at, lo, hi)
             sk = mech.skeleton(at.ravel())
             pos = np.stack([np.asarray(p, dtype=float).reshape(-1, 2) for p in sk.joints.values()], axis=1)
-            pos = pos.reshape(len(centres), 3, joints, 2)
-            for i, (k, sign, centre, inner) in enumerate(wanted):
-                rows = slice(i * joints, (i + 1) * joints)
-                y = sign * pos[rows][np.arange(joints), :, np.arange(joints), k]  # (joints, 3): its own joint
-                y0, y1, y2 = y[:, 0], y[:, 1], y[:, 2]
-                curve = y0 - 2.0 * y1 + y2
-                with np.errstate(all="ignore"):
-                    shift = np.where(curve < 0, 0.5 * (y0 - y2) / curve, 0.0)
-                shift = np.clip(np.where(np.isfinite(shift), shift, 0.0), -1.0, 1.0)
-                new_centre = centre + shift * delta
-                if not full:
-                    new_centre = np.clip(new_centre, lo, hi)
-                with np.errstate(all="ignore"):
-                    vertex = y1 - 0.25 * (y0 - y2) * shift
-                ok = inner & np.isfinite(vertex) & (vertex >= sampled[k, sign])
-                out[k, sign] = np.where(ok, vertex, sampled[k, sign])
-                wanted[i] = (k, sign, np.where(ok, new_centre, centre), inner)
+            pos = pos.reshape(len(keys), joints, 3, joints, 2)
+            y = signs[:, :, None] * pos[sets, own[None, :], :, own[None, :], coord[:, None]]  # (4, joints, 3)
+            y0, y1, y2 = y[..., 0], y[..., 1], y[..., 2]
+            curve = y0 - 2.0 * y1 + y2
+            with np.errstate(all="ignore"):
+                shift = np.where(curve < 0, 0.5 * (y0 - y2) / curve, 0.0)
+            shift = np.clip(np.where(np.isfinite(shift), shift, 0.0), -1.0, 1.0)
+            new_centre = centre + shift * delta
+            if not full:
+                new_centre = np.clip(new_centre, lo, hi)
+            with np.errstate(all="ignore"):
+                vertex = y1 - 0.25 * (y0 - y2) * shift
+            ok = inner & np.isfinite(vertex) & (vertex >= sampled)
+            best = np.where(ok, vertex, sampled)
+            centre = np.where(ok, new_centre, centre)
+        out = {key: best[i] for i, key in enumerate(keys)}
         return {key: key[1] * v for key, v in out.items()}
 
     def loads(self, sol, name: str) -> np.ndarray:

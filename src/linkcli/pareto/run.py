@@ -42,11 +42,13 @@ def solve_front(problem, space, found) -> object:
             ends.setdefault(index, [])
             if point is not None:
                 ends[index].append(point)
+    best = [fr.best_of(ends[index], 0, scales[0]) for index in sorted(ends)]
+    with np.errstate(all="ignore"):  # each level's best end settled (the chains' other ends never are)
+        settled = map_levels(fr.settle_point, [fr.Settle(measure, 0, scales, t_scale, p) for p in best if p is not None])
     points = list(anchors)
-    for index in sorted(ends):
-        best = fr.best_of(ends[index], 0, scales[0])
-        if best is not None:
-            points.append(best)
+    for point, used in settled:
+        budget.add(used)
+        points.append(point)
     return _report(problem, space, measure, points, scales, budget, found)
 
 

@@ -77,7 +77,7 @@ class Scalarized:
         names, s = self.measure.names, self.scales
         with np.errstate(all="ignore"):
             need = [k for k, name in enumerate(names) if k == self.primary and self.epigraph or k in self.eps]
-            pieces = self.measure.pieces(x) if any(names[k] != "error" for k in need) else None
+            pieces = self.measure.pieces(x, wanted=set(need)) if any(names[k] != "error" for k in need) else None
             cons = [np.where(np.isfinite(ineq), ineq, -HUGE)]
             for k in sorted(self.eps):
                 p = np.array([float(res @ res)]) if names[k] == "error" else pieces[k]

@@ -37,7 +37,7 @@ own ranking (`settle` returns it with its f and worst violation).
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -101,6 +101,8 @@ class Options:
     curvature: bool | str
     groups: list | None
     evaluate_many: Callable[[np.ndarray], list] | None = None
+    reuse: bool = False
+    memo: dict = field(default_factory=dict)  # reuse: the last differenced Hessian (`_hessian`)
 
 
 @dataclass
@@ -113,7 +115,7 @@ class Settled:
 
 def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e-6,
            active_tol: float = ACTIVE, multipliers: bool = False, step_tol: float = STEP_TOL,
-           curvature: bool | str = False, groups=None, evaluate_many=None) -> Settled:
+           curvature: bool | str = False, groups=None, evaluate_many=None, reuse: bool = False) -> Settled:
     """Newton-KKT from u0 on the active set found there (constraints within `active_tol`
     of 0: above the margin a search keeps from its limits; see the module docstring).
     A round that ends with a multiplier of the wrong sign (or fails on it) releases the
@@ -141,10 +143,19 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
     can give way to a better one. `evaluate_many`: the Points of many u (K, n) at once (one
     batch of the caller's vectorized function, `slopes_many`), for the differenced
     Hessian's 2 points a group, which use their f, g, c and a only (h may be None there);
-    None: `evaluate` point by point."""
-    if curvature not in (False, True, "stalled"):
-        raise ValueError(f"curvature must be False, True or 'stalled', not {curvature!r}")
-    opts = Options(evaluate, hessian_step, active_tol, multipliers, step_tol, curvature, groups, evaluate_many)
+    None: `evaluate` point by point. `reuse`: a differenced Hessian of the Lagrangian, once
+    formed, serves every later step within NEAR of where it was formed on the same binding
+    set (the rounds and the settles from an end included): near the root a Hessian off by
+    O(NEAR) costs a factor O(NEAR) a step in Newton's rate, while each new one costs 2
+    gradients a group (the front's 10-point path: 5 Hessians a settle, 1 with reuse).
+    `curvature="whole"`: that differenced Hessian at every step, from the first (with
+    `reuse`, one per NEAR-neighbourhood and binding set): where a binding constraint's own
+    curvature is all that holds a flat direction of f (an epsilon level of a Pareto front:
+    Gauss-Newton's model is singular along the level, its steps cycle outside NEAR)."""
+    if curvature not in (False, True, "stalled", "whole"):
+        raise ValueError(f"curvature must be False, True, 'stalled' or 'whole', not {curvature!r}")
+    opts = Options(evaluate, hessian_step, active_tol, multipliers, step_tol, curvature, groups, evaluate_many,
+                   reuse)
     out = _settle_once(opts, u0)
     for _ in range(AGAIN):  # from its end, where the binding set is read afresh
         if not out.converged:
@@ -213,14 +224,16 @@ def _newton(opts: Options, u, p: Point, active, fixed):
         lam = linalg.solve(linalg.gram(af.T), linalg.matvec(af, p.g[free]))
         lam = np.where(np.isfinite(lam), lam, 0.0)
     full, last = False, np.inf  # curvature: the differenced Hessian in use; the last step's size
+    stale = False  # reuse: the last step, on a kept Hessian, shrank by less than the stall rate
+    kept = False  # the last step's Hessian was a kept one
     rest = None  # (u, p, lambda) of the first iterate where the model had only round-off left to gain
 
     def failed():  # the pass fails, unless an iterate was at round-off (`_at_round_off`): that one
         return (*rest, True) if rest else (u, p, lam, False)
 
     for _ in range(ITERATIONS):
-        if p.h is None or (curvature and full):
-            h = _lagrangian_hessian(many, u, rows, lam, hessian_step, groups=groups)
+        if p.h is None or (curvature and full) or curvature == "whole":
+            h, kept = _hessian(opts, many, u, rows, free, lam, fresh=stale)
         elif curvature is True and len(rows) and np.any(lam != 0.0):
             h = p.h + _lagrangian_hessian(many, u, rows, lam, hessian_step, objective=False, groups=groups)
         else:
@@ -232,10 +245,12 @@ def _newton(opts: Options, u, p: Point, active, fixed):
         size = float(np.max(np.abs(step)))
         if rest is None and size <= PRINTED and _at_round_off(p, h, step, rows, lam):
             rest = (u, p, lam)
+        stale = kept and not size <= STALL_RATE.get(curvature, STALLED) * last
+        kept = False
         if curvature and size <= NEAR:  # Newton's region: steps that shrink only linearly say
             # the model misses curvature (a large residual's): the differenced Hessian then;
             # steps that grow under it say it is worse (round-off in a flat valley): back
-            full = size < last if full else size > STALL_RATE[curvature] * last
+            full = size < last if full else size > STALL_RATE.get(curvature, STALLED) * last
         last = size
         if size <= NEAR:  # Newton's own region: the step is taken whole
             u = np.clip(u + step, 0.0, 1.0)
@@ -265,6 +280,21 @@ def _newton(opts: Options, u, p: Point, active, fixed):
     else:  # still moving after ITERATIONS steps: not settled
         return failed()
     return u, p, lam, True
+
+
+def _hessian(opts: Options, many, u, rows, free, lam, fresh: bool):
+    """The differenced Hessian of the Lagrangian at u (`_lagrangian_hessian`), or, with
+    `opts.reuse`, the last one formed within NEAR of u on the same binding set, unless
+    `fresh` (the steps under it stall); (Hessian, whether a kept one)."""
+    key = (tuple(rows.tolist()), tuple(free.tolist()))
+    last = opts.memo.get("hessian")
+    if (opts.reuse and not fresh and last is not None and last[0] == key
+            and float(np.max(np.abs(u - last[1]))) <= NEAR):
+        return last[2], True
+    h = _lagrangian_hessian(many, u, rows, lam, opts.hessian_step, groups=opts.groups)
+    if opts.reuse:
+        opts.memo["hessian"] = (key, np.array(u, dtype=float), h)
+    return h, False
 
 
 def _at_round_off(p: Point, h, step, rows, lam) -> bool:
