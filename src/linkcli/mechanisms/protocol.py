@@ -373,3 +373,18 @@ class Mechanism(ABC):
     def skeleton(self, phi) -> Skeleton:
         """Joints, links, ground pivots and guides at drive angles phi, global frame."""
 
+    @classmethod
+    def joint_paths(cls, linkages, phi) -> dict[str, np.ndarray]:
+        """The skeleton's joints of many linkages of this home at once: name -> (K, n, 2), the
+        k-th linkage at its drive angles phi[k] (phi: (K, n); NaN where it does not assemble),
+        the same numbers as each linkage's `skeleton(phi[k]).joints`. This default: linkage by
+        linkage; a home overrides it with its closed forms vectorized over linkages x angles.
+        ValueError: the linkages' skeletons name different joints."""
+        phi = np.asarray(phi, dtype=float)
+        each = [cls(linkage).skeleton(row).joints for linkage, row in zip(linkages, phi)]
+        names = tuple(each[0]) if each else ()
+        if any(tuple(joints) != names for joints in each):
+            raise ValueError("the linkages' skeletons name different joints")
+        return {name: np.stack([np.asarray(joints[name], dtype=float).reshape(phi.shape[1], 2)
+                                for joints in each]) for name in names}
+

@@ -200,65 +200,104 @@ class Measure:
         the largest is the box's diagonal, and each is smooth in the design (a joint's
         extreme over the motion moves smoothly: its refined peak), where the diagonal
         itself bends when the joint that bounds the box changes."""
+        return self.size_pieces_many([sol])[0]
+
+    def size_rows(self, sol) -> tuple[int, bool]:
+        """(skeleton rows, full turn) of the size's motion."""
         start, sweep = self.motion(sol)
         full = abs(sweep) >= 2.0 * math.pi * (1 - 1e-12)
         count = ROWS if full else max(SPAN_ROWS, int(math.ceil(ROWS * abs(sweep) / (2.0 * math.pi))))
-        phi = self.rows(sol, count)
-        sk = of(sol.linkage).skeleton(phi)
-        pts = np.stack([np.asarray(p, dtype=float).reshape(len(phi), 2) for p in sk.joints.values()], axis=1)
-        if not np.all(np.isfinite(pts)):
-            return np.full(pts.shape[1] ** 4, math.inf)
-        ext = self.extremes(sol, phi, pts, full)
-        width = np.maximum(ext[0, 1.0][:, None] - ext[0, -1.0][None, :], 0.0).ravel()
-        height = np.maximum(ext[1, 1.0][:, None] - ext[1, -1.0][None, :], 0.0).ravel()
-        return np.sqrt(width[:, None] ** 2 + height[None, :] ** 2).ravel()
+        return count, full
 
-    def extremes(self, sol, phi, pts, full: bool) -> dict:
-        """(coordinate, sign) -> (joints,) each joint's extreme coordinate over the motion: the
-        largest row, then REFINE rounds of a parabola through the skeleton at its vertex and
-        DELTAS either side (the home's skeleton at any drive angle: a Newton step on the
+    def size_pieces_many(self, sols) -> list[np.ndarray]:
+        """`size_pieces` of many designs: those of one home and one row count measured at once
+        (the home's `joint_paths`, vectorized over designs x drive angles: the same numbers
+        as design by design)."""
+        out: list = [None] * len(sols)
+        groups: dict = {}
+        for i, sol in enumerate(sols):
+            groups.setdefault((type(of(sol.linkage)), *self.size_rows(sol)), []).append(i)
+        for (home, count, full), members in groups.items():
+            try:
+                pieces = self._size_group(home, [sols[i] for i in members], count, full)
+            except _MixedJoints:  # the designs' skeletons name different joints: one at a time
+                pieces = [self._size_group(home, [sols[i]], count, full)[0] for i in members]
+            for i, p in zip(members, pieces):
+                out[i] = p
+        return out
+
+    def _size_group(self, home, sols, count: int, full: bool) -> list[np.ndarray]:
+        phi = np.array([self.rows(sol, count) for sol in sols], dtype=float)  # (K, n)
+        linkages = [sol.linkage for sol in sols]
+        try:
+            paths = home.joint_paths(linkages, phi)
+        except ValueError as exc:
+            raise _MixedJoints from exc
+        pts = np.stack([np.asarray(p, dtype=float).reshape(len(sols), phi.shape[1], 2)
+                        for p in paths.values()], axis=2)  # (K, n, joints, 2)
+        joints = pts.shape[2]
+        out = [np.full(joints ** 4, math.inf) for _ in sols]
+        good = np.flatnonzero(np.all(np.isfinite(pts), axis=(1, 2, 3)))
+        if good.size == 0:
+            return out
+        ext = self.extremes(home, [linkages[i] for i in good], phi[good], pts[good], full)
+        k = len(good)
+        width = np.maximum(ext[0, 1.0][:, :, None] - ext[0, -1.0][:, None, :], 0.0).reshape(k, -1)
+        height = np.maximum(ext[1, 1.0][:, :, None] - ext[1, -1.0][:, None, :], 0.0).reshape(k, -1)
+        size = np.sqrt(width[:, :, None] ** 2 + height[:, None, :] ** 2).reshape(k, -1)
+        for j, i in enumerate(good):
+            out[i] = size[j]
+        return out
+
+    def extremes(self, home, linkages, phi, pts, full: bool) -> dict:
+        """(coordinate, sign) -> (K, joints) each design's joints' extreme coordinates over the
+        motion (phi (K, n) its rows, pts (K, n, joints, 2) its skeleton there): the largest
+        row, then REFINE rounds of a parabola through the skeleton at its vertex and DELTAS
+        either side (the home's joint_paths at any drive angle: a Newton step on the
         coordinate's slope, to round-off, so that the extreme is smooth in the design); an
-        end of an open arc is exact. The four (coordinate, sign) sets of every joint in one
-        array: one skeleton a round."""
-        mech = of(sol.linkage)
-        n, joints = pts.shape[0], pts.shape[1]
-        step = float(phi[1] - phi[0]) if n > 1 else 0.0
-        lo, hi = (min(phi[0], phi[-1]), max(phi[0], phi[-1]))
+        end of an open arc is exact; a design whose rows step backwards (or not at all) keeps
+        its largest row. The four (coordinate, sign) sets of every joint of every design in
+        one array: one joint_paths call a round."""
+        designs, n, joints = pts.shape[0], pts.shape[1], pts.shape[2]
+        step = (phi[:, 1] - phi[:, 0]) if n > 1 else np.zeros(designs)
+        lo = np.minimum(phi[:, 0], phi[:, -1])[:, None, None, None]
+        hi = np.maximum(phi[:, 0], phi[:, -1])[:, None, None, None]
         keys = [(k, sign) for k in (0, 1) for sign in (1.0, -1.0)]
         coord = np.array([k for k, _ in keys])
-        signs = np.array([sign for _, sign in keys])[:, None]  # (4, 1)
-        vals = signs[:, :, None] * np.moveaxis(pts[:, :, coord], 2, 0)  # (4, rows, joints)
-        top = np.argmax(vals, axis=1)  # (4, joints)
-        own, sets = np.arange(joints), np.arange(len(keys))[:, None]
-        sampled = vals[sets, top, own[None, :]]  # (4, joints): each joint's largest row
+        signs = np.array([sign for _, sign in keys])[:, None, None]  # (4, 1, 1)
+        vals = signs * np.moveaxis(pts[..., coord], 3, 1)  # (K, 4, rows, joints)
+        top = np.argmax(vals, axis=2)  # (K, 4, joints)
+        kk = np.arange(designs)[:, None, None]
+        own, sets = np.arange(joints)[None, None, :], np.arange(len(keys))[None, :, None]
+        sampled = vals[kk, sets, top, own]  # (K, 4, joints): each joint's largest row
         best = sampled.copy()
-        centre = phi[top]
+        centre = phi[kk, top]
         inner = np.ones_like(top, dtype=bool) if full else (top > 0) & (top < n - 1)
-        for delta in (step, step / 16.0, step / 256.0):
-            if delta <= 0:
-                break
-            at = np.stack([centre - delta, centre, centre + delta], axis=-1)  # (4, joints, 3)
-            if not full:
-                at = np.clip(at, lo, hi)
-            sk = mech.skeleton(at.ravel())
-            pos = np.stack([np.asarray(p, dtype=float).reshape(-1, 2) for p in sk.joints.values()], axis=1)
-            pos = pos.reshape(len(keys), joints, 3, joints, 2)
-            y = signs[:, :, None] * pos[sets, own[None, :], :, own[None, :], coord[:, None]]  # (4, joints, 3)
-            y0, y1, y2 = y[..., 0], y[..., 1], y[..., 2]
-            curve = y0 - 2.0 * y1 + y2
-            with np.errstate(all="ignore"):
-                shift = np.where(curve < 0, 0.5 * (y0 - y2) / curve, 0.0)
-            shift = np.clip(np.where(np.isfinite(shift), shift, 0.0), -1.0, 1.0)
-            new_centre = centre + shift * delta
-            if not full:
-                new_centre = np.clip(new_centre, lo, hi)
-            with np.errstate(all="ignore"):
-                vertex = y1 - 0.25 * (y0 - y2) * shift
-            ok = inner & np.isfinite(vertex) & (vertex >= sampled)
-            best = np.where(ok, vertex, sampled)
-            centre = np.where(ok, new_centre, centre)
-        out = {key: best[i] for i, key in enumerate(keys)}
-        return {key: key[1] * v for key, v in out.items()}
+        inner = inner & (step > 0)[:, None, None]
+        if n > 1 and np.any(step > 0):
+            for divisor in (1.0, 16.0, 256.0):  # DELTAS: step, step / 16, step / 256
+                delta = (step / divisor)[:, None, None]
+                at = np.stack([centre - delta, centre, centre + delta], axis=-1)  # (K, 4, joints, 3)
+                if not full:
+                    at = np.clip(at, lo, hi)
+                paths = home.joint_paths(linkages, at.reshape(designs, -1))
+                pos = np.stack([np.asarray(p, dtype=float).reshape(designs, -1, 2) for p in paths.values()], axis=2)
+                pos = pos.reshape(designs, len(keys), joints, 3, joints, 2)
+                y = signs * pos[kk, sets, own, :, own, coord[None, :, None]]  # (K, 4, joints, 3)
+                y0, y1, y2 = y[..., 0], y[..., 1], y[..., 2]
+                curve = y0 - 2.0 * y1 + y2
+                with np.errstate(all="ignore"):
+                    shift = np.where(curve < 0, 0.5 * (y0 - y2) / curve, 0.0)
+                shift = np.clip(np.where(np.isfinite(shift), shift, 0.0), -1.0, 1.0)
+                new_centre = centre + shift * delta
+                if not full:
+                    new_centre = np.clip(new_centre, lo[..., 0], hi[..., 0])
+                with np.errstate(all="ignore"):
+                    vertex = y1 - 0.25 * (y0 - y2) * shift
+                ok = inner & np.isfinite(vertex) & (vertex >= sampled)
+                best = np.where(ok, vertex, sampled)
+                centre = np.where(ok, new_centre, centre)
+        return {key: key[1] * best[:, i] for i, key in enumerate(keys)}
 
     def loads(self, sol, name: str) -> np.ndarray:
         """|input torque| (N m) or every pin force's magnitude (N) at the motion's rows."""
@@ -277,6 +316,10 @@ class Measure:
         if self.failure is None:
             self.failure = Failure(self.problem, self.space)
         return self.failure.share(x)
+
+
+class _MixedJoints(Exception):
+    """A group of designs whose skeletons name different joints (measured one at a time)."""
 
 
 def link_ratios(linkage) -> np.ndarray:

@@ -126,5 +126,34 @@ class FourBarMechanism(Mechanism):
         return Skeleton(joints=joints, links={"input": ("A0", "A"), "coupler": coupler, "output": ("B0", "B")},
                         ground=("A0", "B0"), valid=np.asarray(ok), traced=("P",) if "P" in joints else ())
 
+    @classmethod
+    def joint_paths(cls, linkages, phi) -> dict[str, np.ndarray]:
+        """`skeleton(phi[k]).joints` of every linkage k at once (protocol.Mechanism.joint_paths):
+        the same closed forms, elementwise over (linkages, angles), so the same numbers."""
+        linkages = list(linkages)
+        points = {fb.coupler_point is None for fb in linkages}
+        if len(points) != 1:  # some with a coupler point, some without: different joints
+            return super().joint_paths(linkages, phi)
+        phi = np.asarray(phi, dtype=float)
+        col = np.array([[*fb.abcd, kin.branch_sign(fb.branch), math.cos(fb.ground_angle),
+                         math.sin(fb.ground_angle), *fb.ground_pivot] for fb in linkages], dtype=float)
+        a, b, c, d, sign, cg, sg, gx, gy = (col[:, k:k + 1] for k in range(9))
+        p = kin.pose(a, b, c, d, phi, sign)
+
+        def place(x, y):
+            x, y = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+            return np.stack([gx + cg * x - sg * y, gy + sg * x + cg * y], axis=-1)
+
+        n = p.psi.shape
+        ok = p.valid
+        joints = {"A0": place(np.zeros(n), np.zeros(n)), "B0": place(np.broadcast_to(d, n), np.zeros(n)),
+                  "A": place(a * np.cos(p.phi), a * np.sin(p.phi)),
+                  "B": place(np.where(ok, d + c * np.cos(p.psi), np.nan), np.where(ok, c * np.sin(p.psi), np.nan))}
+        if points == {False}:
+            pxy = np.array([fb.coupler_point for fb in linkages], dtype=float)
+            px, py = p.coupler_point(a, pxy[:, 0:1], pxy[:, 1:2])
+            joints["P"] = place(np.where(ok, px, np.nan), np.where(ok, py, np.nan))
+        return joints
+
 
 HOME = FourBarMechanism
