@@ -119,18 +119,39 @@ class Measure:
         p = self.piece(name, x, sol)
         return float(np.max(p)) if p.size and np.all(np.isfinite(p)) else math.inf
 
-    def pieces(self, x, sol=None, wanted=None) -> list[np.ndarray]:
-        """Per objective, its pieces at design x (the failure probability: its smoothed share).
-        What the protocol measures depends on the linkage and its motion alone: kept for
-        CACHED linkages (a search's differences along a timing variable move neither).
-        `wanted` (objective indices, or None: all): the targeted objectives and the failure
-        probability outside it are not measured (None in their place)."""
-        sol = self.space.solution(x) if sol is None else sol
+    def pieces_many(self, xs, wanted=None) -> list[list[np.ndarray]]:
+        """`pieces(x, wanted=wanted)` of every design of xs (N, n); the size of every design not
+        kept measured at once (`size_pieces_many`: the same numbers), the rest design by design."""
+        sols = [self.space.solution(x) for x in xs]
+        known: list = [None] * len(sols)
+        if "size" in self.names:
+            k = self.names.index("size")
+            todo = [i for i, sol in enumerate(sols) if self._kept(sol) is None]
+            for i, p in zip(todo, self.size_pieces_many([sols[i] for i in todo])):
+                known[i] = {k: p}
+        return [self.pieces(x, sol, wanted, known[i]) for i, (x, sol) in enumerate(zip(xs, sols))]
+
+    def _key(self, sol):
         key = (sol.linkage, None if self.space.full_turn else sol.working_span)
         try:
             hash(key)
         except TypeError:
-            key = None
+            return None
+        return key
+
+    def _kept(self, sol):
+        key = self._key(sol)
+        return self.cache.get(key) if key is not None else None
+
+    def pieces(self, x, sol=None, wanted=None, known=None) -> list[np.ndarray]:
+        """Per objective, its pieces at design x (the failure probability: its smoothed share).
+        What the protocol measures depends on the linkage and its motion alone: kept for
+        CACHED linkages (a search's differences along a timing variable move neither).
+        `wanted` (objective indices, or None: all): the targeted objectives and the failure
+        probability outside it are not measured (None in their place). `known`: objective
+        index -> its pieces, measured already (pieces_many)."""
+        sol = self.space.solution(x) if sol is None else sol
+        key = self._key(sol)
         own = self.cache.get(key) if key is not None else None
         out = []
         for k, name in enumerate(self.names):
@@ -143,6 +164,8 @@ class Measure:
                     out.append(np.array([self.smoothed_failure(x)]))
             elif own is not None:
                 out.append(own[k])
+            elif known and k in known:
+                out.append(known[k])
             else:
                 out.append(self.piece(name, x, sol))
         if key is not None and own is None:

@@ -11,7 +11,8 @@ residuals r are the polish's own; any other f_1 is a largest piece, minimized in
 form (an extra variable t, r = t / s_1, every piece <= t). An objective held <= eps is held
 piece by piece ((eps - piece) / s_k >= 0), each scaled by s_k (its spread over the front's
 anchors). Slopes by differences: the type's residuals and constraints of a whole batch of
-shifted designs in one call, the other objectives design by design through the protocol.
+shifted designs in one call, the other objectives through the protocol (the size of the whole
+batch at once: Measure.pieces_many).
 """
 
 from __future__ import annotations
@@ -68,16 +69,25 @@ class Scalarized:
             with np.errstate(all="ignore"):
                 res = self.space.residuals(xs)
                 ineq = self.space.inequalities(xs)
+            pieces = self._pieces(xs)
             for j, i in enumerate(todo):
-                self.cache[keys[i]] = self._row(us[i], xs[j], res[j], ineq[j])
+                self.cache[keys[i]] = self._row(us[i], res[j], ineq[j], pieces[j])
         rows = [self.cache[key] for key in keys]
         return np.array([r for r, _ in rows]), np.array([c for _, c in rows])
 
-    def _row(self, u, x, res, ineq):
+    def _pieces(self, xs) -> list:
+        """Per design of xs, the measure's pieces of the objectives this level holds or
+        minimizes (None each: only `error`, from the residuals), measured at once."""
+        names = self.measure.names
+        need = [k for k, name in enumerate(names) if k == self.primary and self.epigraph or k in self.eps]
+        if not any(names[k] != "error" for k in need):
+            return [None] * len(xs)
+        with np.errstate(all="ignore"):
+            return self.measure.pieces_many(xs, wanted=set(need))
+
+    def _row(self, u, res, ineq, pieces):
         names, s = self.measure.names, self.scales
         with np.errstate(all="ignore"):
-            need = [k for k, name in enumerate(names) if k == self.primary and self.epigraph or k in self.eps]
-            pieces = self.measure.pieces(x, wanted=set(need)) if any(names[k] != "error" for k in need) else None
             cons = [np.where(np.isfinite(ineq), ineq, -HUGE)]
             for k in sorted(self.eps):
                 p = np.array([float(res @ res)]) if names[k] == "error" else pieces[k]
