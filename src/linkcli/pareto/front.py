@@ -181,6 +181,7 @@ def settle(problem: Scalarized, x) -> tuple[np.ndarray, bool]:
 
     def evaluate_many(us):  # the differenced Hessian's points: forward slopes (n + 1 designs, not
         # 2n + 1); their error (~1e-6 relative) costs Newton's rate 1e-2 a step, not its root
+        problem.prefetch(us, central=False)  # every design of the n + 1 slopes in one batch
         out = []
         for u in us:
             f, c, _ = problem.value(u)

@@ -62,7 +62,11 @@ class Scalarized:
         """(residuals (K, m), constraints (K, c)) of unit-box points us (K, n_variables)."""
         us = np.atleast_2d(us)
         keys = [u.tobytes() for u in us]
-        todo = [i for i, key in enumerate(keys) if key not in self.cache]
+        first: dict = {}  # each point not measured yet, once (its first row)
+        for i, key in enumerate(keys):
+            if key not in self.cache:
+                first.setdefault(key, i)
+        todo = list(first.values())
         if todo:
             self.budget.spend(len(todo))
             xs = np.array([self.design(us[i]) for i in todo])
@@ -109,19 +113,33 @@ class Scalarized:
         """(grad f, dc/du, dr/du) by differences, kept inside the box."""
         u = np.asarray(u, float)
         n = len(u)
+        up, down = self.shifted(u, central)
+        r, c = self._all(np.concatenate([up, down]))
+        r_up, r_dn, c_up, c_dn = r[:n], r[n:], c[:n], c[n:]
+        span = np.maximum(np.diag(up - down), 1e-300)
+        jr = ((r_up - r_dn) / span[:, None]).T
+        jc = ((c_up - c_dn) / span[:, None]).T
+        r0 = self.value(u)[2]
+        return 2.0 * (jr.T @ r0), jc, jr
+
+    @staticmethod
+    def shifted(u, central: bool):
+        """(up, down) (n, n): the points whose differences are the slopes at u."""
+        n = len(u)
         h = CENTRAL if central else STEP
         up = np.clip(u[None, :] + h * np.eye(n), 0.0, 1.0)
         if central:
             down = np.clip(u[None, :] - h * np.eye(n), 0.0, 1.0)
         else:
             down = np.repeat(u[None, :], n, axis=0)
-        r_up, c_up = self._all(up)
-        r_dn, c_dn = self._all(down)
-        span = np.maximum(np.diag(up - down), 1e-300)
-        jr = ((r_up - r_dn) / span[:, None]).T
-        jc = ((c_up - c_dn) / span[:, None]).T
-        r0 = self.value(u)[2]
-        return 2.0 * (jr.T @ r0), jc, jr
+        return up, down
+
+    def prefetch(self, us, central: bool) -> None:
+        """Measure in one batch every point that value(u) and slope(u, central) of each u of
+        us ask for (then answered from the cache)."""
+        us = [np.asarray(u, float) for u in us]
+        if us:
+            self._all(np.concatenate([np.concatenate([u[None, :], *self.shifted(u, central)]) for u in us]))
 
     def objective(self, u) -> float:
         """f_1 at u, in its own units (epigraph: the largest piece itself)."""
