@@ -114,3 +114,41 @@ def test_the_batch_gives_each_design_its_own_numbers(path10_space):
     k = measure.names.index("size")
     for p, pieces in zip(many, batch):
         assert np.array_equal(p[k], pieces)
+
+
+def _each_skeleton(linkages, phi):
+    from linkcli.mechanisms import of
+    return [of(linkage).skeleton(row).joints for linkage, row in zip(linkages, phi)]
+
+
+def test_joint_paths_are_each_linkages_skeleton():
+    """The four-bar's batched closed forms (mixed branches, a crossed one, one that does not
+    assemble everywhere, with and without coupler points: the latter through the protocol's
+    default) and the protocol's default on another home (a slider-crank) give each linkage's
+    own skeleton, bit for bit."""
+    from linkcli.mechanisms import of
+    from linkcli.mechanisms.four_bar.model import FourBar
+    from linkcli.mechanisms.slider_crank.model import SliderCrank
+    rng = np.random.default_rng(3)
+    cases = [
+        [FourBar(50, 20, 60, 45, "open", (10, 5), (3, -2), 0.4), FourBar(40, 15, 50, 40, "crossed", (-4, 8), (0, 0), 2.0),
+         FourBar(30, 25, 10, 12, "open", (1, 1), (5, 5), -1.0)],  # the last does not assemble over a turn
+        [FourBar(50, 20, 60, 45), FourBar(40, 15, 50, 40, "crossed", (-4, 8))],  # P on one only
+        [SliderCrank(20, 60, 5), SliderCrank(15, 40, -3, "crossed", (5, 2))],
+    ]
+    for linkages in cases:
+        phi = rng.uniform(-4.0, 4.0, size=(len(linkages), 37))
+        home = type(of(linkages[0]))
+        each = _each_skeleton(linkages, phi)
+        if len({tuple(joints) for joints in each}) > 1:
+            with pytest.raises(ValueError):
+                home.joint_paths(linkages, phi)
+            continue
+        paths = home.joint_paths(linkages, phi)
+        assert tuple(paths) == tuple(each[0])
+        for k, joints in enumerate(each):
+            for name, xy in joints.items():
+                got = np.asarray(paths[name][k], dtype=float).reshape(-1, 2)
+                want = np.asarray(xy, dtype=float).reshape(-1, 2)
+                assert np.array_equal(np.isnan(got), np.isnan(want))
+                assert np.array_equal(got[~np.isnan(got)], want[~np.isnan(want)])
