@@ -104,25 +104,9 @@ class FourBarMechanism(Mechanism):
         """A0, B0 on the ground; A, B (and P) moving; links input A0-A, coupler A-B(-P),
         output B0-B; the coupler point's path is traced."""
         fb = self.linkage
-        a, b, c, d = fb.abcd
-        p = kin.pose(a, b, c, d, phi, fb.branch)
-        cg, sg = math.cos(fb.ground_angle), math.sin(fb.ground_angle)
-        gx, gy = fb.ground_pivot
-
-        def place(x, y):
-            x, y = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
-            return np.stack([gx + cg * x - sg * y, gy + sg * x + cg * y], axis=-1)
-
-        n = p.psi.shape
-        ok = p.valid
-        joints = {"A0": place(np.zeros(n), np.zeros(n)), "B0": place(np.full(n, d), np.zeros(n)),
-                  "A": place(a * np.cos(p.phi), a * np.sin(p.phi)),
-                  "B": place(np.where(ok, d + c * np.cos(p.psi), np.nan), np.where(ok, c * np.sin(p.psi), np.nan))}
-        coupler = ("A", "B")
-        if fb.coupler_point is not None:
-            px, py = p.coupler_point(a, *fb.coupler_point)
-            joints["P"] = place(np.where(ok, px, np.nan), np.where(ok, py, np.nan))
-            coupler = ("A", "B", "P")
+        joints, ok = _joints(*fb.abcd, kin.branch_sign(fb.branch), math.cos(fb.ground_angle),
+                             math.sin(fb.ground_angle), *fb.ground_pivot, phi, fb.coupler_point)
+        coupler = ("A", "B", "P") if "P" in joints else ("A", "B")
         return Skeleton(joints=joints, links={"input": ("A0", "A"), "coupler": coupler, "output": ("B0", "B")},
                         ground=("A0", "B0"), valid=np.asarray(ok), traced=("P",) if "P" in joints else ())
 
@@ -137,23 +121,33 @@ class FourBarMechanism(Mechanism):
         phi = np.asarray(phi, dtype=float)
         col = np.array([[*fb.abcd, kin.branch_sign(fb.branch), math.cos(fb.ground_angle),
                          math.sin(fb.ground_angle), *fb.ground_pivot] for fb in linkages], dtype=float)
-        a, b, c, d, sign, cg, sg, gx, gy = (col[:, k:k + 1] for k in range(9))
-        p = kin.pose(a, b, c, d, phi, sign)
-
-        def place(x, y):
-            x, y = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
-            return np.stack([gx + cg * x - sg * y, gy + sg * x + cg * y], axis=-1)
-
-        n = p.psi.shape
-        ok = p.valid
-        joints = {"A0": place(np.zeros(n), np.zeros(n)), "B0": place(np.broadcast_to(d, n), np.zeros(n)),
-                  "A": place(a * np.cos(p.phi), a * np.sin(p.phi)),
-                  "B": place(np.where(ok, d + c * np.cos(p.psi), np.nan), np.where(ok, c * np.sin(p.psi), np.nan))}
+        point = None
         if points == {False}:
             pxy = np.array([fb.coupler_point for fb in linkages], dtype=float)
-            px, py = p.coupler_point(a, pxy[:, 0:1], pxy[:, 1:2])
-            joints["P"] = place(np.where(ok, px, np.nan), np.where(ok, py, np.nan))
-        return joints
+            point = (pxy[:, 0:1], pxy[:, 1:2])
+        return _joints(*(col[:, k:k + 1] for k in range(9)), phi, point)[0]
+
+
+def _joints(a, b, c, d, sign, cg, sg, gx, gy, phi, point):
+    """(joints, valid): A0, B0, A, B (and P at `point`, in the coupler's frame) by the closed
+    forms of kinematics.pose, placed by the ground's turn (cg, sg) and pivot (gx, gy); the
+    lengths scalars (one linkage) or columns (linkages x angles); B and P NaN where the loop
+    does not close."""
+    p = kin.pose(a, b, c, d, phi, sign)
+
+    def place(x, y):
+        x, y = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+        return np.stack([gx + cg * x - sg * y, gy + sg * x + cg * y], axis=-1)
+
+    n = p.psi.shape
+    ok = p.valid
+    joints = {"A0": place(np.zeros(n), np.zeros(n)), "B0": place(np.broadcast_to(d, n), np.zeros(n)),
+              "A": place(a * np.cos(p.phi), a * np.sin(p.phi)),
+              "B": place(np.where(ok, d + c * np.cos(p.psi), np.nan), np.where(ok, c * np.sin(p.psi), np.nan))}
+    if point is not None:
+        px, py = p.coupler_point(a, *point)
+        joints["P"] = place(np.where(ok, px, np.nan), np.where(ok, py, np.nan))
+    return joints, ok
 
 
 HOME = FourBarMechanism
