@@ -37,6 +37,16 @@ def free_timing(path: str) -> bool:
         and "linkage" not in data
 
 
+def reference(path: str) -> tuple[float | None, float, int]:
+    """(best known objective or None, the floor a best known of 0 is met within: 1e-12 of the
+    targets' extent squared a point, the number of points)."""
+    with open(path, "rb") as handle:
+        data = tomllib.load(handle)
+    pts = data["target"]["points"]
+    extent = max(max(p[k] for p in pts) - min(p[k] for p in pts) for k in (0, 1))
+    return data.get("reference", {}).get("objective"), 1e-12 * extent ** 2 * len(pts), len(pts)
+
+
 def without_atlas(path: str, folder: str) -> str:
     with open(path, encoding="utf-8") as handle:
         text = handle.read()
@@ -81,17 +91,12 @@ def main() -> None:
     rows = []
     with tempfile.TemporaryDirectory() as folder:
         for path in files:
-            with open(path, "rb") as handle:
-                data = tomllib.load(handle)
-            best = data.get("reference", {}).get("objective")
-            pts = data["target"]["points"]
-            extent = max(max(p[k] for p in pts) - min(p[k] for p in pts) for k in (0, 1))
+            best, floor, points = reference(path)
             for label, target in (("atlas", path), ("no atlas", without_atlas(path, folder))):
                 for seed in range(args.seeds):
                     r = run(target, seed, env)
-                    floor = 1e-12 * extent ** 2 * len(pts)
                     r.update(problem=os.path.splitext(os.path.basename(path))[0], setting=label, seed=seed,
-                             best=best, points=len(pts),
+                             best=best, points=points,
                              at_best=best is not None and r["objective"] <= max(best * (1 + 1e-6), floor))
                     rows.append(r)
                     print(f"{r['problem']:16s} {label:8s} seed {seed}: {r['wall']:6.2f} s wall {r['cpu']:6.2f} s cpu "
