@@ -30,9 +30,9 @@ def test_the_sweep_of_a_dwell_beats_the_four_bar_and_its_design_is_what_it_says(
     assert report["message"].startswith(chosen["choice"] + ": ")
     assert report["error"]["objective"] == pytest.approx(chosen["objective"], rel=1e-5)
     assert chosen["objective"] < 0.1 * FOUR_BAR_DWELL < rows[-1]["objective"] * 1.2
-    # the baseline's every joint is free: a similarity of the whole drawing changes no turn, and
-    # the settle holds it (synthesis.model's gauge) -- without that its Newton steps were singular
-    # and the four-bar ended not-converged
+    # a function's drawings hold their ground pivots (synthesis.sweep.boxes_of): a similarity of
+    # the whole drawing changes no turn, and with every joint free the baseline's Newton steps
+    # were singular and the four-bar ended not-converged
     assert rows[-1]["status"] == "ok"
     lk = report["linkage"]
     joints, links, drive = lk["joints"], {k: list(v) for k, v in lk["links"].items()}, next(iter(lk["drive"]))
