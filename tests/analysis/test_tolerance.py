@@ -21,6 +21,7 @@ from numpy.testing import assert_allclose
 
 from linkcli.analysis import inverse_search
 from linkcli.analysis import tolerance as tolmod
+from linkcli.analysis import tolerance_report
 from linkcli.errors import InputErrors
 from linkcli.mechanisms.four_bar import tolerance as fourbar_tolerance
 from linkcli.mechanisms.four_bar.model import LINKS, FourBar
@@ -199,7 +200,7 @@ def check_against_loop(problem, solution, min_failures=0):
     err, ok = fourbar_tolerance.sample_errors(fb, tg, dl, off)
     assert_allclose(np.isfinite(ref), ok)
     assert_allclose(err[ok], ref[ok], rtol=1e-9, atol=1e-12)
-    rep = tolmod.analyse(problem, solution)
+    rep = tolerance_report.analyse(problem, solution)
     conv = (lambda x: x / DEG) if tg.kind == "angle" else (lambda x: x)
     good = ref[np.isfinite(ref)]
     allowed = t.allowed_error if t.allowed_error is not None else math.inf
@@ -309,7 +310,7 @@ def test_analytic_derivatives_match_reference_finite_difference():
 
 def test_sensitivity_is_the_analytic_derivative():
     problem, solution = make(FIREDOOR, tol(0.05, samples=10))
-    rep = tolmod.analyse(problem, solution)
+    rep = tolerance_report.analyse(problem, solution)
     g = np.array([_first_order_setup(FIREDOOR, p * DEG) for p in (45, 90, 135)])
     expect = np.abs(g).max(axis=0) / DEG  # deg per mm
     assert_allclose([rep["sensitivity"][k] for k in LINKS], expect, rtol=1e-6)
@@ -319,7 +320,7 @@ def test_path_sensitivity_is_the_analytic_derivative():
     phi = (60, 100, 140)
     problem, solution = make(PATHBAR, tol(0.05, samples=10), kind="point", phi_deg=phi,
                              ptype="path-generation")
-    rep = tolmod.analyse(problem, solution)
+    rep = tolerance_report.analyse(problem, solution)
     mags = np.array([[abs(dpoint_dlengths(PATHBAR, p * DEG)[k]) for k in LINKS] for p in phi])
     assert_allclose([rep["sensitivity"][k] for k in LINKS], mags.max(axis=0), rtol=1e-6)
 
@@ -332,7 +333,7 @@ def test_small_normal_tolerance_follows_first_order_gaussian():
     s = (t / 3) * math.sqrt(float(g @ g))
     problem, solution = make(FIREDOOR, tol(t, distribution="normal", samples=n, allowed_error=s),
                              phi_deg=(90,), seed=7)
-    rep = tolmod.analyse(problem, solution)
+    rep = tolerance_report.analyse(problem, solution)
     assert_allclose(rep["error_mean"] * DEG, s * math.sqrt(2 / math.pi), rtol=0.02)
     assert_allclose(rep["error_p95"] * DEG, 1.959964 * s, rtol=0.03)
     p = 2 * (1 - 0.5 * (1 + math.erf(1 / math.sqrt(2))))
@@ -349,7 +350,7 @@ def test_small_uniform_tolerance_path_follows_first_order_model():
     lin = np.abs(rng.uniform(-t, t, (1_000_000, 4)) @ jac)
     problem, solution = make(PATHBAR, tol(t, samples=n), kind="point", phi_deg=(120,),
                              ptype="path-generation", seed=8)
-    rep = tolmod.analyse(problem, solution)
+    rep = tolerance_report.analyse(problem, solution)
     assert_allclose(rep["error_mean"], lin.mean(), rtol=0.02)
     assert_allclose(rep["error_p95"], np.percentile(lin, 95), rtol=0.03)
 
@@ -370,7 +371,7 @@ def test_clearance_alone_follows_first_order_model():
     lin = np.abs(g_d * ex + (1 - k) * ey / FIREDOOR.ground)
     assert_allclose(np.mean(lin**2), r**2 * (g_d**2 + ((1 - k) / FIREDOOR.ground) ** 2), rtol=0.01)
     problem, solution = make(FIREDOOR, tol(0.0, clearance=r, samples=n), phi_deg=(90,), seed=9)
-    rep = tolmod.analyse(problem, solution)
+    rep = tolerance_report.analyse(problem, solution)
     assert_allclose(rep["error_mean"] * DEG, lin.mean(), rtol=0.02)
     assert_allclose(rep["error_p95"] * DEG, np.percentile(lin, 95), rtol=0.03)
 
@@ -401,17 +402,17 @@ def test_chunks_cover_every_sample_once():
 
 def test_same_seed_same_numbers_other_seed_other_numbers():
     t = tol(0.05, clearance=0.02, samples=3000, allowed_error=0.2 * DEG)
-    a = tolmod.analyse(*make(FIREDOOR, t, seed=4))
-    b = tolmod.analyse(*make(FIREDOOR, t, seed=4))
-    c = tolmod.analyse(*make(FIREDOOR, t, seed=5))
+    a = tolerance_report.analyse(*make(FIREDOOR, t, seed=4))
+    b = tolerance_report.analyse(*make(FIREDOOR, t, seed=4))
+    c = tolerance_report.analyse(*make(FIREDOOR, t, seed=5))
     assert a == b
     assert a["error_mean"] != c["error_mean"]
 
 
 def test_radian_files_report_radians():
     t = tol(0.05, clearance=0.02, samples=2000, allowed_error=0.2 * DEG)
-    deg = tolmod.analyse(*make(FIREDOOR, t, seed=4))
-    rad = tolmod.analyse(*make(FIREDOOR, t, seed=4, angle="rad"))
+    deg = tolerance_report.analyse(*make(FIREDOOR, t, seed=4))
+    rad = tolerance_report.analyse(*make(FIREDOOR, t, seed=4, angle="rad"))
     for key in ("error_mean", "error_p95", "error_max", "allowed_error"):
         assert_allclose(rad[key], deg[key] * DEG, rtol=1e-12)
     assert_allclose(rad["sensitivity"]["input"], deg["sensitivity"]["input"] * DEG, rtol=1e-12)
@@ -422,13 +423,13 @@ def test_without_allowed_error_only_assembly_failures_count():
     fb = FourBar(ground=54.0, input=20.0, coupler=40.0, output=35.0, branch="open")
     problem, solution = make(fb, tol(0.5, samples=500), ptype="linkage", positions=False,
                              phi_deg=(0,), seed=2)
-    rep = tolmod.analyse(problem, solution)
+    rep = tolerance_report.analyse(problem, solution)
     assert rep["allowed_error"] is None
     assert rep["assembly_failures"] > 0
     assert rep["failure_probability"] == rep["assembly_failures"] / 500
     # the report says what a failure is then
     assert rep["failure"].startswith("no allowed_error given: a sample fails only when it cannot")
-    with_allowed = tolmod.analyse(*make(fb, tol(0.5, samples=500, allowed_error=1.0), ptype="linkage",
+    with_allowed = tolerance_report.analyse(*make(fb, tol(0.5, samples=500, allowed_error=1.0), ptype="linkage",
                                         positions=False, phi_deg=(0,), seed=2))
     assert "failure" not in with_allowed
 
@@ -443,7 +444,7 @@ def _inverse(level, allowed_deg, seed=1, samples=4000, clearance=0.0):
 
 def test_inverse_mode_finds_the_boundary_of_the_seeded_monte_carlo():
     problem, solution = _inverse(0.02, 0.2, clearance=0.01)
-    rep = tolmod.analyse(problem, solution)
+    rep = tolerance_report.analyse(problem, solution)
     t_max = rep["largest_tolerance"]
     assert rep["failure_probability_at_largest"] <= 0.02
     # the study is reported at the tolerance found (no `lengths` given)
@@ -451,7 +452,7 @@ def test_inverse_mode_finds_the_boundary_of_the_seeded_monte_carlo():
     # an independent check: the forward study just above the tolerance found fails more
     above = tol(t_max * (1 + 2 * inverse_search.BISECTION_RTOL), clearance=0.01, samples=4000,
                 allowed_error=0.2 * DEG)
-    assert tolmod.analyse(*make(FIREDOOR, above, seed=1))["failure_probability"] > 0.02
+    assert tolerance_report.analyse(*make(FIREDOOR, above, seed=1))["failure_probability"] > 0.02
 
 
 def test_inverse_mode_first_order_value():
@@ -465,13 +466,13 @@ def test_inverse_mode_first_order_value():
     allowed = 0.05 * DEG
     t = InverseTolerance(lengths={k: 0.0 for k in LINKS}, samples=20000, allowed_error=allowed,
                          max_failure_probability=0.05)
-    rep = tolmod.analyse(*make(FIREDOOR, t, phi_deg=(90,), seed=3))
+    rep = tolerance_report.analyse(*make(FIREDOOR, t, phi_deg=(90,), seed=3))
     assert_allclose(rep["largest_tolerance"], allowed / q, rtol=0.03)
 
 
 def test_inverse_mode_clearance_alone_too_large():
     problem, solution = _inverse(0.01, 0.01, clearance=0.5)
-    rep = tolmod.analyse(problem, solution)
+    rep = tolerance_report.analyse(problem, solution)
     assert rep["largest_tolerance"] == 0.0
     assert rep["failure_probability_at_largest"] > 0.01
 
@@ -485,7 +486,7 @@ def test_firedoor_tolerance_example():
     assert t.lengths == {k: 0.05 for k in LINKS} and t.clearance == 0.02
     assert_allclose(t.allowed_error, 0.25 * DEG)
     solution = solve(problem)
-    rep = tolmod.analyse(problem, solution)
+    rep = tolerance_report.analyse(problem, solution)
     assert rep["samples"] == 20000 and rep["assembly_failures"] == 0
     assert rep["nominal_error"] < 1e-9
     assert 0.0 < rep["failure_probability"] < 0.2
@@ -577,7 +578,7 @@ def test_tolerance_as_large_as_a_link_is_an_input_error(lengths, clearance, key,
     from linkcli.errors import InputError
     problem, solution = make(FIREDOOR, tol(lengths, clearance=clearance, samples=10))
     with pytest.raises(InputError) as info:
-        tolmod.analyse(problem, solution)
+        tolerance_report.analyse(problem, solution)
     assert info.value.key == key and info.value.expected == expected
     assert info.value.exit_code == 2
 

@@ -23,7 +23,7 @@ MUST_NOT_LOAD = (
     "linkcli.mechanisms.five_bar.model", "linkcli.mechanisms.drawn.model",  # other mechanisms
     "linkcli.io.joints", "linkcli.reading.tolerance_keys",  # [joints], [sections], [tolerance]
     "linkcli.reading.result_motion",  # analyze of a result file
-    "linkcli.analysis.forces", "linkcli.analysis.loads", "linkcli.analysis.tolerance",
+    "linkcli.analysis.forces", "linkcli.analysis.loads", "linkcli.analysis.tolerance", "linkcli.analysis.tolerance_report",
     "linkcli.analysis.strength", "linkcli.mechanisms.four_bar.loads", "linkcli.mechanisms.four_bar.tolerance",
     "linkcli.search", "linkcli.plot",
     "linkcli.atlas",  # the coupler-curve atlas: free-timing path searches only

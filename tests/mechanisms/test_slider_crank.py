@@ -20,7 +20,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 
-from linkcli.analysis import tolerance
+from linkcli.analysis import tolerance, tolerance_report
 from linkcli.errors import SchemaError
 from linkcli.mechanisms.slider_crank import kinematics as sc
 from linkcli.mechanisms.slider_crank import tolerance as stol
@@ -38,7 +38,7 @@ TEXTBOOK = (47.2812, 104.9139, 30.0)
 def tolerance_section(lin, lengths, *, clearance=0.0, clearance_slider=0.0, samples=20000, seed=0,
                       distribution="uniform", allowed_error=None, max_failure_probability=None,
                       targets=None):
-    """The `tolerance` section of a slider-crank linkage problem (analysis.tolerance.analyse),
+    """The `tolerance` section of a slider-crank linkage problem (analysis.tolerance_report.analyse),
     with targets (crank angle, slider position) as precision positions when given."""
     given = {k: float(lengths.get(k, 0.0)) for k in stol.LENGTH_KEYS}
     common = dict(lengths=given, distribution=distribution, clearance=clearance,
@@ -51,7 +51,7 @@ def tolerance_section(lin, lengths, *, clearance=0.0, clearance_slider=0.0, samp
                                                        targets.slider, np.zeros(len(targets.phi)))
     solution = Solution(Status.OK, linkage=lin, positions=positions,
                         working_span=None if targets is None else targets.span)
-    return tolerance.analyse(LinkageProblem(meta=meta, linkage=lin), solution)
+    return tolerance_report.analyse(LinkageProblem(meta=meta, linkage=lin), solution)
 
 
 def mc(lin, tg, scale, clearance, clearance_slider, n, seed):

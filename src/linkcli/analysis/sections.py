@@ -64,9 +64,9 @@ def _build(problem, solution: Solution) -> dict:
         if name in want or name not in ALL_SECTIONS:
             rep[name] = section
     if "tolerance" in want and meta.tolerance is not None and mech is not None:
-        from linkcli.analysis import tolerance
+        from linkcli.analysis import tolerance_report
         from linkcli.analysis.allocation import shortfall as allocation_shortfall
-        rep["tolerance"] = tolerance.analyse(problem, solution)
+        rep["tolerance"] = tolerance_report.analyse(problem, solution)
         short = allocation_shortfall(rep["tolerance"])  # tolerances that miss their limit: a status
         if short and rep["status"] == "ok":
             rep["status"], rep["message"] = "infeasible", short
