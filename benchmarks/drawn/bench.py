@@ -61,7 +61,7 @@ def watt_3600():
 
 def analysis():
     """Seconds for load -> solve -> report of the six-bar (3600 steps, loads) and the four-bar."""
-    from linkcli.mechanisms.drawn.home import solved
+    from linkcli.mechanisms.drawn.solved import solved
     from linkcli.pipeline import analyse, solve
     from linkcli.reading.load import load
     out = {}

@@ -19,9 +19,8 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from linkcli.analysis import inverse_search
+from linkcli.analysis import inverse_search, tolerance_report
 from linkcli.analysis import tolerance as tolmod
-from linkcli.analysis import tolerance_report
 from linkcli.errors import InputErrors
 from linkcli.mechanisms.four_bar import tolerance as fourbar_tolerance
 from linkcli.mechanisms.four_bar.model import LINKS, FourBar

@@ -144,8 +144,8 @@ def test_population_matches_the_reference_solver(source):
 def test_population_of_sliders_matches_the_analysis():
     """The shaper (RRP and RPR closures): the population at its drawing is the analysis
     solver's (drawn.solver, tested against independent solvers in test_drawn.py)."""
-    from linkcli.mechanisms.drawn.home import solved
     from linkcli.mechanisms.drawn.population import DrawnPopulation
+    from linkcli.mechanisms.drawn.solved import solved
     from linkcli.reading.load import load
     d = load(str(ROOT / "problems" / "drawn_shaper.toml")).linkage
     sv = solved(d)

@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 from linkcli import mechanisms
+from linkcli.analysis.motion_study import motion_study
 from linkcli.mechanisms.columns import angle_out as _ang
 from linkcli.mechanisms.columns import turn_out as _dang
 from linkcli.noise import NOISE_FLOOR, quantize, snap
@@ -130,12 +131,6 @@ def gap(value: float, best: float) -> float:
     """Relative gap to the best known value: (value - best) / |best| (absolute if best = 0),
     to whole multiples of the noise floor (its digits below are round-off)."""
     return quantize((value - best) / abs(best) if best != 0 else value - best)
-
-
-def motion_study(problem, u) -> tuple[float, int]:
-    """(input speed in rad/s, steps) of the motion study: the problem's [motion], else 1 angle
-    unit per second and 360 steps (types without [motion])."""
-    return getattr(problem, "input_speed", None) or u.to_rad(1.0), getattr(problem, "steps", 360)
 
 
 def error_scale(pos, length_scale: float) -> float:

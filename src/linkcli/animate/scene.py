@@ -123,7 +123,7 @@ def linkage_drive(result) -> Drive:
     """The solved linkage's input over its motion study (the arc holding the targets when
     it rocks in several)."""
     from linkcli import mechanisms
-    from linkcli.analysis.sections import motion_study
+    from linkcli.analysis.motion_study import motion_study
     mech = mechanisms.of(result.solution.linkage)
     span = result.solution.working_span
     study = mech.study(span[0] if span else None)

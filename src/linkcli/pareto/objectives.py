@@ -68,7 +68,7 @@ class Measure:
     def __init__(self, problem, space, names: tuple[str, ...]) -> None:
         self.problem, self.space, self.names = problem, space, tuple(names)
         self.units = problem.meta.units
-        from linkcli.analysis.sections import motion_study
+        from linkcli.analysis.motion_study import motion_study
         self.speed, self.steps = motion_study(problem, self.units)
         self.failure = None
         self.cache: dict = {}

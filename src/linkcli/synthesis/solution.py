@@ -135,7 +135,7 @@ def _amount(name_unit: str, amount: float, u) -> str:
 
 def solution(problem, model: Model, best, bad, budget, confirmed: bool) -> Solution:
     """The Solution of the design `best` (search.Candidate) with its violations `bad`."""
-    from linkcli.mechanisms.drawn.home import drive_start
+    from linkcli.mechanisms.drawn.solved import drive_start
     u = problem.meta.units
     x, s = best.x, best.s
     linkage = model.pop.linkage(x)

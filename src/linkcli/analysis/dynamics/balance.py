@@ -29,7 +29,7 @@ from linkcli.noise import first_max, snap
 
 
 def section(system, problem, meta, notes: list) -> dict:
-    from linkcli.analysis.sections import motion_study
+    from linkcli.analysis.motion_study import motion_study
     units = meta.units
     dyn = meta.dynamics
     mech, graph, metres = system.mech, system.graph, system.metres

@@ -4,22 +4,16 @@
 
 Angles leave in the file's angle unit (the drive's angle followed continuously: two turns are
 720 deg), speeds in angle unit/s, times in s, forces in N, torques in N m, energies in J.
-Integrated quantities carry the integrator's error (about 1e-10 of their scale): a value below
-DYNAMICS_FLOOR times its column's scale prints as 0, and the energy balance below
-BALANCE_FLOOR times the energies' scale, so that printed digits are the same on every machine.
+Integrated quantities print under the noise floors of analysis.dynamics.columns. A linkage of
+several drives has sections of its own (several_sections).
 """
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
+from linkcli.analysis.dynamics.columns import MAX_EVENT_ROWS, column, energy_section, snapped, with_forces
 from linkcli.noise import snap
-
-DYNAMICS_FLOOR = 1e-7
-BALANCE_FLOOR = 1e-7
-MAX_EVENT_ROWS = 100  # listed events; more are counted
 
 
 def add_sections(rep: dict, problem, mech, notes: list) -> tuple[str, str] | None:
@@ -49,17 +43,6 @@ def add_sections(rep: dict, problem, mech, notes: list) -> tuple[str, str] | Non
         from linkcli.analysis.dynamics.balance import section as balance_section
         rep["balance"] = balance_section(system, problem, meta, notes)
     return shortfall
-
-
-def column(values, floor: float = DYNAMICS_FLOOR, scale: float = 0.0) -> list:
-    """A column of the history: snapped against its largest finite magnitude (and `scale`);
-    None where not finite."""
-    v = np.asarray(values, dtype=float)
-    finite = np.abs(v[np.isfinite(v)])
-    top = max(float(finite.max()) if finite.size else 0.0, abs(scale))
-    with np.errstate(invalid="ignore"):
-        out = np.where(np.abs(v) <= floor * top, 0.0, v) + 0.0
-    return [x if math.isfinite(x) else None for x in out.tolist()]
 
 
 def _simulation(rep, system, meta, notes) -> tuple[str, str] | None:
@@ -106,7 +89,7 @@ def _summary(system, run, y, dyn, units) -> dict:
            "start": {"angle": float(units.from_rad(dyn.start[0])), "speed": float(units.from_rad(dyn.start[1]))},
            "end": run.end, "end_time": snap(run.t_end, 1.0),
            "end_angle": float(units.from_rad(system.external(y[0, -1]))),
-           "end_speed": _snapped(units.from_rad(y[1, -1]), units.from_rad(w_scale))}
+           "end_speed": snapped(units.from_rad(y[1, -1]), units.from_rad(w_scale))}
     if run.end == "stop":
         out["stop_time"] = out["end_time"]
         out["stop_speed"] = out["end_speed"]
@@ -116,10 +99,6 @@ def _summary(system, run, y, dyn, units) -> dict:
     if dyn.flywheel_inertia:
         out["flywheel_inertia"] = dyn.flywheel_inertia
     return out
-
-
-def _snapped(value, scale) -> float:
-    return float(snap(float(value), DYNAMICS_FLOOR * 1e9 * abs(float(scale))))  # noise.snap's floor is 1e-9
 
 
 def _scales(system, y):
@@ -148,17 +127,6 @@ def _rows(system, times, y, st, units) -> list[dict]:
             for k in range(len(times))]
 
 
-def with_forces(row: dict, k: int, pins: dict, elements: dict, friction: dict) -> dict:
-    """A history row with row k's pin forces (x, y, magnitude), the force elements' values and
-    the pins' friction couples (the last two only when there are any)."""
-    row["pins"] = {name: {"x": x[k], "y": yy[k], "magnitude": size[k]} for name, (x, yy, size) in pins.items()}
-    if elements:
-        row["elements"] = {name: values[k] for name, values in elements.items()}
-    if friction:
-        row["friction"] = {name: values[k] for name, values in friction.items()}
-    return row
-
-
 def _events(system, run, units, notes) -> list[dict]:
     rows = []
     counted = 0
@@ -168,7 +136,7 @@ def _events(system, run, units, notes) -> list[dict]:
         if len(rows) >= MAX_EVENT_ROWS:
             continue
         rows.append({"event": kind, "time": float(t), "angle": float(units.from_rad(system.external(q))),
-                     "speed": 0.0 if kind == "reversal" else _snapped(units.from_rad(w), units.from_rad(w_scale))})
+                     "speed": 0.0 if kind == "reversal" else snapped(units.from_rad(w), units.from_rad(w_scale))})
     if counted > len(rows):
         notes.append(f"{counted} events; the first {len(rows)} are listed")
     return rows
@@ -176,22 +144,3 @@ def _events(system, run, units, notes) -> list[dict]:
 
 def _energy(system, y, st) -> dict:
     return energy_section(st.kinetic, st.potential, st.spring, y[2, -1], y[3, -1], y[4, -1])
-
-
-def energy_section(kinetic_rows, potential_rows, spring_rows, drive, damper, friction) -> dict:
-    """At the end: kinetic (and at the start), potential (gravity and the constant loads,
-    relative to the start), spring (stored, and at the start), the work of the drive(s), the
-    dampers and friction (the integrated works at the end), and their balance."""
-    kinetic, kinetic0 = float(kinetic_rows[-1]), float(kinetic_rows[0])
-    potential = float(potential_rows[-1] - potential_rows[0])
-    spring, spring0 = float(spring_rows[-1]), float(spring_rows[0])
-    drive, damper, friction = float(drive), float(damper), float(friction)
-    balance = (kinetic - kinetic0) + potential + (spring - spring0) - drive - damper - friction
-    scale = max(abs(kinetic), abs(kinetic0), abs(potential), abs(spring), abs(spring0), abs(drive),
-                abs(damper), abs(friction), 1e-300)
-    def s(v):
-        return float(snap(v, DYNAMICS_FLOOR * 1e9 * scale))
-    return {"kinetic": s(kinetic), "potential": s(potential), "spring": s(spring),
-            "drive_work": s(drive), "damper_work": s(damper), "friction_work": s(friction),
-            "balance": float(snap(balance, BALANCE_FLOOR * 1e9 * scale)),
-            "start": {"kinetic": s(kinetic0), "spring": s(spring0)}}

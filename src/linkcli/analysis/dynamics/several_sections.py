@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkcli.analysis.dynamics.sections import MAX_EVENT_ROWS, _snapped, column, energy_section, with_forces
+from linkcli.analysis.dynamics.columns import MAX_EVENT_ROWS, column, energy_section, snapped, with_forces
 from linkcli.noise import snap
 
 
@@ -61,7 +61,7 @@ def _summary(system, run, y, speed_scale, units) -> dict:
         drives[name] = {"start_angle": float(units.from_rad(setup.start[0])),
                         "start_speed": float(units.from_rad(setup.start[1])),
                         "end_angle": float(units.from_rad(y[j, -1])),
-                        "end_speed": _snapped(units.from_rad(y[k + j, -1]), units.from_rad(speed_scale[j]))}
+                        "end_speed": snapped(units.from_rad(y[k + j, -1]), units.from_rad(speed_scale[j]))}
         if setup.flywheel_inertia:
             drives[name]["flywheel_inertia"] = setup.flywheel_inertia
         if setup.locked:
@@ -117,7 +117,7 @@ def _events(system, run, units, notes) -> list[dict]:
         row["time"] = float(t)
         row["drives"] = {n: {"angle": float(units.from_rad(a)),
                              "speed": 0.0 if name == "reversal" and n == drive
-                             else _snapped(units.from_rad(v), units.from_rad(w_scale))}
+                             else snapped(units.from_rad(v), units.from_rad(w_scale))}
                          for n, a, v in zip(system.names, q, w)}
         rows.append(row)
     if counted > len(rows):

@@ -82,7 +82,7 @@ def body_graph(home, case, metres: float) -> BodyGraph | None:
 @lru_cache(maxsize=16)
 def unit_kinematics(drawing):
     """The drawing's plan with its drive at unit speed (the groups' tracks shared)."""
-    from linkcli.mechanisms.drawn.home import solved
+    from linkcli.mechanisms.drawn.solved import solved
     from linkcli.mechanisms.drawn.solver import Kinematics
     sv = solved(drawing)
     unit = replace(drawing, drives=(replace(drawing.drives[0], speed=1.0),))

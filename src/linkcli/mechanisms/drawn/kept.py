@@ -8,29 +8,30 @@ own output: not read back). `analyze` reads the drawing from there, checked as a
 from __future__ import annotations
 
 from linkcli.io.reader import Table
+from linkcli.mechanisms.drawn.drawing_tables import drawn_drives, drawn_joints, drawn_links
 
 KEPT = ("mechanism", "joints", "links", "drive")
 
 
-def read_kept(t: Table, units):
-    """The Drawn of a result's [linkage] (`t`), None when in error (errors recorded)."""
+def read_kept(t: Table, units, schema):
+    """The Drawn of a result's [linkage] (`t`), None when in error (errors recorded); `schema`:
+    the drawn home's (drawn.schema.SCHEMA), whose joint keys io.joints reads."""
     from dataclasses import replace
 
     from linkcli.io.joints import read_joints
     from linkcli.mechanisms.drawn.model import Drawn
-    from linkcli.mechanisms.drawn.schema import SCHEMA, _drawn_joints, _drives, _links
     from linkcli.mechanisms.drawn.structure import analyse
     t.allow(*(k for k in t.keys() if k not in KEPT))  # the distances: the report's own echo
     errors = len(t.reader.errors)
-    specs = read_joints(t, SCHEMA, units)
+    specs = read_joints(t, schema, units)
     joint_table = t.table("joints")
     if specs is None or joint_table is None:
         return None
-    joints = _drawn_joints(joint_table, specs)
+    joints = drawn_joints(joint_table, specs)
     if joints is None:
         return None
-    links = _links(t, joints)
-    drives = _drives(t, joints, links, units)
+    links = drawn_links(t, joints)
+    drives = drawn_drives(t, joints, links, units)
     if len(t.reader.errors) > errors or links is None or drives is None:
         return None
     drawing = Drawn(joints=joints, links=links, drives=drives, designed=True)

@@ -13,19 +13,16 @@ from typing import TYPE_CHECKING
 
 from linkcli.io.bounds import MAX_LENGTH
 from linkcli.io.reader import MISSING, Table, describe
+from linkcli.mechanisms.drawn.drawing_tables import drawn_drives, drawn_joints, drawn_links
 from linkcli.mechanisms.schema import ForceParts, Schema
 
 if TYPE_CHECKING:  # names of annotations only (imported where they are used)
-    from linkcli.mechanisms.drawn.model import Drawn, DrawnJoint, DrawnLink, Drive
+    from linkcli.mechanisms.drawn.model import Drawn
 
 # .model (its dataclasses) is imported inside the functions that build them: every other
 # mechanism's [linkage] reads this module for its keys alone (reading.linkage.refuse_foreign)
 
-MAX_LINKS = 100  # a drawing's links: its analysis takes about 10 ms of CPU per link (1 s at the cap)
-MAX_DISTANCES = 2000  # distances between two joints of one link (and of the ground), each one reported
 MAX_SPAN_TURNS = 2.0  # a turning drive's span: at most two turns either way
-MAX_SPEED = 1e9
-MIN_SPEED = 1e-9  # a drive's |speed|: below, the speed ratios over- or underflow (a denormal is 0)
 
 
 class DrawnSchema(Schema):
@@ -151,7 +148,7 @@ def read(t: Table, units) -> Drawn | None:
     errors = len(root.reader.errors)
     if "status" in root.data and "joints" not in root.data and isinstance(t.data.get("joints"), dict):
         from linkcli.mechanisms.drawn.kept import read_kept
-        return read_kept(t, units)  # a design's result keeps its drawing in [linkage]
+        return read_kept(t, units, SCHEMA)  # a design's result keeps its drawing in [linkage]
     if "status" in root.data and "joints" not in root.data:  # a result file that keeps no drawing
         t.error("mechanism", "a drawing to analyse: `analyze` reads a drawn linkage from its problem "
                 "file (with [joints], [links] and [drive]), not from a result file",
@@ -164,14 +161,14 @@ def read(t: Table, units) -> Drawn | None:
     if specs is None or joint_table is None:
         _skip(root)
         return None
-    joints = _drawn_joints(joint_table, specs)
+    joints = drawn_joints(joint_table, specs)
     if joints is None:  # a joint in error: [links], [drive] and [motion] name joints, and judged
         # against the drawing without it every link "carries more than the 0 joints" (one bad
         # entry gave eight more lines, each blaming a correct key)
         _skip(root)
         return None
-    links = _links(root, joints)
-    drives = _drives(root, joints, links, units)
+    links = drawn_links(root, joints)
+    drives = drawn_drives(root, joints, links, units)
     motion = _motion(root, joints, links or (), drives, units)
     if len(root.reader.errors) > errors or links is None or drives is None or motion is None:
         return None
@@ -192,244 +189,6 @@ def _skip(root: Table) -> None:
     motion = root.data.get("motion")
     if isinstance(motion, dict):
         root.reader.allow(("motion",), ("span", "points", "output", "input_speed"))
-
-
-def _speed(sub: Table) -> float | None:
-    """A drive's `speed` (default 1): a number of magnitude MIN_SPEED to MAX_SPEED; None
-    when bad (error recorded on its line)."""
-    what = (f"a non-zero number of magnitude {MIN_SPEED:g} to {MAX_SPEED:g} "
-            "(angle unit/s for a link, length unit/s for a slider)")
-    speed = sub.number("speed", 1.0, lo=-MAX_SPEED, hi=MAX_SPEED, what=what)
-    if speed is not None and abs(speed) < MIN_SPEED:
-        sub.error("speed", what, speed)
-        return None
-    return speed
-
-
-def _drawn_joints(t: Table, specs) -> tuple[DrawnJoint, ...] | None:
-    """The drawing's joints: each with `at`; `slider` and `ground` exclusive; `guide` only
-    with `slider`."""
-    from linkcli.mechanisms.drawn.model import DrawnJoint
-    out, ok = [], True
-    for spec in specs:
-        if not spec.name:
-            t.error(spec.name, "a joint name of at least one character", raw_got='an empty name ""')
-            ok = False
-            continue
-        if spec.at is None:
-            t.error(spec.name, f"at = [x, y]: joint {spec.name}'s place in the drawing (length unit)",
-                    raw_got="no at")
-            ok = False
-            continue
-        guide = spec.guide
-        if spec.slider is not None and spec.ground:
-            t.error(spec.name, f"joint {spec.name} either a ground pivot (ground = true) or a slider on a "
-                    "guide (slider = angle)", raw_got="both")
-            ok = False
-        if guide is not None and spec.slider is None:
-            t.error(spec.name, f"slider = angle with guide (joint {spec.name} slides on the guide of "
-                    f'link "{guide}" at that angle)', raw_got="a guide without slider")
-            ok = False
-        out.append(DrawnJoint(spec.name, tuple(spec.at), spec.ground, spec.slider, guide))
-    return tuple(out) if ok else None
-
-
-def _links(root: Table, joints) -> tuple[DrawnLink, ...] | None:
-    """[links]: name = [joints it carries] (2 or more, each once, at distinct places)."""
-    from linkcli.mechanisms.drawn.model import DrawnLink
-    t = root.table("links", required=True)
-    if t is None:
-        return None
-    names = {j.name: j for j in joints or ()}
-    keys = list(t.keys())
-    if len(keys) > MAX_LINKS:
-        t.error(None, f"at most {MAX_LINKS} links (the analysis of a drawing takes about 10 ms per link)",
-                raw_got=f"{len(keys)} links")
-        t.allow(*keys)  # that one line says it all: not one more per link, each blamed as unknown
-        return None
-    if not keys:
-        t.error(None, "at least one link = [its joints]", raw_got="an empty table")
-        return None
-    out, ok = [], True
-    for name in keys:
-        value = t.raw(name)
-        where = f"link {name}" if name else "a link"
-        if not name:
-            t.error(name, "a link name of at least one character", raw_got='an empty name ""')
-            ok = False
-            continue
-        if name == "ground":
-            t.error(name, "a link name other than ground (the ground is implicit: [tolerance] lengths, "
-                    "[masses] and the report call it ground)", raw_got='a link named "ground"')
-            ok = False
-            continue
-        if name in names and names[name].slider is not None:
-            t.error(name, f"a link name that no slider joint has ([drive], [masses] and [motion] output "
-                    f'name a slider joint for its block: "{name}" would name both)',
-                    raw_got=f'link "{name}", also the name of slider joint {name}')
-            ok = False
-            continue
-        if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-            t.error(name, f"an array of the joint names {where} carries, e.g. [\"A\", \"B\"]", value)
-            ok = False
-            continue
-        if len(value) < 2:
-            t.error(name, f"{where} carrying two joints or more", raw_got=f"{len(value)} joint"
-                    + ("" if len(value) == 1 else "s") + (f" ({value[0]})" if value else ""))
-            ok = False
-            continue
-        if len(value) > len(names) or len(value) > 10_000:
-            t.error(name, f"{where} carrying at most the {len(names)} joints of the drawing",
-                    raw_got=f"{len(value)} joints")
-            ok = False
-            continue
-        unknown = [v for v in value if v not in names]
-        if joints is not None and unknown:
-            hint = difflib.get_close_matches(unknown[0], list(names), n=1, cutoff=0.5)
-            extra = f' (did you mean "{hint[0]}"?)' if hint else ""
-            t.error(name, f"joints of [joints]{extra}", raw_got=f'"{unknown[0]}", which [joints] does not have')
-            ok = False
-            continue
-        twice = [v for i, v in enumerate(value) if v in value[:i]]
-        if twice:
-            t.error(name, f"each joint once in {where}", raw_got=f"{twice[0]} twice")
-            ok = False
-            continue
-        if joints is None:
-            continue
-        same = _same_place(value, names)
-        if same:
-            t.error(name, f"the joints of {where} at distinct places (a link has length)",
-                    raw_got=f"{same[0]} and {same[1]} both at {list(names[same[0]].at)}")
-            ok = False
-            continue
-        grounded = [v for v in value if names[v].ground]
-        if len(grounded) > 1:
-            t.error(name, f"{where} with one ground joint at most (the ground is implicit)",
-                    raw_got=f"ground joints {', '.join(grounded)}: {where} is part of the ground")
-            ok = False
-            continue
-        out.append(DrawnLink(name, tuple(value)))
-    if not ok or joints is None:
-        return None
-    if _too_many_distances(root, t, joints, out):
-        return None
-    return _carried(root, t, joints, tuple(out))
-
-
-def _too_many_distances(root: Table, t: Table, joints, links) -> bool:
-    """A located error (and True) when the links (and the ground) have more than
-    MAX_DISTANCES distances between two of their joints: the report lists each (a plate of
-    990 joints listed 490,000 of them), blamed on the body with the most."""
-    ground = sum(1 for j in joints if j.ground)
-    bodies = [("ground", ground)] + [(k.name, len(k.joints)) for k in links]
-    total = sum(k * (k - 1) // 2 for _, k in bodies)
-    if total <= MAX_DISTANCES:
-        return False
-    name, most = max(bodies, key=lambda b: b[1])
-    what = (f"at most {MAX_DISTANCES} distances between two joints of one link or of the ground "
-            f"(the report lists each: a plate of 63 joints has 1953)")
-    found = f"{total:,} distances ({'the ground has' if name == 'ground' else f'link {name} carries'} {most} joints)"
-    if name == "ground":
-        root.table("joints").error(None, what, raw_got=found)
-    else:
-        t.error(name, what, raw_got=found)
-    return True
-
-
-def _same_place(value, names) -> tuple[str, str] | None:
-    seen: dict[tuple[float, float], str] = {}
-    for v in value:
-        at = tuple(names[v].at)
-        if at in seen:
-            return seen[at], v
-        seen[at] = v
-    return None
-
-
-def _carried(root: Table, t: Table, joints, links) -> tuple[DrawnLink, ...] | None:
-    """Every joint on a link; a slider's guide link lists it and the block is pinned to
-    another link."""
-    jt = root.table("joints")
-    on = {j.name: [k.name for k in links if j.name in k.joints] for j in joints}
-    ok = True
-    for joint in joints:
-        if not on[joint.name]:
-            jt.error(joint.name, f"joint {joint.name} on a link (listed in [links])", raw_got="a joint on no link")
-            ok = False
-        elif joint.guide is not None:
-            if joint.guide not in {k.name for k in links}:
-                hint = difflib.get_close_matches(joint.guide, [k.name for k in links], n=1, cutoff=0.5)
-                extra = f' (did you mean "{hint[0]}"?)' if hint else ""
-                jt.error(joint.name, f"guide = a link of [links]{extra}", raw_got=f'guide = "{joint.guide}"')
-                ok = False
-            elif joint.guide not in on[joint.name]:
-                jt.error(joint.name, f"link {joint.guide} listing {joint.name} (the link whose guide it "
-                         "slides on carries it)", raw_got=f"{joint.guide} without {joint.name}")
-                ok = False
-            elif on[joint.name] == [joint.guide]:
-                jt.error(joint.name, f"slider {joint.name} pinned to a link besides its guide's {joint.guide}",
-                         raw_got=f"only {joint.guide} lists {joint.name}")
-                ok = False
-    return links if ok else None
-
-
-def _drives(root: Table, joints, links, units) -> tuple[Drive, ...] | None:
-    """[drive]: one entry per degree of freedom, a link turning about its ground joint
-    (speed: angle unit/s) or a slider joint moved along its guide (length unit/s)."""
-    from linkcli.mechanisms.drawn.model import SLIDE, TURN, Drive
-    t = root.table("drive", required=True)
-    if t is None or joints is None:
-        return None
-    named = links is not None  # without valid links, only the speeds are checked here
-    link_names = {k.name: k for k in links or ()}
-    sliders = {j.name for j in joints if j.slider is not None}
-    grounded = {j.name for j in joints if j.ground}
-    keys = list(t.keys())
-    if not keys:
-        t.error(None, "at least one drive: a link = { speed = ... } or a slider joint = { speed = ... }",
-                raw_got="an empty table")
-        return None
-    out, ok = [], True
-    for name in keys:
-        is_link, is_slider = name in link_names, name in sliders
-        sub = t.table(name)
-        if sub is None:
-            ok = False
-            continue
-        speed = _speed(sub)
-        if not named:
-            continue
-        if is_link and is_slider:
-            t.error(name, f'a drive naming one link or one slider joint ("{name}" is both)',
-                    raw_got=f'"{name}", a link and a slider joint')
-            ok = False
-            continue
-        if not (is_link or is_slider):
-            choices = list(link_names) + sorted(sliders)
-            hint = difflib.get_close_matches(name, choices, n=1, cutoff=0.5)
-            extra = f' (did you mean "{hint[0]}"?)' if hint else ""
-            what = ("a link of [links] turning about its ground joint, or a slider joint moved along "
-                    f"its guide{extra}")
-            t.error(name, what, raw_got=f'"{name}", neither' + (
-                " (a joint, but not a slider)" if name in {j.name for j in joints} else ""))
-            ok = False
-            continue
-        if is_link:
-            pivots = [j for j in link_names[name].joints if j in grounded]
-            if not pivots:
-                t.error(name, f"a driven link with a ground pivot (link {name} turns about it)",
-                        raw_got=f"link {name} on joints {', '.join(link_names[name].joints)}, none on the ground")
-                ok = False
-                continue
-        if speed is None:
-            ok = False
-            continue
-        if is_link:
-            out.append(Drive(name, TURN, units.to_rad(speed)))
-        else:
-            out.append(Drive(name, SLIDE, speed))
-    return tuple(out) if ok else None
 
 
 def _motion(root: Table, joints, links, drives, units):
