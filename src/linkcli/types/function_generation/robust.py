@@ -38,7 +38,8 @@ class FunctionDesign:
 
     def final(self, v: np.ndarray) -> Solution:
         """The type's own Solution of v (as its final polish puts its answer in the search)."""
-        from linkcli.types.function_generation.solve import Best, build_solution
+        from linkcli.types.function_generation.result import build_solution
+        from linkcli.types.function_generation.search import Best
         batch = self.model.evaluate(v[None], self.sign)
         self.search.feasible = {self.branch: Best(float(batch.f[0]), float(batch.violation[0].max()),
                                                   float(batch.penalized[0]), self.model.units(v[None])[0],

@@ -16,7 +16,7 @@ screen.py judges the finished design by the same rules): assembly at every pose
 when the travel holds them), the Grashof class asked for (constraints.values), the
 transmission window over the full turn for a class whose input turns fully, else over the
 travel (rho's extremes on it: path_generation.model.rho2_extremes). The box: the least-squares
-search's (solve._bounds: the file's bounds, the default span about the poses elsewhere),
+search's (box.design_box: the file's bounds, the default span about the poses elsewhere),
 widened to hold the type's design (an exact synthesis may place a pivot beyond the default
 span); given ground pivots fix A0, the ground angle and length, given moving pivots the
 coupler, the body's origin and angle on it; a full-turn angle spans x0 +- 2 pi."""
@@ -176,8 +176,8 @@ class MotionSpace:
         """The type's Solution of x: screened as the type screens its own designs (screen.py:
         assembly, branch and order defects, the Grashof class, the transmission window, the
         file's bounds and branch), its positions and error sections."""
+        from .result import solution
         from .screen import screen
-        from .solve import _solution
         x = np.asarray(x, float)
         params = x[:N_PARAMS]
         phi = self.input_angles(x[None])[0]
@@ -186,7 +186,7 @@ class MotionSpace:
             res = screen(self.problem, self.poses, params[None], phi[None], signs[None], self.scale, exact=False)
         feasible = bool(res["count"][0] == 0)
         solver = SolverRecord(self.method, self.problem.meta.solver.seed, 0, True)
-        return _solution(self.problem, self.poses, self.scale, params, kin.wrap(phi), signs, res, 0, feasible,
+        return solution(self.problem, self.poses, self.scale, params, kin.wrap(phi), signs, res, 0, feasible,
                          solver, {}, [], objective=None, weight=self.weight)
 
 
@@ -195,9 +195,9 @@ def front(problem, poses, scale: float, chosen, found: Solution) -> Solution:
     type's design `chosen` (params, input angles, branch sign, angle weight)."""
     from linkcli.pareto.run import solve_front
 
-    from .solve import _bounds
+    from .box import design_box
     params, phi, sign, weight = chosen
-    lo, hi = _bounds(problem, poses, scale)
+    lo, hi = design_box(problem, poses, scale)
     method = found.solver.method if found.solver is not None else "motion"
     space = MotionSpace(problem, poses, scale, params, phi, sign, weight, lo, hi, method)
     return solve_front(problem, space, found)

@@ -31,17 +31,17 @@ import math
 import numpy as np
 
 from linkcli.io.bounds import MAX_LENGTH
-from linkcli.mechanisms.four_bar.model import FourBar
 from linkcli.noise import first_min
 from linkcli.search.budget import Budget
 from linkcli.search.sampling import latin_hypercube
 from linkcli.solution import Solution, SolverRecord, Status
-from linkcli.textnum import num
 
 from . import assemble, burmester, dyads, least_squares, no_candidates, sections
+from .box import design_box
 from .poses import as_poses, characteristic_length
+from .result import solution
 from .schema import EXACT_POSES
-from .screen import DEFECTS, screen
+from .screen import screen
 
 PIVOT_SPAN = 4.0  # missing ground_pivot bound: the centroid +- this many characteristic lengths
 LENGTH_SPAN = 6.0  # missing length bound: (LENGTH_FLOOR, this] characteristic lengths
@@ -52,9 +52,6 @@ SEARCH_POPULATION = 4000  # candidates drawn when no pivot is given (2 or 3 pose
 CURVE_SAMPLES = 181  # four poses: directions sampled on the centre-point curve
 LISTED = 12  # searched families: the best this many candidates are listed
 DEFAULT_BUDGET = 20_000_000  # least squares: objective evaluations
-DEFECT_TEXT = {"assembly": "does not reach every pose", "branch": "branch defect", "order": "order defect",
-               "grashof": "Grashof class", "transmission": "transmission window", "bounds": "outside the bounds",
-               "branch_choice": "not on the branch asked for"}
 
 
 def solve(problem) -> Solution:
@@ -229,7 +226,7 @@ def _choose_exact(problem, poses, scale, method, family, g1, m1, g2, m2, notes, 
     if family in ("search", "curve"):
         extra["candidate_counts"] = sections.defect_counts(res)
     chosen = (params[k], phi[k], float(signs[k][0]), problem.angle_weight or scale)
-    return _solution(problem, poses, scale, params[k], phi[k], signs[k], res, k, feasible, solver, extra,
+    return solution(problem, poses, scale, params[k], phi[k], signs[k], res, k, feasible, solver, extra,
                      notes, objective=None), chosen
 
 
@@ -251,45 +248,12 @@ def _listing_order(res, family):
 
 # ---------------------------------------------------------------- many poses
 
-def _bounds(problem, poses, scale):
-    """(lo, hi) in assemble.PARAM_NAMES order: the file's bounds, the core's defaults
-    (least_squares.default_bounds) elsewhere, a missing length bound raised to twice the
-    distance from the poses' centroid to the farthest ground pivot allowed; given ground
-    pivots are fixed."""
-    lo, hi = least_squares.default_bounds(poses)
-    lo, hi = np.maximum(lo, -MAX_LENGTH), np.minimum(hi, MAX_LENGTH)  # within the sizes any file accepts
-    reach = 0.0  # a missing length bound must reach the poses from the farthest ground pivot allowed
-    cen = poses[:, :2].mean(0)
-    corners = ([p for p in problem.ground_pivots] if problem.ground_pivots is not None else []) + (
-        [(x, y) for x in problem.ground_pivot[0] for y in problem.ground_pivot[1]]
-        if problem.ground_pivot is not None else [])
-    if corners:
-        reach = 2.0 * float(np.max(np.linalg.norm(np.array(corners, float) - cen, axis=1)))
-    for k, name in ((3, "ground"), (4, "input"), (5, "coupler"), (6, "output")):
-        r = problem.lengths.get(name)
-        if r is not None:
-            lo[k], hi[k] = max(r[0], 1e-6 * r[1]), r[1]
-        else:
-            hi[k] = min(max(hi[k], reach), MAX_LENGTH)
-    if problem.ground_pivot is not None:
-        (lo[0], hi[0]), (lo[1], hi[1]) = problem.ground_pivot
-    if problem.ground_angle is not None:
-        lo[2], hi[2] = problem.ground_angle
-    if problem.ground_pivots is not None:
-        a0, b0 = (np.array(p, float) for p in problem.ground_pivots)
-        link = b0 - a0
-        lo[0], lo[1] = hi[0], hi[1] = a0
-        lo[2] = hi[2] = math.atan2(link[1], link[0])
-        lo[3] = hi[3] = float(np.hypot(*link))
-    return lo, hi
-
-
 def _least_squares(problem, poses, scale):
     """(Solution, chosen): the least-squares design and its params, input angles, branch
     sign and angle weight."""
     opts = problem.meta.solver
     counter = Budget(opts.budget or DEFAULT_BUDGET)
-    lo, hi = _bounds(problem, poses, scale)
+    lo, hi = design_box(problem, poses, scale)
     prescribed = problem.timing == "prescribed"
     offset = problem.input_offset or (0.0, 0.0)
     out = least_squares.solve_least_squares(
@@ -308,52 +272,5 @@ def _least_squares(problem, poses, scale):
         f"no second round of starts reached the best design within {least_squares.MAX_ROUNDS} rounds: "
         "another seed or a larger budget may end lower"]
     chosen = (params[0], phis[0], float(signs[0][0]), float(out["angle_weight"]))
-    return _solution(problem, poses, scale, params[0], phis[0], signs[0], res, 0, feasible, solver, extra,
+    return solution(problem, poses, scale, params[0], phis[0], signs[0], res, 0, feasible, solver, extra,
                      notes, objective=float(out["objective"]), weight=float(out["angle_weight"])), chosen
-
-
-# ---------------------------------------------------------------- the Solution
-
-def _solution(problem, poses, scale, p, phi, signs, res, k, feasible, solver, extra, notes, objective,
-              weight=None) -> Solution:
-    u = problem.meta.units
-    weight = weight if weight is not None else (problem.angle_weight or scale)
-    gx, gy, gang, d, a, b, c, px, py, cang = (float(v) for v in p)
-    branch = "open" if signs[0] < 0 else "crossed"
-    fb = FourBar(ground=d, input=a, coupler=b, output=c, branch=branch, coupler_point=(px, py),
-                 ground_pivot=(gx, gy), ground_angle=gang, coupler_angle=cang)
-    achieved = res["achieved"][k]
-    pos, ang = res["position_error"][k], res["angle_error"][k]
-    if objective is None:
-        objective = float(np.sum(pos ** 2 + (weight * ang) ** 2))
-    span_lo, span_w = (float(v[k]) for v in res["span"])
-    secs = {"positions": sections.position_rows(phi, poses, achieved, pos, ang, u, max(d, a, b, c)),
-            "error": sections.error_section(objective, pos, ang, weight, u, max(d, a, b, c),
-                                            problem.meta.reference)}
-    secs.update(extra)
-    names = [name for name in DEFECTS if bool(res["defects"][name][k])]
-    if feasible:
-        status = Status.OK if solver.converged else Status.NOT_CONVERGED
-        message = (f"{len(poses)} poses: reached in order on the {branch} branch, no branch or order "
-                   f"defect; worst transmission deviation from 90 deg over the working span "
-                   f"{num(float(u.from_rad(float(res['quality'][k]))))} {u.angle}")
-        if not solver.converged:
-            message += "; the local polish stopped before meeting its tolerances"
-    else:
-        status = Status.INFEASIBLE
-        message = _why(problem, res, names)
-    return Solution(status=status, linkage=fb, message=message, positions=None, objective=objective,
-                    solver=solver, sections=secs, notes=list(notes), working_span=(span_lo, span_w))
-
-
-def _why(problem, res, names) -> str:
-    """Why no candidate is defect-free: how many candidates have each defect, and the
-    defects of the one reported."""
-    total = len(res["count"])
-    counts = [f"{DEFECT_TEXT[name]} {int(np.sum(res['defects'][name]))}" for name in DEFECTS
-              if np.any(res["defects"][name])]
-    what = "the design" if total == 1 else f"all {total} candidates"
-    text = f"no defect-free linkage: {what} " + ("has" if total == 1 else "have") + " defects"
-    if total > 1:
-        text += f" ({', '.join(counts)})"
-    return text + f"; the reported one: {', '.join(DEFECT_TEXT[n] for n in names)}"

@@ -46,7 +46,7 @@ class PathDesign:
         return -self.design.constraints(x1, pose, phi)[0] / self.design.scale
 
     def final(self, x: np.ndarray) -> Solution:
-        from linkcli.types.path_generation.solve import Candidate, solution, violations
+        from linkcli.types.path_generation.result import Candidate, solution, violations
         bad = violations(self.design, x, self.sign, self.s)
         return solution(self.problem, self.design, Candidate(x.copy(), self.sign, self.s, True), bad,
                         self.method, self.budget, self.confirmed)
