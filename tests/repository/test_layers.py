@@ -1,7 +1,8 @@
 """The house map stays true (issue 48): docs/architecture.md's floor table names every package
 and top-level module of src/linkcli/, and nothing that does not exist; every import -- at module
 level or inside a function, read from the source by ast -- goes to the importer's own floor or
-below; and no import cycle spans two packages (cycles inside one package are its own affair).
+below; and no import cycle spans two packages; inside a package, only the cycles named in
+KNOWN_CYCLES (and docs/architecture.md) remain.
 
 A dynamic import by name (importlib, as the registries load a type's or a home's modules on
 demand) is not an edge: that is how a lower floor reaches what stands above it without
@@ -90,16 +91,16 @@ def test_no_module_imports_a_floor_above_its_own():
     assert not upward, "imports that run up a floor:\n" + "\n".join(upward)
 
 
-def test_no_import_cycle_spans_two_packages():
-    graph = imports()
+def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """Every strongly connected component of more than one module (Tarjan), each sorted."""
     sys.setrecursionlimit(max(sys.getrecursionlimit(), 10 * len(graph)))
     index: dict[str, int] = {}
     low: dict[str, int] = {}
     stack: list[str] = []
     on_stack: set[str] = set()
-    spanning = []
+    found = []
 
-    def visit(v: str) -> None:  # Tarjan's strongly connected components
+    def visit(v: str) -> None:
         index[v] = low[v] = len(index)
         stack.append(v)
         on_stack.add(v)
@@ -119,13 +120,31 @@ def test_no_import_cycle_spans_two_packages():
                 component.append(w)
                 if w == v:
                     break
-            if len({place_of(m) for m in component}) > 1:
-                spanning.append(sorted(component))
+            if len(component) > 1:
+                found.append(sorted(component))
 
     for v in sorted(graph):
         if v not in index:
             visit(v)
+    return sorted(found)
+
+
+def test_no_import_cycle_spans_two_packages():
+    spanning = [c for c in cycles(imports()) if len({place_of(m) for m in c}) > 1]
     assert not spanning, f"import cycles across packages: {spanning}"
+
+
+# The cycles left inside one package, named in docs/architecture.md: a new one fails here,
+# and so does one undone without its line struck from this list.
+KNOWN_CYCLES = [
+    ["linkcli.mechanisms.drawn.groups", "linkcli.mechanisms.drawn.solver"],
+    ["linkcli.synthesis.pareto", "linkcli.synthesis.robust", "linkcli.synthesis.search",
+     "linkcli.synthesis.solution", "linkcli.synthesis.sweep"],
+]
+
+
+def test_the_cycles_inside_a_package_are_the_known_ones():
+    assert cycles(imports()) == sorted(KNOWN_CYCLES)
 
 
 @pytest.mark.parametrize("case", ["upward", "cycle"])
@@ -141,3 +160,13 @@ def test_the_guards_see_what_they_guard(case, monkeypatch):
     check = test_no_module_imports_a_floor_above_its_own if case == "upward" else test_no_import_cycle_spans_two_packages
     with pytest.raises(AssertionError):
         check()
+
+
+def test_a_new_cycle_inside_a_package_is_seen(monkeypatch):
+    """A cycle between two modules of one package (types/path_generation's solve and result)
+    fails the known-cycles check."""
+    fake = {k: set(v) for k, v in imports().items()}
+    fake["linkcli.types.path_generation.result"].add("linkcli.types.path_generation.solve")
+    monkeypatch.setattr(sys.modules[__name__], "imports", lambda: fake)
+    with pytest.raises(AssertionError):
+        test_the_cycles_inside_a_package_are_the_known_ones()
