@@ -43,7 +43,7 @@ def read_front(root: Table, meta, allowed: tuple[str, ...] = OBJECTIVES):
     names = _names(t, raw, allowed)
     ok = names is not None and _tables_present(root, t, meta, names)
     points = t.number("points", DEFAULT_POINTS, integer=True, lo=MIN_POINTS, hi=MAX_POINTS,
-                      what=f"an integer number of designs from {MIN_POINTS} to {MAX_POINTS}")
+                      what="an integer number of designs")
     reference = None
     if "reference_point" in t and names is not None:
         reference = t.number_list("reference_point", length=len(names),
