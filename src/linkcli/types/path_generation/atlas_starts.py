@@ -32,16 +32,20 @@ import math
 import numpy as np
 
 from linkcli.atlas import descriptors, family
-from linkcli.atlas.build import LOOP_REST, LOOPS, OPEN_COUNT, stretch_of
+from linkcli.atlas.build import LOOP_REST, OPEN_COUNT, stretch_of
 from linkcli.atlas.cache import Atlas
 from linkcli.types.path_generation import starts as path_starts
 from linkcli.types.path_generation.model import N_LINK, Design
 
 HITS = 160  # nearest stretches placed back
-LOOP_SHIFTS = 4  # a closed target is described from this many starts around itself
+RING_HITS = 160  # nearest whole loops placed back for a closed-looking target,
+CLOSED_ARC_HITS = 40  # and nearest stretches beside them
+RING_CANDIDATES = 2048  # whole loops matched over every start shift: the best bounds
 CLOSING = 2.5  # a target whose closing gap is at most this many median gaps may be a loop
 SHIFTS = (-0.12, 0.0, 0.12)  # local hypotheses: the stretch's start moved by these shares of it,
 SCALES = (0.8, 1.0, 1.25)  # and its length scaled by these
+PLACE_SAMPLES = 1024  # input angles a hit's curve is traced at to place it back (4 x the atlas's:
+# a small crank at the edge turns its corner within a few of the atlas's samples)
 CLASS_CODES = {name: k for k, name in enumerate(family.CLASSES)}
 
 
@@ -140,46 +144,25 @@ def _best(score: np.ndarray, count: int) -> np.ndarray:
         return np.zeros(0, dtype=np.int64)
     pad = (-len(score)) % BLOCK
     blocks = np.concatenate([score, np.zeros(pad, dtype=score.dtype)]).reshape(-1, BLOCK).max(axis=1)
-    bound = -np.partition(-blocks, count - 1)[count - 1]
+    bound = -np.partition(-blocks, count - 1)[count - 1] if count < len(blocks) else 0.0
     sel = np.flatnonzero(score >= max(bound, np.finfo(score.dtype).tiny))
     return sel[np.lexsort((sel, -score[sel]))][:count]
 
 
-def _rows_allowed(atlas: Atlas, ok: np.ndarray, table: str) -> np.ndarray:
-    """`ok` per curve (1 or 0, float32), spread over the descriptors of the `loops` or `arcs` table."""
+def _rows_allowed(atlas: Atlas, ok: np.ndarray) -> np.ndarray:
+    """`ok` per curve (1 or 0, float32), spread over the descriptors of the `arcs` table."""
     ok = ok.astype(np.float32)
-    if table == "loops":
-        return np.repeat(ok[:atlas.closed], LOOPS)
     return np.concatenate([np.repeat(ok[:atlas.closed], LOOP_REST), np.repeat(ok[atlas.closed:], OPEN_COUNT)])
 
 
-def hits(design: Design, atlas: Atlas, ok: np.ndarray):
-    """The HITS most similar stretches: (curve (H,), stretch start (H,), stretch length
-    (H,), sense (H,): +1 forwards, -1 the target run backwards, share of the stretch at
-    each target (H, n))."""
-    senses = {"ccw": (1,), "cw": (-1,)}.get(design.direction, (1, -1))
+def _arc_hits(design: Design, atlas: Atlas, ok: np.ndarray, senses: tuple, count: int):
+    """The `count` stretches of the `arcs` table most similar to the targets as a stretch
+    (curve, start, length, sense, shares at the targets)."""
     desc, frac = descriptors.target_descriptors(design.targets, closed=False)
     arc_best, arc_scores = _similar(atlas.arcs, atlas.arc_scale, atlas.arc_rows,
-                                    [_columns(desc[0], s) for s in senses],
-                                    _rows_allowed(atlas, ok, "arcs"))
-    plans = [[(s, frac, 0.0) for s in senses]]
-    scores, bests = [arc_scores], [arc_best]
-    if looks_closed(design.targets):
-        ring, ring_frac = descriptors.target_descriptors(design.targets, closed=True, shifts=LOOP_SHIFTS)
-        plans.append([(s, ring_frac, j / LOOP_SHIFTS) for j in range(LOOP_SHIFTS) for s in senses])
-        loop_best, loop_scores = _similar(atlas.loops, atlas.loop_scale, atlas.loop_rows,
-                                          [_columns(ring[j], s) for j in range(LOOP_SHIFTS) for s in senses],
-                                          _rows_allowed(atlas, ok, "loops"))
-        scores.append(loop_scores)
-        bests.append(loop_best)
-    picked = _best(np.concatenate(bests), HITS)
-    in_arcs = picked < len(arc_best)
-    table_row = np.where(in_arcs, picked, picked - len(arc_best))
-    curve = np.zeros(len(picked), dtype=np.int64)
-    slot = np.zeros(len(picked), dtype=np.int64)
-    for name, mine in (("arcs", in_arcs), ("loops", ~in_arcs)):
-        if mine.any():
-            curve[mine], slot[mine] = stretch_of(atlas.closed, atlas.size, name, table_row[mine])
+                                    [_columns(desc[0], s) for s in senses], _rows_allowed(atlas, ok))
+    picked = _best(arc_best, count)
+    curve, slot = stretch_of(atlas.closed, atlas.size, "arcs", picked)
     closed = curve < atlas.closed
     start, length = np.zeros(len(picked)), np.zeros(len(picked))
     for is_closed in (True, False):
@@ -190,13 +173,62 @@ def hits(design: Design, atlas: Atlas, ok: np.ndarray):
             length[mine] = np.take_along_axis(ln, slot[mine][:, None], axis=1)[:, 0]
     sense = np.zeros(len(picked))
     shares = np.zeros((len(picked), design.n_targets))
-    for i, (arc, row) in enumerate(zip(in_arcs, table_row)):
-        which = int(np.argmax(scores[0 if arc else 1](np.array([row]))[:, 0]))  # the first best query: ties alike everywhere
-        s, f, shift = plans[0 if arc else 1][which]
-        position = f if arc else np.mod(f - shift, 1.0)
-        sense[i] = s
-        shares[i] = position if s > 0 else 1.0 - position
+    for i, row in enumerate(picked):
+        which = int(np.argmax(arc_scores(np.array([row]))[:, 0]))  # the first best query: ties alike everywhere
+        sense[i] = senses[which]
+        shares[i] = frac if senses[which] > 0 else 1.0 - frac
     return curve, start, length, sense, shares
+
+
+def ring_scores(atlas: Atlas, ok: np.ndarray, query: np.ndarray, senses: tuple):
+    """Whole loops against a closed target's ring descriptor `query` (unrounded), start-free
+    (descriptors.ring_match): the RING_CANDIDATES (loop, sense) pairs with the highest
+    bound sum_k |c_k| |d_k| / (|c| |d|) (each sense: the target run backwards swaps d_k and
+    d_-k), matched over every start shift. Returns (curve, sense, score |<c, d>|^2 /
+    (|c|^2 |d|^2) at the best shift, that shift), in the order of the pairs (sense first,
+    then the loop; ties broken by that order)."""
+    allowed = ok[:atlas.closed] & (atlas.ring_norms > 0.0)
+    norms = np.sqrt(np.where(allowed, atlas.ring_norms, 1.0))
+    queries, bounds = [], []
+    for s in senses:
+        q = query if s > 0 else np.concatenate([query[:descriptors.RING_ORDERS.size][descriptors.RING_SWAP],
+                                                query[descriptors.RING_ORDERS.size:][descriptors.RING_SWAP]])
+        q = np.rint(q * descriptors.RING_QUANT)
+        size = math.sqrt(max(float(np.sum(q * q)), 1.0))
+        queries.append((q, size))
+        bounds.append(np.where(allowed, descriptors.ring_bound(atlas.ring_mags, q) / (norms * size), 0.0))
+    pairs = np.sort(_best(np.concatenate(bounds), RING_CANDIDATES))
+    which, curve = np.divmod(pairs, atlas.closed)
+    score, shift = np.zeros(len(pairs)), np.zeros(len(pairs))
+    for j, (q, size) in enumerate(queries):
+        mine = which == j
+        if mine.any():
+            power, shift[mine] = descriptors.ring_match(atlas.rings[curve[mine]], q)
+            score[mine] = power / (atlas.ring_norms[curve[mine]] * size * size)
+    return curve, np.array(senses)[which].astype(float), score, shift
+
+
+def _ring_hits(design: Design, atlas: Atlas, ok: np.ndarray, senses: tuple, count: int):
+    """The `count` whole loops most similar to the closed targets (`ring_scores`), as
+    `_arc_hits` gives stretches: the loop's start at the matched shift, length 1."""
+    query, frac = descriptors.target_ring(design.targets)
+    curve, sense, score, shift = ring_scores(atlas, ok, query, senses)
+    picked = _best(score, count)
+    shares = np.where(sense[picked, None] > 0, frac[None, :], 1.0 - frac[None, :])
+    return curve[picked], shift[picked], np.ones(len(picked)), sense[picked], shares
+
+
+def hits(design: Design, atlas: Atlas, ok: np.ndarray):
+    """The most similar stretches: (curve (H,), stretch start (H,), stretch length
+    (H,), sense (H,): +1 forwards, -1 the target run backwards, share of the stretch at
+    each target (H, n)): a closed-looking target's RING_HITS whole loops first, then the
+    HITS stretches (CLOSED_ARC_HITS for a closed-looking target) of the `arcs` table."""
+    senses = {"ccw": (1,), "cw": (-1,)}.get(design.direction, (1, -1))
+    if not looks_closed(design.targets):
+        return _arc_hits(design, atlas, ok, senses, HITS)
+    rings = _ring_hits(design, atlas, ok, senses, RING_HITS)
+    arcs = _arc_hits(design, atlas, ok, senses, CLOSED_ARC_HITS)
+    return tuple(np.concatenate([r, a]) for r, a in zip(rings, arcs))
 
 
 def starts(design: Design, atlas: Atlas, count: int):
@@ -222,7 +254,7 @@ def starts(design: Design, atlas: Atlas, count: int):
     # input angles at those arc-length shares: each hit's curve traced again
     uniq, back = np.unique(curve, return_inverse=True)
     lk = atlas.linkages.take(uniq)
-    phi_grid = family.input_angles(lk)
+    phi_grid = family.input_angles(lk, PLACE_SAMPLES)
     gx, gy = family.coupler_points(lk, phi_grid, family.angle_sines(lk, phi_grid))
     frac = descriptors.arc_fractions(gx, gy)
     rows = np.repeat(back, h)
