@@ -6,19 +6,24 @@ up and place the nearest curves back as starts (numpy).
    (`starts.scale_interval`); for an input that must turn fully, the transmission window
    over the turn (mu at rho = |d - a| and d + a).
 2. The target as a stretch (`descriptors`): as given (its points in order) against every
-   stretch of the `arcs` table; when it looks closed (the gap from its last point back to
-   its first at most CLOSING times its median gap) also as a loop, described from
-   LOOP_SHIFTS starts around itself, against the whole loops. Each direction the input may
-   turn: the target run backwards (X_k (-1)^k) against the curves traced forwards.
-   Similarity |<X, Y>|^2 / (|X|^2 |Y|^2), its inner products exact (integer descriptors,
-   one float32 matrix product); the HITS best (ties: the lower row first).
-3. Each hit placed back: its stretch's start and length give every target an arc-length
-   position on the curve (the target's chord-length share), hence an input angle
-   (interpolated on the curve traced again, `family`); LOCAL hypotheses around it (the
+   stretch of the `arcs` table: similarity |<X, Y>|^2 / (|X|^2 |Y|^2), its inner products
+   exact (integer descriptors, one float32 matrix product), each direction the input may
+   turn (the target run backwards, X_k (-1)^k, against the curves traced forwards); the
+   HITS best (ties: the lower row first). When it looks closed (the gap from its last
+   point back to its first at most CLOSING times its median gap) also as a whole loop,
+   free of where it starts (`ring_scores`): its ring descriptor against every closed
+   curve's, the RING_CANDIDATES best by the bound sum_k |c_k| |d_k| (free of start and
+   turn), those matched over every start shift (descriptors.ring_match), the RING_HITS
+   best first, then the CLOSED_ARC_HITS best stretches.
+3. Each hit placed back: its stretch's start and length (a whole loop: the matched shift,
+   the whole length) give every target an arc-length position on the curve (the target's
+   chord-length share), hence an input angle (interpolated on the curve traced again at
+   PLACE_SAMPLES angles, `family`); LOCAL hypotheses around it (the
    start moved by SHIFTS of the stretch, its length scaled by SCALES) are fitted by the
    closed-form similarity of `starts.similarity` (scale within the bounds, a fixed pivot
-   or ground angle kept), the best kept; then the best per four-bar, best first, and the
-   coupler point and pivot by `starts.fit_linear`.
+   or ground angle kept), the best kept, and timed again by the curve's nearest points
+   (`_retime`); then the best per four-bar, best first, and the coupler point and pivot by
+   `starts.fit_linear`.
 
 Returns the design's own variables (path_generation.model): lengths and coupler point
 scaled, ground angle, pivot, first input angle and the increments, with branch signs and
@@ -44,6 +49,8 @@ RING_CANDIDATES = 2048  # whole loops matched over every start shift: the best b
 CLOSING = 2.5  # a target whose closing gap is at most this many median gaps may be a loop
 SHIFTS = (-0.12, 0.0, 0.12)  # local hypotheses: the stretch's start moved by these shares of it,
 SCALES = (0.8, 1.0, 1.25)  # and its length scaled by these
+RETIME = 2  # rounds of nearest-point timing of each placed hit (`_retime`)
+RETIME_WINDOW = 24  # samples either side of where its arc-length share put a target
 PLACE_SAMPLES = 1024  # input angles a hit's curve is traced at to place it back (4 x the atlas's:
 # a small crank at the edge turns its corner within a few of the atlas's samples)
 CLASS_CODES = {name: k for k, name in enumerate(family.CLASSES)}
@@ -269,6 +276,15 @@ def starts(design: Design, atlas: Atlas, count: int):
     pick = np.argmin(cost, axis=1)
     one = np.arange(len(found)) * h + pick
     best = cost[np.arange(len(found)), pick]
+    # each hit's best hypothesis timed again by the nearest points of its curve
+    fin = np.flatnonzero(np.isfinite(best))
+    if len(fin):
+        r = one[fin]
+        new_phi, nu, ng, ncost = _retime(design, x[r], sign[r], phi_grid[rows[r]], frac[rows[r]], at[r], phi[r],
+                                         u[r], g[r], s_lo[r], s_hi[r], np.repeat(sense, h)[r], rep_closed[r])
+        better = ncost < best[fin]
+        phi[r[better]], u[r[better]], g[r[better]] = new_phi[better], nu[better], ng[better]
+        best[fin[better]] = ncost[better]
     # the best hit of each four-bar, best first (ties: the more similar hit)
     order = np.lexsort((np.arange(len(found)), best))
     seen, keep = set(), []
@@ -290,6 +306,41 @@ def starts(design: Design, atlas: Atlas, count: int):
     x = path_starts.apply_similarity(design, x, u[rows], g[rows])
     x = path_starts.fit_linear(design, x, sign[rows], s)
     return x, sign[rows], s, best[keep], len(found) * h + len(keep)
+
+
+def _retime(design: Design, x, sign, phi_grid, frac, at, phi, u, g, s_lo, s_hi, sense, closed):
+    """Free timing's own rule applied to placed hits (N rows): each target moved to the
+    curve's sample nearest to it (the curve traced at PLACE_SAMPLES angles, placed by the
+    similarity u, g) within RETIME_WINDOW samples of where its arc-length share put it,
+    the similarity fitted again; RETIME rounds. A row whose targets would leave their
+    order (or the turn) keeps its last timing. Returns (phi, u, g, cost)."""
+    n_grid = phi_grid.shape[1]
+    t = design.targets[:, 0] + 1j * design.targets[:, 1]
+    q_grid, valid_grid = path_starts.local_curve(x, sign, phi_grid)
+    (index,) = descriptors.interpolate(frac, [np.broadcast_to(np.arange(n_grid, dtype=float), frac.shape)], at)
+    index = np.rint(index).astype(np.int64)
+    offsets = np.arange(-RETIME_WINDOW, RETIME_WINDOW + 1)
+    g0, gamma0 = path_starts.fixed_pivot(design), path_starts.fixed_angle(design)
+    cost = np.full(len(x), np.inf)
+    for _ in range(RETIME):
+        placed = g[:, None] + u[:, None] * np.where(valid_grid, q_grid, np.nan)
+        cand = index[:, :, None] + offsets[None, None, :]
+        cand = np.where(closed[:, None, None], np.mod(cand, n_grid - 1), np.clip(cand, 0, n_grid - 1))
+        rows = np.arange(len(x))[:, None, None]
+        gap = np.abs(placed[rows, cand] - t[None, :, None])
+        gap = np.where(np.isfinite(gap), gap, np.inf)
+        index = np.take_along_axis(cand, np.argmin(gap, axis=2)[:, :, None], axis=2)[:, :, 0]
+        new_phi = np.take_along_axis(phi_grid, index, axis=1)
+        steps = sense[:, None] * np.diff(new_phi, axis=1)
+        turn = np.sum(np.mod(steps, 2.0 * math.pi), axis=1)
+        ordered = np.where(closed, turn < 2.0 * math.pi, np.all(steps >= 0.0, axis=1))
+        q, valid = path_starts.local_curve(x, sign, new_phi)
+        nu, ng, ncost = path_starts.similarity(design, q, s_lo, s_hi, g0, gamma0)
+        ncost = np.where(ordered & valid.all(axis=1) & np.isfinite(ncost), ncost, np.inf)
+        take = ncost < cost
+        phi, u, g = np.where(take[:, None], new_phi, phi), np.where(take, nu, u), np.where(take, ng, g)
+        cost = np.where(take, ncost, cost)
+    return phi, u, g, cost
 
 
 def starts_for(design, count: int):
