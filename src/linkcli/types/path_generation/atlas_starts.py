@@ -50,8 +50,8 @@ CLOSING = 2.5  # a target whose closing gap is at most this many median gaps may
 SHIFTS = (-0.12, 0.0, 0.12)  # local hypotheses: the stretch's start moved by these shares of it,
 SCALES = (0.8, 1.0, 1.25)  # and its length scaled by these
 RETIME = 2  # rounds of nearest-point timing of each placed hit (`_retime`)
-RETIME_WINDOW = 24  # samples either side of where its arc-length share put a target
-PLACE_SAMPLES = 1024  # input angles a hit's curve is traced at to place it back (4 x the atlas's:
+RETIME_WINDOW = 12  # samples either side of where its arc-length share put a target
+PLACE_SAMPLES = 512  # input angles a hit's curve is traced at to place it back (twice the atlas's:
 # a small crank at the edge turns its corner within a few of the atlas's samples)
 CLASS_CODES = {name: k for k, name in enumerate(family.CLASSES)}
 
