@@ -33,9 +33,9 @@ _said: set[str] = set()
 class Atlas:
     """A loaded atlas: its four-bars (float64 copies of the stored float32 values), the
     `closed` count (closed curves first), the ring descriptors of the closed curves'
-    loops (`rings`, float64 copies of the stored integers, with their magnitudes |c_k|
-    `ring_mags` and squared norms `ring_norms`, elementwise in a fixed order: the same
-    bits on every CPU), and the stretch descriptors as float32 blocks (store.read: (blocks,
+    loops (`rings`, the stored integers, with their magnitudes |c_k| `ring_mags` (float32,
+    IEEE-rounded square roots) and squared norms `ring_norms` (exact integers in float64):
+    the same bits on every CPU), and the stretch descriptors as float32 blocks (store.read: (blocks,
     10, store.BLOCK_ROWS), each block's descriptors as contiguous columns, zero-padded) of
     integer values (descriptors.QUANT: their products and sums below 2^24 are exact), with
     the reciprocals of their norms (blocks, BLOCK_ROWS) (float32, IEEE-rounded: the same on
@@ -49,12 +49,13 @@ class Atlas:
         self.closed = int(header["closed"])
         self.linkages = Linkages(arrays["lengths"].astype(float), arrays["point"].astype(float),
                                  arrays["sign"].astype(float), arrays["kind"].astype(np.int8))
-        self.rings = arrays["rings"].astype(np.float64)
-        re, im = descriptors.ring_parts(self.rings)
-        self.ring_mags = np.sqrt(re * re + im * im)
+        self.rings = np.ascontiguousarray(arrays["rings"])  # int16: a match converts its candidates
+        re, im = descriptors.ring_parts(self.rings.astype(np.float64))
+        self.ring_mags = np.sqrt(re * re + im * im).astype(np.float32)
         self.ring_norms = np.zeros(len(self.rings))
         for k in range(re.shape[1]):
             self.ring_norms += re[:, k] * re[:, k] + im[:, k] * im[:, k]  # integers: exact
+        del re, im
         self.arcs = arrays["arcs"]  # store.read(..., as_float32=True): float32 blocks
         shapes = {s["name"]: s["shape"] for s in header["sections"]}
         self.arc_rows = int(shapes["arcs"][0])

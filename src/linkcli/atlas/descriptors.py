@@ -79,23 +79,25 @@ def arc_fractions(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return run / np.where(total > 0.0, total, 1.0)
 
 
-def interpolate(frac: np.ndarray, values: list[np.ndarray], at: np.ndarray) -> list[np.ndarray]:
+def interpolate(frac: np.ndarray, values: list[np.ndarray], at: np.ndarray,
+                rows: np.ndarray | None = None) -> list[np.ndarray]:
     """Each of `values` (N, S + 1), linear in the arc fraction `frac` (N, S + 1), at the
-    fractions `at` (N, P) (in [0, 1]): all rows at once (one searchsorted over the rows laid
-    end to end, each shifted by 2 x its row number)."""
+    fractions `at` (M, P) (in [0, 1]) of row `rows[m]` (M,) (default: row m, M = N): all at
+    once (one searchsorted over the rows laid end to end, each shifted by 2 x its row number)."""
     n, width = frac.shape
-    shift = 2.0 * np.arange(n)[:, None]
-    flat = (frac + shift).ravel()
-    pos = np.searchsorted(flat, (at + shift).ravel(), side="right").reshape(at.shape) - 1
-    idx = np.clip(pos - (width * np.arange(n))[:, None], 0, width - 2)
-    f0 = np.take_along_axis(frac, idx, axis=1)
-    f1 = np.take_along_axis(frac, idx + 1, axis=1)
+    rows = np.arange(n) if rows is None else np.asarray(rows, dtype=np.int64)
+    flat = (frac + 2.0 * np.arange(n)[:, None]).ravel()
+    pos = np.searchsorted(flat, (at + 2.0 * rows[:, None]).ravel(), side="right").reshape(at.shape) - 1
+    idx = np.clip(pos - (width * rows)[:, None], 0, width - 2)
+    line = rows[:, None]
+    f0 = frac[line, idx]
+    f1 = frac[line, idx + 1]
     span = f1 - f0
     w = np.clip((at - f0) / np.where(span > 0.0, span, 1.0), 0.0, 1.0)
     out = []
     for v in values:
-        v0 = np.take_along_axis(v, idx, axis=1)
-        out.append(v0 + w * (np.take_along_axis(v, idx + 1, axis=1) - v0))
+        v0 = v[line, idx]
+        out.append(v0 + w * (v[line, idx + 1] - v0))
     return out
 
 

@@ -50,8 +50,9 @@ CLOSING = 2.5  # a target whose closing gap is at most this many median gaps may
 SHIFTS = (-0.12, 0.0, 0.12)  # local hypotheses: the stretch's start moved by these shares of it,
 SCALES = (0.8, 1.0, 1.25)  # and its length scaled by these
 RETIME = 2  # rounds of nearest-point timing of each placed hit (`_retime`)
-RETIME_WINDOW = 12  # samples either side of where its arc-length share put a target
-PLACE_SAMPLES = 512  # input angles a hit's curve is traced at to place it back (twice the atlas's:
+RETIME_WINDOW = 24  # samples either side of where its arc-length share put a target
+RETIME_MEMORY = 200_000  # hits x targets x window samples compared at once
+PLACE_SAMPLES = 1024  # input angles a hit's curve is traced at to place it back (4 x the atlas's:
 # a small crank at the edge turns its corner within a few of the atlas's samples)
 CLASS_CODES = {name: k for k, name in enumerate(family.CLASSES)}
 
@@ -210,7 +211,7 @@ def ring_scores(atlas: Atlas, ok: np.ndarray, query: np.ndarray, senses: tuple):
     for j, (q, size) in enumerate(queries):
         mine = which == j
         if mine.any():
-            power, shift[mine] = descriptors.ring_match(atlas.rings[curve[mine]], q)
+            power, shift[mine] = descriptors.ring_match(atlas.rings[curve[mine]].astype(np.float64), q)
             score[mine] = power / (atlas.ring_norms[curve[mine]] * size * size)
     return curve, np.array(senses)[which].astype(float), score, shift
 
@@ -265,7 +266,7 @@ def starts(design: Design, atlas: Atlas, count: int):
     gx, gy = family.coupler_points(lk, phi_grid, family.angle_sines(lk, phi_grid))
     frac = descriptors.arc_fractions(gx, gy)
     rows = np.repeat(back, h)
-    (phi,) = descriptors.interpolate(frac[rows], [phi_grid[rows]], at)
+    (phi,) = descriptors.interpolate(frac, [phi_grid], at, rows)
     x = normalized(atlas, np.repeat(curve, h), design.nx)
     sign = atlas.linkages.sign[np.repeat(curve, h)]
     q, valid = path_starts.local_curve(x, sign, phi)
@@ -278,13 +279,15 @@ def starts(design: Design, atlas: Atlas, count: int):
     best = cost[np.arange(len(found)), pick]
     # each hit's best hypothesis timed again by the nearest points of its curve
     fin = np.flatnonzero(np.isfinite(best))
-    if len(fin):
-        r = one[fin]
+    step = max(1, RETIME_MEMORY // (design.n_targets * (2 * RETIME_WINDOW + 1)))
+    for part in range(0, len(fin), step):  # a block of hits at a time: bounded memory
+        f = fin[part:part + step]
+        r = one[f]
         new_phi, nu, ng, ncost = _retime(design, x[r], sign[r], phi_grid[rows[r]], frac[rows[r]], at[r], phi[r],
                                          u[r], g[r], s_lo[r], s_hi[r], np.repeat(sense, h)[r], rep_closed[r])
-        better = ncost < best[fin]
+        better = ncost < best[f]
         phi[r[better]], u[r[better]], g[r[better]] = new_phi[better], nu[better], ng[better]
-        best[fin[better]] = ncost[better]
+        best[f[better]] = ncost[better]
     # the best hit of each four-bar, best first (ties: the more similar hit)
     order = np.lexsort((np.arange(len(found)), best))
     seen, keep = set(), []
