@@ -17,12 +17,12 @@ up and place the nearest curves back as starts (numpy).
    best first, then the CLOSED_ARC_HITS best stretches.
 3. Each hit placed back: its stretch's start and length (a whole loop: the matched shift,
    the whole length) give every target an arc-length position on the curve (the target's
-   chord-length share), hence an input angle (interpolated on the curve traced again at
-   PLACE_SAMPLES angles, `family`); LOCAL hypotheses around it (the
+   chord-length share), hence an input angle (interpolated on the curve traced again,
+   `family`, at PLACE_SAMPLES angles for a closed-looking target); LOCAL hypotheses around it (the
    start moved by SHIFTS of the stretch, its length scaled by SCALES) are fitted by the
    closed-form similarity of `starts.similarity` (scale within the bounds, a fixed pivot
-   or ground angle kept), the best kept, and timed again by the curve's nearest points
-   (`_retime`); then the best per four-bar, best first, and the coupler point and pivot by
+   or ground angle kept), the best kept, and for a closed-looking target timed again by
+   the curve's nearest points (`_retime`); then the best per four-bar, best first, and the coupler point and pivot by
    `starts.fit_linear`.
 
 Returns the design's own variables (path_generation.model): lengths and coupler point
@@ -262,7 +262,8 @@ def starts(design: Design, atlas: Atlas, count: int):
     # input angles at those arc-length shares: each hit's curve traced again
     uniq, back = np.unique(curve, return_inverse=True)
     lk = atlas.linkages.take(uniq)
-    phi_grid = family.input_angles(lk, PLACE_SAMPLES)
+    loop = looks_closed(design.targets)  # whole loops were matched: placed finer and timed again
+    phi_grid = family.input_angles(lk, PLACE_SAMPLES if loop else family.SAMPLES)
     gx, gy = family.coupler_points(lk, phi_grid, family.angle_sines(lk, phi_grid))
     frac = descriptors.arc_fractions(gx, gy)
     rows = np.repeat(back, h)
@@ -277,8 +278,8 @@ def starts(design: Design, atlas: Atlas, count: int):
     pick = np.argmin(cost, axis=1)
     one = np.arange(len(found)) * h + pick
     best = cost[np.arange(len(found)), pick]
-    # each hit's best hypothesis timed again by the nearest points of its curve
-    fin = np.flatnonzero(np.isfinite(best))
+    # each hit's best hypothesis timed again by the nearest points of its curve (closed targets)
+    fin = np.flatnonzero(np.isfinite(best)) if loop else np.zeros(0, dtype=np.int64)
     step = max(1, RETIME_MEMORY // (design.n_targets * (2 * RETIME_WINDOW + 1)))
     for part in range(0, len(fin), step):  # a block of hits at a time: bounded memory
         f = fin[part:part + step]
