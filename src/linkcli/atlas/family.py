@@ -42,7 +42,7 @@ from linkcli.atlas import portable
 
 CLASSES = ("crank-rocker", "double-crank", "rocker-crank", "double-rocker", "triple-rocker")
 TURNING = (0, 1)  # class codes whose input turns fully: closed curves
-CLASS_SHARES = (0.36, 0.14, 0.16, 0.10, 0.16)  # of the atlas's four-bars, in CLASSES order,
+CLASS_SHARES = (0.33, 0.14, 0.16, 0.10, 0.19)  # of the atlas's four-bars, in CLASSES order,
 EDGE_SHARE = 0.08  # and the small cranks at the crank-rocker's edge (crank-rockers too)
 EDGE_INPUT = (0.005, 0.12)  # their input relative to the ground
 EDGE_MARGIN = (1e-6, 3e-2)  # 1 - (s + l) / (p + q) (float32 lengths keep above 1e-7)
