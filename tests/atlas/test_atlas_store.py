@@ -42,7 +42,7 @@ def test_round_trip(tmp_path, small_bytes):
     header, arrays = store.read(str(path))
     tables = build(SMALL, 0)
     assert header["size"] == SMALL and header["version"] == store.VERSION
-    assert np.array_equal(arrays["loops"], tables.loops) and np.array_equal(arrays["arcs"], tables.arcs)
+    assert np.array_equal(arrays["rings"], tables.rings) and np.array_equal(arrays["arcs"], tables.arcs)
     assert np.array_equal(arrays["lengths"], tables.linkages.lengths.astype(np.float32))
     assert not list(tmp_path.glob(".*.tmp"))  # the temporary file was renamed
 
@@ -55,7 +55,7 @@ def test_round_trip(tmp_path, small_bytes):
     (lambda b: b + b"x", "longer"),
     (lambda b: b"PK\x03\x04" + b[4:], "not an atlas"),
     (lambda b: b"", "not an atlas"),
-    (lambda b: b.replace(b'"version":1', b'"version":9', 1), "version"),
+    (lambda b: b.replace(b'"version":2', b'"version":1', 1), "version"),
     (lambda b: b.replace(b'"quant":1290', b'"quant":1291', 1), "another build"),
 ])
 def test_damaged_truncated_and_foreign_files_are_refused(tmp_path, small_bytes, damage, reason):

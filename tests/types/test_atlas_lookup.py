@@ -82,6 +82,41 @@ def test_a_member_of_the_atlas_is_found_and_placed_back(tmp_path, atlas, row_sha
     assert math.sqrt(obj / n) < 0.02 * extent  # and it is what the design's own model says
 
 
+WIDE = """[bounds]
+ground = [0, 1000]
+input = [0, 1000]
+coupler = [0, 1000]
+output = [0, 1000]
+coupler_point = { x = [-1000, 1000], y = [-1000, 1000] }
+ground_pivot = { x = [-1000, 1000], y = [-1000, 1000] }
+"""
+
+
+@pytest.mark.parametrize("row_share, start, backwards", [(0.1, 0.37, False), (0.2, 0.81, True),
+                                                         (0.34, 0.55, True), (0.38, 0.2, False),
+                                                         (0.5, 0.3, False)])
+def test_a_loop_of_the_atlas_is_found_from_any_start_and_either_way_round(tmp_path, atlas, row_share, start,
+                                                                          backwards):
+    """Sixty targets around a whole loop of an atlas curve (crank-rockers, small cranks at
+    the edge, a double-crank: loops of distinct shapes; a near-circle matches every other
+    near-circle), started anywhere, run either way, turned, scaled and moved: the start-free
+    ring match ranks that curve first, in the right sense, and places it back onto the
+    targets (the cosine descriptor of a stretch, stored from eight starts and matched from
+    four, ranked such a loop by where its start fell)."""
+    row = int(row_share * atlas.size)
+    assert row < atlas.closed
+    (a, b, c), (px, py), sign = atlas.linkages.lengths[row], atlas.linkages.point[row], atlas.linkages.sign[row]
+    phi = 2 * math.pi * (start + np.arange(60) / 60)
+    targets = _placed(_coupler(1.0, a, b, c, px, py, sign, phi[::-1] if backwards else phi))
+    _, design = _design(_problem(tmp_path, targets, WIDE))  # a small crank's ground is many extents
+    assert lookup.looks_closed(design.targets)
+    curve, _, length, sense, _ = lookup.hits(design, atlas, lookup.allowed(design, atlas))
+    assert curve[0] == row and length[0] == 1.0 and sense[0] == (-1.0 if backwards else 1.0)
+    x, sign_, s, cost, _ = lookup.starts(design, atlas, 8)
+    assert math.sqrt(cost[0] / 60) < 2e-3 * design.scale
+    assert math.sqrt(design.objective(x[:1], sign_[:1], s[:1])[0] / 60) < 2e-3 * design.scale
+
+
 @pytest.mark.parametrize("case", (0, 2))
 def test_a_known_four_bar_outside_the_atlas_is_polished_to_an_exact_fit(tmp_path, case):
     """Targets of crank-rockers drawn here (not atlas members), closed and partial: the
@@ -195,7 +230,8 @@ def test_the_same_starts_with_other_cpu_kernels():
     import json
     import os
     files = ["problems/bench/free_closed24.toml", "problems/bench/free_open40.toml",
-             "problems/bench/free_rocker30.toml", "problems/straight_line.toml"]
+             "problems/bench/free_rocker30.toml", "problems/straight_line.toml",
+             "problems/bench/closed18_free.toml", "problems/bench/lin10_closed.toml"]
     found = []
     for extra in ({}, {"NPY_DISABLE_CPU_FEATURES": "X86_V3,X86_V4,AVX512_ICL,AVX512_SPR"},
                   {"OPENBLAS_CORETYPE": "Prescott"}):

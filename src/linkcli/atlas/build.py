@@ -3,9 +3,9 @@
 `build(size, seed)` returns the arrays of an `Atlas` (store.py writes and reads them):
 the four-bars of `family.draw` (closed curves first: the turning inputs, then the
 rocking ones), and the descriptors (`descriptors`) of every stretch of every curve,
-in two tables: `loops`, the whole loops of the closed curves (descriptors.LOOP_ARCS'
-first entry: a closed target is looked up there), and `arcs`, every other stretch (the
-closed curves' shorter ones, then the open curves' ones). Curves are traced and
+in two tables: `rings`, the whole loops of the closed curves (one start-free ring
+descriptor each: a closed target is looked up there), and `arcs`, every other stretch
+(the closed curves' shorter ones, descriptors.LOOP_ARCS, then the open curves' ones). Curves are traced and
 described CHUNK at a time (memory stays flat; the bytes do not depend on the chunk:
 every operation is row by row). Deterministic in (size, seed) on every CPU.
 """
@@ -27,17 +27,16 @@ MAX_SIZE = 2_000_000  # and the largest (about 0.8 GB on disk)
 @dataclass
 class Tables:
     """What an atlas file holds: the four-bars (`family.Linkages`, closed curves first,
-    `closed` of them) and the stretch descriptors (int16): `loops` (closed x LOOPS, 2
-    HARMONICS) and `arcs` (closed x LOOP_REST + open x OPEN_COUNT, 2 HARMONICS)."""
+    `closed` of them) and the descriptors (int16): `rings` (closed, 4 RING_HARMONICS), one
+    per closed curve, and `arcs` (closed x LOOP_REST + open x OPEN_COUNT, 2 HARMONICS)."""
 
     linkages: family.Linkages
     closed: int
-    loops: np.ndarray
+    rings: np.ndarray
     arcs: np.ndarray
 
 
-LOOPS = descriptors.LOOP_ARCS[0][1]  # whole-loop stretches of a closed curve
-LOOP_REST = sum(count for _, count in descriptors.LOOP_ARCS) - LOOPS  # its shorter ones
+LOOP_REST = sum(count for _, count in descriptors.LOOP_ARCS)  # a closed curve's shorter stretches
 OPEN_COUNT = sum(count for _, count in descriptors.OPEN_ARCS)  # an open curve's stretches
 
 
@@ -46,7 +45,7 @@ def build(size: int, seed: int, progress: Callable[[int, int], None] | None = No
     each chunk of curves."""
     linkages = family.draw(size, seed)
     closed = int(np.count_nonzero(linkages.closed))
-    loops, arcs_closed, arcs_open = [], [], []
+    rings, arcs_closed, arcs_open = [], [], []
     for at in range(0, size, CHUNK):
         rows = np.arange(at, min(size, at + CHUNK))
         part = linkages.take(rows)
@@ -58,28 +57,26 @@ def build(size: int, seed: int, progress: Callable[[int, int], None] | None = No
                 continue
             desc = descriptors.curve_descriptors(x[mine], y[mine], rows[mine], is_closed)
             if is_closed:
-                desc = desc.reshape(-1, LOOPS + LOOP_REST, desc.shape[1])
-                loops.append(desc[:, :LOOPS].reshape(-1, desc.shape[2]))
-                arcs_closed.append(desc[:, LOOPS:].reshape(-1, desc.shape[2]))
+                rings.append(descriptors.ring_descriptors(x[mine], y[mine]))
+                arcs_closed.append(desc)
             else:
                 arcs_open.append(desc)
         if progress is not None:
             progress(int(rows[-1]) + 1, size)
     width = 2 * descriptors.HARMONICS
-    empty = np.zeros((0, width), dtype=np.int16)
     return Tables(linkages=linkages, closed=closed,
-                  loops=np.concatenate(loops) if loops else empty,
-                  arcs=np.concatenate(arcs_closed + arcs_open) if arcs_closed + arcs_open else empty)
+                  rings=np.concatenate(rings) if rings else np.zeros((0, 4 * descriptors.RING_HARMONICS), np.int16),
+                  arcs=np.concatenate(arcs_closed + arcs_open) if arcs_closed + arcs_open
+                  else np.zeros((0, width), dtype=np.int16))
 
 
 def stretch_of(closed: int, size: int, table: str, row: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(curve index, stretch index within its curve's `descriptors.arc_table`) of rows of
-    the `loops` or `arcs` table of an atlas with `closed` closed curves of `size`."""
+    the `arcs` table of an atlas with `closed` closed curves of `size` (a row of `rings`
+    is its curve's index)."""
     row = np.asarray(row, dtype=np.int64)
-    if table == "loops":
-        return row // LOOPS, row % LOOPS
     split = closed * LOOP_REST
     in_closed = row < split
     curve = np.where(in_closed, row // LOOP_REST, closed + (row - split) // OPEN_COUNT)
-    slot = np.where(in_closed, LOOPS + row % LOOP_REST, (row - split) % OPEN_COUNT)
+    slot = np.where(in_closed, row % LOOP_REST, (row - split) % OPEN_COUNT)
     return curve, slot

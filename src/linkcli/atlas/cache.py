@@ -19,7 +19,7 @@ import os
 
 import numpy as np
 
-from linkcli.atlas import store
+from linkcli.atlas import descriptors, store
 
 DEFAULT_SIZE = 100_000
 DEFAULT_SEED = 0
@@ -32,11 +32,14 @@ _said: set[str] = set()
 
 class Atlas:
     """A loaded atlas: its four-bars (float64 copies of the stored float32 values), the
-    `closed` count (closed curves first), and both descriptor tables as float32 blocks
-    (store.read: (blocks, 10, store.BLOCK_ROWS), each block's descriptors as contiguous
-    columns, zero-padded) of integer values (descriptors.QUANT: their products and sums
-    below 2^24 are exact), with the reciprocals of their norms (blocks, BLOCK_ROWS)
-    (float32, IEEE-rounded: the same on every CPU; 0 for padding), and the real row counts."""
+    `closed` count (closed curves first), the ring descriptors of the closed curves'
+    loops (`rings`, the stored integers, with their magnitudes |c_k| `ring_mags` (float32,
+    IEEE-rounded square roots) and squared norms `ring_norms` (exact integers in float64):
+    the same bits on every CPU), and the stretch descriptors as float32 blocks (store.read: (blocks,
+    10, store.BLOCK_ROWS), each block's descriptors as contiguous columns, zero-padded) of
+    integer values (descriptors.QUANT: their products and sums below 2^24 are exact), with
+    the reciprocals of their norms (blocks, BLOCK_ROWS) (float32, IEEE-rounded: the same on
+    every CPU; 0 for padding), and the real row count."""
 
     def __init__(self, header: dict, arrays: dict[str, np.ndarray], path: str) -> None:
         from linkcli.atlas.family import Linkages
@@ -46,20 +49,25 @@ class Atlas:
         self.closed = int(header["closed"])
         self.linkages = Linkages(arrays["lengths"].astype(float), arrays["point"].astype(float),
                                  arrays["sign"].astype(float), arrays["kind"].astype(np.int8))
-        self.loops = arrays["loops"]  # store.read(..., as_float32=True): float32 blocks
-        self.arcs = arrays["arcs"]
+        self.rings = np.ascontiguousarray(arrays["rings"])  # int16: a match converts its candidates
+        re, im = descriptors.ring_parts(self.rings.astype(np.float64))
+        self.ring_mags = np.sqrt(re * re + im * im).astype(np.float32)
+        self.ring_norms = np.zeros(len(self.rings))
+        for k in range(re.shape[1]):
+            self.ring_norms += re[:, k] * re[:, k] + im[:, k] * im[:, k]  # integers: exact
+        del re, im
+        self.arcs = arrays["arcs"]  # store.read(..., as_float32=True): float32 blocks
         shapes = {s["name"]: s["shape"] for s in header["sections"]}
-        self.loop_rows, self.arc_rows = int(shapes["loops"][0]), int(shapes["arcs"][0])
+        self.arc_rows = int(shapes["arcs"][0])
         # (size, 6) ground 1, input, coupler, output, coupler point: each four-bar at its own size
         self.shapes = np.concatenate([np.ones((self.size, 1)), self.linkages.lengths, self.linkages.point], axis=1)
-        self.loop_scale = _reciprocal_norms(self.loops)
         self.arc_scale = _reciprocal_norms(self.arcs)
 
     @property
     def nbytes(self) -> int:
         return sum(a.nbytes for a in (self.linkages.lengths, self.linkages.point, self.linkages.sign,
-                                      self.linkages.kind, self.shapes, self.loops, self.arcs, self.loop_scale,
-                                      self.arc_scale))
+                                      self.linkages.kind, self.shapes, self.rings, self.ring_mags, self.ring_norms,
+                                      self.arcs, self.arc_scale))
 
 
 def _reciprocal_norms(table: np.ndarray) -> np.ndarray:

@@ -11,7 +11,17 @@ then used as drawn:
   (CLASS_SHARES); lengths within CHANGE_POINT of a change point are dropped (their curves
   turn at a toggle that a search cannot hold);
 * the coupler point uniform in a disc of radius POINT_RADIUS b about the coupler's middle;
-* the branch: each with probability 1/2.
+* the branch: each with probability 1/2;
+* and a stratum of its own, EDGE_SHARE of the atlas, kept among the crank-rockers (after
+  the others; `draw_edge`): small cranks at the crank-rocker's edge, the input log-uniform
+  in EDGE_INPUT, s + l = (p + q)(1 - m) with the margin m log-uniform in EDGE_MARGIN (the
+  longest of ground, coupler and output, each a third of the time, solved from the
+  others), the coupler point at a distance from the crank pin of EDGE_POINT inputs
+  (log-uniform, any direction). Near the change point the coupler swings fast where the
+  coupler and output nearly fold, and the curve of a point near the crank pin is the
+  crank's circle with a corner there: shapes of free-timing optima (they often sit on
+  that edge: the search's Grashof margin) that the draws above, clear of the change point
+  and with the point anywhere on a coupler many inputs long, almost never hold.
 
 A turning input (crank-rocker, double-crank) traces a closed curve over one turn:
 SAMPLES input angles 2 pi j / SAMPLES. A rocking input (rocker-crank, double-rocker,
@@ -32,7 +42,11 @@ from linkcli.atlas import portable
 
 CLASSES = ("crank-rocker", "double-crank", "rocker-crank", "double-rocker", "triple-rocker")
 TURNING = (0, 1)  # class codes whose input turns fully: closed curves
-CLASS_SHARES = (0.36, 0.14, 0.16, 0.10, 0.24)  # of the atlas's four-bars, in CLASSES order
+CLASS_SHARES = (0.33, 0.14, 0.16, 0.10, 0.19)  # of the atlas's four-bars, in CLASSES order,
+EDGE_SHARE = 0.08  # and the small cranks at the crank-rocker's edge (crank-rockers too)
+EDGE_INPUT = (0.005, 0.12)  # their input relative to the ground
+EDGE_MARGIN = (1e-6, 3e-2)  # 1 - (s + l) / (p + q) (float32 lengths keep above 1e-7)
+EDGE_POINT = (0.3, 30.0)  # their coupler point's distance from the crank pin, in inputs
 LENGTH_LO, LENGTH_HI = 0.12, 5.0  # input, coupler, output relative to the ground
 POINT_RADIUS = 1.5  # coupler points within this many coupler lengths of the coupler's middle
 CHANGE_POINT = 1e-3  # relative: |s + l - p - q| below this share of p + q is dropped
@@ -76,11 +90,14 @@ def classify(a, b, c, d=1.0) -> tuple[np.ndarray, np.ndarray]:
 
 
 def draw(size: int, seed: int) -> Linkages:
-    """`size` four-bars, CLASS_SHARES of each class (the first drawn of each), in the
-    order: every class in turn, each in the order drawn. Deterministic in (size, seed)."""
+    """`size` four-bars, CLASS_SHARES of each class (the first drawn of each) and EDGE_SHARE
+    of small cranks at the crank-rocker's edge (`draw_edge`), in the order: the
+    crank-rockers, the edge's, then every other class in turn, each in the order drawn.
+    Deterministic in (size, seed)."""
     rng = np.random.default_rng([seed, 50])
     want = np.floor(np.array(CLASS_SHARES) * size).astype(int)
-    want[0] += size - want.sum()
+    edge = int(np.floor(EDGE_SHARE * size))
+    want[0] += size - want.sum() - edge
     kept: list[list[np.ndarray]] = [[] for _ in CLASSES]
     have = np.zeros(len(CLASSES), dtype=int)
     lo, hi = np.log(LENGTH_LO), np.log(LENGTH_HI)
@@ -98,9 +115,42 @@ def draw(size: int, seed: int) -> Linkages:
             rows = np.flatnonzero((code == k) & clear)[:want[k] - have[k]]
             kept[k].append(np.concatenate([lengths[rows], point[rows], sign[rows, None]], axis=1))
             have[k] += len(rows)
-    table = np.concatenate([np.concatenate(parts) for parts in kept])
-    kind = np.repeat(np.arange(len(CLASSES)), want)
+    parts = [np.concatenate(kept[0]), draw_edge(rng, edge)] + [np.concatenate(p) for p in kept[1:]]
+    table = np.concatenate(parts)
+    kind = np.repeat(np.arange(len(CLASSES)), want + np.eye(len(CLASSES), dtype=int)[0] * edge)
     return Linkages(table[:, :3], table[:, 3:5], table[:, 5], kind.astype(np.int8))
+
+
+def draw_edge(rng: np.random.Generator, count: int) -> np.ndarray:
+    """(count, 6) rows (a, b, c, px, py, sign) of small cranks at the crank-rocker's edge
+    (module docstring), float32 values; only rows that stay crank-rockers (s + l below
+    (p + q)(1 - 1e-7), the input the shortest) once rounded are kept, in the order drawn."""
+    kept, have = [], 0
+    while have < count:
+        n = 2 * count + 1000
+        u = rng.random((n, 6))
+        a = np.exp(np.log(EDGE_INPUT[0]) + np.log(EDGE_INPUT[1] / EDGE_INPUT[0]) * u[:, 0])
+        m = np.exp(np.log(EDGE_MARGIN[0]) + np.log(EDGE_MARGIN[1] / EDGE_MARGIN[0]) * u[:, 1])
+        other = np.exp(np.log(LENGTH_LO) + np.log(LENGTH_HI / LENGTH_LO) * u[:, 2])
+        longest = np.floor(3.0 * u[:, 3]).astype(int)  # 0 ground, 1 coupler, 2 output
+        # ground the longest: b + c = (1 + a) / (1 - m), b drawn within that sum; coupler
+        # (output) the longest: it is (1 + the other)(1 - m) - a
+        total = (1.0 + a) / (1.0 - m)
+        b = np.where(longest == 0, total * (0.5 + (u[:, 2] - 0.5) * 0.98),
+                     np.where(longest == 1, (1.0 + other) * (1.0 - m) - a, other))
+        c = np.where(longest == 0, total - b, np.where(longest == 1, other, (1.0 + other) * (1.0 - m) - a))
+        radius = a * np.exp(np.log(EDGE_POINT[0]) + np.log(EDGE_POINT[1] / EDGE_POINT[0]) * u[:, 4])
+        turn_sin, turn_cos = portable.sincos(2.0 * portable.PI * u[:, 5])
+        sign = np.where(rng.random(n) < 0.5, -1.0, 1.0)
+        lengths = np.stack([a, b, c], axis=1).astype(np.float32).astype(float)
+        point = np.stack([radius * turn_cos, radius * turn_sin], axis=1).astype(np.float32).astype(float)
+        srt = np.sort(np.concatenate([np.ones((n, 1)), lengths], axis=1), axis=1)
+        fine = ((np.argmin(np.concatenate([lengths[:, :1], np.ones((n, 1)), lengths[:, 1:]], axis=1), axis=1) == 0)
+                & (srt[:, 0] + srt[:, 3] < (srt[:, 1] + srt[:, 2]) * (1.0 - 1e-7)) & (lengths > 0.0).all(axis=1))
+        rows = np.flatnonzero(fine)[:count - have]
+        kept.append(np.concatenate([lengths[rows], point[rows], sign[rows, None]], axis=1))
+        have += len(rows)
+    return np.concatenate(kept) if kept else np.zeros((0, 6))
 
 
 def rocking_range(a, b, c, d=1.0) -> tuple[np.ndarray, np.ndarray]:
@@ -125,13 +175,13 @@ def rocking_range(a, b, c, d=1.0) -> tuple[np.ndarray, np.ndarray]:
     return lo, hi
 
 
-def input_angles(linkages: Linkages) -> np.ndarray:
+def input_angles(linkages: Linkages, samples: int = SAMPLES) -> np.ndarray:
     """(N, S) input angles of each curve's samples (rad, increasing): a full turn for a
-    turning input (S = SAMPLES), the reachable arc with both ends for a rocking one
-    (S = SAMPLES + 1; the closed ones then repeat their first angle + 2 pi last, so that
-    every row has SAMPLES + 1 points and every curve is a polyline from its first to
+    turning input (S = samples), the reachable arc with both ends for a rocking one
+    (S = samples + 1; the closed ones then repeat their first angle + 2 pi last, so that
+    every row has samples + 1 points and every curve is a polyline from its first to
     its last sample)."""
-    t = np.arange(SAMPLES + 1) / SAMPLES
+    t = np.arange(samples + 1) / samples
     _, cos_pi_t = portable.sincos(portable.PI * t)
     a, b, c = linkages.lengths.T
     lo, hi = rocking_range(a, b, c)

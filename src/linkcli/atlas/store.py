@@ -24,7 +24,7 @@ from linkcli.atlas import descriptors, family
 from linkcli.atlas.build import Tables
 
 MAGIC = b"LINKCLI-ATLAS\x00\x00\x00"
-VERSION = 1
+VERSION = 2  # 2: whole loops by one start-free ring descriptor each; small cranks near the change point
 MAX_HEADER = 1 << 16  # a header longer than this is not ours
 READ_BLOCK = 1 << 24  # the checksum is taken while reading, this many bytes at a time
 
@@ -42,16 +42,18 @@ def constants() -> dict:
     values is foreign (its descriptors would not compare with this build's)."""
     return {"samples": family.SAMPLES, "points": descriptors.POINTS, "harmonics": descriptors.HARMONICS,
             "quant": descriptors.QUANT, "loop_arcs": [list(a) for a in descriptors.LOOP_ARCS],
+            "ring": [descriptors.RING_POINTS, descriptors.RING_HARMONICS, descriptors.RING_QUANT],
             "open_arcs": [list(a) for a in descriptors.OPEN_ARCS], "classes": list(family.CLASSES),
             "class_shares": list(family.CLASS_SHARES), "lengths": [family.LENGTH_LO, family.LENGTH_HI],
-            "point_radius": family.POINT_RADIUS}
+            "point_radius": family.POINT_RADIUS,
+            "edge": [family.EDGE_SHARE, list(family.EDGE_INPUT), list(family.EDGE_MARGIN), list(family.EDGE_POINT)]}
 
 
 def _sections(tables: Tables) -> list[tuple[str, np.ndarray]]:
     lk = tables.linkages
     return [("lengths", lk.lengths.astype("<f4")), ("point", lk.point.astype("<f4")),
             ("sign", lk.sign.astype("i1")), ("kind", lk.kind.astype("i1")),
-            ("loops", tables.loops.astype("<i2")), ("arcs", tables.arcs.astype("<i2"))]
+            ("rings", tables.rings.astype("<i2")), ("arcs", tables.arcs.astype("<i2"))]
 
 
 def encode(tables: Tables, size: int, seed: int) -> bytes:
@@ -107,7 +109,7 @@ def read_header(handle) -> dict:
     return header
 
 
-TABLES = ("loops", "arcs")  # the descriptor tables: `read(..., as_float32=True)` converts them
+TABLES = ("arcs",)  # the stretch descriptors: `read(..., as_float32=True)` converts them
 BLOCK_ROWS = 1 << 16  # descriptor rows read, checked and converted at a time: one block
 
 
@@ -158,7 +160,7 @@ def read(path: str, as_float32: bool = False) -> tuple[dict, dict[str, np.ndarra
             raise AtlasFileError("longer than its header says")
         if check != crc:
             raise AtlasFileError("checksum mismatch (the file is damaged)")
-    need = {"lengths", "point", "sign", "kind", "loops", "arcs"}
+    need = {"lengths", "point", "sign", "kind", "rings", "arcs"}
     if not need <= set(arrays):
         raise AtlasFileError("damaged header (a section is missing)")
     return header, arrays

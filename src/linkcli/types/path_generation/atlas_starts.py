@@ -6,19 +6,24 @@ up and place the nearest curves back as starts (numpy).
    (`starts.scale_interval`); for an input that must turn fully, the transmission window
    over the turn (mu at rho = |d - a| and d + a).
 2. The target as a stretch (`descriptors`): as given (its points in order) against every
-   stretch of the `arcs` table; when it looks closed (the gap from its last point back to
-   its first at most CLOSING times its median gap) also as a loop, described from
-   LOOP_SHIFTS starts around itself, against the whole loops. Each direction the input may
-   turn: the target run backwards (X_k (-1)^k) against the curves traced forwards.
-   Similarity |<X, Y>|^2 / (|X|^2 |Y|^2), its inner products exact (integer descriptors,
-   one float32 matrix product); the HITS best (ties: the lower row first).
-3. Each hit placed back: its stretch's start and length give every target an arc-length
-   position on the curve (the target's chord-length share), hence an input angle
-   (interpolated on the curve traced again, `family`); LOCAL hypotheses around it (the
+   stretch of the `arcs` table: similarity |<X, Y>|^2 / (|X|^2 |Y|^2), its inner products
+   exact (integer descriptors, one float32 matrix product), each direction the input may
+   turn (the target run backwards, X_k (-1)^k, against the curves traced forwards); the
+   HITS best (ties: the lower row first). When it looks closed (the gap from its last
+   point back to its first at most CLOSING times its median gap) also as a whole loop,
+   free of where it starts (`ring_scores`): its ring descriptor against every closed
+   curve's, the RING_CANDIDATES best by the bound sum_k |c_k| |d_k| (free of start and
+   turn), those matched over every start shift (descriptors.ring_match), the RING_HITS
+   best first, then the CLOSED_ARC_HITS best stretches.
+3. Each hit placed back: its stretch's start and length (a whole loop: the matched shift,
+   the whole length) give every target an arc-length position on the curve (the target's
+   chord-length share), hence an input angle (interpolated on the curve traced again,
+   `family`, at PLACE_SAMPLES angles for a closed-looking target); LOCAL hypotheses around it (the
    start moved by SHIFTS of the stretch, its length scaled by SCALES) are fitted by the
    closed-form similarity of `starts.similarity` (scale within the bounds, a fixed pivot
-   or ground angle kept), the best kept; then the best per four-bar, best first, and the
-   coupler point and pivot by `starts.fit_linear`.
+   or ground angle kept), the best kept, and for a closed-looking target timed again by
+   the curve's nearest points (`_retime`); then the best per four-bar, best first, and the coupler point and pivot by
+   `starts.fit_linear`.
 
 Returns the design's own variables (path_generation.model): lengths and coupler point
 scaled, ground angle, pivot, first input angle and the increments, with branch signs and
@@ -32,16 +37,23 @@ import math
 import numpy as np
 
 from linkcli.atlas import descriptors, family
-from linkcli.atlas.build import LOOP_REST, LOOPS, OPEN_COUNT, stretch_of
+from linkcli.atlas.build import LOOP_REST, OPEN_COUNT, stretch_of
 from linkcli.atlas.cache import Atlas
 from linkcli.types.path_generation import starts as path_starts
 from linkcli.types.path_generation.model import N_LINK, Design
 
 HITS = 160  # nearest stretches placed back
-LOOP_SHIFTS = 4  # a closed target is described from this many starts around itself
+RING_HITS = 160  # nearest whole loops placed back for a closed-looking target,
+CLOSED_ARC_HITS = 40  # and nearest stretches beside them
+RING_CANDIDATES = 2048  # whole loops matched over every start shift: the best bounds
 CLOSING = 2.5  # a target whose closing gap is at most this many median gaps may be a loop
 SHIFTS = (-0.12, 0.0, 0.12)  # local hypotheses: the stretch's start moved by these shares of it,
 SCALES = (0.8, 1.0, 1.25)  # and its length scaled by these
+RETIME = 2  # rounds of nearest-point timing of each placed hit (`_retime`)
+RETIME_WINDOW = 24  # samples either side of where its arc-length share put a target
+RETIME_MEMORY = 200_000  # hits x targets x window samples compared at once
+PLACE_SAMPLES = 1024  # input angles a hit's curve is traced at to place it back (4 x the atlas's:
+# a small crank at the edge turns its corner within a few of the atlas's samples)
 CLASS_CODES = {name: k for k, name in enumerate(family.CLASSES)}
 
 
@@ -140,46 +152,25 @@ def _best(score: np.ndarray, count: int) -> np.ndarray:
         return np.zeros(0, dtype=np.int64)
     pad = (-len(score)) % BLOCK
     blocks = np.concatenate([score, np.zeros(pad, dtype=score.dtype)]).reshape(-1, BLOCK).max(axis=1)
-    bound = -np.partition(-blocks, count - 1)[count - 1]
+    bound = -np.partition(-blocks, count - 1)[count - 1] if count < len(blocks) else 0.0
     sel = np.flatnonzero(score >= max(bound, np.finfo(score.dtype).tiny))
     return sel[np.lexsort((sel, -score[sel]))][:count]
 
 
-def _rows_allowed(atlas: Atlas, ok: np.ndarray, table: str) -> np.ndarray:
-    """`ok` per curve (1 or 0, float32), spread over the descriptors of the `loops` or `arcs` table."""
+def _rows_allowed(atlas: Atlas, ok: np.ndarray) -> np.ndarray:
+    """`ok` per curve (1 or 0, float32), spread over the descriptors of the `arcs` table."""
     ok = ok.astype(np.float32)
-    if table == "loops":
-        return np.repeat(ok[:atlas.closed], LOOPS)
     return np.concatenate([np.repeat(ok[:atlas.closed], LOOP_REST), np.repeat(ok[atlas.closed:], OPEN_COUNT)])
 
 
-def hits(design: Design, atlas: Atlas, ok: np.ndarray):
-    """The HITS most similar stretches: (curve (H,), stretch start (H,), stretch length
-    (H,), sense (H,): +1 forwards, -1 the target run backwards, share of the stretch at
-    each target (H, n))."""
-    senses = {"ccw": (1,), "cw": (-1,)}.get(design.direction, (1, -1))
+def _arc_hits(design: Design, atlas: Atlas, ok: np.ndarray, senses: tuple, count: int):
+    """The `count` stretches of the `arcs` table most similar to the targets as a stretch
+    (curve, start, length, sense, shares at the targets)."""
     desc, frac = descriptors.target_descriptors(design.targets, closed=False)
     arc_best, arc_scores = _similar(atlas.arcs, atlas.arc_scale, atlas.arc_rows,
-                                    [_columns(desc[0], s) for s in senses],
-                                    _rows_allowed(atlas, ok, "arcs"))
-    plans = [[(s, frac, 0.0) for s in senses]]
-    scores, bests = [arc_scores], [arc_best]
-    if looks_closed(design.targets):
-        ring, ring_frac = descriptors.target_descriptors(design.targets, closed=True, shifts=LOOP_SHIFTS)
-        plans.append([(s, ring_frac, j / LOOP_SHIFTS) for j in range(LOOP_SHIFTS) for s in senses])
-        loop_best, loop_scores = _similar(atlas.loops, atlas.loop_scale, atlas.loop_rows,
-                                          [_columns(ring[j], s) for j in range(LOOP_SHIFTS) for s in senses],
-                                          _rows_allowed(atlas, ok, "loops"))
-        scores.append(loop_scores)
-        bests.append(loop_best)
-    picked = _best(np.concatenate(bests), HITS)
-    in_arcs = picked < len(arc_best)
-    table_row = np.where(in_arcs, picked, picked - len(arc_best))
-    curve = np.zeros(len(picked), dtype=np.int64)
-    slot = np.zeros(len(picked), dtype=np.int64)
-    for name, mine in (("arcs", in_arcs), ("loops", ~in_arcs)):
-        if mine.any():
-            curve[mine], slot[mine] = stretch_of(atlas.closed, atlas.size, name, table_row[mine])
+                                    [_columns(desc[0], s) for s in senses], _rows_allowed(atlas, ok))
+    picked = _best(arc_best, count)
+    curve, slot = stretch_of(atlas.closed, atlas.size, "arcs", picked)
     closed = curve < atlas.closed
     start, length = np.zeros(len(picked)), np.zeros(len(picked))
     for is_closed in (True, False):
@@ -190,13 +181,62 @@ def hits(design: Design, atlas: Atlas, ok: np.ndarray):
             length[mine] = np.take_along_axis(ln, slot[mine][:, None], axis=1)[:, 0]
     sense = np.zeros(len(picked))
     shares = np.zeros((len(picked), design.n_targets))
-    for i, (arc, row) in enumerate(zip(in_arcs, table_row)):
-        which = int(np.argmax(scores[0 if arc else 1](np.array([row]))[:, 0]))  # the first best query: ties alike everywhere
-        s, f, shift = plans[0 if arc else 1][which]
-        position = f if arc else np.mod(f - shift, 1.0)
-        sense[i] = s
-        shares[i] = position if s > 0 else 1.0 - position
+    for i, row in enumerate(picked):
+        which = int(np.argmax(arc_scores(np.array([row]))[:, 0]))  # the first best query: ties alike everywhere
+        sense[i] = senses[which]
+        shares[i] = frac if senses[which] > 0 else 1.0 - frac
     return curve, start, length, sense, shares
+
+
+def ring_scores(atlas: Atlas, ok: np.ndarray, query: np.ndarray, senses: tuple):
+    """Whole loops against a closed target's ring descriptor `query` (unrounded), start-free
+    (descriptors.ring_match): the RING_CANDIDATES (loop, sense) pairs with the highest
+    bound sum_k |c_k| |d_k| / (|c| |d|) (each sense: the target run backwards swaps d_k and
+    d_-k), matched over every start shift. Returns (curve, sense, score |<c, d>|^2 /
+    (|c|^2 |d|^2) at the best shift, that shift), in the order of the pairs (sense first,
+    then the loop; ties broken by that order)."""
+    allowed = ok[:atlas.closed] & (atlas.ring_norms > 0.0)
+    norms = np.sqrt(np.where(allowed, atlas.ring_norms, 1.0))
+    queries, bounds = [], []
+    for s in senses:
+        q = query if s > 0 else np.concatenate([query[:descriptors.RING_ORDERS.size][descriptors.RING_SWAP],
+                                                query[descriptors.RING_ORDERS.size:][descriptors.RING_SWAP]])
+        q = np.rint(q * descriptors.RING_QUANT)
+        size = math.sqrt(max(float(np.sum(q * q)), 1.0))
+        queries.append((q, size))
+        bounds.append(np.where(allowed, descriptors.ring_bound(atlas.ring_mags, q) / (norms * size), 0.0))
+    pairs = np.sort(_best(np.concatenate(bounds), RING_CANDIDATES))
+    which, curve = np.divmod(pairs, atlas.closed)
+    score, shift = np.zeros(len(pairs)), np.zeros(len(pairs))
+    for j, (q, size) in enumerate(queries):
+        mine = which == j
+        if mine.any():
+            power, shift[mine] = descriptors.ring_match(atlas.rings[curve[mine]].astype(np.float64), q)
+            score[mine] = power / (atlas.ring_norms[curve[mine]] * size * size)
+    return curve, np.array(senses)[which].astype(float), score, shift
+
+
+def _ring_hits(design: Design, atlas: Atlas, ok: np.ndarray, senses: tuple, count: int):
+    """The `count` whole loops most similar to the closed targets (`ring_scores`), as
+    `_arc_hits` gives stretches: the loop's start at the matched shift, length 1."""
+    query, frac = descriptors.target_ring(design.targets)
+    curve, sense, score, shift = ring_scores(atlas, ok, query, senses)
+    picked = _best(score, count)
+    shares = np.where(sense[picked, None] > 0, frac[None, :], 1.0 - frac[None, :])
+    return curve[picked], shift[picked], np.ones(len(picked)), sense[picked], shares
+
+
+def hits(design: Design, atlas: Atlas, ok: np.ndarray):
+    """The most similar stretches: (curve (H,), stretch start (H,), stretch length
+    (H,), sense (H,): +1 forwards, -1 the target run backwards, share of the stretch at
+    each target (H, n)): a closed-looking target's RING_HITS whole loops first, then the
+    HITS stretches (CLOSED_ARC_HITS for a closed-looking target) of the `arcs` table."""
+    senses = {"ccw": (1,), "cw": (-1,)}.get(design.direction, (1, -1))
+    if not looks_closed(design.targets):
+        return _arc_hits(design, atlas, ok, senses, HITS)
+    rings = _ring_hits(design, atlas, ok, senses, RING_HITS)
+    arcs = _arc_hits(design, atlas, ok, senses, CLOSED_ARC_HITS)
+    return tuple(np.concatenate([r, a]) for r, a in zip(rings, arcs))
 
 
 def starts(design: Design, atlas: Atlas, count: int):
@@ -222,11 +262,12 @@ def starts(design: Design, atlas: Atlas, count: int):
     # input angles at those arc-length shares: each hit's curve traced again
     uniq, back = np.unique(curve, return_inverse=True)
     lk = atlas.linkages.take(uniq)
-    phi_grid = family.input_angles(lk)
+    loop = looks_closed(design.targets)  # whole loops were matched: placed finer and timed again
+    phi_grid = family.input_angles(lk, PLACE_SAMPLES if loop else family.SAMPLES)
     gx, gy = family.coupler_points(lk, phi_grid, family.angle_sines(lk, phi_grid))
     frac = descriptors.arc_fractions(gx, gy)
     rows = np.repeat(back, h)
-    (phi,) = descriptors.interpolate(frac[rows], [phi_grid[rows]], at)
+    (phi,) = descriptors.interpolate(frac, [phi_grid], at, rows)
     x = normalized(atlas, np.repeat(curve, h), design.nx)
     sign = atlas.linkages.sign[np.repeat(curve, h)]
     q, valid = path_starts.local_curve(x, sign, phi)
@@ -237,6 +278,17 @@ def starts(design: Design, atlas: Atlas, count: int):
     pick = np.argmin(cost, axis=1)
     one = np.arange(len(found)) * h + pick
     best = cost[np.arange(len(found)), pick]
+    # each hit's best hypothesis timed again by the nearest points of its curve (closed targets)
+    fin = np.flatnonzero(np.isfinite(best)) if loop else np.zeros(0, dtype=np.int64)
+    step = max(1, RETIME_MEMORY // (design.n_targets * (2 * RETIME_WINDOW + 1)))
+    for part in range(0, len(fin), step):  # a block of hits at a time: bounded memory
+        f = fin[part:part + step]
+        r = one[f]
+        new_phi, nu, ng, ncost = _retime(design, x[r], sign[r], phi_grid[rows[r]], frac[rows[r]], at[r], phi[r],
+                                         u[r], g[r], s_lo[r], s_hi[r], np.repeat(sense, h)[r], rep_closed[r])
+        better = ncost < best[f]
+        phi[r[better]], u[r[better]], g[r[better]] = new_phi[better], nu[better], ng[better]
+        best[f[better]] = ncost[better]
     # the best hit of each four-bar, best first (ties: the more similar hit)
     order = np.lexsort((np.arange(len(found)), best))
     seen, keep = set(), []
@@ -258,6 +310,41 @@ def starts(design: Design, atlas: Atlas, count: int):
     x = path_starts.apply_similarity(design, x, u[rows], g[rows])
     x = path_starts.fit_linear(design, x, sign[rows], s)
     return x, sign[rows], s, best[keep], len(found) * h + len(keep)
+
+
+def _retime(design: Design, x, sign, phi_grid, frac, at, phi, u, g, s_lo, s_hi, sense, closed):
+    """Free timing's own rule applied to placed hits (N rows): each target moved to the
+    curve's sample nearest to it (the curve traced at PLACE_SAMPLES angles, placed by the
+    similarity u, g) within RETIME_WINDOW samples of where its arc-length share put it,
+    the similarity fitted again; RETIME rounds. A row whose targets would leave their
+    order (or the turn) keeps its last timing. Returns (phi, u, g, cost)."""
+    n_grid = phi_grid.shape[1]
+    t = design.targets[:, 0] + 1j * design.targets[:, 1]
+    q_grid, valid_grid = path_starts.local_curve(x, sign, phi_grid)
+    (index,) = descriptors.interpolate(frac, [np.broadcast_to(np.arange(n_grid, dtype=float), frac.shape)], at)
+    index = np.rint(index).astype(np.int64)
+    offsets = np.arange(-RETIME_WINDOW, RETIME_WINDOW + 1)
+    g0, gamma0 = path_starts.fixed_pivot(design), path_starts.fixed_angle(design)
+    cost = np.full(len(x), np.inf)
+    for _ in range(RETIME):
+        placed = g[:, None] + u[:, None] * np.where(valid_grid, q_grid, np.nan)
+        cand = index[:, :, None] + offsets[None, None, :]
+        cand = np.where(closed[:, None, None], np.mod(cand, n_grid - 1), np.clip(cand, 0, n_grid - 1))
+        rows = np.arange(len(x))[:, None, None]
+        gap = np.abs(placed[rows, cand] - t[None, :, None])
+        gap = np.where(np.isfinite(gap), gap, np.inf)
+        index = np.take_along_axis(cand, np.argmin(gap, axis=2)[:, :, None], axis=2)[:, :, 0]
+        new_phi = np.take_along_axis(phi_grid, index, axis=1)
+        steps = sense[:, None] * np.diff(new_phi, axis=1)
+        turn = np.sum(np.mod(steps, 2.0 * math.pi), axis=1)
+        ordered = np.where(closed, turn < 2.0 * math.pi, np.all(steps >= 0.0, axis=1))
+        q, valid = path_starts.local_curve(x, sign, new_phi)
+        nu, ng, ncost = path_starts.similarity(design, q, s_lo, s_hi, g0, gamma0)
+        ncost = np.where(ordered & valid.all(axis=1) & np.isfinite(ncost), ncost, np.inf)
+        take = ncost < cost
+        phi, u, g = np.where(take[:, None], new_phi, phi), np.where(take, nu, u), np.where(take, ng, g)
+        cost = np.where(take, ncost, cost)
+    return phi, u, g, cost
 
 
 def starts_for(design, count: int):
