@@ -159,7 +159,9 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
     where the first one reaches 0 (the ratio test of a primal active-set method: Nocedal &
     Wright, sec. 16.5), and the next round holds that one too (at most BLOCKED more rounds),
     where without it a step that a released bound or multiplier lets run far crosses
-    constraints the merit does not see, and the round ends off the feasible set."""
+    constraints the merit does not see, and the round ends off the feasible set; a constraint
+    released goes with its copies (the same value and row: a lifted size's joint with one peak
+    lists it twice), which would hold it otherwise."""
     if curvature not in (False, True, "stalled", "whole"):
         raise ValueError(f"curvature must be False, True, 'stalled' or 'whole', not {curvature!r}")
     opts = Options(evaluate, hessian_step, active_tol, multipliers, step_tol, curvature, groups, evaluate_many,
@@ -204,6 +206,8 @@ def _settle_once(opts: Options, u0) -> Settled:
         if wrong[worst_sign] > SIGN_TOL * scale:  # release the most wrong one
             if worst_sign < len(p.c):
                 active[worst_sign] = False
+                if opts.blocking:  # the same constraint listed again (the same value and row) goes with it
+                    active &= ~((p.c == p.c[worst_sign]) & np.all(p.a == p.a[worst_sign], axis=1))
             elif worst_sign < len(p.c) + len(u):
                 lower[worst_sign - len(p.c)] = False
             else:
@@ -300,13 +304,13 @@ def _newton(opts: Options, u, p: Point, active, fixed):
 
 
 def _blocking(p: Point, step, active, active_tol: float) -> float:
-    """The share of `step` at which the first inactive constraint (above active_tol) reaches 0
-    by its linearization c + a s (1: none does)."""
+    """The share of `step` at which the first inactive constraint that it would break (beyond
+    FEASIBLE, by its linearization c + a s) reaches 0 (1: none)."""
     slope = linalg.matvec(p.a, step)
-    falls = ~active & (p.c > active_tol) & (p.c + slope < 0.0)
+    falls = ~active & (p.c >= -FEASIBLE) & (p.c + slope < -FEASIBLE)
     if not falls.any():
         return 1.0
-    return float(np.min(p.c[falls] / (p.c[falls] - (p.c[falls] + slope[falls]))))
+    return float(np.min(np.maximum(p.c[falls], 0.0) / -slope[falls]))
 
 
 def _hessian(opts: Options, many, u, rows, free, lam, fresh: bool):
