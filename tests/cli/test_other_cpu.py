@@ -116,9 +116,9 @@ KNOWN_TO_DIFFER = {
     "problems/path_pareto.toml": "issue 51, open: the path example's last front row (the smallest linkage, "
                                  "the size's anchor made lexicographic) moves in one 6th digit under the "
                                  "Prescott kernel and without numpy's wide vector paths: its settle fails, "
-                                 "plain (near-tied size pieces) and lifted (the box's top tied three ways, "
-                                 "A, B0 and P: releasing A's side, the next Newton step breaks it again), so "
-                                 "the row keeps its polish's digits",
+                                 "plain (near-tied size pieces) and lifted (the output length's bound released, "
+                                 "Newton's step breaks two other sides of the box; benchmarks/RESULTS.md), "
+                                 "so the row keeps its polish's digits",
 }
 
 

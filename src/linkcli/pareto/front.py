@@ -171,9 +171,9 @@ def settle(problem: Scalarized, x) -> tuple[np.ndarray, bool]:
     converged, meets every constraint of the level and is no worse (merit, within ROUND_OFF).
     Where that settle fails on a level that holds the size, the level is settled again with its
     size lifted (Scalarized.lifted: the box's sides as variables, each beyond every peak of every
-    joint, and a step that stops at the first side it would break): where joints tie for a side
-    of the box, or a joint's coordinate peaks twice over the motion, the pieces of the max bind
-    together with dependent gradients, or one piece bends, and the active set cycles."""
+    joint): where joints tie for a side of the box, or a joint's coordinate peaks twice over the
+    motion, the pieces of the max bind together with dependent gradients, or one piece bends,
+    and the active set cycles."""
     end, settled = _settle(problem, problem, x)
     if settled:
         return end, True
@@ -212,7 +212,7 @@ def _settle(problem: Scalarized, form: Scalarized, x) -> tuple[np.ndarray, bool]
         with np.errstate(all="ignore"):
             out = kkt.settle(evaluate, start, hessian_step=SETTLE_STEP, multipliers=True, step_tol=SETTLE_STEP_TOL,
                              curvature=False if form.epigraph else "whole", reuse=True,
-                             evaluate_many=evaluate_many, blocking=form is not problem)
+                             evaluate_many=evaluate_many)
     except (BudgetSpent, ArithmeticError, ValueError, np.linalg.LinAlgError, *UNMEASURED):
         return np.asarray(x, float), False
     end = out.u[:len(u0)]  # the design (and t), a lifted box's sides dropped

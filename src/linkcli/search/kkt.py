@@ -48,7 +48,6 @@ SLOPE_STEP = 3e-4  # unit box: the step of `slopes`
 AT_BOUND = 1e-6  # unit box: a variable this close to 0 or 1 sits on its bound at the start
 ITERATIONS = 30  # Newton steps per active set
 ROUNDS = 6  # active sets tried
-BLOCKED = 6  # blocking: rounds more, for the constraints a step stopped at
 STEP_TOL = 1e-10  # unit box: a Newton step this small has converged (round-off of the
 # slopes leaves steps of 1e-12 on a well-posed problem; six printed digits need 1e-7)
 PRINTED = 1e-7  # unit box: a Newton step this small whose model gains only round-off of f is the
@@ -103,7 +102,6 @@ class Options:
     groups: list | None
     evaluate_many: Callable[[np.ndarray], list] | None = None
     reuse: bool = False
-    blocking: bool = False  # a step stops at the first inactive constraint it would break (`settle`)
     memo: dict = field(default_factory=dict)  # reuse: the last differenced Hessian (`_hessian`)
 
 
@@ -117,8 +115,7 @@ class Settled:
 
 def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e-6,
            active_tol: float = ACTIVE, multipliers: bool = False, step_tol: float = STEP_TOL,
-           curvature: bool | str = False, groups=None, evaluate_many=None, reuse: bool = False,
-           blocking: bool = False) -> Settled:
+           curvature: bool | str = False, groups=None, evaluate_many=None, reuse: bool = False) -> Settled:
     """Newton-KKT from u0 on the active set found there (constraints within `active_tol`
     of 0: above the margin a search keeps from its limits; see the module docstring).
     A round that ends with a multiplier of the wrong sign (or fails on it) releases the
@@ -154,18 +151,11 @@ def settle(evaluate: Callable[[np.ndarray], Point], u0, hessian_step: float = 1e
     `curvature="whole"`: that differenced Hessian at every step, from the first (with
     `reuse`, one per NEAR-neighbourhood and binding set): where a binding constraint's own
     curvature is all that holds a flat direction of f (an epsilon level of a Pareto front:
-    Gauss-Newton's model is singular along the level, its steps cycle outside NEAR).
-    `blocking`: a step that its linearization says would break an inactive constraint stops
-    where the first one reaches 0 (the ratio test of a primal active-set method: Nocedal &
-    Wright, sec. 16.5), and the next round holds that one too (at most BLOCKED more rounds),
-    where without it a step that a released bound or multiplier lets run far crosses
-    constraints the merit does not see, and the round ends off the feasible set; a constraint
-    released goes with its copies (the same value and row: a lifted size's joint with one peak
-    lists it twice), which would hold it otherwise."""
+    Gauss-Newton's model is singular along the level, its steps cycle outside NEAR)."""
     if curvature not in (False, True, "stalled", "whole"):
         raise ValueError(f"curvature must be False, True, 'stalled' or 'whole', not {curvature!r}")
     opts = Options(evaluate, hessian_step, active_tol, multipliers, step_tol, curvature, groups, evaluate_many,
-                   reuse, blocking)
+                   reuse)
     out = _settle_once(opts, u0)
     for _ in range(AGAIN):  # from its end, where the binding set is read afresh
         if not out.converged:
@@ -187,13 +177,9 @@ def _settle_once(opts: Options, u0) -> Settled:
     active = p.c <= opts.active_tol
     lower, upper = start <= AT_BOUND, start >= 1.0 - AT_BOUND
     here = start
-    for _ in range(ROUNDS + (BLOCKED if opts.blocking else 0)):
+    for _ in range(ROUNDS):
         u = np.where(lower, 0.0, np.where(upper, 1.0, here))
         u, p, lam, ok = _newton(opts, u, evaluate(u), active, lower | upper)
-        if ok == "blocked":  # stopped at an inactive constraint: held from there
-            active |= p.c <= opts.active_tol
-            here = u
-            continue
         here = u if ok else start  # a round that failed leaves no point to go on from
         # multipliers of the bounds: the gradient of the Lagrangian pushing outwards
         grad_l = p.g - linalg.matvec(p.a[active].T, lam) if active.any() else p.g
@@ -206,8 +192,6 @@ def _settle_once(opts: Options, u0) -> Settled:
         if wrong[worst_sign] > SIGN_TOL * scale:  # release the most wrong one
             if worst_sign < len(p.c):
                 active[worst_sign] = False
-                if opts.blocking:  # the same constraint listed again (the same value and row) goes with it
-                    active &= ~((p.c == p.c[worst_sign]) & np.all(p.a == p.a[worst_sign], axis=1))
             elif worst_sign < len(p.c) + len(u):
                 lower[worst_sign - len(p.c)] = False
             else:
@@ -258,11 +242,6 @@ def _newton(opts: Options, u, p: Point, active, fixed):
         if step is None:
             return failed()
         lam = lam_new
-        if opts.blocking:
-            block = _blocking(p, step, active, opts.active_tol)
-            if block < 1.0:  # the step stops where the first inactive constraint reaches 0
-                trial = np.clip(u + block * step, 0.0, 1.0)
-                return trial, evaluate(trial), lam, "blocked"
         size = float(np.max(np.abs(step)))
         if rest is None and size <= PRINTED and _at_round_off(p, h, step, rows, lam):
             rest = (u, p, lam)
@@ -301,16 +280,6 @@ def _newton(opts: Options, u, p: Point, active, fixed):
     else:  # still moving after ITERATIONS steps: not settled
         return failed()
     return u, p, lam, True
-
-
-def _blocking(p: Point, step, active, active_tol: float) -> float:
-    """The share of `step` at which the first inactive constraint that it would break (beyond
-    FEASIBLE, by its linearization c + a s) reaches 0 (1: none)."""
-    slope = linalg.matvec(p.a, step)
-    falls = ~active & (p.c >= -FEASIBLE) & (p.c + slope < -FEASIBLE)
-    if not falls.any():
-        return 1.0
-    return float(np.min(np.maximum(p.c[falls], 0.0) / -slope[falls]))
 
 
 def _hessian(opts: Options, many, u, rows, free, lam, fresh: bool):
