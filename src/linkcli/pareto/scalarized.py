@@ -14,18 +14,19 @@ anchors). Slopes by differences: the type's residuals and constraints of a whole
 shifted designs in one call, the other objectives through the protocol (the size of the whole
 batch at once: Measure.pieces_many).
 
-The size lifted (`lift`, the Newton settle's form): the diagonal of the box is a largest of
+The size lifted (`Scalarized.lifted`, the form a failed Newton settle tries again in): the diagonal of the box is a largest of
 joints^4 pieces sqrt((xmax_i - xmin_j)^2 + (ymax_k - ymin_l)^2), and where two joints tie for
 one side of the box (the smallest linkages of a front: the optimum balances them) many pieces
 bind whose gradients are dependent (rank 5 of 16 for a tie on every side): their multipliers
 are not unique, and an active-set Newton method releases one, breaks it, adds it again. Lifted,
-the box's four sides are variables X+, X-, Y+, Y- (min-max in epigraph form: Bertsekas,
-Nonlinear Programming, 2nd ed., 1999, sec. 4.3 on minimax problems), each held beyond every
+the box's four sides are variables X+, X-, Y+, Y- (a max in epigraph form, one variable a
+side, as t is for a first objective that is a largest piece), each held beyond every
 peak of every joint (X+ >= x of each peak, ...: Measure.boxes_many, two peaks a joint, so that a
 joint whose coordinate peaks twice over the motion is two smooth constraints and not one
 that bends), and the diagonal sqrt((X+ - X-)^2 + (Y+ - Y-)^2) <= eps (or <= t s, the size the
 first objective): tied sides are then constraints with independent gradients, each with its
-own multiplier. Its feasible designs are the unlifted problem's, with the same size.
+own multiplier. Its feasible designs are the unlifted problem's, with the same size (but where
+the largest row's peak is not the highest refined one: rows 0.5 deg apart, 1e-5 of the diagonal).
 """
 
 from __future__ import annotations
