@@ -168,38 +168,58 @@ def settle(problem: Scalarized, x) -> tuple[np.ndarray, bool]:
     tolerance on f leaves a flat direction's digits to the machine). A least-squares first
     objective: the Gauss-Newton Hessian, differenced where the steps stall; an epigraph: the
     Lagrangian's Hessian by differences at least-squares multipliers. The end is taken when it
-    converged, meets every constraint and is no worse (merit, within ROUND_OFF)."""
+    converged, meets every constraint of the level and is no worse (merit, within ROUND_OFF).
+    Where that settle fails on a level that holds the size, the level is settled again with its
+    size lifted (Scalarized.lifted: the box's sides as variables, each beyond every peak of every
+    joint): where joints tie for a side of the box, or a joint's coordinate peaks twice over the
+    motion, the pieces of the max bind together with dependent gradients, or one piece bends,
+    and the active set cycles."""
+    end, settled = _settle(problem, problem, x)
+    if settled:
+        return end, True
+    lifted = problem.lifted(x)
+    if lifted is problem:
+        return end, False
+    return _settle(problem, lifted, x)
+
+
+def _settle(problem: Scalarized, form: Scalarized, x) -> tuple[np.ndarray, bool]:
+    """`settle` of problem's level from design x in the variables of `form` (the problem itself,
+    or its size lifted: its design variables, and t, first)."""
     from linkcli.search import kkt
     u0 = problem.unit(x, t=None)
     if problem.epigraph:
         u0[-1] = min(1.0, problem.objective(u0) / (problem.scales[problem.primary] * problem.t_scale))
+    start = form.unit(x, t=None)
+    start[:len(u0)] = u0
 
     def evaluate(u):
-        f, c, r = problem.value(u)
-        g, jc, jr = problem.slope(u, central=True)
-        return kkt.Point(f, g, c, jc, h=None if problem.epigraph else 2.0 * (jr.T @ jr))
+        f, c, r = form.value(u)
+        g, jc, jr = form.slope(u, central=True)
+        return kkt.Point(f, g, c, jc, h=None if form.epigraph else 2.0 * (jr.T @ jr))
 
     def evaluate_many(us):  # the differenced Hessian's points: forward slopes (n + 1 designs, not
         # 2n + 1); their error (~1e-6 relative) costs Newton's rate 1e-2 a step, not its root
-        problem.prefetch(us, central=False)  # every design of the n + 1 slopes in one batch
+        form.prefetch(us, central=False)  # every design of the n + 1 slopes in one batch
         out = []
         for u in us:
-            f, c, _ = problem.value(u)
-            g, jc, _ = problem.slope(u, central=False)
+            f, c, _ = form.value(u)
+            g, jc, _ = form.slope(u, central=False)
             out.append(kkt.Point(f, g, c, jc))
         return out
 
     try:
         with np.errstate(all="ignore"):
-            out = kkt.settle(evaluate, u0, hessian_step=SETTLE_STEP, multipliers=True, step_tol=SETTLE_STEP_TOL,
-                             curvature=False if problem.epigraph else "whole", reuse=True,
+            out = kkt.settle(evaluate, start, hessian_step=SETTLE_STEP, multipliers=True, step_tol=SETTLE_STEP_TOL,
+                             curvature=False if form.epigraph else "whole", reuse=True,
                              evaluate_many=evaluate_many)
     except (BudgetSpent, ArithmeticError, ValueError, np.linalg.LinAlgError, *UNMEASURED):
         return np.asarray(x, float), False
-    if not (out.converged and problem.feasible(out.u, SETTLED_FEASIBLE)
-            and problem.merit(out.u) <= problem.merit(u0) + ROUND_OFF * max(abs(problem.merit(u0)), 1e-300)):
+    end = out.u[:len(u0)]  # the design (and t), a lifted box's sides dropped
+    if not (out.converged and problem.feasible(end, SETTLED_FEASIBLE)
+            and problem.merit(end) <= problem.merit(u0) + ROUND_OFF * max(abs(problem.merit(u0)), 1e-300)):
         return np.asarray(x, float), False
-    return problem.design(out.u), True
+    return problem.design(end), True
 
 
 def epigraph_slsqp(problem: Scalarized, u0) -> tuple[np.ndarray, bool]:

@@ -15,7 +15,7 @@ linkcli.pareto.space). Values are in the report's units:
   over its linkage's span -- the section's own);
 - `size`: the diagonal of the box swept by every joint and traced point (the coupler point)
   over the motion (length unit), from the home's skeleton at ROWS drive angles a turn, each
-  joint's extreme coordinates refined on the skeleton (`Measure.extremes`);
+  joint's extreme coordinates refined on the skeleton (`Measure.peaks`);
 - `link-ratio`: the longest link over the shortest (the home's links, schema.known_lengths);
 - `torque`: the peak magnitude of the input torque over the motion's rows (N m), and
   `pin-force`: the peak pin force over every pin and row (N), from the home's load_rows under
@@ -45,6 +45,11 @@ SPAN_ROWS = 64
 RIGHT = 0.5 * math.pi
 TARGETED = ("error", "max-error")  # measured from the type's residuals (the timing moves them)
 CACHED = 4096  # linkages whose protocol pieces are kept
+PEAKS = 2  # the lifted size (boxes_many): peaks refined a joint's coordinate (its largest row and
+# the next local maximum); the size's value and pieces refine the largest row alone
+PEAK_WINDOW = 1e-3  # size: a local maximum within this share of the box's diagonal of a joint's largest
+# row is refined too (the rows locate a peak within about 1e-5 of the diagonal: a rival peak further
+# below cannot overtake the largest within a settle's steps)
 
 
 def unit_of(name: str, units, error_kind: str) -> str:
@@ -72,10 +77,12 @@ class Measure:
         self.speed, self.steps = motion_study(problem, self.units)
         self.failure = None
         self.cache: dict = {}
+        self.box_cache: dict = {}  # (linkage, peaks) -> its joints' peaks (boxes_many)
 
     def __getstate__(self):
         state = dict(self.__dict__)
         state["cache"] = {}  # a worker's own (the front's tasks pickle the measure each)
+        state["box_cache"] = {}
         return state
 
     # ------------------------------------------------------------ the motion
@@ -119,10 +126,11 @@ class Measure:
         p = self.piece(name, x, sol)
         return float(np.max(p)) if p.size and np.all(np.isfinite(p)) else math.inf
 
-    def pieces_many(self, xs, wanted=None) -> list[list[np.ndarray]]:
-        """`pieces(x, wanted=wanted)` of every design of xs (N, n); the size of every design not
-        kept measured at once (`size_pieces_many`: the same numbers), the rest design by design."""
-        sols = [self.space.solution(x) for x in xs]
+    def pieces_many(self, xs, wanted=None, sols=None) -> list[list[np.ndarray]]:
+        """`pieces(x, wanted=wanted)` of every design of xs (N, n) (sols: their Solutions, if made
+        already); the size of every design not kept measured at once (`size_pieces_many`: the
+        same numbers), the rest design by design."""
+        sols = [self.space.solution(x) for x in xs] if sols is None else sols
         known: list = [None] * len(sols)
         if "size" in self.names:
             k = self.names.index("size")
@@ -236,20 +244,45 @@ class Measure:
         """`size_pieces` of many designs: those of one home and one row count measured at once
         (the home's `joint_paths`, vectorized over designs x drive angles: the same numbers
         as design by design)."""
+        out = []
+        for box in self.boxes_many(sols, peaks=1):
+            if not np.all(np.isfinite(box)):
+                out.append(np.full(box.shape[1] ** 4, math.inf))
+                continue
+            ext = np.max(np.array([1.0, -1.0, 1.0, -1.0])[:, None, None] * box, axis=2)  # (4, joints)
+            width = np.maximum(ext[0][:, None] + ext[1][None, :], 0.0).reshape(-1)
+            height = np.maximum(ext[2][:, None] + ext[3][None, :], 0.0).reshape(-1)
+            out.append(np.sqrt(width[:, None] ** 2 + height[None, :] ** 2).reshape(-1))
+        return out
+
+    def boxes_many(self, sols, peaks: int = PEAKS) -> list[np.ndarray]:
+        """Per design, its joints' peaks (4, joints, peaks): the largest x, the smallest x, the
+        largest y and the smallest y of each joint over the motion (`peaks`: 1, the largest row
+        refined; 2, and the next local maximum), inf where the linkage does not assemble; those
+        of one home and one row count measured at once, each kept for CACHED linkages."""
         out: list = [None] * len(sols)
         groups: dict = {}
         for i, sol in enumerate(sols):
+            key = self._key(sol)
+            if key is not None and (key, peaks) in self.box_cache:
+                out[i] = self.box_cache[key, peaks]
+                continue
             groups.setdefault((type(of(sol.linkage)), *self.size_rows(sol)), []).append(i)
         for (home, count, full), members in groups.items():
             try:
-                pieces = self._size_group(home, [sols[i] for i in members], count, full)
+                boxes = self._box_group(home, [sols[i] for i in members], count, full, peaks)
             except _MixedJoints:  # the designs' skeletons name different joints: one at a time
-                pieces = [self._size_group(home, [sols[i]], count, full)[0] for i in members]
-            for i, p in zip(members, pieces):
-                out[i] = p
+                boxes = [self._box_group(home, [sols[i]], count, full, peaks)[0] for i in members]
+            for i, box in zip(members, boxes):
+                out[i] = box
+                key = self._key(sols[i])
+                if key is not None:
+                    if len(self.box_cache) >= CACHED:
+                        self.box_cache.clear()
+                    self.box_cache[key, peaks] = box
         return out
 
-    def _size_group(self, home, sols, count: int, full: bool) -> list[np.ndarray]:
+    def _box_group(self, home, sols, count: int, full: bool, peaks: int) -> list[np.ndarray]:
         phi = np.array([self.rows(sol, count) for sol in sols], dtype=float)  # (K, n)
         linkages = [sol.linkage for sol in sols]
         try:
@@ -259,54 +292,55 @@ class Measure:
         pts = np.stack([np.asarray(p, dtype=float).reshape(len(sols), phi.shape[1], 2)
                         for p in paths.values()], axis=2)  # (K, n, joints, 2)
         joints = pts.shape[2]
-        out = [np.full(joints ** 4, math.inf) for _ in sols]
+        out = [np.full((4, joints, peaks), math.inf) for _ in sols]
         good = np.flatnonzero(np.all(np.isfinite(pts), axis=(1, 2, 3)))
         if good.size == 0:
             return out
-        ext = self.extremes(home, [linkages[i] for i in good], phi[good], pts[good], full)
-        k = len(good)
-        width = np.maximum(ext[0, 1.0][:, :, None] - ext[0, -1.0][:, None, :], 0.0).reshape(k, -1)
-        height = np.maximum(ext[1, 1.0][:, :, None] - ext[1, -1.0][:, None, :], 0.0).reshape(k, -1)
-        size = np.sqrt(width[:, :, None] ** 2 + height[:, None, :] ** 2).reshape(k, -1)
+        ext = self.peaks(home, [linkages[i] for i in good], phi[good], pts[good], full, peaks)
+        box = np.stack([ext[0, 1.0], ext[0, -1.0], ext[1, 1.0], ext[1, -1.0]], axis=1)  # (K, 4, joints, peaks)
         for j, i in enumerate(good):
-            out[i] = size[j]
+            out[i] = box[j]
         return out
 
-    def extremes(self, home, linkages, phi, pts, full: bool) -> dict:
-        """(coordinate, sign) -> (K, joints) each design's joints' extreme coordinates over the
-        motion (phi (K, n) its rows, pts (K, n, joints, 2) its skeleton there): the largest
-        row, then REFINE rounds of a parabola through the skeleton at its vertex and DELTAS
-        either side (the home's joint_paths at any drive angle: a Newton step on the
-        coordinate's slope, to round-off, so that the extreme is smooth in the design); an
-        end of an open arc is exact; a design whose rows step backwards (or not at all) keeps
-        its largest row. The four (coordinate, sign) sets of every joint of every design in
-        one array: one joint_paths call a round."""
+    def peaks(self, home, linkages, phi, pts, full: bool, count: int = PEAKS) -> dict:
+        """(coordinate, sign) -> (K, joints, count) each design's joints' peak coordinates over the
+        motion (phi (K, n) its rows, pts (K, n, joints, 2) its skeleton there). A joint's peaks:
+        its largest row and (count 2) the next largest local maximum of the rows within
+        PEAK_WINDOW of it (the largest again where there is none), in the order of their rows, each refined by
+        REFINE rounds of a parabola through the skeleton at its vertex and DELTAS either side
+        (the home's joint_paths at any drive angle: a Newton step on the coordinate's slope, to
+        round-off, so that each peak is smooth in the design, where their largest bends when
+        two peaks of the motion trade places); an end of an open arc is exact; a design whose
+        rows step backwards (or not at all) keeps its rows. The four (coordinate, sign) sets of
+        every joint and peak of every design in one array: one joint_paths call a round."""
         designs, n, joints = pts.shape[0], pts.shape[1], pts.shape[2]
         step = (phi[:, 1] - phi[:, 0]) if n > 1 else np.zeros(designs)
-        lo = np.minimum(phi[:, 0], phi[:, -1])[:, None, None, None]
-        hi = np.maximum(phi[:, 0], phi[:, -1])[:, None, None, None]
+        lo = np.minimum(phi[:, 0], phi[:, -1])[:, None, None, None, None]
+        hi = np.maximum(phi[:, 0], phi[:, -1])[:, None, None, None, None]
         keys = [(k, sign) for k in (0, 1) for sign in (1.0, -1.0)]
         coord = np.array([k for k, _ in keys])
-        signs = np.array([sign for _, sign in keys])[:, None, None]  # (4, 1, 1)
-        vals = signs * np.moveaxis(pts[..., coord], 3, 1)  # (K, 4, rows, joints)
-        top = np.argmax(vals, axis=2)  # (K, 4, joints)
-        kk = np.arange(designs)[:, None, None]
-        own, sets = np.arange(joints)[None, None, :], np.arange(len(keys))[None, :, None]
-        sampled = vals[kk, sets, top, own]  # (K, 4, joints): each joint's largest row
+        signs = np.array([sign for _, sign in keys])
+        vals = signs[:, None, None] * np.moveaxis(pts[..., coord], 3, 1)  # (K, 4, rows, joints)
+        top = _peak_rows(vals, full, count)  # (K, 4, joints, count)
+        kk = np.arange(designs)[:, None, None, None]
+        sets = np.arange(len(keys))[None, :, None, None]
+        own = np.arange(joints)[None, None, :, None]
+        slot = np.arange(count)[None, None, None, :]
+        sampled = vals[kk, sets, top, own]  # (K, 4, joints, PEAKS): each peak's row
         best = sampled.copy()
         centre = phi[kk, top]
         inner = np.ones_like(top, dtype=bool) if full else (top > 0) & (top < n - 1)
-        inner = inner & (step > 0)[:, None, None]
+        inner = inner & (step > 0)[:, None, None, None]
         if n > 1 and np.any(step > 0):
             for divisor in (1.0, 16.0, 256.0):  # DELTAS: step, step / 16, step / 256
-                delta = (step / divisor)[:, None, None]
-                at = np.stack([centre - delta, centre, centre + delta], axis=-1)  # (K, 4, joints, 3)
+                delta = (step / divisor)[:, None, None, None]
+                at = np.stack([centre - delta, centre, centre + delta], axis=-1)  # (K, 4, joints, PEAKS, 3)
                 if not full:
                     at = np.clip(at, lo, hi)
                 paths = home.joint_paths(linkages, at.reshape(designs, -1))
                 pos = np.stack([np.asarray(p, dtype=float).reshape(designs, -1, 2) for p in paths.values()], axis=2)
-                pos = pos.reshape(designs, len(keys), joints, 3, joints, 2)
-                y = signs * pos[kk, sets, own, :, own, coord[None, :, None]]  # (K, 4, joints, 3)
+                pos = pos.reshape(designs, len(keys), joints, count, 3, joints, 2)
+                y = signs[:, None, None, None] * pos[kk, sets, own, slot, :, own, coord[None, :, None, None]]
                 y0, y1, y2 = y[..., 0], y[..., 1], y[..., 2]
                 curve = y0 - 2.0 * y1 + y2
                 with np.errstate(all="ignore"):
@@ -339,6 +373,38 @@ class Measure:
         if self.failure is None:
             self.failure = Failure(self.problem, self.space)
         return self.failure.share(x)
+
+
+def _peak_rows(vals, full: bool, count: int) -> np.ndarray:
+    """(K, 4, joints, count) row indices of each joint's peaks (vals (K, 4, rows, joints): each
+    joint's x, -x, y and -y, so that every extreme is a largest): its largest row and (count 2) the largest
+    other local maximum (a row above the one before it and not below the one after it,
+    cyclically over a full turn) within PEAK_WINDOW of the rows' box diagonal of it, or the largest
+    row again, sorted by row (slots that keep their peak as the design moves, where an order by
+    value would swap them as the two trade places)."""
+    designs, sets, n, joints = vals.shape
+    top = np.argmax(vals, axis=2)[:, :, None, :]  # (K, sets, 1, joints)
+    if count == 1:
+        return np.moveaxis(top, 2, 3)
+    largest = np.take_along_axis(vals, top, axis=2)
+    reach = np.max(largest, axis=(2, 3))  # (K, 4): the rows' box, x, -x, y, -y
+    window = PEAK_WINDOW * np.hypot(reach[:, 0] + reach[:, 1], reach[:, 2] + reach[:, 3])
+    ahead = np.empty(vals.shape, dtype=bool)  # row r below row r + 1 (the last: below the first, or never)
+    np.less(vals[:, :, :-1], vals[:, :, 1:], out=ahead[:, :, :-1])
+    if full:
+        np.less(vals[:, :, -1], vals[:, :, 0], out=ahead[:, :, -1])
+    else:
+        ahead[:, :, -1] = False
+    rising = np.roll(ahead, 1, axis=2)  # row r above row r - 1
+    if not full:
+        rising[:, :, 0] = True
+    local = rising & ~ahead & (vals >= largest - window[:, None, None, None])
+    np.put_along_axis(local, top, False, axis=2)  # the largest row is slot one already
+    other = np.where(local, vals, -np.inf)
+    second = np.argmax(other, axis=2)[:, :, None, :]
+    found = np.take_along_axis(other, second, axis=2) > -np.inf
+    rows = np.concatenate([top, np.where(found, second, top)], axis=2)  # (K, sets, 2, joints)
+    return np.moveaxis(np.sort(rows, axis=2), 2, 3)
 
 
 class _MixedJoints(Exception):

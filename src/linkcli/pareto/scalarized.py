@@ -13,6 +13,20 @@ piece by piece ((eps - piece) / s_k >= 0), each scaled by s_k (its spread over t
 anchors). Slopes by differences: the type's residuals and constraints of a whole batch of
 shifted designs in one call, the other objectives through the protocol (the size of the whole
 batch at once: Measure.pieces_many).
+
+The size lifted (`Scalarized.lifted`, the form a failed Newton settle tries again in): the diagonal of the box is a largest of
+joints^4 pieces sqrt((xmax_i - xmin_j)^2 + (ymax_k - ymin_l)^2), and where two joints tie for
+one side of the box (the smallest linkages of a front: the optimum balances them) many pieces
+bind whose gradients are dependent (rank 5 of 16 for a tie on every side): their multipliers
+are not unique, and an active-set Newton method releases one, breaks it, adds it again. Lifted,
+the box's four sides are variables X+, X-, Y+, Y- (a max in epigraph form, one variable a
+side, as t is for a first objective that is a largest piece), each held beyond every
+peak of every joint (X+ >= x of each peak, ...: Measure.boxes_many, two peaks a joint, so that a
+joint whose coordinate peaks twice over the motion is two smooth constraints and not one
+that bends), and the diagonal sqrt((X+ - X-)^2 + (Y+ - Y-)^2) <= eps (or <= t s, the size the
+first objective): tied sides are then constraints with independent gradients, each with its
+own multiplier. Its feasible designs are the unlifted problem's, with the same size (but where
+the largest row's peak is not the highest refined one: rows 0.5 deg apart, 1e-5 of the diagonal).
 """
 
 from __future__ import annotations
@@ -43,6 +57,32 @@ class Scalarized:
         self.n_variables = self.k + (1 if self.epigraph else 0)
         self.t_scale = 1.0  # epigraph: t in [0, 1] is f_1 in [0, t_scale * s_1]
         self.cache: dict = {}
+        self.box: int | None = None  # lifted: the size's objective index (module docstring)
+        self.box_at = self.n_variables  # lifted: the first of the box's four side variables
+        self.box_origin, self.box_span = np.zeros(4), 1.0  # lifted: a side is origin + (u - 1/2) span
+
+    def lifted(self, x) -> Scalarized:
+        """This level with its size lifted (module docstring), the box's sides centred on design
+        x's own and spanning its diagonal; self where the level neither holds nor minimizes the size."""
+        names = self.measure.names
+        k = names.index("size") if "size" in names else None
+        if k is None or not (k in self.eps or (k == self.primary and self.epigraph)):
+            return self
+        out = Scalarized(self.measure, self.primary, self.eps, self.scales, self.budget, self.weight)
+        out.t_scale, out.box = self.t_scale, k
+        out.n_variables += 4
+        box = self.measure.boxes_many([self.space.solution(np.asarray(x, float))])[0]
+        sides = self._sides(box)
+        if not np.all(np.isfinite(sides)):
+            return self
+        out.box_origin = sides
+        out.box_span = max(float(np.hypot(sides[0] - sides[1], sides[2] - sides[3])), 1e-300)
+        return out
+
+    @staticmethod
+    def _sides(box) -> np.ndarray:
+        """(X+, X-, Y+, Y-) of joints' peaks box (4, joints, PEAKS): the box they span."""
+        return np.array([np.max(box[0]), np.min(box[1]), np.max(box[2]), np.min(box[3])])
 
     # ------------------------------------------------------------ variables
     def design(self, u) -> np.ndarray:
@@ -55,11 +95,15 @@ class Scalarized:
         u = np.clip(u, 0.0, 1.0)
         if self.epigraph:
             u = np.append(u, 0.0 if t is None else min(max(t, 0.0), 1.0))
+        if self.box is not None:  # the sides at the design's own box
+            box = self.measure.boxes_many([self.space.solution(np.asarray(x, float))])[0]
+            u = np.append(u, np.clip(0.5 + (self._sides(box) - self.box_origin) / self.box_span, 0.0, 1.0))
         return u
 
     # ------------------------------------------------------------ values
     def _all(self, us: np.ndarray):
-        """(residuals (K, m), constraints (K, c)) of unit-box points us (K, n_variables)."""
+        """(residuals (K, m), constraints (K, c)) of unit-box points us (K, n_variables), each
+        design measured once (an evaluation of the budget)."""
         us = np.atleast_2d(us)
         keys = [u.tobytes() for u in us]
         first: dict = {}  # each point not measured yet, once (its first row)
@@ -68,36 +112,49 @@ class Scalarized:
                 first.setdefault(key, i)
         todo = list(first.values())
         if todo:
-            self.budget.spend(len(todo))
-            xs = np.array([self.design(us[i]) for i in todo])
+            designs: dict = {}  # each design once (points that differ in t or the box's sides alone share it)
+            at = [designs.setdefault(self.design(us[i]).tobytes(), len(designs)) for i in todo]
+            self.budget.spend(len(designs))
+            xs = np.array([np.frombuffer(key) for key in designs])
             with np.errstate(all="ignore"):
                 res = self.space.residuals(xs)
                 ineq = self.space.inequalities(xs)
-            pieces = self._pieces(xs)
-            for j, i in enumerate(todo):
-                self.cache[keys[i]] = self._row(us[i], res[j], ineq[j], pieces[j])
+            sols = [self.space.solution(x) for x in xs]
+            pieces = self._pieces(xs, sols)
+            boxes = self.measure.boxes_many(sols) if self.box is not None else [None] * len(xs)
+            for j, i in zip(at, todo):
+                self.cache[keys[i]] = self._row(us[i], res[j], ineq[j], pieces[j], boxes[j])
         rows = [self.cache[key] for key in keys]
         return np.array([r for r, _ in rows]), np.array([c for _, c in rows])
 
-    def _pieces(self, xs) -> list:
+    def _pieces(self, xs, sols) -> list:
         """Per design of xs, the measure's pieces of the objectives this level holds or
         minimizes (None each: only `error`, from the residuals), measured at once."""
         names = self.measure.names
-        need = [k for k, name in enumerate(names) if k == self.primary and self.epigraph or k in self.eps]
+        need = [k for k, name in enumerate(names)
+                if (k == self.primary and self.epigraph or k in self.eps) and k != self.box]
         if not any(names[k] != "error" for k in need):
             return [None] * len(xs)
         with np.errstate(all="ignore"):
-            return self.measure.pieces_many(xs, wanted=set(need))
+            return self.measure.pieces_many(xs, wanted=set(need), sols=sols)
 
-    def _row(self, u, res, ineq, pieces):
+    def _row(self, u, res, ineq, pieces, box=None):
         names, s = self.measure.names, self.scales
         with np.errstate(all="ignore"):
             cons = [np.where(np.isfinite(ineq), ineq, -HUGE)]
+            diagonal = None
+            if self.box is not None:  # the sides beyond every peak; the diagonal held below
+                sides = self.box_origin + (u[self.box_at:self.box_at + 4] - 0.5) * self.box_span
+                for side, sign, peaks in zip(sides, (1.0, -1.0, 1.0, -1.0), box):
+                    beyond = sign * (side - peaks.reshape(-1)) / s[self.box]
+                    cons.append(np.where(np.isfinite(beyond), beyond, -HUGE))
+                diagonal = np.array([math.hypot(sides[0] - sides[1], sides[2] - sides[3])])
             for k in sorted(self.eps):
-                p = np.array([float(res @ res)]) if names[k] == "error" else pieces[k]
+                p = (np.array([float(res @ res)]) if names[k] == "error" else
+                     diagonal if k == self.box else pieces[k])
                 cons.append((self.eps[k] - np.where(np.isfinite(p), p, HUGE)) / s[k])
             if self.epigraph:
-                p = pieces[self.primary]
+                p = diagonal if self.primary == self.box else pieces[self.primary]
                 t = u[self.k] * self.t_scale
                 cons.append(t - np.where(np.isfinite(p), p, HUGE) / s[self.primary])
                 r = np.array([t])
