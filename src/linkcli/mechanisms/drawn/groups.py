@@ -26,8 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from linkcli.mechanisms.drawn.solver import cross, perp, rotate
 from linkcli.mechanisms.drawn.structure import GROUND, Group
+from linkcli.mechanisms.drawn.vectors import cross, perp, rotate
 
 TRACK_STEPS = 180  # largest steps over one turn of the leading drive (or over its slide bound)
 NEWTON_ITERATIONS = 30
@@ -424,7 +424,7 @@ def solve_group(kin, st, index: int, op: Group, guess=None) -> None:
 
 def _subset(st, rows):
     """The state's rows `rows` (what a group's equations read)."""
-    from linkcli.mechanisms.drawn.solver import State
+    from linkcli.mechanisms.drawn.state import State
     sub = State(len(rows), st.q[rows], st.rates)
     for name in ("theta", "omega", "alpha", "origin", "origin_v", "origin_a", "pos", "vel", "acc"):
         setattr(sub, name, {k: v[rows] for k, v in getattr(st, name).items()})

@@ -34,8 +34,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from linkcli.mechanisms.drawn.solver import cross, perp, rotate
 from linkcli.mechanisms.drawn.structure import GROUND
+from linkcli.mechanisms.drawn.vectors import cross, perp, rotate
 from linkcli.mechanisms.newton_euler import SINGULAR_TOLERANCE, finite_max, max_norm, scales
 from linkcli.mechanisms.protocol import LoadRows
 from linkcli.model import LinkMass

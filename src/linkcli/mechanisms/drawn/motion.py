@@ -24,7 +24,7 @@ import numpy as np
 
 from linkcli.mechanisms.drawn.groups import bound
 from linkcli.mechanisms.drawn.model import TURN
-from linkcli.mechanisms.drawn.solver import cross, dot
+from linkcli.mechanisms.drawn.vectors import cross, dot
 
 TWO_PI = 2.0 * math.pi
 GRID_DEG = 0.25  # reach and extremes: grid step of a turning drive (deg)
@@ -244,7 +244,7 @@ def transmission(kind: str, a, da, dda, b, db, ddb):
     (mu = |wrap(arg b - arg a)|); "guide": mu = arccos(|u x r| / |r|) in [0, pi/2] (90 deg is
     ideal: the force along the guide's normal and the arm r at right angles, as the
     slider-crank's)."""
-    from linkcli.mechanisms.drawn.solver import direction_rates
+    from linkcli.mechanisms.drawn.vectors import direction_rates
     if da is None:
         psi = np.arctan2(cross(a, b), dot(a, b))
         return (np.abs(psi), None, None) if kind == "pin" else (0.5 * np.pi - np.abs(_half(psi)), None, None)

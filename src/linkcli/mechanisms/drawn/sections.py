@@ -102,7 +102,7 @@ def _evaluate_closures(home, closures, sine: bool = False):
     folded to [-90, 90] deg at a guide: mu is smooth except where sin psi = 0, so its
     extremes lie at psi's extremes, at the zeros of sin psi or at the range's ends."""
     from linkcli.mechanisms.drawn.motion import closure_vectors
-    from linkcli.mechanisms.drawn.solver import cross, direction_rates, dot
+    from linkcli.mechanisms.drawn.vectors import cross, direction_rates, dot
     speed = home.linkage.drives[0].speed
     kin = home.solved.kin
 

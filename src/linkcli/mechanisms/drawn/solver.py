@@ -33,39 +33,14 @@ analysis); Uicker, Pennock & Shigley, Theory of Machines and Mechanisms, ch. 2-4
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from linkcli.mechanisms.drawn.model import SLIDE, Drawn
+from linkcli.mechanisms.drawn.state import State
 from linkcli.mechanisms.drawn.structure import GROUND, Dyad, GuideThrough, OnGuide, Structure, Turn
-
-
-def perp(v: np.ndarray) -> np.ndarray:
-    """v turned by +90 deg."""
-    return np.stack([-v[..., 1], v[..., 0]], axis=-1)
-
-
-def cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
-
-
-def dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    return u[..., 0] * v[..., 0] + u[..., 1] * v[..., 1]
-
-
-def rotate(v: np.ndarray, c: np.ndarray, s: np.ndarray) -> np.ndarray:
-    """R(theta) v for rows of cos, sin (v a (2,) point or (n, 2) rows)."""
-    v = np.asarray(v, dtype=float)
-    return np.stack([v[..., 0] * c - v[..., 1] * s, v[..., 0] * s + v[..., 1] * c], axis=-1)
-
-
-def direction_rates(v, dv, ddv):
-    """(arg v, d/dt arg v, d2/dt2 arg v) for rows of a vector and its rates."""
-    n2 = dot(v, v)
-    w = cross(v, dv) / n2
-    return np.arctan2(v[..., 1], v[..., 0]), w, cross(v, ddv) / n2 - 2.0 * dot(v, dv) * w / n2
-
+from linkcli.mechanisms.drawn.vectors import cross, direction_rates, dot, perp, rotate
 
 # ---------------------------------------------------------------- the drawing's geometry
 
@@ -122,29 +97,6 @@ def to_frame(point, origin, angle) -> np.ndarray:
     c, s = math.cos(angle), math.sin(angle)
     d = np.asarray(point, dtype=float) - origin
     return np.array([c * d[0] + s * d[1], -s * d[0] + c * d[1]])
-
-
-# ---------------------------------------------------------------- state over rows
-
-@dataclass
-class State:
-    """Poses of every body and places of every joint over n rows, with rates when asked
-    (`rates`). theta/omega/alpha: (n,); origin/origin_v/origin_a, pos/vel/acc: (n, 2)."""
-
-    n: int
-    q: np.ndarray
-    rates: bool
-    theta: dict = field(default_factory=dict)
-    omega: dict = field(default_factory=dict)
-    alpha: dict = field(default_factory=dict)
-    origin: dict = field(default_factory=dict)
-    origin_v: dict = field(default_factory=dict)
-    origin_a: dict = field(default_factory=dict)
-    pos: dict = field(default_factory=dict)
-    vel: dict = field(default_factory=dict)
-    acc: dict = field(default_factory=dict)
-    valid: np.ndarray | None = None
-    failed: dict = field(default_factory=dict)  # op index -> rows where that op failed first
 
 
 class Kinematics:
