@@ -121,7 +121,10 @@ class DrawnPopulation(Population):
     def size(self, x) -> np.ndarray:
         """(N,) each drawing's scale: its longest distance between two joints of one link or of
         the ground (drawn.sections.size)."""
-        places = self.places(x)
+        return self.size_of(self.places(x))
+
+    def size_of(self, places) -> np.ndarray:
+        """`size` from the designs' `places`."""
         ground = [j.name for j in self.drawing.joints if j.ground]
         best = np.zeros(len(next(iter(places.values()))))
         for joints in [ground] + [k.joints for k in self.drawing.links]:
@@ -131,11 +134,14 @@ class DrawnPopulation(Population):
         return best
 
     # ------------------------------------------------------------ the plan over arrays
-    def run(self, x, q, z0=None) -> Placed:
+    def run(self, x, q, z0=None, upto: int | None = None, tracks: dict | None = None) -> Placed:
         """The plan over N designs x S drive values q (N, S) (module docstring); z0: the
-        designs' `places` when the caller has them."""
+        designs' `places` when the caller has them; `upto`: the first ops only; `tracks`:
+        each group's continuation (op index -> population_groups.Track), made here when
+        absent, as far as q needs."""
         z0 = self.places(x) if z0 is None else z0
         q = np.asarray(q, dtype=float)
+        tracks = {} if tracks is None else tracks
         pos = {j: z0[j] for j in self.joints if self.drawing.joint(j).ground}
         rot = {GROUND: np.ones((1, 1))}
         anchor = {GROUND: None}
@@ -169,7 +175,7 @@ class DrawnPopulation(Population):
             return np.where(e.real >= 0.0, 1.0, -1.0)
 
         with np.errstate(invalid="ignore", divide="ignore"):
-            for op in self.structure.plan:
+            for index, op in enumerate(self.structure.plan[:upto]):
                 if isinstance(op, Turn):
                     place(op.link, op.pivot, np.exp(1j * q))
                 elif isinstance(op, Dyad):
@@ -213,8 +219,69 @@ class DrawnPopulation(Population):
                     direction = d / size * (cosine - 1j * sine)
                     place(op.link, op.at, direction * np.conj(u0))
                 else:
-                    raise ValueError(f"no closed form for the group {', '.join(op.links)}")
+                    good, turns = self._group(index, x, q, z0, pos, margins, valid, tracks)
+                    valid &= good
+                    group = self.group_solver(index)
+                    for b in group.kept:
+                        place(b, group.anchor[b], turns[b])
+                    for b, first, second in group.lengths:
+                        place(b, first, turn_of(first, second))
         return Placed(pos, rot, margins, valid)  # entries (N, S) or broadcastable to it
+
+    # ------------------------------------------------------------ groups (population_groups)
+    def group_solver(self, index: int):
+        """The plan's op `index` (a Group) as population_groups solves it."""
+        from linkcli.mechanisms.drawn.population_groups import PopulationGroup
+        cache = self.__dict__.setdefault("_groups", {})
+        if index not in cache:
+            placed = {GROUND}
+            for op in self.structure.plan[:index]:
+                placed |= _bodies(op)
+            cache[index] = PopulationGroup(self.structure, self.structure.plan[index], placed)
+        return cache[index]
+
+    def _group(self, index, x, q, z0, pos, margins, valid, tracks):
+        """The group at op `index` over the rows (population_groups): its pinned joints into
+        `pos`, its closures' margins into `margins`; (where it closes (N, S), each kept
+        link's turn from its drawn pose)."""
+        from linkcli.mechanisms.drawn import population_groups as pg
+        group = self.group_solver(index)
+        n, s = q.shape
+        scale = np.maximum(1.0, _extent(z0))  # groups.GroupSolver.size, per design
+        if index not in tracks:
+            def prefix(designs, lanes):
+                sub = {j: v[designs] for j, v in z0.items()}
+                earlier = {k: t.subset(designs) for k, t in tracks.items()}
+                placed = self.run(x, lanes[:, None], sub, upto=index, tracks=earlier)
+                known = {j: np.broadcast_to(placed.pos[j], (len(lanes), 1))[:, 0] for j in group.known}
+                return group.stack_known(known, len(lanes)), np.broadcast_to(placed.valid, (len(lanes), 1))[:, 0]
+            tracks[index] = pg.follow(group, prefix, z0, scale, pg.needed_reach(q))
+        track = tracks[index]
+        inside, past, guess = pg.at_rows(track, q)
+        design = np.repeat(np.arange(n), s)
+        known = group.stack_known({j: np.broadcast_to(pos[j], (n, s)).reshape(-1) for j in group.known}, n * s)
+        const = group.constants(z0, design)
+        z = guess.reshape(n * s, -1)
+        rows = np.flatnonzero(inside.reshape(-1) & np.broadcast_to(valid, (n, s)).reshape(-1))
+        good = np.zeros(n * s, dtype=bool)
+        ratio = np.zeros(n * s)
+        if rows.size:  # the rows the track reaches: Newton from it (groups.solve_group)
+            zr, ok, sign, ratio[rows] = group.newton(z[rows], known[rows], pg.subset(const, rows),
+                                                      pg.RESIDUAL_RTOL * scale[design[rows]], pg.ROW_ITERATIONS)
+            turned = np.abs(zr - z[rows])[:, group.angle_cols]
+            good[rows] = ok & (sign == track.sign[design[rows]]) & np.all(turned < 0.5 * math.pi, axis=-1)
+            z[rows] = np.where(good[rows, None], zr, z[rows])
+        size = self.size_of(z0)[:, None]
+        good = good.reshape(n, s)
+        margin = np.where(good, size * ratio.reshape(n, s), np.where(past > 0.0, -size * past, np.nan))
+        for c in self.closure_list:
+            if c.links[0] in group.op.links and c.links[1] in group.op.links:
+                margins[c.joint] = margin
+        for j, place in group.places(z, known, const).items():
+            pos[j] = place.reshape(n, s)
+        turns = {b: (np.cos(z[:, group.col[b] + 2]) + 1j * np.sin(z[:, group.col[b] + 2])).reshape(n, s)
+                 for b in group.kept}
+        return good, turns
 
     def kinematics(self, x, q) -> Motion:
         """Traced points, followed links' frames, each closure's margin and transmission angle
@@ -276,6 +343,21 @@ class DrawnPopulation(Population):
         moved = {name: (float(x[2 * k]), float(x[2 * k + 1])) for k, name in enumerate(self.free)}
         joints = tuple(replace(j, at=moved.get(j.name, j.at)) for j in self.drawing.joints)
         return replace(self.drawing, joints=joints, designed=True)
+
+
+def _bodies(op) -> set[str]:
+    """The bodies an op of the plan places."""
+    if isinstance(op, Dyad):
+        return {op.first, op.second}
+    if isinstance(op, (Turn, OnGuide, GuideThrough)):
+        return {op.link}
+    return set(op.links)
+
+
+def _extent(places) -> np.ndarray:
+    """(N,) the larger side of each drawing's bounding box (groups._extent)."""
+    z = np.concatenate(list(places.values()), axis=1)
+    return np.maximum(np.ptp(z.real, axis=1), np.ptp(z.imag, axis=1))
 
 
 def _abs2(z):
