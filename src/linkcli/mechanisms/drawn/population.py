@@ -31,10 +31,14 @@ and a search can be led back. Each closure's margin to locking (length unit, >= 
 closes, 0 at the dead point): RRR min(rho - |r1 - r2|, r1 + r2 - rho); RRP r - |Im(conj(u) w)|;
 RPR |d| - |c|. Transmission angles as the analysis measures them (drawn.motion.transmission):
 at a pin the angle between the two links' lines at the joint, at a slider arccos(|u x r| / |r|)
-(r the rod, or the arm from the guide body's pivot). A group solved by Newton's method (a
-class-III triad) has no closed form: such a drawing is refused for synthesis
-(synthesis.schema.closed_form_problem). The same computation as the analysis's solver (drawn.solver), in
-another algebra: tests/synthesis/test_drawn_synthesis.py checks the two against each other.
+(r the rod, or the arm from the guide body's pivot). A group that is not a dyad (a class-III
+triad: Stephenson II, some Stephenson III inversions) has no closed form: it is followed from
+each design's drawing by continuation, over all designs at once, and its rows solved by
+batched Newton on the drawn branch (drawn.population_groups: its margin and the rows past a
+dead point there); a group carrying a slider is refused for synthesis
+(synthesis.schema.closed_form_problem). The same computation as the analysis's solver
+(drawn.solver, drawn.groups), in another algebra: tests/synthesis/test_drawn_synthesis.py and
+test_drawn_triads.py check the two against each other.
 """
 
 from __future__ import annotations
@@ -47,6 +51,8 @@ import numpy as np
 from linkcli.mechanisms.drawn.model import Drawn
 from linkcli.mechanisms.drawn.structure import GROUND, Dyad, GuideThrough, OnGuide, Structure, Turn
 from linkcli.mechanisms.synthesis import Motion, Population
+
+NEAR = 2e-4  # of each box's width: a design this near a followed one borrows its track (a difference probe)
 
 
 @dataclass
@@ -240,6 +246,41 @@ class DrawnPopulation(Population):
             cache[index] = PopulationGroup(self.structure, self.structure.plan[index], placed)
         return cache[index]
 
+    def _track(self, index, group, x, q, z0, scale, tracks):
+        """The group's continuation for designs x (population_groups.follow), those the cache
+        holds taken from it (TrackCache)."""
+        from linkcli.mechanisms.drawn import population_groups as pg
+        n = len(q)
+        reach = pg.needed_reach(q)
+        x = None if x is None else np.atleast_2d(np.asarray(x, dtype=float))[:, :len(self.lo)]  # the home's variables
+        cache = self.__dict__.setdefault("_tracks", {}).setdefault(index, pg.TrackCache()) \
+            if x is not None and len(x) == n else None
+        keys = cache.row_keys(x) if cache is not None else None
+        slots = cache.find(x, keys, reach) if cache is not None else np.full(n, -1)
+        if cache is not None and (slots < 0).any():  # a difference probe: its design's track
+            probe = np.flatnonzero(slots < 0)
+            slots[probe] = cache.near(x[probe], reach[probe], NEAR * (self.hi - self.lo))
+        miss = np.flatnonzero(slots < 0)
+        parts = []
+        if len(miss) < n:
+            hit = np.flatnonzero(slots >= 0)
+            parts.append((hit, cache.take(slots[hit])))
+        if len(miss):
+            def prefix(designs, lanes):
+                rows = miss[designs]
+                sub = {j: v[rows] for j, v in z0.items()}
+                earlier = {k: t.subset(rows) for k, t in tracks.items()}
+                placed = self.run(None, lanes[:, None], sub, upto=index, tracks=earlier)
+                known = {j: np.broadcast_to(placed.pos[j], (len(lanes), 1))[:, 0] for j in group.known}
+                return group.stack_known(known, len(lanes)), np.broadcast_to(placed.valid, (len(lanes), 1))[:, 0]
+            sub0 = {j: v[miss] for j, v in z0.items()}
+            new = pg.follow(group, prefix, sub0, scale[miss], reach[miss])
+            parts.append((miss, new))
+            if cache is not None:
+                cache.store(x[miss], keys[miss], reach[miss], new)
+        return parts[0][1] if len(parts) == 1 and len(parts[0][0]) == n and np.array_equal(parts[0][0], np.arange(n)) \
+            else pg.joined(parts, n)
+
     def _group(self, index, x, q, z0, pos, margins, valid, tracks):
         """The group at op `index` over the rows (population_groups): its pinned joints into
         `pos`, its closures' margins into `margins`; (where it closes (N, S), each kept
@@ -249,13 +290,7 @@ class DrawnPopulation(Population):
         n, s = q.shape
         scale = np.maximum(1.0, _extent(z0))  # groups.GroupSolver.size, per design
         if index not in tracks:
-            def prefix(designs, lanes):
-                sub = {j: v[designs] for j, v in z0.items()}
-                earlier = {k: t.subset(designs) for k, t in tracks.items()}
-                placed = self.run(x, lanes[:, None], sub, upto=index, tracks=earlier)
-                known = {j: np.broadcast_to(placed.pos[j], (len(lanes), 1))[:, 0] for j in group.known}
-                return group.stack_known(known, len(lanes)), np.broadcast_to(placed.valid, (len(lanes), 1))[:, 0]
-            tracks[index] = pg.follow(group, prefix, z0, scale, pg.needed_reach(q))
+            tracks[index] = self._track(index, group, x, q, z0, scale, tracks)
         track = tracks[index]
         inside, past, guess = pg.at_rows(track, q)
         design = np.repeat(np.arange(n), s)

@@ -15,14 +15,24 @@ full system's up to a constant sign: compared with the drawn sign, the same bran
 Only pinned groups: a group carrying a slider's guide or block is refused for synthesis
 (synthesis.schema.closed_form_problem).
 
-Continuation (drawn.groups._follow, the same steps): two lanes per design, forward and back
-from the drawing (an exact solution at q = 0) as far as the design's drive values need (at
-most BOUND, groups.bound's turn); each step predicted by the secant of the last two, corrected
-by at most TRACK_ITERATIONS Newton steps, accepted when every closure before the group closes,
-Newton converges on the drawn sign of det J, no turn moves by pi / 4 and the correction is at
-most CORRECTION of the predicted move; the step then doubles (up to the grid step BOUND /
+Continuation (drawn.groups._follow's rules): two lanes per design, forward and back from the
+drawing (an exact solution at q = 0) as far as the design's drive values need (to the next
+quarter turn, at most BOUND, groups.bound's turn); each step predicted by the secant of the
+last two points, corrected by at most TRACK_ITERATIONS Newton steps (to TRACK_RTOL: a track
+point only guides the rows), accepted when every closure before the group closes, Newton
+converges on the drawn sign of det J, no hub turns by pi / 4 and the correction is at most
+CORRECTION of the predicted move; the step then doubles (up to the grid step BOUND /
 TRACK_STEPS), else halves, and a lane whose step falls below MIN_STEP of the grid step ends
-there (a dead point). The one loop is over steps: each is array work over every lane.
+there (a dead point). A step refused for its correction alone restarts the secant (the next
+step predicts with the last point only: a chord longer than the step would otherwise refuse
+every shorter one). The one loop is over steps: each is array work over the lanes still
+moving. Against groups.py for one drawing: larger grid steps (5 deg, not 2) and the dead point
+located to 1e-6 of a step, not 1e-12 -- the search's cost is these steps -- with the same
+rows valid (tests/synthesis/test_drawn_triads.py: 60 designs x 40 drive values of three
+triads, row for row). The tracks a population followed are kept (TrackCache, by the design's
+variables): the same design at other drive values takes its track, and a design within NEAR
+of a followed one in every variable (a difference probe) solves its rows from that one's
+track, when it reached its drive values without a dead point.
 
 Rows (N, S): Newton (ROW_ITERATIONS) batched over all rows from the track interpolated at their
 drive values; invalid where Newton does not converge, lands on the other sign of det J or
@@ -36,7 +46,7 @@ Margin of the group's closures (length unit): where a row closes, s(J) = L |det 
 prod_j |J_:,j|, L the design's size (drawn.sections.size) and the determinant over the
 product of the column norms (Hadamard's ratio, in [0, 1]: 1 for orthogonal columns, 0
 exactly where the group locks) -- independent of the units of the columns (lengths and
-turns) and of how each hub is placed, as the dyads' margins are; past the track's end
+turns), as the dyads' margins are in length; past the track's end
 -L |q - q_end| (how far the drive would still have to go, as an arc at the design's size:
 it leads a search to push the dead point out of the travel). Transmission angles: as for the
 dyads (population.kinematics), at each closure of the group.
@@ -58,7 +68,9 @@ from linkcli.mechanisms.drawn.structure import GROUND, Group, Structure
 BOUND = 2.0 * math.pi  # groups.bound for a turning drive: the track's reach either way
 TRACK_STEPS = 72  # largest steps over BOUND (groups.TRACK_STEPS: 180; see the module docstring)
 MIN_STEP = 1e-6  # relative to the grid step: a lane ends where its step falls below (groups.MIN_STEP: 1e-12)
-TRACK_ITERATIONS = 12  # Newton steps per continuation step (groups._follow)
+TRACK_ITERATIONS = 4  # Newton steps per continuation step (groups._follow: 12; a step that needs more is halved)
+TRACK_RTOL = 1e-10  # a track point converged (relative to the size): it only guides the rows, which
+# are solved to groups.RESIDUAL_RTOL
 ROW_ITERATIONS = NEWTON_ITERATIONS
 PERIOD_RTOL = 1e-9  # a lane back at its drawing after a turn: within this of the size
 
@@ -308,7 +320,7 @@ def follow(group: PopulationGroup, prefix, z0, scale, reach) -> Track:
     direction = np.tile([1.0, -1.0], n)
     reach = reach.reshape(-1)
     full = BOUND / TRACK_STEPS
-    tol = RESIDUAL_RTOL * scale[design]
+    tol = TRACK_RTOL * scale[design]
     const = group.constants(z0, design)
     ones = np.arange(n)
     known0, _ = prefix(ones, np.zeros(n))
@@ -373,14 +385,113 @@ def follow(group: PopulationGroup, prefix, z0, scale, reach) -> Track:
                  end.reshape(n, 2), sign0, periodic)
 
 
-def needed_reach(q, periodic_needed=True) -> np.ndarray:
-    """(N, 2) how far each design's lanes must go for its drive values q (N, S): to the
-    largest and least, within BOUND (a full BOUND forward where some value lies beyond it:
-    the periodic test needs the whole turn)."""
-    hi = np.clip(np.max(q, axis=1), 0.0, BOUND)
-    lo = np.clip(-np.min(q, axis=1), 0.0, BOUND)
+def needed_reach(q) -> np.ndarray:
+    """(N, 2) how far each design's lanes go for its drive values q (N, S): to the largest and
+    the least, rounded up to a quarter turn (the calls that refine a worst value between the
+    grid's values then find the track they need made), within BOUND (a full BOUND forward
+    where some value lies beyond it: the periodic test needs the whole turn)."""
+    quarter = 0.25 * BOUND
+    hi = np.minimum(np.ceil(np.clip(np.max(q, axis=1), 0.0, None) / quarter) * quarter, BOUND)
+    lo = np.minimum(np.ceil(np.clip(-np.min(q, axis=1), 0.0, None) / quarter) * quarter, BOUND)
     beyond = np.max(np.abs(q), axis=1) > BOUND
     return np.stack([np.where(beyond, BOUND, hi), lo], axis=-1)
+
+
+def padded(track: Track, width: int) -> Track:
+    """The track with T = width (each lane's last point repeated)."""
+    extra = width - track.q.shape[-1]
+    if extra <= 0:
+        return track
+    q = np.concatenate([track.q, np.repeat(track.q[..., -1:], extra, axis=-1)], axis=-1)
+    z = np.concatenate([track.z, np.repeat(track.z[:, :, -1:], extra, axis=2)], axis=2)
+    return Track(q, z, track.count, track.end, track.sign, track.periodic)
+
+
+def joined(parts: list[tuple[np.ndarray, Track]], n: int) -> Track:
+    """One Track of n designs from (designs, Track) parts."""
+    width = max(t.q.shape[-1] for _, t in parts)
+    m = parts[0][1].z.shape[-1]
+    q, z = np.zeros((n, 2, width)), np.zeros((n, 2, width, m))
+    count, end = np.ones((n, 2), dtype=int), np.zeros((n, 2))
+    sign, periodic = np.zeros(n), np.zeros(n, dtype=bool)
+    for rows, part in parts:
+        part = padded(part, width)
+        q[rows], z[rows], count[rows], end[rows] = part.q, part.z, part.count, part.end
+        sign[rows], periodic[rows] = part.sign, part.periodic
+    return Track(q, z, count, end, sign, periodic)
+
+
+class TrackCache:
+    """The tracks of the designs a population last followed (CAP at most), by the design's
+    variables: a search evaluates the same design at other drive values (a worst value
+    refined, the constraints where they bind), whose track is then taken, not followed again.
+    A track is taken only when it reaches as far as the call needs."""
+
+    CAP = 4096
+
+    def __init__(self) -> None:
+        self.x = np.zeros((0, 0))
+        self.keys = np.zeros(0, dtype=np.uint64)
+        self.reach = np.zeros((0, 2))
+        self.track: Track | None = None
+
+    @staticmethod
+    def row_keys(x: np.ndarray) -> np.ndarray:
+        """(N,) a 64-bit hash of each row's bits (FNV-1a over the columns)."""
+        bits = np.ascontiguousarray(x, dtype=float).view(np.uint64)
+        h = np.full(len(x), 14695981039346656037, dtype=np.uint64)
+        with np.errstate(over="ignore"):
+            for j in range(bits.shape[1]):
+                h = (h ^ bits[:, j]) * np.uint64(1099511628211)
+        return h
+
+    def find(self, x: np.ndarray, keys: np.ndarray, reach: np.ndarray) -> np.ndarray:
+        """(N,) each design's slot in the cache, -1 where it has none reaching `reach`."""
+        if self.track is None or self.x.shape[1] != x.shape[1] or not len(self.keys):
+            return np.full(len(x), -1)
+        order = np.argsort(self.keys, kind="stable")
+        at = np.minimum(np.searchsorted(self.keys[order], keys), len(order) - 1)
+        slot = order[at]
+        hit = ((self.keys[slot] == keys) & np.all(self.x[slot] == x, axis=1)
+               & np.all(self.reach[slot] >= reach, axis=1))
+        return np.where(hit, slot, -1)
+
+    def near(self, x: np.ndarray, reach: np.ndarray, spacing: np.ndarray) -> np.ndarray:
+        """(N,) for each design the slot of a cached design within `spacing` (per variable)
+        of it in every variable whose lanes both reached as far as needed without a dead
+        point (-1: none): a search's difference probes of one design, whose tracks are the
+        same branch to within the probe -- its rows are then solved from the neighbour's
+        track (Newton converges to the design's own places; a dead point the neighbour does
+        not have shows as rows that do not converge or change sign: invalid)."""
+        if self.track is None or self.x.shape[1] != x.shape[1] or not len(self.keys) or not x.shape[1]:
+            return np.full(len(x), -1)
+        whole = np.isnan(self.track.end).all(axis=1) & (self.track.sign != 0.0)
+        close = np.all(np.abs(x[:, None, :] - self.x[None, :, :]) <= spacing[None, None, :], axis=-1)
+        close &= whole[None, :] & np.all(self.reach[None, :, :] >= reach[:, None, :], axis=-1)
+        return np.where(close.any(axis=1), np.argmax(close, axis=1), -1)
+
+    def take(self, slots: np.ndarray) -> Track:
+        assert self.track is not None
+        return self.track.subset(slots)
+
+    def store(self, x: np.ndarray, keys: np.ndarray, reach: np.ndarray, track: Track) -> None:
+        """Keep these designs' tracks (replacing older ones of the same designs; the oldest
+        dropped beyond CAP)."""
+        if self.track is None or self.x.shape[1] != x.shape[1]:
+            self.x, self.keys, self.reach, self.track = x.copy(), keys.copy(), reach.copy(), track
+        else:
+            keep = ~np.isin(self.keys, keys)
+            old = self.track.subset(np.flatnonzero(keep))
+            n_old = int(keep.sum())
+            self.track = joined([(np.arange(n_old), old), (np.arange(n_old, n_old + len(x)), track)],
+                                n_old + len(x))
+            self.x = np.concatenate([self.x[keep], x])
+            self.keys = np.concatenate([self.keys[keep], keys])
+            self.reach = np.concatenate([self.reach[keep], reach])
+        if len(self.keys) > self.CAP:
+            last = np.arange(len(self.keys) - self.CAP, len(self.keys))
+            self.track = self.track.subset(last)
+            self.x, self.keys, self.reach = self.x[last], self.keys[last], self.reach[last]
 
 
 def at_rows(track: Track, q):
