@@ -165,9 +165,10 @@ def _known_problem(seed: int, free: tuple[str, ...], n: int = 14, sigma: float =
 @pytest.mark.slow
 def test_a_known_stephenson_ii_is_recovered_from_a_perturbed_drawing():
     """Fourteen points of a Stephenson II's tracer (its triad driven by the crank), five joints
-    free (10 coordinates), prescribed timing: on at least four of five seeds the search ends ok
-    at error ~0 (below 1e-6 of the path's extent), and the designed drawing traces the points
-    by the analysis's own solver too."""
+    free (10 coordinates), prescribed timing: on at least four of five seeds the search ends
+    feasible at error ~0 (below 1e-6 of the path's extent; ok, or not-converged where the
+    budget of 20,000 ends before a second round confirms it), and the designed drawing traces
+    the points by the analysis's own solver too."""
     from linkcli.mechanisms.drawn.home import solved
     from linkcli.pipeline import analyse, solve
     from linkcli.reading.load import load
@@ -179,7 +180,7 @@ def test_a_known_stephenson_ii_is_recovered_from_a_perturbed_drawing():
         solution = solve(problem)
         report = analyse(problem, solution)
         extent = float(np.ptp(path, axis=0).max())
-        if report["status"] != "ok" or report["error"]["max"] > 1e-6 * extent:
+        if report["status"] not in ("ok", "not-converged") or report["error"]["max"] > 1e-6 * extent:
             continue
         again = solved(solution.linkage).kin.run(np.asarray(solution.positions.input), rates=False).pos["P"]
         np.testing.assert_allclose(again, path, atol=1e-6 * extent)

@@ -302,7 +302,8 @@ class DrawnPopulation(Population):
         ratio = np.zeros(n * s)
         if rows.size:  # the rows the track reaches: Newton from it (groups.solve_group)
             zr, ok, sign, ratio[rows] = group.newton(z[rows], known[rows], pg.subset(const, rows),
-                                                      pg.RESIDUAL_RTOL * scale[design[rows]], pg.ROW_ITERATIONS)
+                                                      pg.RESIDUAL_RTOL * scale[design[rows]], pg.ROW_ITERATIONS,
+                                                      polish=True)
             turned = np.abs(zr - z[rows])[:, group.angle_cols]
             good[rows] = ok & (sign == track.sign[design[rows]]) & np.all(turned < 0.5 * math.pi, axis=-1)
             z[rows] = np.where(good[rows, None], zr, z[rows])

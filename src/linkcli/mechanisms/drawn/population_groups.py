@@ -236,14 +236,18 @@ class PopulationGroup:
         dg = (d.real[..., None] * dd.real + d.imag[..., None] * dd.imag) / r[..., None]
         return f, np.concatenate([de.real, de.imag, dg], axis=1)
 
-    def newton(self, z, known, const, tol, iterations: int, stall: bool = False, ratio: bool = True):
+    def newton(self, z, known, const, tol, iterations: int, stall: bool = False, ratio: bool = True,
+               polish: bool = False):
         """(z, converged, sign of det J, Hadamard's ratio |det J| / prod |columns| or None) over
         flat lanes (known: (L, K), stack_known); a lane stops moving once every residual is
         within `tol` (or one is not finite: groups.GroupSolver.newton), and only the lanes
         still moving are computed. `stall`: a lane whose largest residual has not halved in an
         iteration from the third on stops too (a continuation step that would not converge:
         near a dead point Newton's rate falls to a halving an iteration, and a far guess
-        diverges; the step is then halved anyway)."""
+        diverges; the step is then halved anyway). `polish`: one more Newton step on the lanes
+        that converged (quadratic convergence takes them to round-off: the rows' places then
+        do not depend on the guess, and a search's differences see the design, not the
+        tolerance)."""
         z = np.array(z, dtype=float)
         lanes = len(z)
         idx = np.arange(lanes)
@@ -269,6 +273,15 @@ class PopulationGroup:
             step, _ = solve_small(jac[keep], f[keep])
             idx = idx[keep]
             z[idx] -= step
+        if polish and done.any():
+            idx = np.flatnonzero(done)
+            f, jac = self.residual(z[idx], known[idx], subset(const, idx))
+            step, _ = solve_small(jac, f)
+            moved = z[idx] - step
+            f2, jac2 = self.residual(moved, known[idx], subset(const, idx))
+            better = np.all(np.isfinite(moved), axis=1) & (np.max(np.abs(f2), axis=-1) <= tol[idx])
+            z[idx[better]] = moved[better]
+            jac_end[idx[better]] = jac2[better]
         _, det = solve_small(jac_end, np.zeros((lanes, self.m)))
         if not ratio:
             return z, done, np.sign(det), None
