@@ -5,8 +5,10 @@ Usage (from the repository root):
 
     python3 benchmarks/drawn_population.py [--designs 1000] [--steps 72] [--repeat 7]
 
-For Jansen's leg (problems/drawn_jansen.toml: a crank and three dyads, eight joints) and the
-Stephenson III six-bar of problems/drawn_six_bar_path.toml: every moving joint free in a box
+For Jansen's leg (problems/drawn_jansen.toml: a crank and three dyads, eight joints), the
+Stephenson III six-bar of problems/drawn_six_bar_path.toml and the Stephenson six-bar driven
+into a class-III triad of problems/drawn_stephenson.toml (continuation over the population,
+mechanisms/drawn/population_groups.py): every moving joint free in a box
 of +-10 (length unit), `--designs` designs drawn in the boxes, each at `--steps` drive
 values over a turn; one call gives the traced point (the foot F, the coupler point P), every
 closure's margin and transmission angle. Prints the median and the best of `--repeat` calls
@@ -27,7 +29,8 @@ from linkcli.pipeline import single_threaded_blas  # noqa: E402
 single_threaded_blas()
 import numpy as np  # noqa: E402
 
-CASES = (("problems/drawn_jansen.toml", "F"), ("problems/drawn_six_bar_path.toml", "P"))
+CASES = (("problems/drawn_jansen.toml", "F"), ("problems/drawn_six_bar_path.toml", "P"),
+         ("problems/drawn_stephenson.toml", "D"))
 
 
 def population(path: str, traced: str):
@@ -55,6 +58,7 @@ def main() -> int:
         pop.kinematics(x, q)  # warm
         times = []
         for _ in range(args.repeat):
+            pop.__dict__.pop("_tracks", None)  # a triad's tracks followed again, not taken from the last call
             t0 = time.perf_counter()
             motion = pop.kinematics(x, q)
             times.append(time.perf_counter() - t0)

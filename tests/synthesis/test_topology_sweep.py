@@ -24,7 +24,8 @@ def test_the_sweep_of_a_dwell_beats_the_four_bar_and_its_design_is_what_it_says(
     report = json.loads(out)
     rows = report["topologies"]["rows"]
     assert [r["topology"] for r in rows] == ["stephenson-iii", "stephenson-iii", "four-bar"]
-    assert [r["status"] for r in rows][1] == "not searched"  # driven at its dyad: a triad
+    assert "(triad)" in rows[1]["choice"]  # driven at its dyad: a triad, searched as the others
+    assert all(r["status"] in ("ok", "not-converged", "infeasible") and r["objective"] is not None for r in rows)
     feasible = [r for r in rows if r["topology"] != "four-bar" and r["status"] in ("ok", "not-converged")]
     chosen = min(feasible, key=lambda r: r["objective"])
     assert report["message"].startswith(chosen["choice"] + ": ")
@@ -32,8 +33,10 @@ def test_the_sweep_of_a_dwell_beats_the_four_bar_and_its_design_is_what_it_says(
     assert chosen["objective"] < 0.1 * FOUR_BAR_DWELL < rows[-1]["objective"] * 1.2
     # a function's drawings hold their ground pivots (synthesis.sweep.boxes_of): a similarity of
     # the whole drawing changes no turn, and with every joint free the baseline's Newton steps
-    # were singular and the four-bar ended not-converged
-    assert rows[-1]["status"] == "ok"
+    # were singular and the four-bar ended far from its optimum; now every run has a sixth of
+    # the example's budget (its triad choice searched too), which ends before a second round
+    # confirms the optimum: feasible, at the four-bar's best (the objective bound above)
+    assert rows[-1]["status"] in ("ok", "not-converged")
     lk = report["linkage"]
     joints, links, drive = lk["joints"], {k: list(v) for k, v in lk["links"].items()}, next(iter(lk["drive"]))
     phi = np.radians([p["input"] for p in report["positions"]])
@@ -83,10 +86,15 @@ def test_a_motion_target_link_is_the_catalogues(tmp_path):
     assert code == 2 and len(err.splitlines()) == 1 and "target.link: expected no link with [linkage] topology" in err
 
 
-def test_a_topology_whose_every_choice_is_a_triad_is_refused(tmp_path):
-    """Stephenson II drives every tracer through a triad: nothing the design can search."""
+def test_every_choice_is_searched_triads_included(tmp_path):
+    """Stephenson II drives every tracer through a triad: each choice is a run of the sweep (no
+    choice left out), and the catalogue's order is kept, the four-bar last."""
+    from linkcli.mechanisms.drawn import catalogue
+    from linkcli.reading.load import load
+    from linkcli.synthesis.sweep import runs
     path = tmp_path / "s.toml"
     path.write_text(PATH.format(topology="stephenson-ii", target="", bounds=""))
-    code, out, err = run_cli("synth", str(path))
-    assert code == 2 and len(err.splitlines()) == 1, err
-    assert "linkage.topology: expected a topology with a choice the design can search" in err
+    todo = runs(load(str(path)))
+    six = catalogue.choices("stephenson-ii", "path", "prescribed")
+    assert len(six) == 4 and all(c.plan == "triad" for c in six)
+    assert [c.label for c in todo] == [c.label for c in six] + [catalogue.choices("four-bar", "path")[0].label]

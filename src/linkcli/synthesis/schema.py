@@ -6,8 +6,9 @@ without numpy).
                    drawing: linkcli draws and searches the catalogue's starting designs
                    (synthesis.sweep; docs/six_bars.md)
     [joints], [links], [drive]   the starting design, as for analysis (drawn.schema): one
-                   drive, a link turning about its ground joint; every closure in closed
-                   form (a dyad, RRP or RPR: no group solved by Newton's method)
+                   drive, a link turning about its ground joint; every closure a dyad, RRP,
+                   RPR or a group of pinned links (a class-III triad: drawn.population_groups;
+                   no group carrying a slider)
     [motion]       steps (the kinematics section's rows), points, output (as for analysis)
     [target]       path: joint = "F" (a joint that moves), points, timing, input_angles,
                    direction (as four-bar path generation); motion: link = "name", poses,
@@ -170,7 +171,8 @@ def _topology_timing(kind: str, fields: dict) -> dict:
 
 def _one_turning_drive(root: Table, drawing):
     """The drawing when it has one drive turning a link (synthesis measures its angle), and
-    every closure in closed form; else None (error recorded, located)."""
+    every group one the population solves (no slider in a group); else None (error
+    recorded, located)."""
     from linkcli.mechanisms.drawn.model import TURN
     from linkcli.mechanisms.drawn.structure import analyse
     drives = drawing.drives
@@ -182,10 +184,10 @@ def _one_turning_drive(root: Table, drawing):
         return None
     group = closed_form_problem(analyse(drawing))
     if group is not None:
-        root.reader.error(("links", group[0]), "a drawing whose closures are dyads, RRP or RPR (closed "
-                          "forms a design can run over a whole population)",
-                          raw_got=f"links {', '.join(group)} closed together by Newton's method "
-                                  "(a group of more than two links)")
+        root.reader.error(("links", group[0]), "a drawing whose closures are dyads, RRP, RPR or groups of "
+                          "pinned links (what a design can run over a whole population)",
+                          raw_got=f"links {', '.join(group)} closed together with a slider "
+                                  "(a group of more than two links carrying a slider)")
         return None
     return drawing
 
@@ -417,8 +419,11 @@ def _starts(tgt: Table, bnd: Table | None, u, free: tuple[str, ...] = ()):
 
 
 def closed_form_problem(structure) -> tuple[str, ...] | None:
-    """The links of the first group the plan solves by Newton's method (drawn.groups: no
-    closed form over a population), or None."""
+    """The links of the first group the population cannot solve (drawn.population_groups:
+    a group carrying a slider's guide or block), or None: dyads, RRP, RPR and pinned groups
+    (a class-III triad and the like, by continuation from the drawing) all run over a
+    population."""
+    from linkcli.mechanisms.drawn.population_groups import unsupported
     from linkcli.mechanisms.drawn.structure import Group
-    groups = [op for op in structure.plan if isinstance(op, Group)]
+    groups = [op for op in structure.plan if isinstance(op, Group) and unsupported(structure, op)]
     return groups[0].links if groups else None

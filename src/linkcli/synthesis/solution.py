@@ -38,7 +38,7 @@ def design_drawing(problem, drawing, boxes: dict | None = None, joint: str | Non
     `boxes`: {joint: ((x lo, x hi), (y lo, y hi))} of its free joints (each holding its drawn
     place; None: the problem's own); `joint` / `link`: its target joint or link when the
     drawing names them otherwise. The drawing is checked as a file's would be (structure, one
-    turning drive, closed forms): SolveInputError (exit 2) naming what is wrong."""
+    turning drive, groups the population solves): SolveInputError (exit 2) naming what is wrong."""
     from dataclasses import replace
 
     from linkcli.errors import SolveInputError
@@ -51,7 +51,7 @@ def design_drawing(problem, drawing, boxes: dict | None = None, joint: str | Non
     joint = joint if joint is not None else problem.joint
     link = link if link is not None else problem.link
     bad = ([f"{p.where}: {p.found}" for p in structure.problems]
-           + ([f"links {', '.join(closed_form_problem(structure))} closed by Newton's method"]
+           + ([f"links {', '.join(closed_form_problem(structure))} closed together with a slider"]
               if not structure.problems and closed_form_problem(structure) else [])
            + [f"box of {j} (not a joint of the drawing)" for j in boxes if j not in names]
            + [f"box of {j} not holding its drawn place" for j, ((xl, xh), (yl, yh)) in boxes.items()

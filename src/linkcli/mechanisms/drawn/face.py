@@ -1,5 +1,6 @@
 """The drawn linkage's synthesis face (mechanisms.synthesis): path, motion and function
-generation on any drawn topology whose closures are dyads, RRP or RPR, by the shared search
+generation on any drawn topology whose closures are dyads, RRP, RPR or groups of pinned links
+(class-III triads, followed by continuation), by the shared search
 (linkcli.synthesis) over the population of drawings whose free joints move within their
 boxes (drawn.population). Its keys: synthesis.schema."""
 

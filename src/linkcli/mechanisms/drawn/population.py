@@ -31,10 +31,14 @@ and a search can be led back. Each closure's margin to locking (length unit, >= 
 closes, 0 at the dead point): RRR min(rho - |r1 - r2|, r1 + r2 - rho); RRP r - |Im(conj(u) w)|;
 RPR |d| - |c|. Transmission angles as the analysis measures them (drawn.motion.transmission):
 at a pin the angle between the two links' lines at the joint, at a slider arccos(|u x r| / |r|)
-(r the rod, or the arm from the guide body's pivot). A group solved by Newton's method (a
-class-III triad) has no closed form: such a drawing is refused for synthesis
-(synthesis.schema.closed_form_problem). The same computation as the analysis's solver (drawn.solver), in
-another algebra: tests/synthesis/test_drawn_synthesis.py checks the two against each other.
+(r the rod, or the arm from the guide body's pivot). A group that is not a dyad (a class-III
+triad: Stephenson II, some Stephenson III inversions) has no closed form: it is followed from
+each design's drawing by continuation, over all designs at once, and its rows solved by
+batched Newton on the drawn branch (drawn.population_groups: its margin and the rows past a
+dead point there); a group carrying a slider is refused for synthesis
+(synthesis.schema.closed_form_problem). The same computation as the analysis's solver
+(drawn.solver, drawn.groups), in another algebra: tests/synthesis/test_drawn_synthesis.py and
+test_drawn_triads.py check the two against each other.
 """
 
 from __future__ import annotations
@@ -47,6 +51,8 @@ import numpy as np
 from linkcli.mechanisms.drawn.model import Drawn
 from linkcli.mechanisms.drawn.structure import GROUND, Dyad, GuideThrough, OnGuide, Structure, Turn
 from linkcli.mechanisms.synthesis import Motion, Population
+
+NEAR = 2e-4  # of each box's width: a design this near a followed one borrows its track (a difference probe)
 
 
 @dataclass
@@ -121,7 +127,10 @@ class DrawnPopulation(Population):
     def size(self, x) -> np.ndarray:
         """(N,) each drawing's scale: its longest distance between two joints of one link or of
         the ground (drawn.sections.size)."""
-        places = self.places(x)
+        return self.size_of(self.places(x))
+
+    def size_of(self, places) -> np.ndarray:
+        """`size` from the designs' `places`."""
         ground = [j.name for j in self.drawing.joints if j.ground]
         best = np.zeros(len(next(iter(places.values()))))
         for joints in [ground] + [k.joints for k in self.drawing.links]:
@@ -131,11 +140,14 @@ class DrawnPopulation(Population):
         return best
 
     # ------------------------------------------------------------ the plan over arrays
-    def run(self, x, q, z0=None) -> Placed:
+    def run(self, x, q, z0=None, upto: int | None = None, tracks: dict | None = None) -> Placed:
         """The plan over N designs x S drive values q (N, S) (module docstring); z0: the
-        designs' `places` when the caller has them."""
+        designs' `places` when the caller has them; `upto`: the first ops only; `tracks`:
+        each group's continuation (op index -> population_groups.Track), made here when
+        absent, as far as q needs."""
         z0 = self.places(x) if z0 is None else z0
         q = np.asarray(q, dtype=float)
+        tracks = {} if tracks is None else tracks
         pos = {j: z0[j] for j in self.joints if self.drawing.joint(j).ground}
         rot = {GROUND: np.ones((1, 1))}
         anchor = {GROUND: None}
@@ -169,7 +181,7 @@ class DrawnPopulation(Population):
             return np.where(e.real >= 0.0, 1.0, -1.0)
 
         with np.errstate(invalid="ignore", divide="ignore"):
-            for op in self.structure.plan:
+            for index, op in enumerate(self.structure.plan[:upto]):
                 if isinstance(op, Turn):
                     place(op.link, op.pivot, np.exp(1j * q))
                 elif isinstance(op, Dyad):
@@ -213,8 +225,99 @@ class DrawnPopulation(Population):
                     direction = d / size * (cosine - 1j * sine)
                     place(op.link, op.at, direction * np.conj(u0))
                 else:
-                    raise ValueError(f"no closed form for the group {', '.join(op.links)}")
+                    good, turns = self._group(index, x, q, z0, pos, margins, valid, tracks)
+                    valid &= good
+                    group = self.group_solver(index)
+                    for b in group.kept:
+                        place(b, group.anchor[b], turns[b])
+                    for b, first, second in group.lengths:
+                        place(b, first, turn_of(first, second))
         return Placed(pos, rot, margins, valid)  # entries (N, S) or broadcastable to it
+
+    # ------------------------------------------------------------ groups (population_groups)
+    def group_solver(self, index: int):
+        """The plan's op `index` (a Group) as population_groups solves it."""
+        from linkcli.mechanisms.drawn.population_groups import PopulationGroup
+        cache = self.__dict__.setdefault("_groups", {})
+        if index not in cache:
+            placed = {GROUND}
+            for op in self.structure.plan[:index]:
+                placed |= _bodies(op)
+            cache[index] = PopulationGroup(self.structure, self.structure.plan[index], placed)
+        return cache[index]
+
+    def _track(self, index, group, x, q, z0, scale, tracks):
+        """The group's continuation for designs x (population_groups.follow), those the cache
+        holds taken from it (TrackCache)."""
+        from linkcli.mechanisms.drawn import population_groups as pg
+        n = len(q)
+        reach = pg.needed_reach(q)
+        x = None if x is None else np.atleast_2d(np.asarray(x, dtype=float))[:, :len(self.lo)]  # the home's variables
+        cache = self.__dict__.setdefault("_tracks", {}).setdefault(index, pg.TrackCache()) \
+            if x is not None and len(x) == n else None
+        keys = cache.row_keys(x) if cache is not None else None
+        slots = cache.find(x, keys, reach) if cache is not None else np.full(n, -1)
+        if cache is not None and (slots < 0).any():  # a difference probe: its design's track
+            probe = np.flatnonzero(slots < 0)
+            slots[probe] = cache.near(x[probe], reach[probe], NEAR * (self.hi - self.lo))
+        miss = np.flatnonzero(slots < 0)
+        parts = []
+        if len(miss) < n:
+            hit = np.flatnonzero(slots >= 0)
+            parts.append((hit, cache.take(slots[hit])))
+        if len(miss):
+            def prefix(designs, lanes):
+                rows = miss[designs]
+                sub = {j: v[rows] for j, v in z0.items()}
+                earlier = {k: t.subset(rows) for k, t in tracks.items()}
+                placed = self.run(None, lanes[:, None], sub, upto=index, tracks=earlier)
+                known = {j: np.broadcast_to(placed.pos[j], (len(lanes), 1))[:, 0] for j in group.known}
+                return group.stack_known(known, len(lanes)), np.broadcast_to(placed.valid, (len(lanes), 1))[:, 0]
+            sub0 = {j: v[miss] for j, v in z0.items()}
+            new = pg.follow(group, prefix, sub0, scale[miss], reach[miss])
+            parts.append((miss, new))
+            if cache is not None:
+                cache.store(x[miss], keys[miss], reach[miss], new)
+        return parts[0][1] if len(parts) == 1 and len(parts[0][0]) == n and np.array_equal(parts[0][0], np.arange(n)) \
+            else pg.joined(parts, n)
+
+    def _group(self, index, x, q, z0, pos, margins, valid, tracks):
+        """The group at op `index` over the rows (population_groups): its pinned joints into
+        `pos`, its closures' margins into `margins`; (where it closes (N, S), each kept
+        link's turn from its drawn pose)."""
+        from linkcli.mechanisms.drawn import population_groups as pg
+        group = self.group_solver(index)
+        n, s = q.shape
+        scale = np.maximum(1.0, _extent(z0))  # groups.GroupSolver.size, per design
+        if index not in tracks:
+            tracks[index] = self._track(index, group, x, q, z0, scale, tracks)
+        track = tracks[index]
+        inside, past, guess = pg.at_rows(track, q)
+        design = np.repeat(np.arange(n), s)
+        known = group.stack_known({j: np.broadcast_to(pos[j], (n, s)).reshape(-1) for j in group.known}, n * s)
+        const = group.constants(z0, design)
+        z = guess.reshape(n * s, -1)
+        rows = np.flatnonzero(inside.reshape(-1) & np.broadcast_to(valid, (n, s)).reshape(-1))
+        good = np.zeros(n * s, dtype=bool)
+        ratio = np.zeros(n * s)
+        if rows.size:  # the rows the track reaches: Newton from it (groups.solve_group)
+            zr, ok, sign, ratio[rows] = group.newton(z[rows], known[rows], pg.subset(const, rows),
+                                                      pg.RESIDUAL_RTOL * scale[design[rows]], pg.ROW_ITERATIONS,
+                                                      polish=True)
+            turned = np.abs(zr - z[rows])[:, group.angle_cols]
+            good[rows] = ok & (sign == track.sign[design[rows]]) & np.all(turned < 0.5 * math.pi, axis=-1)
+            z[rows] = np.where(good[rows, None], zr, z[rows])
+        size = self.size_of(z0)[:, None]
+        good = good.reshape(n, s)
+        margin = np.where(good, size * ratio.reshape(n, s), np.where(past > 0.0, -size * past, np.nan))
+        for c in self.closure_list:
+            if c.links[0] in group.op.links and c.links[1] in group.op.links:
+                margins[c.joint] = margin
+        for j, place in group.places(z, known, const).items():
+            pos[j] = place.reshape(n, s)
+        turns = {b: (np.cos(z[:, group.col[b] + 2]) + 1j * np.sin(z[:, group.col[b] + 2])).reshape(n, s)
+                 for b in group.kept}
+        return good, turns
 
     def kinematics(self, x, q) -> Motion:
         """Traced points, followed links' frames, each closure's margin and transmission angle
@@ -276,6 +379,21 @@ class DrawnPopulation(Population):
         moved = {name: (float(x[2 * k]), float(x[2 * k + 1])) for k, name in enumerate(self.free)}
         joints = tuple(replace(j, at=moved.get(j.name, j.at)) for j in self.drawing.joints)
         return replace(self.drawing, joints=joints, designed=True)
+
+
+def _bodies(op) -> set[str]:
+    """The bodies an op of the plan places."""
+    if isinstance(op, Dyad):
+        return {op.first, op.second}
+    if isinstance(op, (Turn, OnGuide, GuideThrough)):
+        return {op.link}
+    return set(op.links)
+
+
+def _extent(places) -> np.ndarray:
+    """(N,) the larger side of each drawing's bounding box (groups._extent)."""
+    z = np.concatenate(list(places.values()), axis=1)
+    return np.maximum(np.ptp(z.real, axis=1), np.ptp(z.imag, axis=1))
 
 
 def _abs2(z):

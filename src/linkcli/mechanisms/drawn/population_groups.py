@@ -1,0 +1,569 @@
+"""A group that is not a dyad (a class-III triad and the like) over a population of drawings:
+drawn.groups's continuation and rows, vectorized over N designs (drawn.population).
+
+Unknowns, the group reduced to its rigid hubs: a group link pinned at three joints or more (a
+triad's ternary link) is `kept`, its pose the place a of its first pinned joint and its turn
+theta from the drawn pose (a point K of it: a + (K0 - A0) e^{i theta}); a joint where only
+binary group links meet is a `free` point (its place); a binary group link (two pinned
+joints J1, J2) is eliminated into its length, (|p(J1) - p(J2)|^2 - r^2) / (2 r) = 0, r as
+drawn (length unit). A kept link's pinned joint whose place is known, or held by another
+kept link, gives p_b(J) - p(J) = 0 (two rows). A Stephenson II triad is then three unknowns
+(the ternary's pose) and three lengths, against drawn.groups's twelve (every link's pose): the
+same roots, and since each eliminated link leaves the factor |J1 - J2|^2 / (r |J1 - J2|^2)
+> 0 in the determinant (a Schur complement), the sign of det J -- the branch -- is the
+full system's up to a constant sign: compared with the drawn sign, the same branch test.
+Only pinned groups: a group carrying a slider's guide or block is refused for synthesis
+(synthesis.schema.closed_form_problem).
+
+Continuation (drawn.groups._follow's rules): two lanes per design, forward and back from the
+drawing (an exact solution at q = 0) as far as the design's drive values need (to the next
+quarter turn, at most BOUND, groups.bound's turn); each step predicted by the secant of the
+last two points, corrected by at most TRACK_ITERATIONS Newton steps (to TRACK_RTOL: a track
+point only guides the rows), accepted when every closure before the group closes, Newton
+converges on the drawn sign of det J, no hub turns by pi / 4 and the correction is at most
+CORRECTION of the predicted move; the step then doubles (up to the grid step BOUND /
+TRACK_STEPS), else halves, and a lane whose step falls below MIN_STEP of the grid step ends
+there (a dead point). A step refused for its correction alone restarts the secant (the next
+step predicts with the last point only: a chord longer than the step would otherwise refuse
+every shorter one). The one loop is over steps: each is array work over the lanes still
+moving. Against groups.py for one drawing: larger grid steps (5 deg, not 2) and the dead point
+located to 1e-6 of a step, not 1e-12 -- the search's cost is these steps -- with the same
+rows valid (tests/synthesis/test_drawn_triads.py: 60 designs x 40 drive values of three
+triads, row for row). The tracks a population followed are kept (TrackCache, by the design's
+variables): the same design at other drive values takes its track, and a design within NEAR
+of a followed one in every variable (a difference probe) solves its rows from that one's
+track, when it reached its drive values without a dead point.
+
+Rows (N, S): Newton (ROW_ITERATIONS) batched over all rows from the track interpolated at their
+drive values; invalid where Newton does not converge, lands on the other sign of det J or
+turns a hub by pi / 2 from the guess (groups.solve_group), or where the drive value lies past
+the track's end (a dead point first, in the drive's direction of travel). A design whose
+forward lane turns the whole BOUND and comes back to its drawing is periodic: a drive value
+beyond a turn either way is taken modulo a turn on it. Invalid rows keep the track's place
+(interpolated, or held at its end): positions stay finite and continuous.
+
+Margin of the group's closures (length unit): where a row closes, s(J) = L |det J| /
+prod_j |J_:,j|, L the design's size (drawn.sections.size) and the determinant over the
+product of the column norms (Hadamard's ratio, in [0, 1]: 1 for orthogonal columns, 0
+exactly where the group locks) -- independent of the units of the columns (lengths and
+turns), as the dyads' margins are in length; past the track's end
+-L |q - q_end| (how far the drive would still have to go, as an arc at the design's size:
+it leads a search to push the dead point out of the travel). Transmission angles: as for the
+dyads (population.kinematics), at each closure of the group.
+
+Linear systems: `solve_small`, Gaussian elimination with partial pivoting (the first of equal
+candidates) written with elementwise numpy, returning the determinant's sign and size too:
+the same bits on every CPU (no LAPACK, no BLAS).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from linkcli.mechanisms.drawn.groups import CORRECTION, NEWTON_ITERATIONS, RESIDUAL_RTOL
+from linkcli.mechanisms.drawn.structure import GROUND, Group, Structure
+
+BOUND = 2.0 * math.pi  # groups.bound for a turning drive: the track's reach either way
+TRACK_STEPS = 72  # largest steps over BOUND (groups.TRACK_STEPS: 180; see the module docstring)
+MIN_STEP = 1e-6  # relative to the grid step: a lane ends where its step falls below (groups.MIN_STEP: 1e-12)
+TRACK_ITERATIONS = 4  # Newton steps per continuation step (groups._follow: 12; a step that needs more is halved)
+TRACK_RTOL = 1e-10  # a track point converged (relative to the size): it only guides the rows, which
+# are solved to groups.RESIDUAL_RTOL
+ROW_ITERATIONS = NEWTON_ITERATIONS
+PERIOD_RTOL = 1e-9  # a lane back at its drawing after a turn: within this of the size
+
+
+def unsupported(structure: Structure, op: Group) -> str | None:
+    """Why the population cannot solve `op` (a slider in it), or None."""
+    inside = set(op.links)
+    for joint, guide in structure.slides.items():
+        if guide in inside or any(b in inside for b in structure.pins[joint]):
+            return f"the slider {joint}"
+    for joint in structure.drawing.joints:
+        if joint.slider is not None and (joint.guide in inside or any(b in inside for b in structure.pins[joint.name])):
+            return f"the slider {joint.name}"
+    return None
+
+
+class PopulationGroup:
+    """One group of the plan over arrays of lanes (module docstring)."""
+
+    def __init__(self, structure: Structure, op: Group, placed: set[str]):
+        self.op = op
+        pins = structure.pins
+        inside = set(op.links)
+        pinned = {b: [j for j in structure.points[b] if len(pins[j]) >= 2] for b in op.links}
+        self.kept = [b for b in op.links if len(pinned[b]) >= 3]
+        self.binary = [b for b in op.links if len(pinned[b]) == 2]
+        if len(self.kept) + len(self.binary) != len(op.links):
+            raise ValueError(f"a group of links pinned at two joints or more, not {', '.join(op.links)}")
+        self.anchor = {b: pinned[b][0] for b in self.kept}
+        self.points = {b: structure.points[b] for b in op.links}
+        joints = list(dict.fromkeys(j for b in op.links for j in pinned[b]))
+        self.owner: dict[str, str] = {}  # joint -> GROUND-known marker "", a kept link, or "free"
+        self.free: list[str] = []
+        for j in joints:
+            if any(b in placed for b in pins[j]):
+                self.owner[j] = GROUND  # known
+            else:
+                keeper = next((b for b in self.kept if b in pins[j]), None)
+                if keeper is not None:
+                    self.owner[j] = keeper
+                else:
+                    self.owner[j] = "free"
+                    self.free.append(j)
+        self.joints = joints
+        col = 0
+        self.col: dict[str, int] = {}
+        for b in self.kept:
+            self.col[b] = col
+            col += 3
+        for j in self.free:
+            self.col[j] = col
+            col += 2
+        self.m = col
+        self.pin_rows = [(b, j) for b in self.kept for j in pinned[b]
+                         if self.owner[j] != b]  # p_b(J) = p(J): two rows each
+        self.lengths = [(b, pinned[b][0], pinned[b][1]) for b in self.binary]
+        rows = 2 * len(self.pin_rows) + len(self.lengths)
+        if rows != self.m or self.m == 0 or not inside:
+            raise ValueError(f"a group of as many equations as unknowns, not {rows} for {self.m}")
+        self.angle_cols = np.array([self.col[b] + 2 for b in self.kept], dtype=int)
+        scale = np.ones(self.m, dtype=bool)  # True: a length column (scaled by the size)
+        scale[self.angle_cols] = False
+        self.length_col = scale
+        self._tables()
+
+    def _tables(self) -> None:
+        """The equations as index tables over `endpoints` -- (joint, holder): a joint's place as
+        the kept link `holder` carries it, or as its owner gives it (holder None) -- so that a
+        residual and its Jacobian are a few array operations whatever the group."""
+        self.known = [j for j in self.joints if self.owner[j] == GROUND]
+        ends: list[tuple[str, str | None]] = []
+
+        def end(joint, holder):
+            key = (joint, holder if holder is not None else self.owner[joint])
+            if key not in ends:
+                ends.append(key)
+            return ends.index(key)
+
+        pins = [(end(j, b), end(j, None)) for b, j in self.pin_rows]
+        lengths = [(end(j1, None), end(j2, None)) for _, j1, j2 in self.lengths]
+        nk, nkn = len(self.kept), len(self.known)
+        base, kept_of, c0, theta = [], [], np.zeros((len(ends), self.m), complex), np.zeros((len(ends), self.m))
+        for e, (joint, holder) in enumerate(ends):
+            if holder == GROUND:
+                base.append(self.known.index(joint))
+                kept_of.append(-1)
+            elif holder == "free":
+                i = self.free.index(joint)
+                base.append(nkn + nk + i)
+                kept_of.append(-1)
+                c0[e, self.col[joint]], c0[e, self.col[joint] + 1] = 1.0, 1j
+            else:
+                k = self.kept.index(holder)
+                base.append(nkn + k)
+                kept_of.append(k)
+                c0[e, self.col[holder]], c0[e, self.col[holder] + 1] = 1.0, 1j
+                theta[e, self.col[holder] + 2] = 1.0
+        self.ends = ends
+        self.base = np.array(base, dtype=int)
+        self.kept_of = np.array(kept_of, dtype=int)
+        self.c0, self.theta = c0, theta
+        self.pin_a = np.array([a for a, _ in pins], dtype=int)
+        self.pin_b = np.array([b for _, b in pins], dtype=int)
+        self.len_a = np.array([a for a, _ in lengths], dtype=int)
+        self.len_b = np.array([b for _, b in lengths], dtype=int)
+        self.kept_cols = np.array([self.col[b] for b in self.kept], dtype=int)
+        self.free_cols = np.array([self.col[j] for j in self.free], dtype=int)
+
+    # ------------------------------------------------------------ unknowns and points
+    def constants(self, z0, lanes: np.ndarray) -> dict:
+        """What the equations read of each lane's drawing (flat lanes; `lanes` (L,): the design
+        of each): each endpoint's arm K0 - A0 on its kept link (0 for the others), (L, E); the
+        binary links' lengths (L, l)."""
+        arms = np.zeros((len(lanes), len(self.ends)), complex)
+        for e, (joint, holder) in enumerate(self.ends):
+            if self.kept_of[e] >= 0:
+                arms[:, e] = (z0[joint][:, 0] - z0[self.anchor[holder]][:, 0])[lanes]
+        lengths = np.zeros((len(lanes), len(self.lengths)))
+        for i, (_, j1, j2) in enumerate(self.lengths):
+            lengths[:, i] = np.abs(z0[j1][:, 0] - z0[j2][:, 0])[lanes]
+        return {"arms": arms, "lengths": lengths}
+
+    def stack_known(self, known: dict, lanes: int) -> np.ndarray:
+        """(L, K) the known joints' places."""
+        if not self.known:
+            return np.zeros((lanes, 0), complex)
+        return np.stack([np.broadcast_to(known[j], (lanes,)) for j in self.known], axis=-1)
+
+    def drawn(self, z0, lanes: np.ndarray) -> np.ndarray:
+        """(L, m) the unknowns of each lane's drawing (q = 0)."""
+        out = np.zeros((len(lanes), self.m))
+        for b in self.kept:
+            a = z0[self.anchor[b]][lanes, 0]
+            out[:, self.col[b]], out[:, self.col[b] + 1] = a.real, a.imag
+        for j in self.free:
+            f = z0[j][lanes, 0]
+            out[:, self.col[j]], out[:, self.col[j] + 1] = f.real, f.imag
+        return out
+
+    def _ends(self, z, known, const):
+        """(P (L, E) every endpoint's place, R (L, E) its arm turned)."""
+        kc, fc = self.kept_cols, self.free_cols
+        hub = z[:, kc] + 1j * z[:, kc + 1]
+        turn = np.cos(z[:, kc + 2]) + 1j * np.sin(z[:, kc + 2])
+        places = np.concatenate([known, hub, z[:, fc] + 1j * z[:, fc + 1]], axis=1)
+        arm = const["arms"] * (turn[:, np.maximum(self.kept_of, 0)] if len(kc) else 0.0)
+        return places[:, self.base] + arm, arm
+
+    def residual(self, z, known, const, jacobian: bool = True):
+        """(f (L, m) length unit, J (L, m, m) or None): the pins' rows (x, then y), then the
+        lengths' (module docstring)."""
+        p, arm = self._ends(z, known, const)
+        e = p[:, self.pin_a] - p[:, self.pin_b]
+        d = p[:, self.len_a] - p[:, self.len_b]
+        r = const["lengths"]
+        g = ((d.real * d.real + d.imag * d.imag) - r * r) / (2.0 * r)
+        f = np.concatenate([e.real, e.imag, g], axis=1)
+        if not jacobian:
+            return f, None
+        dp = self.c0[None] + (1j * arm)[:, :, None] * self.theta[None]  # (L, E, m) d place / d z
+        de = dp[:, self.pin_a] - dp[:, self.pin_b]
+        dd = dp[:, self.len_a] - dp[:, self.len_b]
+        dg = (d.real[..., None] * dd.real + d.imag[..., None] * dd.imag) / r[..., None]
+        return f, np.concatenate([de.real, de.imag, dg], axis=1)
+
+    def newton(self, z, known, const, tol, iterations: int, stall: bool = False, ratio: bool = True,
+               polish: bool = False):
+        """(z, converged, sign of det J, Hadamard's ratio |det J| / prod |columns| or None) over
+        flat lanes (known: (L, K), stack_known); a lane stops moving once every residual is
+        within `tol` (or one is not finite: groups.GroupSolver.newton), and only the lanes
+        still moving are computed. `stall`: a lane whose largest residual has not halved in an
+        iteration from the third on stops too (a continuation step that would not converge:
+        near a dead point Newton's rate falls to a halving an iteration, and a far guess
+        diverges; the step is then halved anyway). `polish`: one more Newton step on the lanes
+        that converged (quadratic convergence takes them to round-off: the rows' places then
+        do not depend on the guess, and a search's differences see the design, not the
+        tolerance)."""
+        z = np.array(z, dtype=float)
+        lanes = len(z)
+        idx = np.arange(lanes)
+        before = np.full(lanes, np.inf)
+        done = np.zeros(lanes, dtype=bool)
+        jac_end = np.zeros((lanes, self.m, self.m))
+        for it in range(iterations + 1):
+            f, jac = self.residual(z[idx], known[idx], subset(const, idx))
+            worst = np.max(np.abs(f), axis=-1)
+            converged = worst <= tol[idx]
+            move = ~converged & np.all(np.isfinite(f), axis=-1)
+            if stall and it >= 2:
+                move &= worst < 0.5 * before[idx]
+            if it == iterations:
+                move[:] = False
+            before[idx] = worst
+            stop = ~move
+            done[idx[stop]] = converged[stop]
+            jac_end[idx[stop]] = jac[stop]
+            if not move.any():
+                break
+            keep = np.flatnonzero(move)
+            step, _ = solve_small(jac[keep], f[keep])
+            idx = idx[keep]
+            z[idx] -= step
+        if polish and done.any():
+            idx = np.flatnonzero(done)
+            f, jac = self.residual(z[idx], known[idx], subset(const, idx))
+            step, _ = solve_small(jac, f)
+            moved = z[idx] - step
+            f2, jac2 = self.residual(moved, known[idx], subset(const, idx))
+            better = np.all(np.isfinite(moved), axis=1) & (np.max(np.abs(f2), axis=-1) <= tol[idx])
+            z[idx[better]] = moved[better]
+            jac_end[idx[better]] = jac2[better]
+        _, det = solve_small(jac_end, np.zeros((lanes, self.m)))
+        if not ratio:
+            return z, done, np.sign(det), None
+        norms = np.ones(lanes)
+        for k in range(self.m):
+            column = np.zeros(lanes)
+            for i in range(self.m):
+                column = column + jac_end[:, i, k] * jac_end[:, i, k]
+            norms = norms * np.sqrt(column)
+        with np.errstate(all="ignore"):
+            hadamard = np.where(norms > 0.0, np.abs(det) / norms, 0.0)
+        return z, done, np.sign(det), hadamard
+
+    def places(self, z, known, const) -> dict:
+        """The group's pinned joints' places (L,) from its unknowns (the kept and free ones)."""
+        p, _ = self._ends(z, known, const)
+        return {joint: p[:, e] for e, (joint, holder) in enumerate(self.ends)
+                if holder != GROUND and (holder == "free" or self.owner[joint] == holder)}
+
+
+def subset(const: dict, idx) -> dict:
+    """`constants` of some lanes."""
+    return {key: value[idx] for key, value in const.items()}
+
+
+# ---------------------------------------------------------------- the track and the rows
+
+class Track:
+    """Each design's continuation, two lanes (forward, back): q (N, 2, T) drive values by
+    |q| increasing (padded with the last), z (N, 2, T, m), count (N, 2) points, end (N, 2)
+    the drive value where a lane ended at a dead point (nan: it went as far as it needed),
+    sign (N,) the drawn sign of det J (0: the drawing does not solve), periodic (N,)."""
+
+    def __init__(self, q, z, count, end, sign, periodic):
+        self.q, self.z, self.count, self.end, self.sign, self.periodic = q, z, count, end, sign, periodic
+
+    def subset(self, designs) -> Track:
+        return Track(self.q[designs], self.z[designs], self.count[designs], self.end[designs],
+                     self.sign[designs], self.periodic[designs])
+
+
+def follow(group: PopulationGroup, prefix, z0, scale, reach) -> Track:
+    """The continuation of every design both ways (module docstring). `prefix(designs, q)`:
+    the known joints' places (K, known: stack_known) and whether every earlier closure closes (K,) for those
+    designs at drive values q (K,); `scale` (N,) the designs' RESIDUAL_RTOL scale; reach (N, 2)
+    how far each lane goes (forward, back). Only the lanes still moving are computed."""
+    n = len(reach)
+    design = np.repeat(np.arange(n), 2)  # lane -> design
+    direction = np.tile([1.0, -1.0], n)
+    reach = reach.reshape(-1)
+    full = BOUND / TRACK_STEPS
+    tol = TRACK_RTOL * scale[design]
+    const = group.constants(z0, design)
+    ones = np.arange(n)
+    known0, _ = prefix(ones, np.zeros(n))
+    z, ok, sign, _ = group.newton(group.drawn(z0, ones), known0, group.constants(z0, ones),
+                                  RESIDUAL_RTOL * scale, ROW_ITERATIONS, ratio=False)
+    sign0 = np.where(ok, sign, 0.0)
+    size = np.where(group.length_col[None, :], scale[design][:, None], 1.0)
+    last_q, prev_q = np.zeros(2 * n), np.zeros(2 * n)
+    last_z, prev_z = z[design], z[design]
+    count = np.ones(2 * n, dtype=int)
+    fresh = np.ones(2 * n, dtype=bool)  # no secant to predict the next step: the drawing, or a restart
+    h = np.full(2 * n, full / 8)
+    end = np.where(sign0[design] == 0.0, 0.0, np.nan)
+    active = (reach > 0.0) & (sign0[design] != 0.0)
+    rec_lane, rec_q, rec_z = [np.arange(2 * n)], [np.zeros(2 * n)], [z[design]]
+    while active.any():
+        act = np.flatnonzero(active)
+        lq, lz = last_q[act], last_z[act]
+        step_q = direction[act] * np.minimum(np.abs(lq) + h[act], reach[act])
+        with np.errstate(all="ignore"):
+            ratio = (step_q - lq) / (lq - prev_q[act])
+        first = fresh[act]
+        guess = np.where(first[:, None], lz, lz + (lz - prev_z[act]) * ratio[:, None])
+        known, valid = prefix(design[act], step_q)
+        znew, conv, s, _ = group.newton(guess, known, subset(const, act), tol[act], TRACK_ITERATIONS, stall=True,
+                                        ratio=False)
+        scaled = size[act]
+        moved = np.max(np.abs(guess - lz) / scaled, axis=-1)
+        corrected = np.max(np.abs(znew - guess) / scaled, axis=-1)
+        calm = np.all(np.abs(znew - lz)[:, group.angle_cols] < math.pi / 4, axis=-1)
+        closes = valid & conv & (s == sign0[design[act]]) & calm
+        good = closes & (first | (corrected <= CORRECTION * moved + 1e-9))
+        fresh[act] = ~good & (first | closes)  # only the secant was wrong (a chord longer than the step): restart
+        took = act[good]
+        prev_q[took], prev_z[took] = lq[good], lz[good]
+        last_q[took], last_z[took] = step_q[good], znew[good]
+        count[took] += 1
+        rec_lane.append(took)
+        rec_q.append(step_q[good])
+        rec_z.append(znew[good])
+        h[act] = np.where(good, np.minimum(2.0 * h[act], full), 0.5 * h[act])
+        dead = act[~good & (h[act] < MIN_STEP * full)]
+        end[dead] = last_q[dead]
+        active[dead] = False
+        active[took] = np.abs(last_q[took]) < reach[took]
+    lanes = np.concatenate(rec_lane)
+    order = np.argsort(lanes, kind="stable")  # by lane, in the order accepted
+    lanes = lanes[order]
+    qs, zs = np.concatenate(rec_q)[order], np.concatenate(rec_z)[order]
+    width = int(count.max())
+    start = np.concatenate([[0], np.cumsum(count)[:-1]])
+    slot = np.arange(len(lanes)) - start[lanes]
+    q_track = np.repeat(last_q[:, None], width, axis=1)
+    z_track = np.repeat(last_z[:, None, :], width, axis=1)
+    q_track[lanes, slot], z_track[lanes, slot] = qs, zs
+    back = last_z[0::2] - z
+    back[:, group.angle_cols] = np.mod(back[:, group.angle_cols] + math.pi, 2 * math.pi) - math.pi
+    periodic = (np.isnan(end[0::2]) & (np.abs(last_q[0::2]) >= BOUND) & (sign0 != 0.0)
+                & np.all(np.abs(back) <= PERIOD_RTOL * size[0::2], axis=-1))
+    m = group.m
+    return Track(q_track.reshape(n, 2, width), z_track.reshape(n, 2, width, m), count.reshape(n, 2),
+                 end.reshape(n, 2), sign0, periodic)
+
+
+def needed_reach(q) -> np.ndarray:
+    """(N, 2) how far each design's lanes go for its drive values q (N, S): to the largest and
+    the least, rounded up to a quarter turn (the calls that refine a worst value between the
+    grid's values then find the track they need made), within BOUND (a full BOUND forward
+    where some value lies beyond it: the periodic test needs the whole turn)."""
+    quarter = 0.25 * BOUND
+    hi = np.minimum(np.ceil(np.clip(np.max(q, axis=1), 0.0, None) / quarter) * quarter, BOUND)
+    lo = np.minimum(np.ceil(np.clip(-np.min(q, axis=1), 0.0, None) / quarter) * quarter, BOUND)
+    beyond = np.max(np.abs(q), axis=1) > BOUND
+    return np.stack([np.where(beyond, BOUND, hi), lo], axis=-1)
+
+
+def padded(track: Track, width: int) -> Track:
+    """The track with T = width (each lane's last point repeated)."""
+    extra = width - track.q.shape[-1]
+    if extra <= 0:
+        return track
+    q = np.concatenate([track.q, np.repeat(track.q[..., -1:], extra, axis=-1)], axis=-1)
+    z = np.concatenate([track.z, np.repeat(track.z[:, :, -1:], extra, axis=2)], axis=2)
+    return Track(q, z, track.count, track.end, track.sign, track.periodic)
+
+
+def joined(parts: list[tuple[np.ndarray, Track]], n: int) -> Track:
+    """One Track of n designs from (designs, Track) parts."""
+    width = max(t.q.shape[-1] for _, t in parts)
+    m = parts[0][1].z.shape[-1]
+    q, z = np.zeros((n, 2, width)), np.zeros((n, 2, width, m))
+    count, end = np.ones((n, 2), dtype=int), np.zeros((n, 2))
+    sign, periodic = np.zeros(n), np.zeros(n, dtype=bool)
+    for rows, part in parts:
+        part = padded(part, width)
+        q[rows], z[rows], count[rows], end[rows] = part.q, part.z, part.count, part.end
+        sign[rows], periodic[rows] = part.sign, part.periodic
+    return Track(q, z, count, end, sign, periodic)
+
+
+class TrackCache:
+    """The tracks of the designs a population last followed (CAP at most), by the design's
+    variables: a search evaluates the same design at other drive values (a worst value
+    refined, the constraints where they bind), whose track is then taken, not followed again.
+    A track is taken only when it reaches as far as the call needs."""
+
+    CAP = 4096
+
+    def __init__(self) -> None:
+        self.x = np.zeros((0, 0))
+        self.keys = np.zeros(0, dtype=np.uint64)
+        self.reach = np.zeros((0, 2))
+        self.track: Track | None = None
+
+    @staticmethod
+    def row_keys(x: np.ndarray) -> np.ndarray:
+        """(N,) a 64-bit hash of each row's bits (FNV-1a over the columns)."""
+        bits = np.ascontiguousarray(x, dtype=float).view(np.uint64)
+        h = np.full(len(x), 14695981039346656037, dtype=np.uint64)
+        with np.errstate(over="ignore"):
+            for j in range(bits.shape[1]):
+                h = (h ^ bits[:, j]) * np.uint64(1099511628211)
+        return h
+
+    def find(self, x: np.ndarray, keys: np.ndarray, reach: np.ndarray) -> np.ndarray:
+        """(N,) each design's slot in the cache, -1 where it has none reaching `reach`."""
+        if self.track is None or self.x.shape[1] != x.shape[1] or not len(self.keys):
+            return np.full(len(x), -1)
+        order = np.argsort(self.keys, kind="stable")
+        at = np.minimum(np.searchsorted(self.keys[order], keys), len(order) - 1)
+        slot = order[at]
+        hit = ((self.keys[slot] == keys) & np.all(self.x[slot] == x, axis=1)
+               & np.all(self.reach[slot] >= reach, axis=1))
+        return np.where(hit, slot, -1)
+
+    def near(self, x: np.ndarray, reach: np.ndarray, spacing: np.ndarray) -> np.ndarray:
+        """(N,) for each design the slot of a cached design within `spacing` (per variable)
+        of it in every variable whose lanes both reached as far as needed without a dead
+        point (-1: none): a search's difference probes of one design, whose tracks are the
+        same branch to within the probe -- its rows are then solved from the neighbour's
+        track (Newton converges to the design's own places; a dead point the neighbour does
+        not have shows as rows that do not converge or change sign: invalid)."""
+        if self.track is None or self.x.shape[1] != x.shape[1] or not len(self.keys) or not x.shape[1]:
+            return np.full(len(x), -1)
+        whole = np.isnan(self.track.end).all(axis=1) & (self.track.sign != 0.0)
+        close = np.all(np.abs(x[:, None, :] - self.x[None, :, :]) <= spacing[None, None, :], axis=-1)
+        close &= whole[None, :] & np.all(self.reach[None, :, :] >= reach[:, None, :], axis=-1)
+        return np.where(close.any(axis=1), np.argmax(close, axis=1), -1)
+
+    def take(self, slots: np.ndarray) -> Track:
+        assert self.track is not None
+        return self.track.subset(slots)
+
+    def store(self, x: np.ndarray, keys: np.ndarray, reach: np.ndarray, track: Track) -> None:
+        """Keep these designs' tracks (replacing older ones of the same designs; the oldest
+        dropped beyond CAP)."""
+        if self.track is None or self.x.shape[1] != x.shape[1]:
+            self.x, self.keys, self.reach, self.track = x.copy(), keys.copy(), reach.copy(), track
+        else:
+            keep = ~np.isin(self.keys, keys)
+            old = self.track.subset(np.flatnonzero(keep))
+            n_old = int(keep.sum())
+            self.track = joined([(np.arange(n_old), old), (np.arange(n_old, n_old + len(x)), track)],
+                                n_old + len(x))
+            self.x = np.concatenate([self.x[keep], x])
+            self.keys = np.concatenate([self.keys[keep], keys])
+            self.reach = np.concatenate([self.reach[keep], reach])
+        if len(self.keys) > self.CAP:
+            last = np.arange(len(self.keys) - self.CAP, len(self.keys))
+            self.track = self.track.subset(last)
+            self.x, self.keys, self.reach = self.x[last], self.keys[last], self.reach[last]
+
+
+def at_rows(track: Track, q):
+    """(inside (N, S), past (N, S) how far past its lane's end, z guess (N, S, m)) at drive
+    values q (N, S): the lane of each value's sign (forward for q >= 0), interpolated."""
+    n, s = q.shape
+    q = np.where(track.periodic[:, None] & (np.abs(q) > BOUND), np.mod(q, BOUND), q)
+    lane = np.where(q >= 0.0, 0, 1)
+    t = np.abs(q)
+    tq = np.abs(track.q)  # (N, 2, T), |q| increasing along each lane
+    width = tq.shape[-1]
+    spacing = 4.0 * BOUND  # every |q| of a lane lies below it: lanes apart on one sorted line
+    keys = (np.arange(2 * n, dtype=float)[:, None] * spacing + tq.reshape(2 * n, width)).reshape(-1)
+    which = np.arange(n)[:, None] * 2 + lane
+    found = np.searchsorted(keys, which * spacing + t, side="right") - 1 - which * width
+    count = track.count.reshape(-1)[which]
+    idx = np.clip(found, 0, np.maximum(count - 2, 0))
+    nxt = np.minimum(idx + 1, count - 1)
+    flat_q, flat_z = tq.reshape(2 * n, width), track.z.reshape(2 * n, width, -1)
+    q_a, q_b = flat_q[which, idx], flat_q[which, nxt]
+    z_a, z_b = flat_z[which, idx], flat_z[which, nxt]
+    with np.errstate(all="ignore"):
+        frac = np.clip(np.where(q_b > q_a, (t - q_a) / (q_b - q_a), 0.0), 0.0, 1.0)
+    guess = z_a + (z_b - z_a) * frac[..., None]
+    top = flat_q[which, count - 1]  # the lane's last |q|
+    inside = (t <= top) & (track.sign[:, None] != 0.0)
+    past = np.maximum(t - top, 0.0)
+    return inside, past, guess
+
+
+# ---------------------------------------------------------------- small systems
+
+def solve_small(a: np.ndarray, b: np.ndarray):
+    """(x, det a) for stacks a (L, m, m), b (L, m): Gaussian elimination with partial pivoting
+    (a row below swaps up where its entry is larger than the pivot's: the largest comes up,
+    the first of equal ones) and back substitution, elementwise (exactly rounded on every
+    CPU: no BLAS, no LAPACK, no sums in another order); NaN x and det 0 where a pivot is 0 or
+    not finite."""
+    m = a.shape[-1]
+    w = np.concatenate([a, b[..., None]], axis=-1)
+    det = np.ones(len(w))
+    with np.errstate(all="ignore"):
+        for k in range(m):
+            for i in range(k + 1, m):
+                up = np.abs(w[:, i, k]) > np.abs(w[:, k, k])
+                if up.any():
+                    low, top = w[:, i].copy(), w[:, k].copy()
+                    w[:, k] = np.where(up[:, None], low, top)
+                    w[:, i] = np.where(up[:, None], top, low)
+                    det = np.where(up, -det, det)
+            pivot = w[:, k, k]
+            det = det * pivot
+            if k + 1 < m:
+                w[:, k + 1:, k:] = w[:, k + 1:, k:] - (w[:, k + 1:, k] / pivot[:, None])[:, :, None] * w[:, None, k, k:]
+        x = np.empty((len(w), m))
+        for k in range(m - 1, -1, -1):
+            acc = w[:, k, m]
+            for j in range(k + 1, m):
+                acc = acc - w[:, k, j] * x[:, j]
+            x[:, k] = acc / w[:, k, k]
+    good = np.isfinite(det) & (det != 0.0)
+    return np.where(good[:, None], x, np.nan), np.where(good, det, 0.0)
