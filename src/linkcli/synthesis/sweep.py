@@ -8,9 +8,13 @@ drawn: `boxes_of`), by the shared search
 six-bar is the result: feasible before infeasible, then the least objective, ties to the
 catalogue's order. The `topologies` section lists the best of every choice and the baseline.
 
-Every choice is searched: those whose drive reaches the rest through a triad (an Assur group
-of four links: every Stephenson II, some Stephenson III) too, the triad followed over the
-population by continuation from each drawing on its drawn branch (drawn.population_groups).
+A choice whose drive reaches the rest through a triad (an Assur group of four links: every
+Stephenson II, some Stephenson III) is followed over the population by continuation from each
+drawing on its drawn branch (drawn.population_groups), at about 50 times a dyad's cost an
+evaluation (benchmarks/drawn_population.py: 1,000 designs x 72 drive values in 1.1 s against
+20 ms). A sweep searches it when its topology offers no other choice (stephenson-ii); beside
+choices of dyads it is listed `not searched` (it would take most of the sweep's time), with
+a note: draw it in [joints] to design it.
 
 The budget ([solver] budget, or the shared search's default) is shared evenly by the runs; the
 seed is the file's for every run, so the sweep is deterministic.
@@ -26,6 +30,7 @@ from linkcli.solution import Solution, SolverRecord, Status
 DRAWINGS = 2  # starting drawings searched per choice
 FUNCTION_BOX = (0.0, 0.0, 100.0, 100.0)  # a function's drawings (its error does not depend on the scale)
 MIN_RUN_BUDGET = 2_000
+TRIAD = "triad"
 
 
 def target_box(problem) -> tuple[float, float, float, float]:
@@ -48,12 +53,15 @@ def boxes_of(drawing, half: float, kind: str = "path") -> dict:
 
 
 def runs(problem):
-    """The topology's choices and the four-bar's, in catalogue order (the baseline last)."""
+    """(choice, searched) of the topology's choices and the four-bar's, in catalogue order
+    (the baseline last); `searched` False for a triad beside choices without one (module
+    docstring)."""
     from linkcli.mechanisms.drawn import catalogue
     timing = "any" if problem.kind != "function" and problem.timing == "free" else "prescribed"
     six = catalogue.choices(problem.topology, problem.kind, timing)
     four = catalogue.choices(catalogue.BASELINE, problem.kind, "prescribed")
-    return list(six + four)
+    triads_only = all(c.plan == TRIAD for c in six)
+    return [(c, triads_only or c.plan != TRIAD) for c in six + four]
 
 
 def sweep(problem) -> Solution:
@@ -63,7 +71,8 @@ def sweep(problem) -> Solution:
     from linkcli.synthesis import search as shared
     from linkcli.synthesis.solution import design_drawing
     todo = runs(problem)
-    if not any(c.topology != catalogue.BASELINE for c in todo):
+    searched = [c for c, ok in todo if ok]
+    if not any(c.topology != catalogue.BASELINE for c in searched):
         why = catalogue.empty_reason(problem.topology, problem.kind, "any" if problem.timing == "free"
                                      and problem.kind != "function" else "prescribed")
         raise SolveInputError("a topology with a choice the design can search",
@@ -71,7 +80,7 @@ def sweep(problem) -> Solution:
                               path=problem.meta.path, key="linkage.topology")
     opts = problem.meta.solver
     total = opts.budget or shared.DEFAULT_BUDGET
-    per_run = max(MIN_RUN_BUDGET, total // (len(todo) * DRAWINGS))
+    per_run = max(MIN_RUN_BUDGET, total // (len(searched) * DRAWINGS))
     run_problem = replace(problem, meta=replace(problem.meta, solver=replace(opts, budget=per_run)))
     box = target_box(problem)
     half = problem.reach * math.hypot(box[2] - box[0], box[3] - box[1])
@@ -79,7 +88,9 @@ def sweep(problem) -> Solution:
         half = problem.reach * math.hypot(FUNCTION_BOX[2], FUNCTION_BOX[3])
     best_of: dict = {}
     used = 0
-    for index, choice in enumerate(todo):
+    for index, (choice, ok) in enumerate(todo):
+        if not ok:
+            continue
         for drawing in catalogue.starting_drawings(choice, box, seed=opts.seed or 0, count=DRAWINGS):
             joint = "P" if problem.kind == "path" else None
             link = choice.target if problem.kind != "path" else None
@@ -88,15 +99,15 @@ def sweep(problem) -> Solution:
             used += sol.solver.evaluations if sol.solver else 0
             if choice.label not in best_of or _rank(sol, index) < _rank(best_of[choice.label][0], index):
                 best_of[choice.label] = (sol, index)
-    six = [best_of[c.label] for c in todo if c.topology != catalogue.BASELINE]
+    six = [best_of[c.label] for c in searched if c.topology != catalogue.BASELINE]
     best, _ = min(six, key=lambda item: _rank(*item))
-    rows = [_row(c, best_of[c.label], problem) for c in todo]
+    rows = [_row(c, best_of.get(c.label), problem) for c, _ in todo]
     converged = best.solver.converged if best.solver else False
     solver = SolverRecord(best.solver.method if best.solver else "multistart-lm+kkt", opts.seed, used, converged)
     sections = dict(best.sections)
     sections["topologies"] = {"topology": problem.topology, "reach": problem.reach, "budget_per_run": per_run,
                               "rows": rows}
-    chosen = next(r for r in rows if best_of[r["choice"]][0] is best)
+    chosen = next(r for r in rows if r["choice"] in best_of and best_of[r["choice"]][0] is best)
     notes = list(best.notes) + [_baseline_note(rows, chosen)]
     return replace(best, solver=solver, sections=sections, notes=[n for n in notes if n],
                    message=f"{chosen['choice']}: {best.message}")
@@ -111,7 +122,13 @@ def _rank(sol: Solution, index: int) -> tuple:
 
 
 def _row(choice, found, problem) -> dict:
-    """One row of the topologies table: the choice and its best design's status and error."""
+    """One row of the topologies table: the choice and its best design's status and error
+    (`found` None: not searched, a triad beside choices of dyads)."""
+    if found is None:
+        return {"choice": choice.label, "topology": choice.topology, "status": "not searched",
+                "objective": None, "max_error": None,
+                "note": "a triad beside choices of dyads (about 50 times their cost an evaluation): "
+                        "draw it in [joints] to design it"}
     sol = found[0]
     row = {"choice": choice.label, "topology": choice.topology, "status": sol.status.value,
            "objective": sol.objective, "max_error": None}
