@@ -360,11 +360,11 @@ def test_jansen_leg_for_a_flat_stride_and_a_lift():
 
 
 def test_a_topology_sweep_solves_a_problem_from_another_drawing():
-    """synthesis.solution.design_drawing: the problem of a perturbed drawing solved from the
+    """synthesis.design.design_drawing: the problem of a perturbed drawing solved from the
     true one (as a sweep would from each catalogued drawing): error ~0; a box that does not
     hold its joint's drawn place is refused (exit 2's error), naming the joint."""
     from linkcli.errors import SolveInputError
-    from linkcli.synthesis.solution import design_drawing
+    from linkcli.synthesis.design import design_drawing
     free = ("A", "B", "C", "D", "P")
     text, path = _known_problem(3, free)
     problem, _, _ = _solve(text)

@@ -6,7 +6,7 @@ w dtheta_k, length unit; function: dpsi_k, rad), so that error = sum r^2 is the 
 objective; constraints the model's (each closure's assembly margin and transmission window,
 the worst over the drive's travel, dimensionless) as -g >= 0, and the sweep within one turn.
 Each front design is finished by the search's own exact check on the fine grid
-(solution.violations)."""
+(check.violations)."""
 
 from __future__ import annotations
 
@@ -78,8 +78,9 @@ class DrawnSpace(SharedDesign):
     def final(self, x) -> Solution:
         """The search's Solution of x: its exact check on the fine grid decides the status
         (a front design is a certified point of its level: `converged`)."""
+        from linkcli.synthesis.check import violations
         from linkcli.synthesis.search import Candidate
-        from linkcli.synthesis.solution import solution, violations
+        from linkcli.synthesis.solution import solution
         x = np.asarray(x, float).copy()
         c = Candidate(x, self.best.s, True)
         return solution(self.problem, self.model, c, violations(self.model, x, self.best.s), self.budget, True)

@@ -36,8 +36,9 @@ class SharedDesign:
         return out
 
     def final(self, x: np.ndarray):
+        from linkcli.synthesis.check import violations
         from linkcli.synthesis.search import Candidate
-        from linkcli.synthesis.solution import solution, violations
+        from linkcli.synthesis.solution import solution
         c = Candidate(x.copy(), self.best.s, self.best.converged)
         return solution(self.problem, self.model, c, violations(self.model, x, self.best.s), self.budget,
                         self.confirmed)

@@ -58,9 +58,6 @@ NEAR_EXACT_RMS = 1e-6  # ... and one the polish leaves on a flat valley's floor 
 # Jansen's foot path with every moving joint free and free timing, 23 unknowns, ends at 1e-7 to
 # 1e-5 of the path's extent, where the Jacobian's condition number is 1e7 and no Newton step gains)
 STEP = 1e-7  # forward-difference step, relative to max(|z|, 1e-2 box width, 1e-3 scale)
-FEASIBLE = 1e-7  # a constraint broken by at most this (radians, or the drawing's size) is met: below
-# what six printed digits resolve (1e-6 of an angle or a length), where a settle on several
-# closures binding at one drive value (Jansen's leg: B, C and E together) ends ~1e-8 beyond
 CURVATURE_STEP = 1e-4  # unit box: the settle's differenced Hessian of the Lagrangian, taken where
 # Gauss-Newton's steps stall (kkt curvature="stalled"): a fit that leaves residuals (a six-bar's
 # stride: 26 mm^2) has curvature of its own that Gauss-Newton misses, and its settle failed there
@@ -173,7 +170,7 @@ def batch_lm(space: Space, z, s, weight: float, iterations: int, budget: Budget,
 def rank(model: Model, c: Candidate):
     """(infeasible, total violation, objective) from the exact check (model.check): lengths
     relative to the drawing's size, angles in radians; kept per design (model.ranks)."""
-    from linkcli.synthesis.solution import violations
+    from linkcli.synthesis.check import violations
     key = (c.x.tobytes(), c.s)
     if key not in model.ranks:
         v = violations(model, c.x, c.s)
@@ -303,7 +300,7 @@ def _near(best):
 def polish(model: Model, space: Space, z, s, conv, budget: Budget):
     """Levenberg-Marquardt at POLISH_WEIGHTS in turn, the rows still breaking a constraint
     going on to the next, stiffer one."""
-    from linkcli.synthesis.solution import violations
+    from linkcli.synthesis.check import violations
     todo = np.arange(len(z))
     for weight in POLISH_WEIGHTS:
         if not len(todo) or budget.left < len(todo) * (space.k + 1) * 4:

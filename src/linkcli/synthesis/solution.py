@@ -1,9 +1,8 @@
-"""The shared search's entry point and its Solution: a problem over its home's population
-(the face's `population(problem)`), searched (search.py), checked against every constraint
-on the fine grid (`violations`), reported as the type reports a four-bar's design: the
-designed linkage, positions, error, timing, the solver record and the status -- ok (feasible,
-found twice or an exact fit), not-converged (feasible, not confirmed), infeasible (the broken
-constraints named, each by how much).
+"""The Solution of a design of the shared search (synthesis.design), reported as the type
+reports a four-bar's design: the designed linkage, positions, error, timing, the solver
+record and the status -- ok (feasible, found twice or an exact fit), not-converged (feasible,
+not confirmed), infeasible (the broken constraints named, each by how much:
+synthesis.check).
 """
 
 from __future__ import annotations
@@ -12,117 +11,12 @@ import math
 
 import numpy as np
 
-from linkcli.search.budget import Budget
 from linkcli.solution import Positions, Solution, SolverRecord, Status
 from linkcli.synthesis import search as shared
 from linkcli.synthesis.model import TWO_PI, Model
 from linkcli.textnum import num
 
 METHOD = "multistart-lm+kkt"
-
-
-def solve(problem) -> Solution:
-    """The design of a problem whose home offers a population (mechanisms.synthesis); with
-    a topology, the sweep over its catalogued drawings (synthesis.sweep)."""
-    from linkcli.mechanisms import synthesis
-    if getattr(problem, "topology", None):
-        from linkcli.synthesis.sweep import sweep
-        return sweep(problem)
-    return design(problem, synthesis.face(problem.mechanism).population(problem))
-
-
-def design_drawing(problem, drawing, boxes: dict | None = None, joint: str | None = None,
-                   link: str | None = None) -> Solution:
-    """`problem` (a DrawnDesignProblem: its targets, timing, constraints, [solver]) solved from
-    another starting drawing -- the callable a topology sweep runs once per catalogued drawing.
-    `boxes`: {joint: ((x lo, x hi), (y lo, y hi))} of its free joints (each holding its drawn
-    place; None: the problem's own); `joint` / `link`: its target joint or link when the
-    drawing names them otherwise. The drawing is checked as a file's would be (structure, one
-    turning drive, groups the population solves): SolveInputError (exit 2) naming what is wrong."""
-    from dataclasses import replace
-
-    from linkcli.errors import SolveInputError
-    from linkcli.mechanisms.drawn.population import DrawnPopulation
-    from linkcli.mechanisms.drawn.structure import analyse
-    from linkcli.synthesis.schema import closed_form_problem
-    structure = analyse(drawing)
-    names = {j.name: j for j in drawing.joints}
-    boxes = dict(problem.boxes) if boxes is None else dict(boxes)
-    joint = joint if joint is not None else problem.joint
-    link = link if link is not None else problem.link
-    bad = ([f"{p.where}: {p.found}" for p in structure.problems]
-           + ([f"links {', '.join(closed_form_problem(structure))} closed together with a slider"]
-              if not structure.problems and closed_form_problem(structure) else [])
-           + [f"box of {j} (not a joint of the drawing)" for j in boxes if j not in names]
-           + [f"box of {j} not holding its drawn place" for j, ((xl, xh), (yl, yh)) in boxes.items()
-              if j in names and not (xl <= names[j].at[0] <= xh and yl <= names[j].at[1] <= yh)]
-           + ([f"target joint {joint}"] if joint is not None and (joint not in names or names[joint].ground) else [])
-           + ([f"target link {link}"] if link is not None and link not in {k.name for k in drawing.links} else []))
-    if bad:
-        raise SolveInputError("a starting drawing the design can start from", "; ".join(bad),
-                              path=problem.meta.path, key="linkage")
-    problem = replace(problem, drawing=drawing, boxes=tuple(boxes.items()), joint=joint, link=link)
-    population = DrawnPopulation(drawing, structure, problem.free, boxes,
-                                 traced=(joint,) if joint else (), followed=(link,) if link else ())
-    return design(problem, population)
-
-
-def design(problem, population) -> Solution:
-    """Search `population` for `problem`'s target (the shared search; `design_drawing` builds
-    the population of a drawing)."""
-    model = Model(problem, population)
-    opts = problem.meta.solver
-    budget = Budget(opts.budget or shared.DEFAULT_BUDGET)
-    model.budget = budget
-    rng = np.random.default_rng(opts.seed)
-    with np.errstate(all="ignore"):
-        found, confirmed = shared.search(model, budget, rng)
-        if not found:
-            x, s = shared.starts.draws(model, rng, 1)
-            found = [shared.Candidate(x[0], float(s[0]), False)]
-        best = found[0]
-        best.x = model.canonical(best.x)  # a function's similarity held: the copy nearest the drawing
-        if problem.objective == "failure-probability":
-            from linkcli.synthesis.robust import robust
-            return robust(problem, model, best, budget, confirmed)
-        found = solution(problem, model, best, violations(model, best.x, best.s), budget, confirmed)
-        if problem.meta.front is not None:  # a Pareto front from this design (linkcli.pareto)
-            from linkcli.synthesis.pareto import front
-            return front(problem, model, best, budget, confirmed, found)
-        return found
-
-
-# ---------------------------------------------------------------- the exact check
-
-def violations(model: Model, x, s) -> list[tuple[str, float, str, str]]:
-    """Every constraint the design breaks on the fine grid (FINE deg over its travel):
-    (constraint, amount, message, unit: "length" | "angle")."""
-    ev, order = model.check(np.asarray(x, dtype=float), float(s))
-    out = []
-    bad_targets = [k + 1 for k in np.flatnonzero(~ev.valid[0])]
-    over = "the full turn" if model.crank else "the travel from the drawn position through the targets"
-    for m, (kind, closure) in enumerate(model.kinds):
-        g = float(ev.g[0, m])
-        if not g > shared.FEASIBLE:
-            continue
-        at = f"{num(math.degrees(float(ev.at[0, m])))} deg"
-        if kind == "transmission":
-            side = "below" if m < len(model.kinds) - len(model.pop.closures) else "above"
-            out.append(("transmission", g, f"the transmission angle at {closure} is {side} the window over "
-                        f"{over} (at drive angle {at})", "angle"))
-        elif bad_targets and ev.anchor[0, m] >= 0:
-            out.append(("assembly", g * model.size, f"the closure at {closure} cannot close at target"
-                        + ("s " if len(bad_targets) > 1 else " ") + ", ".join(map(str, bad_targets))
-                        + " on its drawn side", "length"))
-        elif model.crank:
-            out.append(("drive", g * model.size, f"the driving link cannot turn fully: the closure at {closure} "
-                        f"locks (a dead point near drive angle {at})", "length"))
-        else:
-            out.append(("branch", g * model.size, f"the closure at {closure} locks between the drawn position "
-                        f"and the targets (near drive angle {at}): the linkage would change branch", "length"))
-    if order > 0:
-        out.append(("order", order, "the targets are not reached in order within one turn of the drive", "angle"))
-    return out
 
 
 def _amount(name_unit: str, amount: float, u) -> str:

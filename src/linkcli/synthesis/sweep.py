@@ -69,7 +69,7 @@ def sweep(problem) -> Solution:
     from linkcli.errors import SolveInputError
     from linkcli.mechanisms.drawn import catalogue
     from linkcli.synthesis import search as shared
-    from linkcli.synthesis.solution import design_drawing
+    from linkcli.synthesis.design import design_drawing
     todo = runs(problem)
     searched = [c for c, ok in todo if ok]
     if not any(c.topology != catalogue.BASELINE for c in searched):

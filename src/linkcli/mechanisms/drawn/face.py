@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from linkcli.mechanisms.synthesis import Face
 
-SOLVE = "linkcli.synthesis.solution:solve"
+SOLVE = "linkcli.synthesis.run:solve"
 
 
 class DrawnFace(Face):
