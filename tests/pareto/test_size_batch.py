@@ -241,7 +241,7 @@ def test_the_lifted_level_holds_the_plain_level_designs(path10_space):
     assert min(holds) >= 2  # designs on both sides of the level
 
 
-def test_a_level_whose_optimum_balances_two_peaks_settles():
+def test_a_level_whose_optimum_balances_two_peaks_settles(path10_space):
     """benchmarks/pareto/path10.toml's level 8 (size <= 118.1257...) from its polish's end (here
     as numbers): the coupler point's highest y peaks twice over the turn, 8e-5 apart there; the
     plain Newton settle fails on its first step (one bent piece), the lifted one converges to a
@@ -249,18 +249,7 @@ def test_a_level_whose_optimum_balances_two_peaks_settles():
     import linkcli.pareto.front as fr
     from linkcli.pareto.scalarized import Scalarized
     from linkcli.search.budget import Budget
-    held = {}
-
-    def grab(problem, space, found):
-        held.update(problem=problem, space=space)
-        raise _Captured
-
-    real, run.solve_front = run.solve_front, grab
-    try:
-        run_cli("synth", str(ROOT / "benchmarks/pareto/path10.toml"), "--format", "json")
-    finally:
-        run.solve_front = real
-    problem, space = held["problem"], held["space"]
+    problem, space = path10_space
     measure = Measure(problem, space, ("error", "size"))
     x = np.array([55.04985844489492, 16.95175574385948, 32.975827936603196, 47.12122368448456, 39.76898037832842,
                   58.54265250207729, -11.946168527043369, -51.57652157915237, 0.9310495682811935, 3.8567485336256713])

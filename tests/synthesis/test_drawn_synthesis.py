@@ -171,6 +171,14 @@ def _known_problem(seed: int, free: tuple[str, ...], n: int = 14, sigma: float =
     joints, links, drive = _drawing_tables(STEPHENSON)
     q = np.arange(n) * 2 * math.pi / n
     path = reference_places(joints, links, drive, q)["P"]
+    return perturbed_problem(STEPHENSON, joints, free, path, q, seed, sigma, timing), path
+
+
+def perturbed_problem(drawing: str, joints: dict, free: tuple[str, ...], path, q, seed: int, sigma: float,
+                      timing: str = "prescribed") -> str:
+    """A path problem of tracer P through `path` (at drive angles q when prescribed) from the
+    drawing text `drawing` with its `free` joints moved by a normal draw (sigma mm, at most
+    10), each free within +-12 mm of its true place, the crank turning fully."""
     rng = np.random.default_rng(seed)
     lines = []
     for name, spec in joints.items():
@@ -180,8 +188,8 @@ def _known_problem(seed: int, free: tuple[str, ...], n: int = 14, sigma: float =
             y = float(y + np.clip(rng.normal(0, sigma), -10, 10))
         extra = ", ground = true" if spec.get("ground") else ""
         lines.append(f"{name} = {{ at = [{x!r}, {y!r}]{extra} }}")
-    text = STEPHENSON.replace(STEPHENSON[STEPHENSON.index("[joints]"):STEPHENSON.index("[links]")],
-                              "[joints]\n" + "\n".join(lines) + "\n")
+    text = drawing.replace(drawing[drawing.index("[joints]"):drawing.index("[links]")],
+                           "[joints]\n" + "\n".join(lines) + "\n")
     text += '[target]\njoint = "P"\npoints = [' + ", ".join(f"[{float(a)!r}, {float(b)!r}]" for a, b in path) + "]\n"
     if timing == "prescribed":
         text += "input_angles = [" + ", ".join(repr(math.degrees(float(v))) for v in q) + "]\n"
@@ -190,8 +198,7 @@ def _known_problem(seed: int, free: tuple[str, ...], n: int = 14, sigma: float =
     text += "[bounds]\n" + "".join(
         f"{j} = {{ x = [{joints[j]['at'][0] - 12}, {joints[j]['at'][0] + 12}], "
         f"y = [{joints[j]['at'][1] - 12}, {joints[j]['at'][1] + 12}] }}\n" for j in free)
-    text += '[constraints]\ndrive = "crank"\n'
-    return text, path
+    return text + '[constraints]\ndrive = "crank"\n'
 
 
 def _solve(text: str):

@@ -16,6 +16,7 @@ import math
 import numpy as np
 import pytest
 from conftest import run_cli
+from test_drawn_synthesis import perturbed_problem
 
 # A Stephenson II six-bar driven at a binary crank (catalogue: "stephenson-ii, binary crank
 # (triad), tracer P on coupler", its first starting drawing, rounded): the crank turns fully.
@@ -109,8 +110,8 @@ def test_population_triads_match_the_analysis_solver(label):
 def test_triad_margins_vanish_at_the_dead_point_and_are_negative_past_it():
     """A design whose triad locks within the turn: the group's margin falls to 0 at the
     analysis's dead point (drawn.motion's reach) and is minus the turn past it, times the size."""
-    from linkcli.mechanisms.drawn.home import solved
     from linkcli.mechanisms.drawn.population import DrawnPopulation
+    from linkcli.mechanisms.drawn.solved import solved
     drawing = _catalogue_drawing("stephenson-ii, ternary crank (triad), tracer P on link")
     from dataclasses import replace
     moved = tuple(replace(j, at=(j.at[0] - 2.0, j.at[1] + 2.0)) if j.name == "E" else j for j in drawing.joints)
@@ -134,7 +135,7 @@ def _known_problem(seed: int, free: tuple[str, ...], n: int = 14, sigma: float =
     moved by a normal draw (sigma mm), each free within +-12 mm of its true place."""
     import tomllib
 
-    from linkcli.mechanisms.drawn.home import solved
+    from linkcli.mechanisms.drawn.solved import solved
     from linkcli.reading.load import load
     true = load("true.toml", STEPHENSON_II + '[target]\njoint = "P"\npoints = [[0, 0], [1, 1], [2, 0]]\n'
                 'input_angles = [0, 1, 2]\n').drawing
@@ -142,23 +143,7 @@ def _known_problem(seed: int, free: tuple[str, ...], n: int = 14, sigma: float =
     path = solved(true).kin.run(q, rates=False).pos["P"]
     assert np.isfinite(path).all()
     joints = tomllib.loads(STEPHENSON_II)["joints"]
-    rng = np.random.default_rng(seed)
-    lines = []
-    for name, spec in joints.items():
-        x, y = spec["at"]
-        if name in free:
-            x = float(x + np.clip(rng.normal(0, sigma), -10, 10))
-            y = float(y + np.clip(rng.normal(0, sigma), -10, 10))
-        extra = ", ground = true" if spec.get("ground") else ""
-        lines.append(f"{name} = {{ at = [{x!r}, {y!r}]{extra} }}")
-    text = STEPHENSON_II.replace(STEPHENSON_II[STEPHENSON_II.index("[joints]"):STEPHENSON_II.index("[links]")],
-                                 "[joints]\n" + "\n".join(lines) + "\n")
-    text += '[target]\njoint = "P"\npoints = [' + ", ".join(f"[{float(a)!r}, {float(b)!r}]" for a, b in path) + "]\n"
-    text += "input_angles = [" + ", ".join(repr(math.degrees(float(v))) for v in q) + "]\n"
-    text += "[bounds]\n" + "".join(
-        f"{j} = {{ x = [{joints[j]['at'][0] - 12}, {joints[j]['at'][0] + 12}], "
-        f"y = [{joints[j]['at'][1] - 12}, {joints[j]['at'][1] + 12}] }}\n" for j in free)
-    text += '[constraints]\ndrive = "crank"\n[solver]\nbudget = 20000\n'
+    text = perturbed_problem(STEPHENSON_II, joints, free, path, q, seed, sigma) + "[solver]\nbudget = 20000\n"
     return text, path
 
 
@@ -169,7 +154,7 @@ def test_a_known_stephenson_ii_is_recovered_from_a_perturbed_drawing():
     feasible at error ~0 (below 1e-6 of the path's extent; ok, or not-converged where the
     budget of 20,000 ends before a second round confirms it), and the designed drawing traces
     the points by the analysis's own solver too."""
-    from linkcli.mechanisms.drawn.home import solved
+    from linkcli.mechanisms.drawn.solved import solved
     from linkcli.pipeline import analyse, solve
     from linkcli.reading.load import load
     free = ("B", "C", "D", "E", "P")
@@ -222,7 +207,7 @@ def test_the_stephenson_ii_topology_is_searched_and_analyze_takes_its_result(tmp
     assert "group of 4" in json.dumps(again["grashof"]["groups"])  # the structure: the triad
     import tomli_w
 
-    from linkcli.mechanisms.drawn.home import solved
+    from linkcli.mechanisms.drawn.solved import solved
     from linkcli.reading.load import load
     lk = report["linkage"]  # the designed drawing, as an analysis file of its own
     joints = {k: {"at": v["at"], **({"ground": True} if v.get("ground") else {})} for k, v in lk["joints"].items()}
