@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from linkcli.mechanisms.drawn.structure import GROUND, Group
+from linkcli.mechanisms.drawn.structure import GROUND, Group, placed_by
 from linkcli.mechanisms.drawn.vectors import cross, perp, rotate
 
 TRACK_STEPS = 180  # largest steps over one turn of the leading drive (or over its slide bound)
@@ -97,7 +97,7 @@ class GroupSolver:
         self.index = index
         placed = {GROUND}
         for earlier in kin.structure.plan[:index]:
-            placed |= _bodies_of(earlier)
+            placed |= placed_by(earlier)
         self.links = list(op.links)
         self.slot = {b: k for k, b in enumerate(self.links)}
         self.cons = constraints(kin.structure, op, placed)
@@ -300,15 +300,6 @@ def _solve(jac, f):
         if ok.any():
             out[ok] = np.linalg.solve(jac[ok], f[ok][..., None])[..., 0]
         return out
-
-
-def _bodies_of(op) -> set[str]:
-    from linkcli.mechanisms.drawn.structure import Dyad, GuideThrough, OnGuide, Turn
-    if isinstance(op, Dyad):
-        return {op.first, op.second}
-    if isinstance(op, (Turn, OnGuide, GuideThrough)):
-        return {op.link}
-    return set(op.links)
 
 
 def _extent(drawing) -> float:

@@ -49,7 +49,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from linkcli.mechanisms.drawn.model import Drawn
-from linkcli.mechanisms.drawn.structure import GROUND, Dyad, GuideThrough, OnGuide, Structure, Turn
+from linkcli.mechanisms.drawn.structure import GROUND, Dyad, GuideThrough, OnGuide, Structure, Turn, placed_by
 from linkcli.mechanisms.synthesis import Motion, Population
 
 NEAR = 2e-4  # of each box's width: a design this near a followed one borrows its track (a difference probe)
@@ -242,7 +242,7 @@ class DrawnPopulation(Population):
         if index not in cache:
             placed = {GROUND}
             for op in self.structure.plan[:index]:
-                placed |= _bodies(op)
+                placed |= placed_by(op)
             cache[index] = PopulationGroup(self.structure, self.structure.plan[index], placed)
         return cache[index]
 
@@ -379,15 +379,6 @@ class DrawnPopulation(Population):
         moved = {name: (float(x[2 * k]), float(x[2 * k + 1])) for k, name in enumerate(self.free)}
         joints = tuple(replace(j, at=moved.get(j.name, j.at)) for j in self.drawing.joints)
         return replace(self.drawing, joints=joints, designed=True)
-
-
-def _bodies(op) -> set[str]:
-    """The bodies an op of the plan places."""
-    if isinstance(op, Dyad):
-        return {op.first, op.second}
-    if isinstance(op, (Turn, OnGuide, GuideThrough)):
-        return {op.link}
-    return set(op.links)
 
 
 def _extent(places) -> np.ndarray:

@@ -97,6 +97,16 @@ class Group:
     links: tuple[str, ...]
 
 
+def placed_by(op) -> set[str]:
+    """The bodies an op of the plan places: a dyad's two links, a turn's or a slider group's
+    link, a Newton group's links."""
+    if isinstance(op, Dyad):
+        return {op.first, op.second}
+    if isinstance(op, (Turn, OnGuide, GuideThrough)):
+        return {op.link}
+    return set(op.links)
+
+
 @dataclass
 class Structure:
     """A drawn linkage's bodies and plan. pins: joint -> bodies pinned there (ground first,
