@@ -40,12 +40,12 @@ def path10_space():
     return held["problem"], held["space"]
 
 
-def box_diagonal(fb, dense=400_001):
-    """The box swept by A0, B0, A, B and P over a full turn of the input: B from the circles
-    |B - A| = b, |B - B0| = c (open: left of A -> B0), P = A + px u + py u_perp, u along A -> B;
-    the ground frame turned by ground_angle about A0 = ground_pivot. inf: no assembly."""
+def reference_joints(fb, phi):
+    """The paths of A0, B0, A, B and P (the home's order; P when the linkage has a coupler point)
+    at input angles phi, or None where it does not assemble: B from the circles |B - A| = b,
+    |B - B0| = c (open: left of A -> B0), P = A + px u + py u_perp, u along A -> B; the ground
+    frame turned by ground_angle about A0 = ground_pivot."""
     a, b, c, d = fb.abcd
-    phi = np.linspace(0.0, 2.0 * math.pi, dense)
     ax, ay = a * np.cos(phi), a * np.sin(phi)
     ex, ey = d - ax, -ay
     r = np.hypot(ex, ey)
@@ -53,9 +53,8 @@ def box_diagonal(fb, dense=400_001):
     along = (b * b - c * c + r * r) / (2.0 * r)
     h2 = b * b - along * along
     if np.any(h2 < 0):
-        return math.inf
-    side = 1.0 if fb.branch == "open" else -1.0
-    h = side * np.sqrt(h2)
+        return None
+    h = (1.0 if fb.branch == "open" else -1.0) * np.sqrt(h2)
     bx, by = ax + along * ex - h * ey, ay + along * ey + h * ex
     pts = [(np.zeros_like(phi), np.zeros_like(phi)), (np.full_like(phi, d), np.zeros_like(phi)), (ax, ay), (bx, by)]
     if fb.coupler_point is not None:
@@ -63,8 +62,17 @@ def box_diagonal(fb, dense=400_001):
         ux, uy = (bx - ax) / b, (by - ay) / b
         pts.append((ax + px * ux - py * uy, ay + px * uy + py * ux))
     cg, sg = math.cos(fb.ground_angle), math.sin(fb.ground_angle)
-    xs = np.concatenate([fb.ground_pivot[0] + cg * x - sg * y for x, y in pts])
-    ys = np.concatenate([fb.ground_pivot[1] + sg * x + cg * y for x, y in pts])
+    return [(fb.ground_pivot[0] + cg * x - sg * y, fb.ground_pivot[1] + sg * x + cg * y) for x, y in pts]
+
+
+def box_diagonal(fb, dense=400_001):
+    """The diagonal of the box swept by every joint over a full turn of the input
+    (`reference_joints` at `dense` angles, both ends included); inf: no assembly."""
+    paths = reference_joints(fb, np.linspace(0.0, 2.0 * math.pi, dense))
+    if paths is None:
+        return math.inf
+    xs = np.concatenate([x for x, _ in paths])
+    ys = np.concatenate([y for _, y in paths])
     return math.hypot(xs.max() - xs.min(), ys.max() - ys.min())
 
 
@@ -155,26 +163,9 @@ def test_joint_paths_are_each_linkages_skeleton():
 
 
 def dense_joints(fb, dense=400_000):
-    """Each joint's path (A0, B0, A, B, P: the home's order) over a full turn, the closed forms
-    of `box_diagonal` on a cyclic grid (no repeated end point), or None: no assembly."""
-    a, b, c, d = fb.abcd
-    phi = np.arange(dense) * (2.0 * math.pi / dense)
-    ax, ay = a * np.cos(phi), a * np.sin(phi)
-    ex, ey = d - ax, -ay
-    r = np.hypot(ex, ey)
-    ex, ey = ex / r, ey / r
-    along = (b * b - c * c + r * r) / (2.0 * r)
-    h2 = b * b - along * along
-    if np.any(h2 < 0):
-        return None
-    h = (1.0 if fb.branch == "open" else -1.0) * np.sqrt(h2)
-    bx, by = ax + along * ex - h * ey, ay + along * ey + h * ex
-    px, py = fb.coupler_point
-    ux, uy = (bx - ax) / b, (by - ay) / b
-    pts = [(np.zeros_like(phi), np.zeros_like(phi)), (np.full_like(phi, d), np.zeros_like(phi)), (ax, ay), (bx, by),
-           (ax + px * ux - py * uy, ay + px * uy + py * ux)]
-    cg, sg = math.cos(fb.ground_angle), math.sin(fb.ground_angle)
-    return [(fb.ground_pivot[0] + cg * x - sg * y, fb.ground_pivot[1] + sg * x + cg * y) for x, y in pts]
+    """Each joint's path over a full turn (`reference_joints` on a cyclic grid, no repeated end
+    point), or None: no assembly."""
+    return reference_joints(fb, np.arange(dense) * (2.0 * math.pi / dense))
 
 
 def test_two_peaks_of_each_joint_against_a_dense_sweep(path10_space):
