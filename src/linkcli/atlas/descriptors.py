@@ -110,12 +110,7 @@ def transform(wx: np.ndarray, wy: np.ndarray) -> np.ndarray:
     for j in range(POINTS):
         re += wx[:, j:j + 1] * COSINES[j]
         im += wy[:, j:j + 1] * COSINES[j]
-    size = np.zeros(len(wx))
-    for k in range(HARMONICS):
-        size += re[:, k] * re[:, k] + im[:, k] * im[:, k]
-    size = np.sqrt(size)
-    scale = np.where(size > 0.0, 1.0 / np.where(size > 0.0, size, 1.0), 0.0)[:, None]
-    return np.concatenate([re * scale, im * scale], axis=1)
+    return _unit(re, im)
 
 
 def quantized(desc: np.ndarray) -> np.ndarray:
@@ -199,12 +194,7 @@ def ring_transform(wx: np.ndarray, wy: np.ndarray) -> np.ndarray:
         x, y = wx[:, j:j + 1], wy[:, j:j + 1]
         re += x * RING_COS[j] + y * RING_SIN[j]
         im += y * RING_COS[j] - x * RING_SIN[j]
-    size = np.zeros(len(wx))
-    for k in range(m):
-        size += re[:, k] * re[:, k] + im[:, k] * im[:, k]
-    size = np.sqrt(size)
-    scale = np.where(size > 0.0, 1.0 / np.where(size > 0.0, size, 1.0), 0.0)[:, None]
-    return np.concatenate([re * scale, im * scale], axis=1)
+    return _unit(re, im)
 
 
 def ring_descriptors(x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -294,3 +284,14 @@ def _ring_at(pre: np.ndarray, pim: np.ndarray, shift: np.ndarray) -> np.ndarray:
         sre += pre[:, k] * cos[k] - pim[:, k] * sin[k]
         sim += pim[:, k] * cos[k] + pre[:, k] * sin[k]
     return sre * sre + sim * sim
+
+
+def _unit(re: np.ndarray, im: np.ndarray) -> np.ndarray:
+    """[re, im] (N, 2 K) of N coefficient rows scaled to unit norm (a zero row stays 0), the
+    squares summed harmonic by harmonic in order: basic operations, the same bits on every CPU."""
+    size = np.zeros(len(re))
+    for k in range(re.shape[1]):
+        size += re[:, k] * re[:, k] + im[:, k] * im[:, k]
+    size = np.sqrt(size)
+    scale = np.where(size > 0.0, 1.0 / np.where(size > 0.0, size, 1.0), 0.0)[:, None]
+    return np.concatenate([re * scale, im * scale], axis=1)
