@@ -218,3 +218,54 @@ def test_the_stephenson_ii_topology_is_searched_and_analyze_takes_its_result(tmp
     places = sv.kin.run(np.mod(q, 2 * math.pi) if sv.reach.full_turn else q, rates=False).pos["P"]
     achieved = np.array([p["achieved"] for p in report["positions"]])
     np.testing.assert_allclose(places, achieved, atol=1e-6 * 40)
+
+
+def test_a_probe_with_a_dead_point_its_neighbour_lacks_follows_its_own_track():
+    """A difference probe borrows the track of a design within NEAR of it (TrackCache.near).
+    Two designs either side of the move of E where the Stephenson II's crank stops turning:
+    the first turns fully, the second locks over a short stretch. Evaluated after the first, the
+    second's rows in its locked stretch do not solve on the borrowed track; it then follows its
+    own, and its margins -- negative past its dead point, nowhere undefined -- are those of the
+    second design evaluated alone (the analysis's reach giving the dead point's place)."""
+    from dataclasses import replace
+
+    from linkcli.mechanisms.drawn.population import NEAR, DrawnPopulation
+    from linkcli.mechanisms.drawn.solved import solved
+    drawing = _catalogue_drawing("stephenson-ii, ternary crank (triad), tracer P on link")
+    e0 = drawing.joint("E").at
+
+    def moved(s):
+        return replace(drawing, joints=tuple(replace(j, at=(e0[0] - s, e0[1] + s)) if j.name == "E" else j
+                                             for j in drawing.joints))
+
+    lo, hi = 0.8, 1.0  # turns fully at 0.8, locks at 1.0 (the analysis's reach)
+    assert solved(moved(lo)).reach.full_turn and not solved(moved(hi)).reach.full_turn
+    for _ in range(40):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if solved(moved(mid)).reach.full_turn else (lo, mid)
+    half = 10.0
+    shift = 0.25 * NEAR * 2 * half  # within NEAR of each other in both of E's coordinates
+    turning, locking = moved(lo - shift), moved(lo + shift)
+    sv = solved(locking)
+    assert solved(turning).reach.full_turn and not sv.reach.full_turn
+    box = {"E": ((e0[0] - half, e0[0] + half), (e0[1] - half, e0[1] + half))}
+    q = np.linspace(0.0, 2 * math.pi, 4001)[None, :]
+
+    def design_x(d):
+        return np.array([[d.joint("E").at[0], d.joint("E").at[1]]])
+
+    def population():
+        return DrawnPopulation(drawing, sv.structure, ("E",), box, traced=("P",))
+
+    alone = population().kinematics(design_x(locking), q)
+    pop = population()
+    pop.kinematics(design_x(turning), q)
+    probed = pop.kinematics(design_x(locking), q)
+    stuck = ~alone.valid[0]
+    assert stuck.sum() > 5 and np.isfinite(alone.margins).all()
+    assert np.array_equal(probed.valid, alone.valid)
+    np.testing.assert_allclose(probed.margins, alone.margins, rtol=0, atol=1e-9)
+    past = q[0, stuck] - sv.reach.hi  # past the dead point in the drive's direction
+    size = float(pop.size(design_x(locking))[0])
+    # the dead point to 1e-6 of a continuation step (10 deg): within 1e-6 rad of the analysis's
+    np.testing.assert_allclose(probed.margins[0, stuck, 0], -size * past, rtol=0, atol=1e-6 * size)

@@ -246,9 +246,10 @@ class DrawnPopulation(Population):
             cache[index] = PopulationGroup(self.structure, self.structure.plan[index], placed)
         return cache[index]
 
-    def _track(self, index, group, x, q, z0, scale, tracks):
-        """The group's continuation for designs x (population_groups.follow), those the cache
-        holds taken from it (TrackCache)."""
+    def _track(self, index, group, x, q, z0, scale, tracks, borrow: bool = True):
+        """(track, borrowed): the group's continuation for designs x (population_groups.follow),
+        those the cache holds taken from it (TrackCache); `borrowed` (N,) the designs whose
+        track is a neighbour's (a difference probe: TrackCache.near), never with `borrow` False."""
         from linkcli.mechanisms.drawn import population_groups as pg
         n = len(q)
         reach = pg.needed_reach(q)
@@ -257,9 +258,11 @@ class DrawnPopulation(Population):
             if x is not None and len(x) == n else None
         keys = cache.row_keys(x) if cache is not None else None
         slots = cache.find(x, keys, reach) if cache is not None else np.full(n, -1)
-        if cache is not None and (slots < 0).any():  # a difference probe: its design's track
+        borrowed = np.zeros(n, dtype=bool)
+        if cache is not None and borrow and (slots < 0).any():  # a difference probe: its design's track
             probe = np.flatnonzero(slots < 0)
             slots[probe] = cache.near(x[probe], reach[probe], NEAR * (self.hi - self.lo))
+            borrowed[probe] = slots[probe] >= 0
         miss = np.flatnonzero(slots < 0)
         parts = []
         if len(miss) < n:
@@ -278,26 +281,59 @@ class DrawnPopulation(Population):
             parts.append((miss, new))
             if cache is not None:
                 cache.store(x[miss], keys[miss], reach[miss], new)
-        return parts[0][1] if len(parts) == 1 and len(parts[0][0]) == n and np.array_equal(parts[0][0], np.arange(n)) \
-            else pg.joined(parts, n)
+        whole = len(parts) == 1 and len(parts[0][0]) == n and np.array_equal(parts[0][0], np.arange(n))
+        return (parts[0][1] if whole else pg.joined(parts, n)), borrowed
 
     def _group(self, index, x, q, z0, pos, margins, valid, tracks):
         """The group at op `index` over the rows (population_groups): its pinned joints into
         `pos`, its closures' margins into `margins`; (where it closes (N, S), each kept
-        link's turn from its drawn pose)."""
+        link's turn from its drawn pose). A design that borrowed a neighbour's track (a
+        difference probe) and has a row on it that does not solve follows its own track and
+        solves its rows again: the neighbour may not share a dead point of its own, whose
+        margin (past it) only its own track gives."""
         from linkcli.mechanisms.drawn import population_groups as pg
         group = self.group_solver(index)
         n, s = q.shape
         scale = np.maximum(1.0, _extent(z0))  # groups.GroupSolver.size, per design
+        borrowed = np.zeros(n, dtype=bool)
         if index not in tracks:
-            tracks[index] = self._track(index, group, x, q, z0, scale, tracks)
-        track = tracks[index]
-        inside, past, guess = pg.at_rows(track, q)
+            tracks[index], borrowed = self._track(index, group, x, q, z0, scale, tracks)
         design = np.repeat(np.arange(n), s)
         known = group.stack_known({j: np.broadcast_to(pos[j], (n, s)).reshape(-1) for j in group.known}, n * s)
         const = group.constants(z0, design)
+        open_rows = np.broadcast_to(valid, (n, s))
+        z, good, ratio, past = self._rows(group, tracks[index], q, known, const, scale, open_rows)
+        again = np.flatnonzero(borrowed & np.any(~good & (past == 0.0) & open_rows, axis=1))
+        if len(again):  # a probe with a row its neighbour's track does not solve: its own track
+            own, _ = self._track(index, group, x[again], q[again], {j: v[again] for j, v in z0.items()},
+                                 scale[again], {k: t.subset(again) for k, t in tracks.items()}, borrow=False)
+            rows = (again[:, None] * s + np.arange(s)[None, :]).reshape(-1)
+            z2, good2, ratio2, past2 = self._rows(group, own, q[again], known[rows], pg.subset(const, rows), scale[again],
+                                                  open_rows[again])
+            z[rows], good[again], ratio[again], past[again] = z2, good2, ratio2, past2
+            tracks[index] = _replaced(tracks[index], again, own)
+        size = self.size_of(z0)[:, None]
+        margin = np.where(good, size * ratio, np.where(past > 0.0, -size * past, np.nan))
+        for c in self.closure_list:
+            if c.links[0] in group.op.links and c.links[1] in group.op.links:
+                margins[c.joint] = margin
+        for j, place in group.places(z, known, const).items():
+            pos[j] = place.reshape(n, s)
+        turns = {b: (np.cos(z[:, group.col[b] + 2]) + 1j * np.sin(z[:, group.col[b] + 2])).reshape(n, s)
+                 for b in group.kept}
+        return good, turns
+
+    @staticmethod
+    def _rows(group, track, q, known, const, scale, open_rows):
+        """(z (N S, m), good (N, S), Hadamard's ratio (N, S), past (N, S)) of the group's rows at
+        drive values q (N, S) from `track`: Newton from it (groups.solve_group) on the rows it
+        reaches among `open_rows` (every closure before the group closes)."""
+        from linkcli.mechanisms.drawn import population_groups as pg
+        n, s = q.shape
+        inside, past, guess = pg.at_rows(track, q)
+        design = np.repeat(np.arange(n), s)
         z = guess.reshape(n * s, -1)
-        rows = np.flatnonzero(inside.reshape(-1) & np.broadcast_to(valid, (n, s)).reshape(-1))
+        rows = np.flatnonzero(inside.reshape(-1) & open_rows.reshape(-1))
         good = np.zeros(n * s, dtype=bool)
         ratio = np.zeros(n * s)
         if rows.size:  # the rows the track reaches: Newton from it (groups.solve_group)
@@ -307,17 +343,7 @@ class DrawnPopulation(Population):
             turned = np.abs(zr - z[rows])[:, group.angle_cols]
             good[rows] = ok & (sign == track.sign[design[rows]]) & np.all(turned < 0.5 * math.pi, axis=-1)
             z[rows] = np.where(good[rows, None], zr, z[rows])
-        size = self.size_of(z0)[:, None]
-        good = good.reshape(n, s)
-        margin = np.where(good, size * ratio.reshape(n, s), np.where(past > 0.0, -size * past, np.nan))
-        for c in self.closure_list:
-            if c.links[0] in group.op.links and c.links[1] in group.op.links:
-                margins[c.joint] = margin
-        for j, place in group.places(z, known, const).items():
-            pos[j] = place.reshape(n, s)
-        turns = {b: (np.cos(z[:, group.col[b] + 2]) + 1j * np.sin(z[:, group.col[b] + 2])).reshape(n, s)
-                 for b in group.kept}
-        return good, turns
+        return z, good.reshape(n, s), ratio.reshape(n, s), past
 
     def kinematics(self, x, q) -> Motion:
         """Traced points, followed links' frames, each closure's margin and transmission angle
@@ -379,6 +405,14 @@ class DrawnPopulation(Population):
         moved = {name: (float(x[2 * k]), float(x[2 * k + 1])) for k, name in enumerate(self.free)}
         joints = tuple(replace(j, at=moved.get(j.name, j.at)) for j in self.drawing.joints)
         return replace(self.drawing, joints=joints, designed=True)
+
+
+def _replaced(track, rows, own):
+    """`track` with the designs `rows` given their `own` tracks (population_groups.joined)."""
+    from linkcli.mechanisms.drawn import population_groups as pg
+    n = len(track.sign)
+    keep = np.setdiff1d(np.arange(n), rows)
+    return pg.joined([(keep, track.subset(keep)), (rows, own)], n)
 
 
 def _extent(places) -> np.ndarray:

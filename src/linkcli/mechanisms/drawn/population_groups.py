@@ -17,25 +17,27 @@ Only pinned groups: a group carrying a slider's guide or block is refused for sy
 
 Continuation (drawn.groups._follow's rules): two lanes per design, forward and back from the
 drawing (an exact solution at q = 0) as far as the design's drive values need (to the next
-quarter turn, at most BOUND, groups.bound's turn); each step predicted by the secant of the
-last two points, corrected by at most TRACK_ITERATIONS Newton steps (to TRACK_RTOL: a track
-point only guides the rows), accepted when every closure before the group closes, Newton
-converges on the drawn sign of det J, no hub turns by pi / 4 and the correction is at most
-CORRECTION of the predicted move; the step then doubles (up to the grid step BOUND /
-TRACK_STEPS), else halves, and a lane whose step falls below MIN_STEP of the grid step ends
-there (a dead point). A step refused for its correction alone restarts the secant (the next
-step predicts with the last point only: a chord longer than the step would otherwise refuse
-every shorter one). The one loop is over steps: each is array work over the lanes still
-moving. Against groups.py for one drawing: larger grid steps (5 deg, not 2) and the dead point
-located to 1e-6 of a step, not 1e-12 -- the search's cost is these steps -- with the same
-rows valid (tests/synthesis/test_drawn_triads.py: 60 designs x 40 drive values of three
-triads, row for row). The tracks a population followed are kept (TrackCache, by the design's
-variables): the same design at other drive values takes its track, and a design within NEAR
-of a followed one in every variable (a difference probe) solves its rows from that one's
-track, when it reached its drive values without a dead point.
+quarter turn, at most BOUND, groups.bound's turn); each step predicted by the parabola through
+the last three points (the secant of two, after a restart), corrected by at most
+TRACK_ITERATIONS Newton steps (to TRACK_RTOL: a track point only guides the rows), accepted
+when every closure before the group closes, Newton converges on the drawn sign of det J, no
+hub turns by pi / 4 and the correction is at most CORRECTION of the predicted move; the step
+then doubles (up to the grid step BOUND / TRACK_STEPS), else halves, and a lane whose step
+falls below MIN_STEP of the grid step ends there (a dead point). A step refused for its
+correction alone restarts the predictor (the next step predicts with the last point only: a
+chord longer than the step would otherwise refuse every shorter one). The one loop is over
+steps: each is array work over the lanes still moving. Against groups.py for one drawing:
+larger grid steps (10 deg, not 2) and the dead point located to 1e-6 of a step, not 1e-12 --
+the search's cost is these steps -- with the same rows valid (tests/synthesis/
+test_drawn_triads.py: 60 designs x 40 drive values of three triads, row for row). The tracks
+a population followed are kept (TrackCache, a ring of slots by the design's variables): the
+same design at other drive values takes its track, and a design within NEAR of a followed
+one in every variable (a difference probe) solves its rows from that one's track, when it
+reached its drive values without a dead point.
 
 Rows (N, S): Newton (ROW_ITERATIONS) batched over all rows from the track interpolated at their
-drive values; invalid where Newton does not converge, lands on the other sign of det J or
+drive values (the parabola through the two track points about a value and a third beside);
+invalid where Newton does not converge, lands on the other sign of det J or
 turns a hub by pi / 2 from the guess (groups.solve_group), or where the drive value lies past
 the track's end (a dead point first, in the drive's direction of travel). A design whose
 forward lane turns the whole BOUND and comes back to its drawing is periodic: a drive value
@@ -51,9 +53,11 @@ turns), as the dyads' margins are in length; past the track's end
 it leads a search to push the dead point out of the travel). Transmission angles: as for the
 dyads (population.kinematics), at each closure of the group.
 
-Linear systems: `solve_small`, Gaussian elimination with partial pivoting (the first of equal
-candidates) written with elementwise numpy, returning the determinant's sign and size too:
-the same bits on every CPU (no LAPACK, no BLAS).
+Linear systems: `solve_small`, written with elementwise numpy and returning the determinant's
+sign and size too: up to three unknowns (a triad reduced to its ternary link's pose) by
+cofactors, beyond by Gaussian elimination with partial pivoting (the first of equal
+candidates): the same bits on every CPU (no LAPACK, no BLAS). The Jacobian is formed entry by
+entry where it varies (`_tables`' pattern), never as an (L, E, m) array.
 """
 
 from __future__ import annotations
@@ -66,13 +70,13 @@ from linkcli.mechanisms.drawn.groups import CORRECTION, NEWTON_ITERATIONS, RESID
 from linkcli.mechanisms.drawn.structure import GROUND, Group, Structure
 
 BOUND = 2.0 * math.pi  # groups.bound for a turning drive: the track's reach either way
-TRACK_STEPS = 72  # largest steps over BOUND (groups.TRACK_STEPS: 180; see the module docstring)
+TRACK_STEPS = 36  # largest steps over BOUND (groups.TRACK_STEPS: 180; see the module docstring)
 MIN_STEP = 1e-6  # relative to the grid step: a lane ends where its step falls below (groups.MIN_STEP: 1e-12)
 TRACK_ITERATIONS = 4  # Newton steps per continuation step (groups._follow: 12; a step that needs more is halved)
-TRACK_RTOL = 1e-10  # a track point converged (relative to the size): it only guides the rows, which
+TRACK_RTOL = 1e-8  # a track point converged (relative to the size): it only guides the rows, which
 # are solved to groups.RESIDUAL_RTOL
 ROW_ITERATIONS = NEWTON_ITERATIONS
-PERIOD_RTOL = 1e-9  # a lane back at its drawing after a turn: within this of the size
+PERIOD_RTOL = 1e-6  # a lane back at its drawing after a turn: within this of the size
 
 
 def unsupported(structure: Structure, op: Group) -> str | None:
@@ -178,6 +182,19 @@ class PopulationGroup:
         self.len_b = np.array([b for _, b in lengths], dtype=int)
         self.kept_cols = np.array([self.col[b] for b in self.kept], dtype=int)
         self.free_cols = np.array([self.col[j] for j in self.free], dtype=int)
+        # the Jacobian's pattern: d place(e) / d z = c0[e] + 1j arm_e theta[e] (theta: one angle
+        # column at most); for an equation over endpoints (a, b): the constant part c0[a] - c0[b]
+        # (every lane's), and the entries (row, column, a turns there, b turns there) that vary
+        def varying(a_idx, b_idx):
+            return [(i, c, bool(theta[a, c]), bool(theta[b, c])) for i, (a, b) in enumerate(zip(a_idx, b_idx))
+                    for c in range(self.m) if theta[a, c] or theta[b, c]]
+        npin = len(pins)
+        pin_const = c0[self.pin_a] - c0[self.pin_b] if npin else np.zeros((0, self.m), complex)
+        self.pin_const = np.concatenate([pin_const.real, pin_const.imag], axis=0)  # (2P, m)
+        len_const = c0[self.len_a] - c0[self.len_b] if len(lengths) else np.zeros((0, self.m), complex)
+        self.len_const = (len_const.real, len_const.imag)  # (l, m) each
+        self.pin_varying = varying(self.pin_a, self.pin_b)
+        self.len_varying = varying(self.len_a, self.len_b)
 
     # ------------------------------------------------------------ unknowns and points
     def constants(self, z0, lanes: np.ndarray) -> dict:
@@ -221,7 +238,8 @@ class PopulationGroup:
 
     def residual(self, z, known, const, jacobian: bool = True):
         """(f (L, m) length unit, J (L, m, m) or None): the pins' rows (x, then y), then the
-        lengths' (module docstring)."""
+        lengths' (module docstring). J from `_tables`'s pattern: its constant part at once,
+        then the entries that turn with a kept link's angle one by one (no (L, E, m) array)."""
         p, arm = self._ends(z, known, const)
         e = p[:, self.pin_a] - p[:, self.pin_b]
         d = p[:, self.len_a] - p[:, self.len_b]
@@ -230,11 +248,28 @@ class PopulationGroup:
         f = np.concatenate([e.real, e.imag, g], axis=1)
         if not jacobian:
             return f, None
-        dp = self.c0[None] + (1j * arm)[:, :, None] * self.theta[None]  # (L, E, m) d place / d z
-        de = dp[:, self.pin_a] - dp[:, self.pin_b]
-        dd = dp[:, self.len_a] - dp[:, self.len_b]
-        dg = (d.real[..., None] * dd.real + d.imag[..., None] * dd.imag) / r[..., None]
-        return f, np.concatenate([de.real, de.imag, dg], axis=1)
+        lanes, npin = len(z), len(self.pin_a)
+        jac = np.empty((lanes, self.m, self.m))
+        jac[:, :2 * npin] = self.pin_const
+        c_re, c_im = self.len_const
+        jac[:, 2 * npin:] = (d.real[..., None] * c_re + d.imag[..., None] * c_im) / r[..., None]
+        w_re, w_im = -arm.imag, arm.real  # 1j arm: a place's turn with its link's angle
+
+        def turning(a, b, turns_a, turns_b):  # the varying part of d (place(a) - place(b)) / d z_c
+            re = w_re[:, a] if turns_a else 0.0
+            im = w_im[:, a] if turns_a else 0.0
+            if turns_b:
+                re, im = re - w_re[:, b], im - w_im[:, b]
+            return re, im
+
+        for i, c, turns_a, turns_b in self.pin_varying:
+            re, im = turning(self.pin_a[i], self.pin_b[i], turns_a, turns_b)
+            jac[:, i, c] = self.pin_const[i, c] + re
+            jac[:, npin + i, c] = self.pin_const[npin + i, c] + im
+        for k, c, turns_a, turns_b in self.len_varying:
+            re, im = turning(self.len_a[k], self.len_b[k], turns_a, turns_b)
+            jac[:, 2 * npin + k, c] = (d.real[:, k] * (c_re[k, c] + re) + d.imag[:, k] * (c_im[k, c] + im)) / r[:, k]
+        return f, jac
 
     def newton(self, z, known, const, tol, iterations: int, stall: bool = False, ratio: bool = True,
                polish: bool = False):
@@ -254,6 +289,7 @@ class PopulationGroup:
         before = np.full(lanes, np.inf)
         done = np.zeros(lanes, dtype=bool)
         jac_end = np.zeros((lanes, self.m, self.m))
+        f_end = np.zeros((lanes, self.m))
         for it in range(iterations + 1):
             f, jac = self.residual(z[idx], known[idx], subset(const, idx))
             worst = np.max(np.abs(f), axis=-1)
@@ -267,6 +303,7 @@ class PopulationGroup:
             stop = ~move
             done[idx[stop]] = converged[stop]
             jac_end[idx[stop]] = jac[stop]
+            f_end[idx[stop]] = f[stop]
             if not move.any():
                 break
             keep = np.flatnonzero(move)
@@ -275,14 +312,13 @@ class PopulationGroup:
             z[idx] -= step
         if polish and done.any():
             idx = np.flatnonzero(done)
-            f, jac = self.residual(z[idx], known[idx], subset(const, idx))
-            step, _ = solve_small(jac, f)
+            step, _ = solve_small(jac_end[idx], f_end[idx])  # the residual that found them converged
             moved = z[idx] - step
             f2, jac2 = self.residual(moved, known[idx], subset(const, idx))
             better = np.all(np.isfinite(moved), axis=1) & (np.max(np.abs(f2), axis=-1) <= tol[idx])
             z[idx[better]] = moved[better]
             jac_end[idx[better]] = jac2[better]
-        _, det = solve_small(jac_end, np.zeros((lanes, self.m)))
+        det = det_small(jac_end)
         if not ratio:
             return z, done, np.sign(det), None
         norms = np.ones(lanes)
@@ -341,8 +377,9 @@ def follow(group: PopulationGroup, prefix, z0, scale, reach) -> Track:
                                   RESIDUAL_RTOL * scale, ROW_ITERATIONS, ratio=False)
     sign0 = np.where(ok, sign, 0.0)
     size = np.where(group.length_col[None, :], scale[design][:, None], 1.0)
-    last_q, prev_q = np.zeros(2 * n), np.zeros(2 * n)
-    last_z, prev_z = z[design], z[design]
+    last_q, prev_q, older_q = np.zeros(2 * n), np.zeros(2 * n), np.zeros(2 * n)
+    last_z, prev_z, older_z = z[design], z[design], z[design]
+    behind = np.zeros(2 * n, dtype=int)  # points before the last one the predictor may use (0, 1, 2)
     count = np.ones(2 * n, dtype=int)
     fresh = np.ones(2 * n, dtype=bool)  # no secant to predict the next step: the drawing, or a restart
     h = np.full(2 * n, full / 8)
@@ -353,10 +390,9 @@ def follow(group: PopulationGroup, prefix, z0, scale, reach) -> Track:
         act = np.flatnonzero(active)
         lq, lz = last_q[act], last_z[act]
         step_q = direction[act] * np.minimum(np.abs(lq) + h[act], reach[act])
-        with np.errstate(all="ignore"):
-            ratio = (step_q - lq) / (lq - prev_q[act])
         first = fresh[act]
-        guess = np.where(first[:, None], lz, lz + (lz - prev_z[act]) * ratio[:, None])
+        guess = _predict(step_q, lq, lz, prev_q[act], prev_z[act], older_q[act], older_z[act],
+                         np.where(first, 0, behind[act]))
         known, valid = prefix(design[act], step_q)
         znew, conv, s, _ = group.newton(guess, known, subset(const, act), tol[act], TRACK_ITERATIONS, stall=True,
                                         ratio=False)
@@ -368,7 +404,9 @@ def follow(group: PopulationGroup, prefix, z0, scale, reach) -> Track:
         good = closes & (first | (corrected <= CORRECTION * moved + 1e-9))
         fresh[act] = ~good & (first | closes)  # only the secant was wrong (a chord longer than the step): restart
         took = act[good]
+        older_q[took], older_z[took] = prev_q[took], prev_z[took]
         prev_q[took], prev_z[took] = lq[good], lz[good]
+        behind[took] = np.where(first[good], 1, np.minimum(behind[took] + 1, 2))
         last_q[took], last_z[took] = step_q[good], znew[good]
         count[took] += 1
         rec_lane.append(took)
@@ -396,6 +434,21 @@ def follow(group: PopulationGroup, prefix, z0, scale, reach) -> Track:
     m = group.m
     return Track(q_track.reshape(n, 2, width), z_track.reshape(n, 2, width, m), count.reshape(n, 2),
                  end.reshape(n, 2), sign0, periodic)
+
+
+def _predict(t, q2, z2, q1, z1, q0, z0, behind):
+    """The continuation's guess at drive values t (L,) from its last points: z2 (the last,
+    at q2) where `behind` is 0, the secant through (q1, z1) where 1, the parabola through
+    (q0, z0) too where 2 (Newton's divided differences; a chord's error falls from O(h^2) to
+    O(h^3), so fewer steps are refused for their correction and fewer iterations correct them)."""
+    with np.errstate(all="ignore"):
+        s21 = (z2 - z1) / (q2 - q1)[:, None]
+        s10 = (z1 - z0) / (q1 - q0)[:, None]
+        curve = (s21 - s10) / (q2 - q0)[:, None]
+        d2 = (t - q2)[:, None]
+        line = z2 + d2 * s21
+        bend = line + d2 * (t - q1)[:, None] * curve
+    return np.where((behind == 0)[:, None], z2, np.where((behind == 1)[:, None], line, bend))
 
 
 def needed_reach(q) -> np.ndarray:
@@ -438,7 +491,9 @@ class TrackCache:
     """The tracks of the designs a population last followed (CAP at most), by the design's
     variables: a search evaluates the same design at other drive values (a worst value
     refined, the constraints where they bind), whose track is then taken, not followed again.
-    A track is taken only when it reaches as far as the call needs."""
+    A track is taken only when it reaches as far as the call needs. Kept in a ring of CAP
+    slots (a store writes its designs' slots only, the oldest replaced first; a design stored
+    again leaves its older slot empty), so a store costs its own designs, not the cache's."""
 
     CAP = 4096
 
@@ -446,7 +501,9 @@ class TrackCache:
         self.x = np.zeros((0, 0))
         self.keys = np.zeros(0, dtype=np.uint64)
         self.reach = np.zeros((0, 2))
+        self.filled = np.zeros(0, dtype=bool)
         self.track: Track | None = None
+        self.next = 0  # the ring's next slot
 
     @staticmethod
     def row_keys(x: np.ndarray) -> np.ndarray:
@@ -458,11 +515,15 @@ class TrackCache:
                 h = (h ^ bits[:, j]) * np.uint64(1099511628211)
         return h
 
+    def _usable(self, x: np.ndarray) -> bool:
+        return self.track is not None and self.x.shape[1] == x.shape[1] and bool(self.filled.any())
+
     def find(self, x: np.ndarray, keys: np.ndarray, reach: np.ndarray) -> np.ndarray:
         """(N,) each design's slot in the cache, -1 where it has none reaching `reach`."""
-        if self.track is None or self.x.shape[1] != x.shape[1] or not len(self.keys):
+        if not self._usable(x):
             return np.full(len(x), -1)
-        order = np.argsort(self.keys, kind="stable")
+        slots = np.flatnonzero(self.filled)
+        order = slots[np.argsort(self.keys[slots], kind="stable")]
         at = np.minimum(np.searchsorted(self.keys[order], keys), len(order) - 1)
         slot = order[at]
         hit = ((self.keys[slot] == keys) & np.all(self.x[slot] == x, axis=1)
@@ -472,39 +533,66 @@ class TrackCache:
     def near(self, x: np.ndarray, reach: np.ndarray, spacing: np.ndarray) -> np.ndarray:
         """(N,) for each design the slot of a cached design within `spacing` (per variable)
         of it in every variable whose lanes both reached as far as needed without a dead
-        point (-1: none): a search's difference probes of one design, whose tracks are the
-        same branch to within the probe -- its rows are then solved from the neighbour's
-        track (Newton converges to the design's own places; a dead point the neighbour does
-        not have shows as rows that do not converge or change sign: invalid)."""
-        if self.track is None or self.x.shape[1] != x.shape[1] or not len(self.keys) or not x.shape[1]:
+        point (-1: none; the first slot of several): a search's difference probes of one
+        design, whose tracks are the same branch to within the probe -- its rows are then
+        solved from the neighbour's track (Newton converges to the design's own places; a
+        dead point the neighbour does not have shows as rows that do not converge or change
+        sign: invalid). The pairs are found along the first variable (sorted: a window of
+        +-spacing each), then checked in every variable: a call costs its pairs, not N x CAP."""
+        if not self._usable(x) or not x.shape[1]:
             return np.full(len(x), -1)
-        whole = np.isnan(self.track.end).all(axis=1) & (self.track.sign != 0.0)
-        close = np.all(np.abs(x[:, None, :] - self.x[None, :, :]) <= spacing[None, None, :], axis=-1)
-        close &= whole[None, :] & np.all(self.reach[None, :, :] >= reach[:, None, :], axis=-1)
-        return np.where(close.any(axis=1), np.argmax(close, axis=1), -1)
+        assert self.track is not None
+        whole = self.filled & np.isnan(self.track.end).all(axis=1) & (self.track.sign != 0.0)
+        slots = np.flatnonzero(whole)
+        if not len(slots):
+            return np.full(len(x), -1)
+        order = slots[np.argsort(self.x[slots, 0], kind="stable")]
+        first = self.x[order, 0]
+        lo = np.searchsorted(first, x[:, 0] - spacing[0], side="left")
+        hi = np.searchsorted(first, x[:, 0] + spacing[0], side="right")
+        counts = np.maximum(hi - lo, 0)
+        query = np.repeat(np.arange(len(x)), counts)
+        offset = np.arange(len(query)) - np.repeat(np.cumsum(counts) - counts, counts)
+        slot = order[np.repeat(lo, counts) + offset]
+        close = (np.all(np.abs(x[query] - self.x[slot]) <= spacing[None, :], axis=-1)
+                 & np.all(self.reach[slot] >= reach[query], axis=-1))
+        out = np.full(len(x), len(self.keys))
+        np.minimum.at(out, query[close], slot[close])
+        return np.where(out < len(self.keys), out, -1)
 
     def take(self, slots: np.ndarray) -> Track:
         assert self.track is not None
         return self.track.subset(slots)
 
     def store(self, x: np.ndarray, keys: np.ndarray, reach: np.ndarray, track: Track) -> None:
-        """Keep these designs' tracks (replacing older ones of the same designs; the oldest
-        dropped beyond CAP)."""
+        """Keep these designs' tracks in the ring's next slots (the oldest replaced; an older
+        slot of the same design emptied)."""
+        n = len(x)
         if self.track is None or self.x.shape[1] != x.shape[1]:
-            self.x, self.keys, self.reach, self.track = x.copy(), keys.copy(), reach.copy(), track
-        else:
-            keep = ~np.isin(self.keys, keys)
-            old = self.track.subset(np.flatnonzero(keep))
-            n_old = int(keep.sum())
-            self.track = joined([(np.arange(n_old), old), (np.arange(n_old, n_old + len(x)), track)],
-                                n_old + len(x))
-            self.x = np.concatenate([self.x[keep], x])
-            self.keys = np.concatenate([self.keys[keep], keys])
-            self.reach = np.concatenate([self.reach[keep], reach])
-        if len(self.keys) > self.CAP:
-            last = np.arange(len(self.keys) - self.CAP, len(self.keys))
-            self.track = self.track.subset(last)
-            self.x, self.keys, self.reach = self.x[last], self.keys[last], self.reach[last]
+            self._allocate(x.shape[1], track)
+        assert self.track is not None
+        if n > self.CAP:
+            x, keys, reach, track = x[-self.CAP:], keys[-self.CAP:], reach[-self.CAP:], track.subset(
+                np.arange(n - self.CAP, n))
+            n = self.CAP
+        self.filled &= ~np.isin(self.keys, keys)
+        width = max(self.track.q.shape[-1], track.q.shape[-1])
+        if width > self.track.q.shape[-1]:
+            self.track = padded(self.track, width)
+        track = padded(track, width)
+        slots = (self.next + np.arange(n)) % self.CAP
+        self.next = int((self.next + n) % self.CAP)
+        self.x[slots], self.keys[slots], self.reach[slots], self.filled[slots] = x, keys, reach, True
+        t = self.track
+        t.q[slots], t.z[slots], t.count[slots], t.end[slots] = track.q, track.z, track.count, track.end
+        t.sign[slots], t.periodic[slots] = track.sign, track.periodic
+
+    def _allocate(self, k: int, like: Track) -> None:
+        cap, width, m = self.CAP, like.q.shape[-1], like.z.shape[-1]
+        self.x, self.keys = np.zeros((cap, k)), np.zeros(cap, dtype=np.uint64)
+        self.reach, self.filled, self.next = np.zeros((cap, 2)), np.zeros(cap, dtype=bool), 0
+        self.track = Track(np.zeros((cap, 2, width)), np.zeros((cap, 2, width, m)), np.ones((cap, 2), dtype=int),
+                           np.zeros((cap, 2)), np.zeros(cap), np.zeros(cap, dtype=bool))
 
 
 def at_rows(track: Track, q):
@@ -529,6 +617,16 @@ def at_rows(track: Track, q):
     with np.errstate(all="ignore"):
         frac = np.clip(np.where(q_b > q_a, (t - q_a) / (q_b - q_a), 0.0), 0.0, 1.0)
     guess = z_a + (z_b - z_a) * frac[..., None]
+    # between two points of a lane of three or more: the parabola through a third, the one
+    # before (after, at the lane's start): Newton's rows start an order of h closer
+    third = np.where(idx > 0, idx - 1, idx + 2)
+    bend = (count >= 3) & (t > q_a) & (t < q_b)
+    third = np.where(bend, np.minimum(third, count - 1), idx)
+    q_c, z_c = flat_q[which, third], flat_z[which, third]
+    with np.errstate(all="ignore"):
+        curve = ((z_c - z_a) / (q_c - q_a)[..., None] - (z_b - z_a) / (q_b - q_a)[..., None]) / (q_c - q_b)[..., None]
+        bent = guess + ((t - q_a) * (t - q_b))[..., None] * curve
+    guess = np.where(bend[..., None] & np.isfinite(bent), bent, guess)
     top = flat_q[which, count - 1]  # the lane's last |q|
     inside = (t <= top) & (track.sign[:, None] != 0.0)
     past = np.maximum(t - top, 0.0)
@@ -538,12 +636,15 @@ def at_rows(track: Track, q):
 # ---------------------------------------------------------------- small systems
 
 def solve_small(a: np.ndarray, b: np.ndarray):
-    """(x, det a) for stacks a (L, m, m), b (L, m): Gaussian elimination with partial pivoting
+    """(x, det a) for stacks a (L, m, m), b (L, m): up to m = 3 by cofactors (`_cramer`), beyond
+    by Gaussian elimination with partial pivoting
     (a row below swaps up where its entry is larger than the pivot's: the largest comes up,
     the first of equal ones) and back substitution, elementwise (exactly rounded on every
     CPU: no BLAS, no LAPACK, no sums in another order); NaN x and det 0 where a pivot is 0 or
     not finite."""
     m = a.shape[-1]
+    if m <= 3:
+        return _cramer(a, b)
     w = np.concatenate([a, b[..., None]], axis=-1)
     det = np.ones(len(w))
     with np.errstate(all="ignore"):
@@ -567,3 +668,51 @@ def solve_small(a: np.ndarray, b: np.ndarray):
             x[:, k] = acc / w[:, k, k]
     good = np.isfinite(det) & (det != 0.0)
     return np.where(good[:, None], x, np.nan), np.where(good, det, 0.0)
+
+
+def _cramer(a: np.ndarray, b: np.ndarray):
+    """solve_small for m <= 3 by cofactors: x = adj(a) b / det a (Cramer's rule), det a by the
+    first row's cofactors; a few elementwise products over the lanes (a triad's m = 3: its
+    elimination costs twice its residual, these a tenth). Cramer's rule solves a 3 x 3 system
+    to within its condition number of round-off, as elimination does (Higham, Accuracy and
+    Stability of Numerical Algorithms, 2nd ed., sec. 1.10.1): enough for Newton's steps, whose
+    fixed point is set by the residual, not by the solve."""
+    m = a.shape[-1]
+    det = det_small(a)
+    with np.errstate(all="ignore"):
+        if m == 1:
+            x = (b[:, 0] / det)[:, None]
+        elif m == 2:
+            a00, a01, a10, a11 = a[:, 0, 0], a[:, 0, 1], a[:, 1, 0], a[:, 1, 1]
+            x = np.stack([(a11 * b[:, 0] - a01 * b[:, 1]) / det, (a00 * b[:, 1] - a10 * b[:, 0]) / det], axis=-1)
+        else:
+            a00, a01, a02 = a[:, 0, 0], a[:, 0, 1], a[:, 0, 2]
+            a10, a11, a12 = a[:, 1, 0], a[:, 1, 1], a[:, 1, 2]
+            a20, a21, a22 = a[:, 2, 0], a[:, 2, 1], a[:, 2, 2]
+            c00, c01, c02 = a11 * a22 - a12 * a21, a12 * a20 - a10 * a22, a10 * a21 - a11 * a20
+            c10, c11, c12 = a02 * a21 - a01 * a22, a00 * a22 - a02 * a20, a01 * a20 - a00 * a21
+            c20, c21, c22 = a01 * a12 - a02 * a11, a02 * a10 - a00 * a12, a00 * a11 - a01 * a10
+            b0, b1, b2 = b[:, 0], b[:, 1], b[:, 2]
+            x = np.stack([(c00 * b0 + c10 * b1 + c20 * b2) / det, (c01 * b0 + c11 * b1 + c21 * b2) / det,
+                          (c02 * b0 + c12 * b1 + c22 * b2) / det], axis=-1)
+    good = np.isfinite(det) & (det != 0.0)
+    return np.where(good[:, None], x, np.nan), np.where(good, det, 0.0)
+
+
+def det_small(a: np.ndarray) -> np.ndarray:
+    """(L,) det a of stacks a (L, m, m), 0 where not finite: up to m = 3 by the first row's
+    cofactors (the determinant `_cramer` divides by), beyond by solve_small's elimination."""
+    m = a.shape[-1]
+    if m > 3:
+        return solve_small(a, np.zeros(a.shape[:2]))[1]
+    with np.errstate(all="ignore"):
+        if m == 1:
+            det = a[:, 0, 0].copy()
+        elif m == 2:
+            det = a[:, 0, 0] * a[:, 1, 1] - a[:, 0, 1] * a[:, 1, 0]
+        else:
+            a00, a01, a02 = a[:, 0, 0], a[:, 0, 1], a[:, 0, 2]
+            a10, a11, a12 = a[:, 1, 0], a[:, 1, 1], a[:, 1, 2]
+            a20, a21, a22 = a[:, 2, 0], a[:, 2, 1], a[:, 2, 2]
+            det = a00 * (a11 * a22 - a12 * a21) + a01 * (a12 * a20 - a10 * a22) + a02 * (a10 * a21 - a11 * a20)
+    return np.where(np.isfinite(det), det, 0.0)  # 0: not finite (solve_small's rule)
