@@ -87,7 +87,7 @@ def _kv(title: str, rows: list[tuple[str, object]], digits: int) -> Table:
     t.add_column("key", style="bold")
     t.add_column("value")
     for k, v in rows:
-        t.add_row(k, fmt(v, digits))
+        t.add_row(k, Text(fmt(v, digits)))  # a value is text, never rich markup ("[joints]" stays)
     return t
 
 
@@ -124,7 +124,7 @@ def _rows(title: str, rows: list[dict], digits: int, headers: dict | None = None
     for i, r in enumerate(rows):
         if isinstance(rows, Elided) and i == len(rows) - TAIL_ROWS:
             t.add_row(*("..." for _ in cols))
-        t.add_row(*(fmt(r.get(c), digits) for c in cols))
+        t.add_row(*(Text(fmt(r.get(c), digits)) for c in cols))  # text, never rich markup
     return t
 
 

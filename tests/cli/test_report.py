@@ -74,3 +74,16 @@ def test_motion_and_positions_rows_carry_their_units():
     assert "target (deg)" in out and "input (deg)" in out
     _, out, _ = run_cli("synth", "problems/motion3.toml")
     assert "target (in, in, deg)" in out
+
+
+def test_a_value_in_brackets_is_printed_as_written_not_read_as_markup():
+    """Table values are text: "[error, size]" (a front's objectives) and "draw it in [joints]"
+    (a sweep's note) were read by rich as markup tags and printed blank or cut."""
+    from linkcli.report import _kv, _rows
+    out = io.StringIO()
+    con = Console(file=out, width=200, color_system=None)
+    con.print(_kv("Front", [("objectives", ["error", "size"]), ("note", "draw it in [joints] to design it")], 6))
+    con.print(_rows("Rows", [{"choice": "a", "note": "[bold]x[/bold] and [joints]"}], 6))
+    text = out.getvalue()
+    assert "[error, size]" in text and "draw it in [joints] to design it" in text
+    assert "[bold]x[/bold] and [joints]" in text
