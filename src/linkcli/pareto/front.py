@@ -11,7 +11,7 @@
    their best (the payoff table); a level that no design reaches gives no point. The gap is
    what makes the end a well-posed level: at the best itself (or 1e-7 of it) the level's
    feasible set is a sliver, the designs it holds differ from the anchor's binding set by less
-   than the settle resolves (a length 1e-8 of its range off its bound is read as on it, and
+   than the settle resolves (a length 6e-8 of its range off its bound is read as on it, and
    the multiplier of that bound has the wrong sign), and the end printed the polish's digits.
 3. Points. At each level, the first objective minimized subject to the others <= their levels
    and every constraint of the file. Each row of levels is swept by two chains, one from
