@@ -112,14 +112,7 @@ def runs():
 
 # An open defect, not a tolerance: the file's report moves under another CPU. Its test below is
 # a strict xfail, so it fails (and must leave this list) the day the file prints the same bytes.
-KNOWN_TO_DIFFER = {
-    "problems/path_pareto.toml": "issue 51, open: the path example's last front row (the smallest linkage, "
-                                 "the size's anchor made lexicographic) moves in one 6th digit under the "
-                                 "Prescott kernel and without numpy's wide vector paths: its settle fails, "
-                                 "plain (near-tied size pieces) and lifted (the output length's bound released, "
-                                 "Newton's step breaks two other sides of the box; benchmarks/RESULTS.md), "
-                                 "so the row keeps its polish's digits",
-}
+KNOWN_TO_DIFFER: dict[str, str] = {}  # path -> why it differs (none is known)
 
 
 def _reports(runs, variant):

@@ -137,13 +137,18 @@ def test_the_ends_are_the_known_optima(front):
     mu = lambda r2: np.degrees(np.arccos(np.clip((B * B + C * C - r2) / (2 * B * C), -1, 1)))
     dev = np.maximum(90 - mu((D - A) ** 2), mu((D + A) ** 2) - 90)
     assert best <= float(dev[crank_rocker].min()) + 1e-12
-    assert rows[-1]["objectives"]["transmission"] == pytest.approx(best, rel=1e-7)
+    # the end is the least error within 1e-5 of the transmission's range (over the anchors:
+    # the error anchor's deviation less the least) above the least (docs/pareto.md)
+    gap = 1e-5 * (rows[0]["objectives"]["transmission"] - best)
+    assert best * (1 - 1e-9) <= rows[-1]["objectives"]["transmission"] <= best + gap * (1 + 1e-6)
 
 
-def test_interior_rows_are_optima_of_their_levels(front):
-    """An independent SLSQP from each interior row: the error written here, the row's
-    transmission level held (closed form over the full turn), crank-rocker and bounds held,
-    the input angles free; it finds nothing lower by more than 1e-6 of the front's range."""
+def test_rows_are_optima_of_their_levels(front):
+    """An independent SLSQP from each row but the error anchor (the transmission's end too: the
+    least error at its level, not a least-deviation design whose other variables stopped
+    anywhere): the error written here, the row's transmission level held (closed form over
+    the full turn), crank-rocker and bounds held, the input angles free; it finds nothing
+    lower by more than 1e-6 of the front's range."""
     from scipy.optimize import minimize
     report, designs, _ = front
     spec = tomllib.loads(EXAMPLE.read_text())
@@ -161,7 +166,7 @@ def test_interior_rows_are_optima_of_their_levels(front):
     box = [tuple(bounds[k]) for k in keys] + [(None, None)] * 2 + [tuple(bounds["ground_pivot"]["x"]),
                                                                     tuple(bounds["ground_pivot"]["y"])]
     box += [(None, None)] * (2 + len(poses))
-    for row, design in list(zip(rows, designs))[1:-1]:
+    for row, design in list(zip(rows, designs))[1:]:
         link = design["linkage"]
         z0 = np.array([link[k] for k in keys] + list(link["coupler_point"]) + list(link["ground_pivot"])
                       + [link["ground_angle"], link["coupler_angle"]] + [p["input"] for p in design["positions"]])
@@ -176,6 +181,36 @@ def test_interior_rows_are_optima_of_their_levels(front):
         feasible = level - deviation(*z[:4]) >= -1e-9 * level
         if feasible:
             assert f(z) >= row["objectives"]["error"] - 1e-6 * span, (row["objectives"], f(z))
+
+
+def test_the_transmission_end_has_the_least_error_of_its_lengths(front):
+    """The transmission's end is the least error near the least deviation, not a least-deviation
+    linkage whose body and ground placement stopped anywhere: with its four lengths held (the
+    same transmission, exactly), an independent search here over the coupler point, the ground
+    pivot and angle, the body's angle and the input angles (L-BFGS-B, the pivot's bounds) finds
+    no error lower than its own by more than 1e-6 of the front's range. (Before the end level
+    had its gap, the end row was the raw least-deviation design: error 0.435, where this
+    search finds 0.048.)"""
+    from scipy.optimize import minimize
+    report, designs, _ = front
+    spec = tomllib.loads(EXAMPLE.read_text())
+    poses, bounds = spec["target"]["poses"], spec["bounds"]
+    rows = report["front"]["rows"]
+    span = rows[-1]["objectives"]["error"] - rows[0]["objectives"]["error"]
+    link = designs[-1]["linkage"]
+    z0 = np.array(list(link["coupler_point"]) + list(link["ground_pivot"]) + [link["ground_angle"], link["coupler_angle"]]
+                  + [p["input"] for p in designs[-1]["positions"]])
+
+    def f(z):
+        placed = dict(link, coupler_point=(z[0], z[1]), ground_pivot=(z[2], z[3]), ground_angle=z[4],
+                      coupler_angle=z[5])
+        return error_of(placed, z[6:], poses)
+
+    box = [(None, None)] * 2 + [tuple(bounds["ground_pivot"]["x"]), tuple(bounds["ground_pivot"]["y"])]
+    box += [(None, None)] * (2 + len(poses))
+    res = minimize(f, z0, method="L-BFGS-B", bounds=box, options={"maxiter": 2000, "ftol": 1e-15, "gtol": 1e-12})
+    assert f(z0) == pytest.approx(rows[-1]["objectives"]["error"], rel=1e-6, abs=1e-12)
+    assert res.fun >= rows[-1]["objectives"]["error"] - 1e-6 * span, (rows[-1]["objectives"], res.fun)
 
 
 def test_analyze_takes_a_front_design_as_is(front):

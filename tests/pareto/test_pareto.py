@@ -143,9 +143,11 @@ def test_one_length_front_matches_the_dense_reference(tmp_path):
         e_ref = error_of(b_ref)
         assert abs(e - e_ref) / e_span <= 1e-6, (row, e_ref)
         reference.append((e_ref, t))
-    # the two ends are the objectives' optima
+    # the two ends: the error's optimum; the least error at 1e-5 of the transmission's range
+    # above its optimum (docs/pareto.md: the end level; the error falls there, so it binds)
     assert rows[0]["objectives"]["error"] == pytest.approx(error_of(b_err), rel=1e-6)
-    assert rows[-1]["objectives"]["transmission"] == pytest.approx(transmission_of(b_tr), rel=1e-6, abs=1e-6 * t_span)
+    assert rows[-1]["objectives"]["transmission"] == pytest.approx(transmission_of(b_tr) + 1e-5 * t_span, rel=1e-6,
+                                                                   abs=1e-6 * t_span)
     ref = front["reference_point"]
     assert front["hypervolume"] == pytest.approx(area(reference, ref), rel=0.01)
     # ordered along the first objective, non-dominated
@@ -216,6 +218,27 @@ def test_path_front_designs_recomputed_from_their_lengths(tmp_path):
     code, out, err = run_cli("analyze", str(files[0]), "--format", "json", "--precision", "17")
     assert code == 0, err
     assert json.loads(out)["linkage"]["coupler"] == pytest.approx(front["rows"][0]["linkage"]["coupler"], rel=1e-6)
+
+
+def test_the_end_levels_are_a_stated_gap_above_the_best():
+    """docs/pareto.md, 2.: the levels evenly from the error anchor's value to the best, the last
+    one 1e-5 of the objective's range above its best; the anchor gives way to a certified
+    point of that level no worse elsewhere, not to an uncertified one nor to one past the gap."""
+    from linkcli.pareto.front import Point, levels, refines
+    values = np.array([[0.3, 131.0], [29595.0, 21.6]])
+    scales = np.array([29594.7, 109.4])
+    got = [row[1] for row in levels(values, 10, scales)[0]]
+    assert got[-1] == pytest.approx(21.6 + 1e-5 * 109.4, rel=1e-15)
+    assert got[0] == 131.0 and np.diff(got[:-1]) == pytest.approx(-(131.0 - 21.6) / 9, rel=1e-6)
+    three = levels(np.array([[0.0, 40.0, 9.0], [5.0, 10.0, 7.0], [8.0, 30.0, 1.0]]), 9, np.array([8.0, 30.0, 8.0]))
+    assert [r[2] for r in three[0]] == pytest.approx([9.0, 5.0, 1.0 + 8e-5], rel=1e-7)  # the third's row
+    assert [r[0][1] for r in three] == pytest.approx([40.0, 25.0, 10.0 + 3e-4], rel=1e-7)  # the second's levels
+    anchor = Point(np.zeros(2), np.array([29595.0, 21.6]), -2, True)
+    end = lambda v, certified=True: Point(np.zeros(2), np.array(v), 1, certified)
+    assert refines(anchor, 1, [end([1025.0, 21.6 + 1e-5 * 109.4])], scales)
+    assert not refines(anchor, 1, [end([1025.0, 21.6 + 1e-5 * 109.4], certified=False)], scales)
+    assert not refines(anchor, 1, [end([1025.0, 21.6 + 3e-5 * 109.4])], scales)
+    assert not refines(anchor, 1, [end([29596.0, 21.6])], scales)
 
 
 def test_hypervolume_against_a_count_on_a_grid():

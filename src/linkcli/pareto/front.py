@@ -4,10 +4,15 @@
    the anchor of `error`; each other objective's anchor minimizes it from x0 (linkcli.pareto.
    scalarized, its pieces in epigraph form).
 2. Levels. Two objectives: `points` levels of the second, evenly spaced from its value at
-   the first's anchor to its best (held within ANCHOR_SLACK: that level's point is the
-   second's anchor made lexicographic, the first objective minimized there). Three: a grid
-   of ceil(sqrt(points)) levels each of the second and the third between their best and
-   worst over the anchors (the payoff table); a level that no design reaches gives no point.
+   the first's anchor to ANCHOR_GAP of its scale above its best (that level's point stands for
+   the second's anchor: the least first objective within the gap of the second's least, and
+   the anchor itself is no row then: `refines`). Three: a grid of ceil(sqrt(points)) levels
+   each of the second and the third, from their worst over the anchors to ANCHOR_GAP above
+   their best (the payoff table); a level that no design reaches gives no point. The gap is
+   what makes the end a well-posed level: at the best itself (or 1e-7 of it) the level's
+   feasible set is a sliver, the designs it holds differ from the anchor's binding set by less
+   than the settle resolves (a length 6e-8 of its range off its bound is read as on it, and
+   the multiplier of that bound has the wrong sign), and the end printed the polish's digits.
 3. Points. At each level, the first objective minimized subject to the others <= their levels
    and every constraint of the file. Each row of levels is swept by two chains, one from
    each end (continuation: each level polished from the chain's last end, a few Gauss-Newton
@@ -35,7 +40,9 @@ from linkcli.pareto.objectives import Measure
 from linkcli.pareto.scalarized import Scalarized
 from linkcli.search.budget import Budget, BudgetSpent
 
-ANCHOR_SLACK = 1e-7  # relative: a lexicographic anchor keeps its objective within this of its best
+ANCHOR_GAP = 1e-5  # of an objective's scale: the front's end is its level this far above its best (2.;
+# path_pareto's end settles from 1e-6 to 1e-3 of the range and fails at the 2e-8 of 1e-7 of its value)
+SAME = 1e-7  # relative: two solves that end at one design agree within this (`non_dominated`)
 CONFIRM = 1e-6  # relative (of the first objective's scale): two starts that end this close agree
 TIE = 1e-9  # relative to an objective's scale: values this close are equal (dominance, order)
 FEASIBLE = 1e-7  # a scaled constraint this far below 0 is still met (the type's final check decides)
@@ -315,17 +322,23 @@ def scales_of(values: np.ndarray) -> np.ndarray:
 
 def levels(anchor_values: np.ndarray, points: int, scales) -> list[list[dict]]:
     """The epsilon levels (module docstring, 2.) as rows of {objective index: level}, each
-    row ordered from loose to tight in its last objective: two objectives, one row from the
-    second's value at the first's anchor to its best (held within ANCHOR_SLACK: there the
-    level's point is the second's anchor made lexicographic); three, one row per level of
-    the second, each spanning the third's range over the anchors."""
+    row ordered from loose to tight in its last objective: two objectives, one row evenly
+    from the second's value at the first's anchor to its best, the last level ANCHOR_GAP of
+    its scale above the best (there the level's point stands for the second's anchor:
+    `refines`); three, one row per level of the second, each spanning the third's range over
+    the anchors (the same way)."""
     m = anchor_values.shape[1]
-    slack = lambda k, v: v + ANCHOR_SLACK * abs(v) + TIE * scales[k]
+
+    def span(k: int, top: float, best: float, count: int) -> np.ndarray:  # evenly from the top to the
+        # best (held within SAME: one design found twice), the last level ANCHOR_GAP above the best
+        out = np.linspace(top, best + SAME * abs(best) + TIE * scales[k], count)
+        out[-1] = min(best + ANCHOR_GAP * scales[k], top)
+        return out
+
     if m == 2:
-        top, bottom = anchor_values[0, 1], slack(1, anchor_values[1, 1])
-        return [[{1: float(v)} for v in np.linspace(top, bottom, points)]]
+        return [[{1: float(v)} for v in span(1, anchor_values[0, 1], anchor_values[1, 1], points)]]
     side = max(2, int(math.ceil(math.sqrt(points))))
-    grid = [np.linspace(anchor_values[:, k].max(), slack(k, anchor_values[:, k].min()), side) for k in (1, 2)]
+    grid = [span(k, anchor_values[:, k].max(), anchor_values[:, k].min(), side) for k in (1, 2)]
     return [[{1: float(a), 2: float(b)} for b in grid[1]] for a in grid[0]]
 
 
@@ -343,6 +356,21 @@ def chains(rows: list[list[dict]], anchors: list[np.ndarray]) -> list[tuple[list
     return out
 
 
+def refines(anchor: Point, k: int, points: list[Point], scales) -> bool:
+    """Whether a certified point of the front stands for objective k's anchor: within
+    ANCHOR_GAP of its scale of the anchor's value of k (twice: the level's own round-off) and
+    no worse in every other objective (within TIE): the point of the anchor's end level (2.),
+    where the least first objective was sought near the least k. The anchor (the least k found
+    from the first objective's anchor, its other objectives wherever that search stopped) is
+    then no row; where that point is not certified, the anchor stays (`non_dominated` keeps
+    the first of two equal points: the anchor)."""
+    scales = np.asarray(scales, float)
+    near = TIE * scales
+    near[k] = 2.0 * ANCHOR_GAP * scales[k]
+    return any(p.certified and np.all(p.values <= anchor.values + near)
+               for p in points if np.all(np.isfinite(p.values)))
+
+
 def dominates(a: np.ndarray, b: np.ndarray, tol: np.ndarray) -> bool:
     """a is no worse than b in every objective and better in one (beyond tol)."""
     return bool(np.all(a <= b + tol) and np.any(a < b - tol))
@@ -350,13 +378,13 @@ def dominates(a: np.ndarray, b: np.ndarray, tol: np.ndarray) -> bool:
 
 def non_dominated(points: list, values, scales) -> list:
     """The points no other dominates (values compared within TIE of each scale and twice
-    ANCHOR_SLACK of their size: a lexicographic anchor, held that close to the best, dominates
-    the raw one), duplicates (every value within TIE) kept once: the first in order."""
+    SAME of their size: the first objective's anchor and its own level's point are one design
+    found twice), duplicates (every value within that) kept once: the first in order."""
     values = np.asarray(values, dtype=float)
     tol = TIE * np.asarray(scales)
     keep = []
     for i, v in enumerate(values):
-        near = tol + 2.0 * ANCHOR_SLACK * np.abs(v)
+        near = tol + 2.0 * SAME * np.abs(v)
         if any(dominates(values[j], v, near) for j in range(len(values)) if j != i):
             continue
         if any(np.all(np.abs(values[j] - v) <= near) for j in keep):

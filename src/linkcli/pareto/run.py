@@ -45,10 +45,12 @@ def solve_front(problem, space, found) -> object:
     best = [fr.best_of(ends[index], 0, scales[0]) for index in sorted(ends)]
     with np.errstate(all="ignore"):  # each level's best end settled (the chains' other ends never are)
         settled = map_levels(fr.settle_point, [fr.Settle(measure, 0, scales, t_scale, p) for p in best if p is not None])
-    points = list(anchors)
+    points = []
     for point, used in settled:
         budget.add(used)
         points.append(point)
+    # the first objective's anchor is a row; another's, unless its end level's point stands for it
+    points = [a for k, a in enumerate(anchors) if k == 0 or not fr.refines(a, k, points, scales)] + points
     return _report(problem, space, measure, points, scales, budget, found)
 
 
