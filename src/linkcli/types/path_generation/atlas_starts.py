@@ -151,7 +151,9 @@ def _best(score: np.ndarray, count: int) -> np.ndarray:
     first (the same choice on every machine, whatever partition algorithm numpy
     dispatches). First pass: the maxima of blocks of BLOCK rows; the count-th largest of
     them, m, is at most the count-th largest score (count blocks hold one score >= m
-    each), so the rows scoring >= m hold the answer: a few, sorted exactly."""
+    each), so the rows scoring >= m hold the answer: a few, sorted exactly. Asked for as
+    many as there are blocks or more (the ring's candidates), m is the count-th largest
+    score itself (a value, whichever algorithm partitions): not every positive score sorted."""
     pad = (-len(score)) % BLOCK
     padded = np.concatenate([score, np.zeros(pad, dtype=score.dtype)]) if pad else score
     blocks = padded.reshape(-1, BLOCK).max(axis=1)
@@ -159,7 +161,7 @@ def _best(score: np.ndarray, count: int) -> np.ndarray:
         count = min(count, int(np.count_nonzero(score > 0.0)))
     if count == 0:
         return np.zeros(0, dtype=np.int64)
-    bound = -np.partition(-blocks, count - 1)[count - 1] if count < len(blocks) else 0.0
+    bound = -np.partition(-(blocks if count < len(blocks) else score), count - 1)[count - 1]
     sel = np.flatnonzero(score >= max(bound, np.finfo(score.dtype).tiny))
     return sel[np.lexsort((sel, -score[sel]))][:count]
 
