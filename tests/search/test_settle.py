@@ -151,15 +151,16 @@ def test_settle_adds_the_active_constraints_curvature_to_a_model_of_f_alone():
     # scaled to radius sqrt(1/2), multiplier lambda = 3 / x* - 1 ~ 3.9 (2 (p - t) =
     # -2 lambda p). With h the Hessian of f alone (2 I) Newton misses the circle's
     # curvature (the Lagrangian's is 2 (1 + lambda) I): along the circle its error grows
-    # by a factor lambda a step, and it does not settle; `curvature` adds it
+    # by a factor lambda a step; `curvature` adds it by differences, and without it the
+    # steps that grow are corrected along themselves (the secant update, `kkt._secant`)
     point = _nearest_to((3.0, 1.8), lambda u: (0.5 - u[0] ** 2 - u[1] ** 2, [-2 * u[0], -2 * u[1]]))
 
     best = np.array([1.0, 0.6]) * math.sqrt(0.5) / math.hypot(1.0, 0.6)
     start = np.array([0.2, 0.6])
-    assert not kkt.settle(point, start).converged
-    out = kkt.settle(point, start, curvature=True)
-    assert out.converged
-    assert_allclose(out.u, best, rtol=0, atol=1e-12)
+    for curvature in (True, False):
+        out = kkt.settle(point, start, curvature=curvature)
+        assert out.converged
+        assert_allclose(out.u, best, rtol=0, atol=1e-12)
 
 
 def test_settle_is_deterministic_and_independent_of_the_start_within_its_basin():
@@ -296,14 +297,48 @@ def _large_residual(lam: float, counter: list):
 
 
 def test_stalled_curvature_settles_where_gauss_newton_steps_grow():
-    # lam = -2: Gauss-Newton's steps double each time from 1e-6 off the minimum and the
-    # settle fails; "stalled" switches to the differenced Hessian once they stop shrinking
-    calls = []
+    # lam = -2: Gauss-Newton's steps double each time from 1e-6 off the minimum; "stalled"
+    # switches to the differenced Hessian once they stop shrinking, and Gauss-Newton alone
+    # corrects its model along the steps taken (`kkt._secant`) from then on
     start = np.array([0.5 + 1e-6])
-    assert not kkt.settle(_large_residual(-2.0, calls), start).converged
-    out = kkt.settle(_large_residual(-2.0, calls), start, curvature="stalled")
+    for curvature in ("stalled", False):
+        out = kkt.settle(_large_residual(-2.0, []), start, curvature=curvature)
+        assert out.converged
+        assert_allclose(out.u, [0.5], rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("lam", [-0.95, -1.5, -3.0, 0.9])
+def test_gauss_newton_settles_where_it_misses_a_residuals_curvature(lam):
+    # Dennis & Schnabel's example 10.2.4 again: Gauss-Newton's error is multiplied by
+    # 1 - (2 - 2 lam) / 2 = lam a step, so lam = -0.95 swings back and forth 30 steps
+    # without settling, and lam < -1 grows. The secant correction gives the model the true
+    # curvature 2 (2 - 2 lam) along the steps: the minimum x = 0 (u = 1/2) to round-off
+    out = kkt.settle(_large_residual(lam, []), np.array([0.5 + 1e-3]))
     assert out.converged
     assert_allclose(out.u, [0.5], rtol=0, atol=1e-12)
+
+
+def _valley_to_a_bound(u):
+    """Least squares r = (10 (y - x/2 - 0.2), 0.1 (x - 2)) on the unit box: a steep valley
+    along y = x/2 + 0.2 that falls towards x = 2, outside the box. Gauss-Newton is exact
+    (r is linear): its first step lands on (2, 1.2). The optimum on the box: x at its
+    upper bound 1 and y on the valley's floor, 0.7, f = 0.01 (closed form: with x = 1 the
+    first residual vanishes at y = 0.7, and df/dx = -0.18 < 0 there pushes x outwards)."""
+    x, y = u
+    r = np.array([10.0 * (y - 0.5 * x - 0.2), 0.1 * (x - 2.0)])
+    j = np.array([[-5.0, 10.0], [0.1, 0.0]])
+    return kkt.Point(float(r @ r), 2.0 * j.T @ r, np.zeros(0), np.zeros((0, 2)), h=2.0 * j.T @ j)
+
+
+@pytest.mark.parametrize("start", [[0.2, 0.3], [0.5, 0.1], [0.0, 0.9]])
+def test_settle_stops_a_long_newton_step_at_the_bound_it_crosses(start):
+    # clipped to the box, Newton's step leaves the valley and its line search crawls
+    # towards x = 1 by halvings without arriving; stopped where x meets its bound (the
+    # ratio test) and held there, the next round settles y on the valley's floor
+    out = kkt.settle(_valley_to_a_bound, np.array(start))
+    assert out.converged
+    assert_allclose(out.u, [1.0, 0.7], rtol=0, atol=1e-12)
+    assert out.f == pytest.approx(0.01, rel=1e-12)
 
 
 def test_stalled_curvature_costs_nothing_where_gauss_newton_converges():

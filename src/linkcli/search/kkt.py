@@ -23,6 +23,13 @@ sign (lambda_i < 0: the constraint does not bind) or an inactive constraint that
 breaks changes the active set, and Newton starts again (at most ROUNDS times). The linear
 algebra is `linalg` (no BLAS): the same steps on every machine.
 
+A step that would cross the box is stopped where its first variable meets its bound (the
+ratio test, `_to_bound`), and the next round holds that variable there: clipped instead,
+a long step along a flat valley is no longer Newton's, and its line search stalls short of
+an optimum on the bound. Where Gauss-Newton's steps shrink by less than STALLED a step (a
+large residual's curvature that 2 J^T J misses), its model is corrected along the steps
+taken by symmetric rank-one secant updates (`_secant`), at no evaluation's cost.
+
 A Newton pass also ends, converged, at the first iterate where its model has only round-off
 of f left to gain (`_at_round_off`: a step within PRINTED whose slope and curvature terms
 are below ROUND_OFF |f|), when its steps never fall below the step tolerance: in a flat
@@ -48,6 +55,7 @@ SLOPE_STEP = 3e-4  # unit box: the step of `slopes`
 AT_BOUND = 1e-6  # unit box: a variable this close to 0 or 1 sits on its bound at the start
 ITERATIONS = 30  # Newton steps per active set
 ROUNDS = 6  # active sets tried
+HELD = 6  # rounds more, for the variables a step stopped at their bound (`_newton`'s ratio test)
 STEP_TOL = 1e-10  # unit box: a Newton step this small has converged (round-off of the
 # slopes leaves steps of 1e-12 on a well-posed problem; six printed digits need 1e-7)
 PRINTED = 1e-7  # unit box: a Newton step this small whose model gains only round-off of f is the
@@ -58,6 +66,7 @@ NEAR = 1e-4  # unit box: a step this small is taken whole (no line search: the m
 AGAIN = 3  # settles from the last one's end, while they lower f: the binding set read at a
 # KKT point of one set can be another (a bound and a constraint that nearly coincide)
 HALVINGS = 12  # step halvings before Newton gives up on an active set
+SR1_SKIP = 1e-8  # `_secant`: an update whose r^T s is below this share of |r| |s| is skipped
 RIDGE = 1e-12  # relative ridge on H (a flat direction, a continuum of optima)
 SIGN_TOL = 1e-10  # a multiplier below -SIGN_TOL * (|g| + 1) has the wrong sign
 ROUND_OFF = 1e-13  # relative change of the merit that is round-off
@@ -177,9 +186,14 @@ def _settle_once(opts: Options, u0) -> Settled:
     active = p.c <= opts.active_tol
     lower, upper = start <= AT_BOUND, start >= 1.0 - AT_BOUND
     here = start
-    for _ in range(ROUNDS):
+    for _ in range(ROUNDS + HELD):
         u = np.where(lower, 0.0, np.where(upper, 1.0, here))
         u, p, lam, ok = _newton(opts, u, evaluate(u), active, lower | upper)
+        broken = ~active & (p.c < -FEASIBLE)
+        if isinstance(ok, tuple) and not broken.any():  # a step stopped where variable ok[1] met
+            (upper if u[ok[1]] >= 0.5 else lower)[ok[1]] = True  # its bound: held there from here
+            here = u
+            continue
         here = u if ok else start  # a round that failed leaves no point to go on from
         # multipliers of the bounds: the gradient of the Lagrangian pushing outwards
         grad_l = p.g - linalg.matvec(p.a[active].T, lam) if active.any() else p.g
@@ -211,7 +225,8 @@ def _settle_once(opts: Options, u0) -> Settled:
 def _newton(opts: Options, u, p: Point, active, fixed):
     """Newton steps on the KKT system with `active` constraints as equalities and the
     `fixed` variables held; a step is halved until the merit f + rho |c_A|_1 falls (rho
-    above every multiplier). Returns (u, point, multipliers, ok)."""
+    above every multiplier). Returns (u, point, multipliers, ok); ok is ("bound", k) where
+    a step stopped at variable k's bound (`_to_bound`), for `_settle_once` to hold it."""
     evaluate, curvature, hessian_step, groups = opts.evaluate, opts.curvature, opts.hessian_step, opts.groups
     many = opts.evaluate_many or (lambda us: [evaluate(v) for v in us])
     free = np.flatnonzero(~fixed)
@@ -227,6 +242,9 @@ def _newton(opts: Options, u, p: Point, active, fixed):
     stale = False  # reuse: the last step, on a kept Hessian, shrank by less than the stall rate
     kept = False  # the last step's Hessian was a kept one
     rest = None  # (u, p, lambda) of the first iterate where the model had only round-off left to gain
+    gauss_newton = p.h is not None and curvature is False  # the model: the Points' h alone
+    secant = None  # Gauss-Newton's correction along the steps taken (`_secant`), once they stall
+    before = None  # the last iterate (u, Point)
 
     def failed():  # the pass fails, unless an iterate was at round-off (`_at_round_off`): that one
         return (*rest, True) if rest else (u, p, lam, False)
@@ -238,11 +256,22 @@ def _newton(opts: Options, u, p: Point, active, fixed):
             h = p.h + _lagrangian_hessian(many, u, rows, lam, hessian_step, objective=False, groups=groups)
         else:
             h = p.h
-        step, lam_new = _kkt_step(h, p.g, p.a[rows], p.c[rows], free)
+        if secant is not None:  # corrected by the last step's change of the gradient
+            secant = _secant(secant, h, u - before[0], _grad_l(p, rows, lam) - _grad_l(before[1], rows, lam), free)
+        step, lam_new = _kkt_step(h if secant is None else h + secant, p.g, p.a[rows], p.c[rows], free)
         if step is None:
             return failed()
-        lam = lam_new
         size = float(np.max(np.abs(step)))
+        if gauss_newton and secant is None and before is not None and size > STALLED * last:
+            # steps that do not shrink: Gauss-Newton misses a residual's curvature along them
+            secant = _secant(np.zeros_like(h), h, u - before[0],
+                             _grad_l(p, rows, lam) - _grad_l(before[1], rows, lam), free)
+            step, lam_new = _kkt_step(h + secant, p.g, p.a[rows], p.c[rows], free)
+            if step is None:
+                return failed()
+            size = float(np.max(np.abs(step)))
+        before = (u, p)
+        lam = lam_new
         if rest is None and size <= PRINTED and _at_round_off(p, h, step, rows, lam):
             rest = (u, p, lam)
         stale = kept and not size <= STALL_RATE.get(curvature, STALLED) * last
@@ -261,9 +290,12 @@ def _newton(opts: Options, u, p: Point, active, fixed):
         rho = 2.0 * float(np.max(np.abs(lam), initial=0.0)) + 1e-300
         merit = p.f + rho * float(np.sum(np.abs(p.c[rows])))
         residual = _kkt_residual(p, rows, lam, free)
-        t = 1.0
+        share, hit = _to_bound(u, step, free)
+        t = share
         for _ in range(HALVINGS):
             trial = np.clip(u + t * step, 0.0, 1.0)
+            if t == share and hit >= 0:
+                trial[hit] = 1.0 if step[hit] > 0 else 0.0
             q = evaluate(trial)
             # progress: a lower merit, or (where the merit no longer resolves the step: a
             # change within round-off) a smaller KKT residual
@@ -276,10 +308,52 @@ def _newton(opts: Options, u, p: Point, active, fixed):
             if size < 1e-9:  # round-off size: the root to working precision
                 return u, p, lam, True
             return failed()
+        if t == share and hit >= 0:  # at the bound: the next round holds it (`_settle_once`)
+            return trial, q, lam, ("bound", hit)
         u, p = trial, q
     else:  # still moving after ITERATIONS steps: not settled
         return failed()
     return u, p, lam, True
+
+
+def _grad_l(p: Point, rows, lam):
+    """The gradient of the Lagrangian, g - A_rows^T lambda."""
+    return p.g - linalg.matvec(p.a[rows].T, lam) if len(rows) else p.g
+
+
+def _secant(correction, h, s, y, free):
+    """The symmetric rank-one update of `correction` so that the model h + correction meets
+    the secant condition (h + correction) s = y over the free variables (Nocedal & Wright,
+    Numerical Optimization, 2nd ed., 2006, eq. 6.24; skipped, as there, where r^T s is below
+    SR1_SKIP |r| |s|). Added to Gauss-Newton's 2 J^T J it supplies the curvature of large
+    residuals that the model misses, along the directions Newton has moved (the structured
+    secant idea of Dennis, Gay & Welsch, ACM TOMS 7 (1981), NL2SOL): a free-timing path on
+    the crank-rocker's edge, one target near the fold of its coupler curve, leaves the model
+    half the curvature of its flat valley, and Newton's steps there swing back and forth."""
+    r = np.zeros(len(s))
+    r[free] = (y - linalg.matvec(h + correction, s))[free]
+    rs = linalg.dot(r, s)
+    if abs(rs) <= SR1_SKIP * float(np.sqrt(linalg.dot(r, r) * linalg.dot(s, s))) or not np.isfinite(rs):
+        return correction
+    return correction + np.outer(r, r) / rs
+
+
+def _to_bound(u, step, free) -> tuple[float, int]:
+    """The ratio test on the box (Nocedal & Wright, sec. 16.6): the share of `step` at which
+    the first free variable strictly inside the box meets its bound, and that variable; (1.0,
+    -1) when the whole step stays inside. A Newton step along a flat valley can run far past
+    a bound; clipped there it is no longer Newton's, and its line search stalls on an optimum
+    that lies on the bound (a path's output at its largest length, closed18_free). Stopped at
+    the bound instead, the variable is held there by the next round and released by its
+    multiplier's sign if it should not be."""
+    inside = np.zeros(len(u), dtype=bool)
+    inside[free] = True
+    inside &= (u > AT_BOUND) & (u < 1.0 - AT_BOUND)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        room = np.where(step > 0.0, (1.0 - u) / step, np.where(step < 0.0, -u / step, np.inf))
+    room = np.where(inside, room, np.inf)
+    k = int(np.argmin(room))  # the first of equal ones
+    return (float(room[k]), k) if room[k] < 1.0 else (1.0, -1)
 
 
 def _hessian(opts: Options, many, u, rows, free, lam, fresh: bool):

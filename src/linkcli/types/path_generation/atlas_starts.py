@@ -80,8 +80,9 @@ def allowed(design: Design, atlas: Atlas) -> np.ndarray:
         ok &= lk.kind == CLASS_CODES[design.grashof]
     if design.branch != "either":
         ok &= lk.sign == (-1.0 if design.branch == "open" else 1.0)
-    lo, hi = path_starts.scale_interval(design, atlas.shapes)
-    ok &= lo <= hi
+    rows = np.flatnonzero(ok)  # the scale test on the rows still in (the class and branch leave a fifth)
+    lo, hi = path_starts.scale_interval(design, atlas.shapes[rows])
+    ok[rows] = lo <= hi
     if design.window is not None:
         a, b, c = lk.lengths.T
         cos_mu = lambda r: (b * b + c * c - r * r) / (2 * b * c)
@@ -128,9 +129,13 @@ def _similar(table: np.ndarray, scale: np.ndarray, rows: int, queries: list, all
     allowed = np.zeros(table.shape[0] * width, dtype=np.float32)
     allowed[:rows] = allowed_rows
     masked = scale * allowed.reshape(scale.shape)
-    best = np.empty(masked.shape, dtype=np.float32)
+    best = np.zeros(masked.shape, dtype=np.float32)  # a row not allowed scores 0 (its scale is 0)
     for b in range(table.shape[0]):
-        best[b] = _scores(table[b], masked[b], cols, sizes).max(axis=0)
+        mine = np.flatnonzero(masked[b])
+        if 2 * len(mine) < width:  # mostly masked out: the allowed rows alone, the same values
+            best[b, mine] = _scores(table[b][:, mine], masked[b, mine], cols, sizes).max(axis=0)
+        else:
+            best[b] = _scores(table[b], masked[b], cols, sizes).max(axis=0)
 
     def of(picked: np.ndarray) -> np.ndarray:
         blk, col = np.divmod(picked, width)
@@ -146,13 +151,17 @@ def _best(score: np.ndarray, count: int) -> np.ndarray:
     first (the same choice on every machine, whatever partition algorithm numpy
     dispatches). First pass: the maxima of blocks of BLOCK rows; the count-th largest of
     them, m, is at most the count-th largest score (count blocks hold one score >= m
-    each), so the rows scoring >= m hold the answer: a few, sorted exactly."""
-    count = min(count, int(np.count_nonzero(score > 0.0)))
+    each), so the rows scoring >= m hold the answer: a few, sorted exactly. Asked for as
+    many as there are blocks or more (the ring's candidates), m is the count-th largest
+    score itself (a value, whichever algorithm partitions): not every positive score sorted."""
+    pad = (-len(score)) % BLOCK
+    padded = np.concatenate([score, np.zeros(pad, dtype=score.dtype)]) if pad else score
+    blocks = padded.reshape(-1, BLOCK).max(axis=1)
+    if np.count_nonzero(blocks > 0.0) < count:  # fewer positive scores than asked, maybe
+        count = min(count, int(np.count_nonzero(score > 0.0)))
     if count == 0:
         return np.zeros(0, dtype=np.int64)
-    pad = (-len(score)) % BLOCK
-    blocks = np.concatenate([score, np.zeros(pad, dtype=score.dtype)]).reshape(-1, BLOCK).max(axis=1)
-    bound = -np.partition(-blocks, count - 1)[count - 1] if count < len(blocks) else 0.0
+    bound = -np.partition(-(blocks if count < len(blocks) else score), count - 1)[count - 1]
     sel = np.flatnonzero(score >= max(bound, np.finfo(score.dtype).tiny))
     return sel[np.lexsort((sel, -score[sel]))][:count]
 
@@ -179,12 +188,9 @@ def _arc_hits(design: Design, atlas: Atlas, ok: np.ndarray, senses: tuple, count
             st, ln = descriptors.stretch_starts(curve[mine], is_closed)
             start[mine] = np.take_along_axis(st, slot[mine][:, None], axis=1)[:, 0]
             length[mine] = np.take_along_axis(ln, slot[mine][:, None], axis=1)[:, 0]
-    sense = np.zeros(len(picked))
-    shares = np.zeros((len(picked), design.n_targets))
-    for i, row in enumerate(picked):
-        which = int(np.argmax(arc_scores(np.array([row]))[:, 0]))  # the first best query: ties alike everywhere
-        sense[i] = senses[which]
-        shares[i] = frac if senses[which] > 0 else 1.0 - frac
+    which = np.argmax(arc_scores(picked), axis=0)  # the first best query: ties alike everywhere
+    sense = np.array(senses, dtype=float)[which]
+    shares = np.where(sense[:, None] > 0, frac[None, :], 1.0 - frac[None, :])
     return curve, start, length, sense, shares
 
 
@@ -284,8 +290,9 @@ def starts(design: Design, atlas: Atlas, count: int):
     for part in range(0, len(fin), step):  # a block of hits at a time: bounded memory
         f = fin[part:part + step]
         r = one[f]
-        new_phi, nu, ng, ncost = _retime(design, x[r], sign[r], phi_grid[rows[r]], frac[rows[r]], at[r], phi[r],
-                                         u[r], g[r], s_lo[r], s_hi[r], np.repeat(sense, h)[r], rep_closed[r])
+        new_phi, nu, ng, ncost = _retime(design, x[r], sign[r], phi_grid[rows[r]], gx[rows[r]] + 1j * gy[rows[r]],
+                                         frac[rows[r]], at[r], phi[r], u[r], g[r], s_lo[r], s_hi[r],
+                                         np.repeat(sense, h)[r], rep_closed[r])
         better = ncost < best[f]
         phi[r[better]], u[r[better]], g[r[better]] = new_phi[better], nu[better], ng[better]
         best[f[better]] = ncost[better]
@@ -312,24 +319,27 @@ def starts(design: Design, atlas: Atlas, count: int):
     return x, sign[rows], s, best[keep], len(found) * h + len(keep)
 
 
-def _retime(design: Design, x, sign, phi_grid, frac, at, phi, u, g, s_lo, s_hi, sense, closed):
+def _retime(design: Design, x, sign, phi_grid, q_grid, frac, at, phi, u, g, s_lo, s_hi, sense, closed):
     """Free timing's own rule applied to placed hits (N rows): each target moved to the
-    curve's sample nearest to it (the curve traced at PLACE_SAMPLES angles, placed by the
+    curve's sample nearest to it (the curve q_grid, traced at its PLACE_SAMPLES angles
+    phi_grid in the four-bar's own frame by `family.coupler_points`, placed by the
     similarity u, g) within RETIME_WINDOW samples of where its arc-length share put it,
     the similarity fitted again; RETIME rounds. A row whose targets would leave their
     order (or the turn) keeps its last timing. Returns (phi, u, g, cost)."""
     n_grid = phi_grid.shape[1]
     t = design.targets[:, 0] + 1j * design.targets[:, 1]
-    q_grid, valid_grid = path_starts.local_curve(x, sign, phi_grid)
     (index,) = descriptors.interpolate(frac, [np.broadcast_to(np.arange(n_grid, dtype=float), frac.shape)], at)
     index = np.rint(index).astype(np.int64)
     offsets = np.arange(-RETIME_WINDOW, RETIME_WINDOW + 1)
     g0, gamma0 = path_starts.fixed_pivot(design), path_starts.fixed_angle(design)
     cost = np.full(len(x), np.inf)
     for _ in range(RETIME):
-        placed = g[:, None] + u[:, None] * np.where(valid_grid, q_grid, np.nan)
-        cand = index[:, :, None] + offsets[None, None, :]
-        cand = np.where(closed[:, None, None], np.mod(cand, n_grid - 1), np.clip(cand, 0, n_grid - 1))
+        placed = g[:, None] + u[:, None] * q_grid
+        cand = index[:, :, None] + offsets[None, None, :]  # within RETIME_WINDOW of 0 .. n_grid - 1:
+        # a loop's samples wrap by one period (n_grid - 1, its last repeating its first), an arc's are clipped
+        period = n_grid - 1
+        wrapped = np.where(cand < 0, cand + period, np.where(cand >= period, cand - period, cand))
+        cand = wrapped if closed.all() else np.where(closed[:, None, None], wrapped, np.clip(cand, 0, n_grid - 1))
         rows = np.arange(len(x))[:, None, None]
         gap = np.abs(placed[rows, cand] - t[None, :, None])
         gap = np.where(np.isfinite(gap), gap, np.inf)
