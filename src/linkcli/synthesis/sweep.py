@@ -10,9 +10,9 @@ catalogue's order. The `topologies` section lists the best of every choice and t
 
 A choice whose drive reaches the rest through a triad (an Assur group of four links: every
 Stephenson II, some Stephenson III) is followed over the population by continuation from each
-drawing on its drawn branch (drawn.population_groups), at some 25 times a dyad's cost an
+drawing on its drawn branch (drawn.population_groups), at some 40 times a dyad's cost an
 evaluation over a population and some 100 times for one design (benchmarks/drawn_population.py:
-1,000 designs x 72 drive values in about 0.4 s against 15 ms). A sweep searches it when its
+1,000 designs x 72 drive values in 0.38 s against 9 to 10 ms). A sweep searches it when its
 topology offers no other choice (stephenson-ii); beside choices of dyads it is listed `not
 searched` (it would take most of the sweep's time, and a time-fair share of the budget is
 below a search's floor: docs/six_bars.md), with a note: draw it in [joints] to design it.
@@ -128,7 +128,7 @@ def _row(choice, found, problem) -> dict:
     if found is None:
         return {"choice": choice.label, "topology": choice.topology, "status": "not searched",
                 "objective": None, "max_error": None,
-                "note": "a triad beside choices of dyads (25 to 100 times their cost an evaluation): "
+                "note": "a triad beside choices of dyads (40 to 100 times their cost an evaluation): "
                         "draw it in [joints] to design it"}
     sol = found[0]
     row = {"choice": choice.label, "topology": choice.topology, "status": sol.status.value,
