@@ -71,8 +71,9 @@ def probe(env: dict) -> dict | None:
 
 
 def synth(env: dict):
+    # timeout: a hang guard, not a time limit (every example, three runs side by side)
     proc = subprocess.run([sys.executable, "-m", "linkcli", "synth", *FILES, "--format", "json"],
-                          capture_output=True, text=True, env=env, cwd=ROOT, timeout=600)
+                          capture_output=True, text=True, env=env, cwd=ROOT, timeout=3600)
     return proc.returncode, proc.stdout, proc.stderr
 
 
