@@ -40,7 +40,7 @@ FULL_TURN = ("crank-rocker", "double-crank")  # classes whose input must turn fu
 MIN_LENGTH = 1e-6  # relative to the length's upper bound: a lower bound of 0 becomes this
 ABSOLUTE_MIN_LENGTH = FILE_MIN_LENGTH  # and at least the shortest length a file may hold
 HUGE = 1e100  # a residual that overflowed
-GRASHOF_MARGIN = 1e-7  # relative: s + l <= (p + q)(1 - margin), clear of the change point
+GRASHOF_MARGIN = 1e-7  # relative: s + l <= p + q - margin (s + l + p + q), clear of the change point
 # The link that must be shortest for each Grashof class (index into d, a, b, c).
 SHORTEST = {"crank-rocker": 1, "double-crank": 0, "rocker-crank": 3, "double-rocker": 2}
 
