@@ -678,12 +678,13 @@ def _cramer(a: np.ndarray, b: np.ndarray):
     Stability of Numerical Algorithms, 2nd ed., sec. 1.10.1): enough for Newton's steps, whose
     fixed point is set by the residual, not by the solve."""
     m = a.shape[-1]
-    det = det_small(a)
     with np.errstate(all="ignore"):
         if m == 1:
+            det = a[:, 0, 0]
             x = (b[:, 0] / det)[:, None]
         elif m == 2:
             a00, a01, a10, a11 = a[:, 0, 0], a[:, 0, 1], a[:, 1, 0], a[:, 1, 1]
+            det = a00 * a11 - a01 * a10
             x = np.stack([(a11 * b[:, 0] - a01 * b[:, 1]) / det, (a00 * b[:, 1] - a10 * b[:, 0]) / det], axis=-1)
         else:
             a00, a01, a02 = a[:, 0, 0], a[:, 0, 1], a[:, 0, 2]
@@ -692,6 +693,7 @@ def _cramer(a: np.ndarray, b: np.ndarray):
             c00, c01, c02 = a11 * a22 - a12 * a21, a12 * a20 - a10 * a22, a10 * a21 - a11 * a20
             c10, c11, c12 = a02 * a21 - a01 * a22, a00 * a22 - a02 * a20, a01 * a20 - a00 * a21
             c20, c21, c22 = a01 * a12 - a02 * a11, a02 * a10 - a00 * a12, a00 * a11 - a01 * a10
+            det = a00 * c00 + a01 * c01 + a02 * c02  # det_small's products, in its order
             b0, b1, b2 = b[:, 0], b[:, 1], b[:, 2]
             x = np.stack([(c00 * b0 + c10 * b1 + c20 * b2) / det, (c01 * b0 + c11 * b1 + c21 * b2) / det,
                           (c02 * b0 + c12 * b1 + c22 * b2) / det], axis=-1)
