@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 from conftest import run_cli
 from test_drawn_synthesis import perturbed_problem
+from test_topology_sweep import PATH as SWEEP_PATH
 
 # A Stephenson II six-bar driven at a binary crank (catalogue: "stephenson-ii, binary crank
 # (triad), tracer P on coupler", its first starting drawing, rounded): the crank turns fully.
@@ -173,15 +174,7 @@ def test_a_known_stephenson_ii_is_recovered_from_a_perturbed_drawing():
     assert good >= 4
 
 
-PATH = """type = "path-generation"
-[linkage]
-mechanism = "drawn"
-topology = "stephenson-ii"
-[target]
-points = [[0, 0], [10, 4], [20, 5], [30, 4], [40, 0], [30, -3], [20, -6], [10, -3]]
-[solver]
-budget = 8000
-"""
+PATH = SWEEP_PATH.format(topology="stephenson-ii", target="", bounds="[solver]\nbudget = 8000\n")
 
 
 @pytest.mark.slow
