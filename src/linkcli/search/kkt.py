@@ -28,7 +28,12 @@ ratio test, `_to_bound`), and the next round holds that variable there: clipped 
 a long step along a flat valley is no longer Newton's, and its line search stalls short of
 an optimum on the bound. Where Gauss-Newton's steps shrink by less than STALLED a step (a
 large residual's curvature that 2 J^T J misses), its model is corrected along the steps
-taken by symmetric rank-one secant updates (`_secant`), at no evaluation's cost.
+taken by symmetric rank-one secant updates (`_secant`), at no evaluation's cost. The
+corrected model need not stay positive definite (Nocedal & Wright, sec. 6.2): where its step
+finds no lower merit in HALVINGS halvings, the correction is dropped and Newton goes on from
+the same iterate on Gauss-Newton's model (a failed pass would restart the round from its
+start: on closed18_free's crank-rocker edge such passes failed at every round, far along the
+edge, with the optimum's basin reached).
 
 A Newton pass also ends, converged, at the first iterate where its model has only round-off
 of f left to gain (`_at_round_off`: a step within PRINTED whose slope and curvature terms
@@ -271,7 +276,7 @@ def _newton(opts: Options, u, p: Point, active, fixed):
                 return failed()
             size = float(np.max(np.abs(step)))
         before = (u, p)
-        lam = lam_new
+        lam_old, lam = lam, lam_new
         if rest is None and size <= PRINTED and _at_round_off(p, h, step, rows, lam):
             rest = (u, p, lam)
         stale = kept and not size <= STALL_RATE.get(curvature, STALLED) * last
@@ -307,6 +312,9 @@ def _newton(opts: Options, u, p: Point, active, fixed):
         else:
             if size < 1e-9:  # round-off size: the root to working precision
                 return u, p, lam, True
+            if secant is not None:  # the corrected model's step is no descent (module docstring):
+                secant, before, last, lam = None, None, np.inf, lam_old  # Gauss-Newton's from here
+                continue
             return failed()
         if t == share and hit >= 0:  # at the bound: the next round holds it (`_settle_once`)
             return trial, q, lam, ("bound", hit)
