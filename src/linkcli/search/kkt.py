@@ -191,9 +191,16 @@ def _settle_once(opts: Options, u0) -> Settled:
     active = p.c <= opts.active_tol
     lower, upper = start <= AT_BOUND, start >= 1.0 - AT_BOUND
     here = start
+    tried = set()  # (point, binding set) of each round begun: one begun again ends as it did (a
+    # failed round releases a bound its next round meets again); the last round's end is returned
+    u = start
     for _ in range(ROUNDS + HELD):
-        u = np.where(lower, 0.0, np.where(upper, 1.0, here))
-        u, p, lam, ok = _newton(opts, u, evaluate(u), active, lower | upper)
+        begin = np.where(lower, 0.0, np.where(upper, 1.0, here))
+        key = (begin.tobytes(), active.tobytes(), lower.tobytes(), upper.tobytes())
+        if key in tried and not opts.reuse:
+            break
+        tried.add(key)
+        u, p, lam, ok = _newton(opts, begin, evaluate(begin), active, lower | upper)
         broken = ~active & (p.c < -FEASIBLE)
         if isinstance(ok, tuple) and not broken.any():  # a step stopped where variable ok[1] met
             (upper if u[ok[1]] >= 0.5 else lower)[ok[1]] = True  # its bound: held there from here
