@@ -151,3 +151,34 @@ def test_settle_reaches_the_output_bound_along_the_crank_rocker_edge():
     f = _objective(design, x, -1.0, 1.0)
     assert f < f0
     assert EDGE_SLSQP * (1 - 2e-5) <= f <= EDGE_SLSQP
+
+
+# A pick at the output's bound's edge (49.94) whose second round, the output held at 50, does not
+# converge in its steps: the failed round reads the bound's multiplier with the wrong sign there,
+# releases it, and the next round from the pick meets the bound again
+CYCLING_PICK = [11.227282751210875, 0.41230229489144116, 39.12475945923672, 49.939730177215104, 1.3735178518786697,
+                -0.7559770628072646, 0.6282650871241611, -0.8502375251941693, 5.733878631395411, 1.9507354596905877,
+                0.3727320607397179, 0.2625364922229685, 0.3384172888837345, 0.31442183374183114, 0.3418652982687924,
+                0.35208654669340905, 0.24931390427213238, 0.26468227977217923, 0.31851831993478846,
+                0.33070581724630094, 0.3930064435722007, 0.7928344594622395, 0.18227536657750382,
+                0.18888479322940874, 0.3363196161011578, 0.4367180308473905, 0.2622395402668149]
+
+
+def test_settle_begins_no_round_twice_from_one_point_on_one_binding_set(monkeypatch):
+    """Newton is deterministic: a round begun again from the same point on the same binding
+    set ends where it did. The settle stops instead (it ran the same two rounds six times); its
+    end is the last round's, lower than the pick's."""
+    from linkcli.search import kkt
+
+    begun = []
+    newton = kkt._newton
+
+    def recorded(opts, u, p, active, fixed):
+        begun.append((u.tobytes(), active.tobytes(), fixed.tobytes()))
+        return newton(opts, u, p, active, fixed)
+
+    monkeypatch.setattr(kkt, "_newton", recorded)
+    out, x, f0, f = _edge_settled(CYCLING_PICK)
+    assert len(begun) >= 2
+    assert len(set(begun)) == len(begun)
+    assert f < f0
