@@ -20,7 +20,9 @@ section 18.1, the Newton-KKT / SQP step with an equality-constrained QP)
 converges quadratically (H the Hessian of the Lagrangian; the Gauss-Newton matrix
 2 J^T J for least squares), to round-off of the KKT residual. A multiplier of the wrong
 sign (lambda_i < 0: the constraint does not bind) or an inactive constraint that the step
-breaks changes the active set, and Newton starts again (at most ROUNDS times). The linear
+breaks changes the active set, and Newton starts again (at most ROUNDS times); a round that
+would begin again from the same point on the same binding set (a failed round releases a bound
+its next round meets again) ends the settle instead: it would end as it did. The linear
 algebra is `linalg` (no BLAS): the same steps on every machine.
 
 A step that would cross the box is stopped where its first variable meets its bound (the
@@ -31,9 +33,8 @@ large residual's curvature that 2 J^T J misses), its model is corrected along th
 taken by symmetric rank-one secant updates (`_secant`), at no evaluation's cost. The
 corrected model need not stay positive definite (Nocedal & Wright, sec. 6.2): where its step
 finds no lower merit in HALVINGS halvings, the correction is dropped and Newton goes on from
-the same iterate on Gauss-Newton's model (a failed pass would restart the round from its
-start: on closed18_free's crank-rocker edge such passes failed at every round, far along the
-edge, with the optimum's basin reached).
+the same iterate on Gauss-Newton's model (failing there, the pass went back to its start:
+picks far along closed18_free's crank-rocker edge, in its optimum's basin, never settled).
 
 A Newton pass also ends, converged, at the first iterate where its model has only round-off
 of f left to gain (`_at_round_off`: a step within PRINTED whose slope and curvature terms
