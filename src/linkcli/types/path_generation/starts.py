@@ -32,6 +32,8 @@ from linkcli.mechanisms.four_bar import kinematics as kin
 from linkcli.search import linalg
 from linkcli.types.path_generation.model import N_LINK, SHORTEST, Design
 
+EDGE_GAP = 1e-5  # relative: a crank-rocker this close to its edge lies on it (`edge_like`; the search
+# holds its designs 1e-7 of the sum of the lengths inside: model.GRASHOF_MARGIN)
 CURVE_SAMPLES = 120  # samples of the coupler curve over one turn (free timing)
 START_STRIDE = 3  # every 3rd sample is tried as the first target's position
 FRACTIONS = (0.05, 0.12, 0.25, 0.45, 0.7, 0.95)  # share of the curve the targets span
@@ -123,6 +125,45 @@ def draw(design: Design, rng, n: int):
     sign = branch_signs(design, rng, n)
     s = np.full(n, float(directions(design)[0]))
     return x, sign, s
+
+
+def at_edge(design: Design) -> bool:
+    """Whether `edge_shapes` serves the design: a crank-rocker asked for, free timing, no
+    transmission window (the edge's fold takes mu to 0 or 180 deg), the lengths and the
+    coupler point all free."""
+    return (design.grashof == "crank-rocker" and design.timing == "free" and design.window is None
+            and bool(design.free[:6].all()))
+
+
+def edge_like(x: np.ndarray) -> bool:
+    """Whether the design x (its lengths d, a, b, c first) is of the shapes `edge_shapes`
+    draws: a crank within EDGE_GAP (relative) of the crank-rocker's edge s + l = p + q, no
+    longer than the largest input the atlas's edge stratum draws (relative to the ground)."""
+    from linkcli.atlas.family import EDGE_INPUT
+    d, a = float(x[0]), float(x[1])
+    lengths = np.sort(np.asarray(x[:4], dtype=float))
+    gap = (lengths[1] + lengths[2]) - (lengths[0] + lengths[3])
+    return bool(a == lengths[0] and 0.0 <= gap <= EDGE_GAP * (lengths[1] + lengths[2]) and a <= EDGE_INPUT[1] * d)
+
+
+def edge_shapes(design: Design, rng, x: np.ndarray) -> np.ndarray:
+    """x with its lengths and coupler point replaced by small cranks at the crank-rocker's
+    edge (linkcli.atlas.family.draw_edge, the atlas's own stratum: the input 0.005 to 0.12 of
+    the ground, s + l short of p + q by 1e-6 to 3e-2 of it, the coupler point 0.3 to 30
+    inputs from the crank pin), each scaled to the geometric middle of the factors that
+    bring it inside the bounds (`scale_interval`); a row no factor brings inside keeps its
+    uniform draw. Free timing's optima often lie on that edge, held by the search's Grashof
+    margin (closed18_free's best two), where uniform lengths almost never fall."""
+    from linkcli.atlas.family import draw_edge
+    rows = draw_edge(rng, len(x))
+    shape = np.zeros((len(x), 6))
+    shape[:, 0] = 1.0
+    shape[:, 1:4], shape[:, 4:6] = rows[:, :3], rows[:, 3:5]
+    lo, hi = scale_interval(design, shape)
+    fits = np.flatnonzero((lo <= hi) & np.isfinite(hi))
+    out = x.copy()
+    out[fits, :6] = np.clip(shape[fits] * np.sqrt(lo[fits] * hi[fits])[:, None], design.lo[:6], design.hi[:6])
+    return out
 
 
 def scale_interval(design: Design, x: np.ndarray):
@@ -401,10 +442,14 @@ def scan_prescribed(design: Design, x, sign, s, s_lo, s_hi):
     return apply_similarity(design, x, best_u, best_g), s, best
 
 
-def starts(design: Design, rng, n: int):
+def starts(design: Design, rng, n: int, edge: bool = False):
     """n completed draws (x, sign, s): drawn, timed and placed, then fit_linear. Fixed
-    lengths and coupler coordinates take part in the drawn shape (`virtual_scale`)."""
+    lengths and coupler coordinates take part in the drawn shape (`virtual_scale`). `edge`
+    (where `at_edge`): shapes at the crank-rocker's edge (`edge_shapes`) instead of uniform
+    lengths."""
     x, sign, s = draw(design, rng, n)
+    if edge and at_edge(design):
+        x = edge_shapes(design, rng, x)
     virtual = virtual_scale(design, rng)
     if virtual is not None:
         x[:, :4], sigma = sample_lengths(design, rng, n, virtual)
