@@ -446,3 +446,37 @@ def test_a_function_with_every_joint_free_is_printed_nearest_its_drawing(tmp_pat
     law = 0.35 * (1 - np.cos(0.6 * (np.abs(phi - math.pi / 3) + phi - math.pi / 3)))
     error = np.degrees(np.angle(np.exp(1j * (turn - law))))
     np.testing.assert_allclose(error, [p["error"] for p in report["positions"]], atol=1e-9)
+
+
+def test_a_settle_spends_at_most_what_is_left_or_half_the_budget(monkeypatch):
+    """The shared search's settle is bounded by the budget (search.SETTLE_SHARE): here a settle
+    that would never end (every call of its evaluate asks for more) stops within its allowance,
+    max(what is left, half the budget), and the design still comes out (unsettled). Unbounded,
+    a Stephenson II sweep's settles spent twenty times its budget."""
+    from linkcli.search import kkt
+    from linkcli.synthesis import search as shared
+
+    def endless(evaluate, u0, **_):  # (5,000 calls at most: an unbounded settle fails, not hangs)
+        for _ in range(5000):
+            evaluate(u0)
+        return kkt.Settled(np.asarray(u0), math.inf, 0.0, False)
+
+    seen = []
+    settled = shared.settled
+
+    def observed(model, space, best, budget):
+        before, allowance = budget.used, max(budget.left, budget.total // shared.SETTLE_SHARE)
+        out = settled(model, space, best, budget)
+        seen.append((budget.used - before, allowance, 4 * space.k + 1, out is best))
+        return out
+
+    monkeypatch.setattr(kkt, "settle", endless)
+    monkeypatch.setattr(shared, "settled", observed)
+    text = (ROOT / "problems" / "drawn_dwell.toml").read_text() + "\n[solver]\nbudget = 20000\n"
+    assert "[solver]" not in (ROOT / "problems" / "drawn_dwell.toml").read_text()
+    _, solution, _ = _solve(text)
+    assert solution.objective is not None and math.isfinite(solution.objective)
+    assert seen
+    for used, allowance, batch, unchanged in seen:
+        assert allowance - batch < used <= allowance
+        assert unchanged

@@ -63,6 +63,11 @@ CURVATURE_STEP = 1e-4  # unit box: the settle's differenced Hessian of the Lagra
 # stride: 26 mm^2) has curvature of its own that Gauss-Newton misses, and its settle failed there
 MARGIN = 3e-7  # the penalties hold every constraint this far inside (dimensionless): the polish then
 # ends feasible, whatever the round-off between its refined extremes and the final check's
+SETTLE_SHARE = 2  # a settle spends what the budget has left, and at least 1/SETTLE_SHARE of the whole
+# budget when less is left (each of its points is a five-point slope of every variable): unbounded, the
+# settles of a Stephenson II triad's sweep at [solver] budget = 30,000 spent 609,592 evaluations and 436
+# of its 444 s; the dyads' settles of the examples take 119 to 14,649 (six_bar_dwell_sweep's runs each
+# get 27,272 of its 300,000)
 NEARLY = 1e-6  # total violation (constraints' units) a penalized polish leaves short of a binding
 # constraint: such a pick is settled onto it (the settle is taken when it ends feasible)
 
@@ -316,7 +321,8 @@ def polish(model: Model, space: Space, z, s, conv, budget: Budget):
 
 def settled(model: Model, space: Space, best: Candidate, budget: Budget) -> Candidate:
     """The candidate after Newton on the KKT system of the binding constraints
-    (linkcli.search.kkt), when that converges to a feasible point no worse (relative 1e-9)."""
+    (linkcli.search.kkt), when that converges to a feasible point no worse (relative 1e-9)
+    within its allowance of evaluations (SETTLE_SHARE)."""
     from linkcli.search import kkt
     f0 = rank(model, best)
     if space.k == 0 or f0[1] > NEARLY or f0[2] <= exact_objective(model):
@@ -336,7 +342,14 @@ def settled(model: Model, space: Space, best: Candidate, budget: Budget) -> Cand
         out[:, moving] = us
         return out
 
+    allowance = max(budget.left, budget.total // SETTLE_SHARE)
+    spent = 0
+
     def values(us):
+        nonlocal spent
+        spent += len(us)
+        if spent > allowance:
+            raise BudgetSpent
         budget.add(len(us))
         z = space.lo + np.clip(whole(us), 0.0, 1.0) * width
         x = space.full(z)
