@@ -131,24 +131,13 @@ def test_settle_reaches_the_output_bound_along_the_crank_rocker_edge():
     holds curvature the model lacks). Now: converged, the output at 50, the edge binding at
     the search's margin, the objective below the start's and within 2e-5 of the independent
     SLSQP value, not above it."""
-    from linkcli.io.safe_read import read_problem_bytes
-    from linkcli.reading.load import load
-    from linkcli.search.budget import Budget
-    from linkcli.types.path_generation.model import GRASHOF_MARGIN, build
-    from linkcli.types.path_generation.search import Space, settle
+    from linkcli.types.path_generation.model import GRASHOF_MARGIN
 
-    path = str(ROOT / "problems" / "bench" / "closed18_free.toml")
-    design = build(load(path, read_problem_bytes(path)))
-    space = Space(design, Budget(10**6))
-    z0 = np.array(EDGE_PICK)
-    out = settle(space, z0, -1.0, 1.0)
+    out, x, f0, f = _edge_settled(EDGE_PICK)
     assert out.converged
-    x = space.full(out.u[None])[0]
     d, a, b, c = x[:4]
     assert c == 50.0
     assert abs((a + c - d - b) + GRASHOF_MARGIN * (d + a + b + c)) <= 1e-12 * (d + a + b + c)
-    f0 = _objective(design, space.full(z0[None])[0], -1.0, 1.0)
-    f = _objective(design, x, -1.0, 1.0)
     assert f < f0
     assert EDGE_SLSQP * (1 - 2e-5) <= f <= EDGE_SLSQP
 
