@@ -213,10 +213,10 @@ def test_prescribed_timing_runs_its_first_four_rounds_side_by_side_free_timing_t
     batches, flags, shares = [], [], []
     original, short_of_best = path_solve.one_round, path_solve._short_of_best
 
-    def recorded(design, budget, rng, sizes, best_so_far=None, later=False):
+    def recorded(design, budget, rng, sizes, best_so_far=None, later=False, **rest):
         batches.append(list(sizes))
         seen = len(shares)
-        out = original(design, budget, rng, sizes, best_so_far, later)
+        out = original(design, budget, rng, sizes, best_so_far, later, **rest)
         flags.append({math.isinf(share) for share in shares[seen:]} == {True})  # every pick refined: thorough
         return out
 
