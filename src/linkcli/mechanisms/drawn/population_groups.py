@@ -690,10 +690,9 @@ def _cramer(a: np.ndarray, b: np.ndarray):
             a00, a01, a02 = a[:, 0, 0], a[:, 0, 1], a[:, 0, 2]
             a10, a11, a12 = a[:, 1, 0], a[:, 1, 1], a[:, 1, 2]
             a20, a21, a22 = a[:, 2, 0], a[:, 2, 1], a[:, 2, 2]
-            c00, c01, c02 = a11 * a22 - a12 * a21, a12 * a20 - a10 * a22, a10 * a21 - a11 * a20
+            det, c00, c01, c02 = _first_row(a)
             c10, c11, c12 = a02 * a21 - a01 * a22, a00 * a22 - a02 * a20, a01 * a20 - a00 * a21
             c20, c21, c22 = a01 * a12 - a02 * a11, a02 * a10 - a00 * a12, a00 * a11 - a01 * a10
-            det = a00 * c00 + a01 * c01 + a02 * c02  # det_small's products, in its order
             b0, b1, b2 = b[:, 0], b[:, 1], b[:, 2]
             x = np.stack([(c00 * b0 + c10 * b1 + c20 * b2) / det, (c01 * b0 + c11 * b1 + c21 * b2) / det,
                           (c02 * b0 + c12 * b1 + c22 * b2) / det], axis=-1)
@@ -713,8 +712,15 @@ def det_small(a: np.ndarray) -> np.ndarray:
         elif m == 2:
             det = a[:, 0, 0] * a[:, 1, 1] - a[:, 0, 1] * a[:, 1, 0]
         else:
-            a00, a01, a02 = a[:, 0, 0], a[:, 0, 1], a[:, 0, 2]
-            a10, a11, a12 = a[:, 1, 0], a[:, 1, 1], a[:, 1, 2]
-            a20, a21, a22 = a[:, 2, 0], a[:, 2, 1], a[:, 2, 2]
-            det = a00 * (a11 * a22 - a12 * a21) + a01 * (a12 * a20 - a10 * a22) + a02 * (a10 * a21 - a11 * a20)
+            det = _first_row(a)[0]
     return np.where(np.isfinite(det), det, 0.0)  # 0: not finite (solve_small's rule)
+
+
+def _first_row(a: np.ndarray):
+    """(det a, c00, c01, c02) of stacks a (L, 3, 3): the first row's cofactors and the
+    determinant by them, one order of products for `_cramer` and `det_small` (the same bits)."""
+    a00, a01, a02 = a[:, 0, 0], a[:, 0, 1], a[:, 0, 2]
+    a10, a11, a12 = a[:, 1, 0], a[:, 1, 1], a[:, 1, 2]
+    a20, a21, a22 = a[:, 2, 0], a[:, 2, 1], a[:, 2, 2]
+    c00, c01, c02 = a11 * a22 - a12 * a21, a12 * a20 - a10 * a22, a10 * a21 - a11 * a20
+    return a00 * c00 + a01 * c01 + a02 * c02, c00, c01, c02
