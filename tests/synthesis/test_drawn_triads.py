@@ -262,3 +262,172 @@ def test_a_probe_with_a_dead_point_its_neighbour_lacks_follows_its_own_track():
     size = float(pop.size(design_x(locking))[0])
     # the dead point to 1e-6 of a continuation step (10 deg): within 1e-6 rad of the analysis's
     np.testing.assert_allclose(probed.margins[0, stuck, 0], -size * past, rtol=0, atol=1e-6 * size)
+
+
+@pytest.mark.parametrize("label", ["stephenson-ii, ternary crank (triad), tracer P on link",
+                                   "stephenson-iii, binary crank (triad), tracer P on link"])
+def test_the_triads_real_residual_is_the_general_groups_and_its_jacobian_the_differences(label):
+    """A six-bar's triad (one ternary link held by three lengths) is computed in real arithmetic
+    (PopulationGroup._triad): at 500 random lanes (poses off the solution, known joints moved)
+    its residual and Jacobian are the general group path's within round-off, and its Jacobian
+    is the residual's central differences (h = 1e-6) within their truncation."""
+    from linkcli.mechanisms.drawn.population import DrawnPopulation
+    from linkcli.mechanisms.drawn.structure import Group, analyse
+    drawing = _catalogue_drawing(label)
+    structure = analyse(drawing)
+    names = tuple(j.name for j in drawing.joints)
+    boxes = {j.name: ((j.at[0] - 5, j.at[0] + 5), (j.at[1] - 5, j.at[1] + 5)) for j in drawing.joints}
+    pop = DrawnPopulation(drawing, structure, names, boxes)
+    index = next(i for i, op in enumerate(structure.plan) if isinstance(op, Group))
+    group = pop.group_solver(index)
+    assert group.triad is not None and group.m == 3
+    rng = np.random.default_rng(5)
+    n = 500
+    x = pop.starts(rng, n)
+    z0 = pop.places(x)
+    lanes = np.arange(n)
+    z = group.drawn(z0, lanes) + rng.normal(size=(n, 3)) * [3.0, 3.0, 0.5]
+    known = group.stack_known({j: z0[j][:, 0] + 2.0 * (rng.normal(size=n) + 1j * rng.normal(size=n))
+                               for j in group.known}, n)
+    f, jac = group.residual(z, known, group.constants(z0, lanes))
+    shape = group.triad
+    group.triad = None  # the general path: complex places, the Jacobian's pattern tables
+    try:
+        const = group.constants(z0, lanes)
+        f_general, jac_general = group.residual(z, known, const)
+    finally:
+        group.triad = shape
+    size = float(np.max(pop.size(x)))
+    np.testing.assert_allclose(f, f_general, rtol=0, atol=1e-12 * size)
+    np.testing.assert_allclose(jac, jac_general, rtol=0, atol=1e-12 * size)
+    h = 1e-6
+    const = group.constants(z0, lanes)
+    for c in range(3):
+        step = np.zeros(3)
+        step[c] = h
+        hi, _ = group.residual(z + step, known, const, jacobian=False)
+        lo, _ = group.residual(z - step, known, const, jacobian=False)
+        np.testing.assert_allclose(jac[:, :, c], (hi - lo) / (2 * h), rtol=1e-6, atol=1e-6)
+    places = group.places(z, known, const)
+    assert set(places) == {group.ends[e][0] for e in shape[0]}
+    for e in shape[0]:  # a pin on the ternary: its hub plus its drawn arm turned by theta
+        joint = group.ends[e][0]
+        arm = (z0[joint][:, 0] - z0[group.anchor[group.kept[0]]][:, 0]) * np.exp(1j * z[:, 2])
+        np.testing.assert_allclose(places[joint], z[:, 0] + 1j * z[:, 1] + arm, rtol=0, atol=1e-12 * size)
+
+
+def _triad_population(label, spread_of_size=0.03, traced=("P",)):
+    from linkcli.mechanisms.drawn.population import DrawnPopulation
+    from linkcli.mechanisms.drawn.structure import analyse
+    drawing = _catalogue_drawing(label)
+    size = max(max(j.at[0] for j in drawing.joints) - min(j.at[0] for j in drawing.joints),
+               max(j.at[1] for j in drawing.joints) - min(j.at[1] for j in drawing.joints))
+    spread = spread_of_size * size
+    boxes = {j.name: ((j.at[0] - spread, j.at[0] + spread), (j.at[1] - spread, j.at[1] + spread))
+             for j in drawing.joints}
+    names = tuple(j.name for j in drawing.joints)
+    return lambda: DrawnPopulation(drawing, analyse(drawing), names, boxes, traced=traced), size
+
+
+def _counting(monkeypatch, name):
+    """Count the designs population_groups.`name` is called for."""
+    from linkcli.mechanisms.drawn import population_groups as pg
+    calls = []
+    real = getattr(pg, name)
+
+    def wrapped(group, prefix, z0, scale, *rest):
+        calls.append(len(scale))
+        return real(group, prefix, z0, scale, *rest)
+    monkeypatch.setattr(pg, name, wrapped)
+    return calls
+
+
+@pytest.mark.parametrize("label", ["stephenson-ii, binary crank (triad), tracer P on coupler",
+                                   "stephenson-iii, binary crank (triad), tracer P on link"])
+def test_tracks_carried_from_near_designs_give_the_followed_rows(label, monkeypatch):
+    """A design within CARRY of one the population has followed has its track carried over
+    (population_groups.transport: Newton at the neighbour's nodes) instead of followed: its
+    rows -- validity, places, margins -- are those of the same designs evaluated afresh."""
+    from linkcli.mechanisms.drawn.population import CARRY
+    make, size = _triad_population(label)
+    carried = _counting(monkeypatch, "transport")
+    pop = make()
+    rng = np.random.default_rng(3)
+    base = pop.drawn[None, :] + rng.uniform(-0.5, 0.5, (12, len(pop.drawn))) * (pop.hi - pop.lo) * 0.2
+    q = np.repeat(np.linspace(0.0, 2 * math.pi, 48, endpoint=False)[None, :], len(base), axis=0)
+    pop.kinematics(base, q)
+    moved = base + rng.uniform(-0.5, 0.5, base.shape) * CARRY * (pop.hi - pop.lo)
+    again = pop.kinematics(moved, q)
+    assert sum(carried) == len(base)
+    fresh = make().kinematics(moved, q)
+    assert np.array_equal(again.valid, fresh.valid) and fresh.valid.mean() > 0.5
+    ok = fresh.valid
+    np.testing.assert_allclose(again.points[ok], fresh.points[ok], rtol=0, atol=1e-9 * size)
+    np.testing.assert_allclose(again.margins[ok], fresh.margins[ok], rtol=0, atol=1e-9 * size)
+
+
+def test_a_design_with_a_dead_point_its_neighbour_lacks_is_followed_not_carried(monkeypatch):
+    """Two Stephenson II designs either side of the move of E where the crank stops turning,
+    farther apart than a difference probe (NEAR) but within CARRY: the second's track is not
+    carried from the first's (the nodes past its dead point do not solve on its drawn branch):
+    it is followed, and its margins -- negative past the dead point -- are those of the design
+    evaluated alone."""
+    from dataclasses import replace
+
+    from linkcli.mechanisms.drawn.population import CARRY, NEAR, DrawnPopulation
+    from linkcli.mechanisms.drawn.solved import solved
+    drawing = _catalogue_drawing("stephenson-ii, ternary crank (triad), tracer P on link")
+    e0 = drawing.joint("E").at
+
+    def moved(s):
+        return replace(drawing, joints=tuple(replace(j, at=(e0[0] - s, e0[1] + s)) if j.name == "E" else j
+                                             for j in drawing.joints))
+
+    lo, hi = 0.8, 1.0
+    for _ in range(40):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if solved(moved(mid)).reach.full_turn else (lo, mid)
+    half = 10.0
+    shift = 0.5 * (NEAR + CARRY) * 2 * half / 2  # apart by about (NEAR + CARRY) / 2 of the box
+    turning, locking = moved(lo - shift), moved(lo + shift)
+    sv = solved(locking)
+    assert solved(turning).reach.full_turn and not sv.reach.full_turn
+    box = {"E": ((e0[0] - half, e0[0] + half), (e0[1] - half, e0[1] + half))}
+    q = np.linspace(0.0, 2 * math.pi, 721)[None, :]
+
+    def design_x(d):
+        return np.array([[d.joint("E").at[0], d.joint("E").at[1]]])
+
+    def population():
+        return DrawnPopulation(drawing, sv.structure, ("E",), box, traced=("P",))
+
+    alone = population().kinematics(design_x(locking), q)
+    followed = _counting(monkeypatch, "follow")
+    tried = _counting(monkeypatch, "transport")
+    pop = population()
+    pop.kinematics(design_x(turning), q)
+    second = pop.kinematics(design_x(locking), q)
+    assert tried == [1] and followed == [1, 1]
+    assert (~alone.valid).sum() > 5
+    assert np.array_equal(second.valid, alone.valid)
+    np.testing.assert_allclose(second.margins, alone.margins, rtol=0, atol=1e-9)
+
+
+def test_a_closed_branch_serves_any_drive_value_and_a_design_is_followed_once_a_call(monkeypatch):
+    """A design whose crank turns fully (its track periodic) gives at q - 2 pi and q + 4 pi the
+    rows it gives at q, from the track it followed once; a call holding one design several
+    times (a search's constraints of one candidate) follows it once."""
+    make, size = _triad_population("stephenson-ii, binary crank (triad), tracer P on coupler", spread_of_size=0.0)
+    followed = _counting(monkeypatch, "follow")
+    pop = make()
+    x = np.repeat(pop.drawn[None, :], 3, axis=0)
+    q = np.repeat(np.linspace(0.1, 2 * math.pi - 0.1, 30)[None, :], 3, axis=0)
+    one = pop.kinematics(x, q)
+    assert followed == [1] and one.valid.all()
+    back = pop.kinematics(x[:1], q[:1] - 2 * math.pi)
+    ahead = pop.kinematics(x[:1], q[:1] + 4 * math.pi)
+    assert followed == [1]
+    for other in (back, ahead):
+        assert other.valid.all()
+        np.testing.assert_allclose(other.points[0], one.points[0], rtol=0, atol=1e-9 * size)
+    np.testing.assert_array_equal(one.points[1], one.points[0])

@@ -333,10 +333,15 @@ class Model:
     def _at_columns(self, x, rows, cols, q) -> np.ndarray:
         """Constraint `cols[j]` of candidate `rows[j]` at drive value q[j] (dimensionless)."""
         with np.errstate(all="ignore"):
-            motion = self.pop.kinematics(x[rows], q[:, None])
+            motion = self.pop.kinematics(x[rows], self._on_travel(q)[:, None])
             g_all, _ = self.pop.constraints(motion, self.window)
         v = g_all[np.arange(len(rows)), 0, cols] * self.unit[cols]
         return np.where(np.isnan(v), HUGE, v)
+
+    def _on_travel(self, q: np.ndarray) -> np.ndarray:
+        """A refined drive value on the travel's grid: a turn's taken modulo the turn (the grid
+        wraps: the refinement about its first value brackets it with its last, a turn on)."""
+        return np.mod(q, TWO_PI) if self.crank else q
 
     def constraints_at(self, x, s, at, anchor) -> np.ndarray:
         """(N, M) every constraint at the drive value where a design's worst was (`at`, or what
@@ -345,7 +350,7 @@ class Model:
         lo, hi = self.travel(q)
         target = q[np.arange(len(x))[:, None], np.maximum(anchor, 0)] if self.n else at
         cols = np.where(anchor == LOWER, lo[:, None], np.where(anchor == UPPER, hi[:, None],
-                                                               np.where(anchor >= 0, target, at)))
+                                                               np.where(anchor >= 0, target, self._on_travel(at))))
         with np.errstate(all="ignore"):
             motion = self.pop.kinematics(x, cols)
             g_all, _ = self.pop.constraints(motion, self.window)

@@ -53,6 +53,7 @@ from linkcli.mechanisms.drawn.structure import GROUND, Dyad, GuideThrough, OnGui
 from linkcli.mechanisms.synthesis import Motion, Population
 
 NEAR = 2e-4  # of each box's width: a design this near a followed one borrows its track (a difference probe)
+CARRY = 0.05  # of each box's width: a design this near a followed one has its track carried over (transport)
 
 
 @dataclass
@@ -248,8 +249,11 @@ class DrawnPopulation(Population):
 
     def _track(self, index, group, x, q, z0, scale, tracks, borrow: bool = True):
         """(track, borrowed): the group's continuation for designs x (population_groups.follow),
-        those the cache holds taken from it (TrackCache); `borrowed` (N,) the designs whose
-        track is a neighbour's (a difference probe: TrackCache.near), never with `borrow` False."""
+        those the cache holds taken from it (TrackCache); a design within CARRY of one it holds
+        (a search's step from its last iterate) has that one's track carried over where it can
+        be (population_groups.transport), the others are followed, once a design; `borrowed`
+        (N,) the designs whose track is a neighbour's (a difference probe: TrackCache.near) or
+        carried from one, never with `borrow` False."""
         from linkcli.mechanisms.drawn import population_groups as pg
         n = len(q)
         reach = pg.needed_reach(q)
@@ -263,12 +267,12 @@ class DrawnPopulation(Population):
             probe = np.flatnonzero(slots < 0)
             slots[probe] = cache.near(x[probe], reach[probe], NEAR * (self.hi - self.lo))
             borrowed[probe] = slots[probe] >= 0
-        miss = np.flatnonzero(slots < 0)
         parts = []
-        if len(miss) < n:
+        if (slots >= 0).any():
             hit = np.flatnonzero(slots >= 0)
             parts.append((hit, cache.take(slots[hit])))
-        if len(miss):
+
+        def prefix_of(miss):
             def prefix(designs, lanes):
                 rows = miss[designs]
                 sub = {j: v[rows] for j, v in z0.items()}
@@ -276,11 +280,36 @@ class DrawnPopulation(Population):
                 placed = self.run(None, lanes[:, None], sub, upto=index, tracks=earlier)
                 known = {j: np.broadcast_to(placed.pos[j], (len(lanes), 1))[:, 0] for j in group.known}
                 return group.stack_known(known, len(lanes)), np.broadcast_to(placed.valid, (len(lanes), 1))[:, 0]
-            sub0 = {j: v[miss] for j, v in z0.items()}
-            new = pg.follow(group, prefix, sub0, scale[miss], reach[miss])
+            return prefix
+
+        def made(miss, new, need=None):
             parts.append((miss, new))
             if cache is not None:
-                cache.store(x[miss], keys[miss], reach[miss], new)
+                cache.store(x[miss], keys[miss], reach[miss] if need is None else need, new)
+
+        miss = np.flatnonzero(slots < 0)
+        if cache is not None and borrow and len(miss):  # a track carried from a near design
+            source = cache.near(x[miss], reach[miss], CARRY * (self.hi - self.lo), closest=True)
+            near = miss[source >= 0]
+            if len(near):
+                new, carried = pg.transport(group, prefix_of(near), {j: v[near] for j, v in z0.items()}, scale[near],
+                                            cache.take(source[source >= 0]))
+                if carried.any():
+                    made(near[carried], new.subset(np.flatnonzero(carried)))
+                    borrowed[near[carried]] = True
+                    miss = np.setdiff1d(miss, near[carried])
+        if len(miss):  # followed, once a design (a call may hold one several times: its constraints)
+            first, inverse = np.arange(len(miss)), np.arange(len(miss))
+            if x is not None:
+                _, first, inverse = np.unique(x[miss], axis=0, return_index=True, return_inverse=True)
+                inverse = inverse.reshape(-1)
+            lead = miss[first]
+            need = np.zeros((len(lead), 2))
+            np.maximum.at(need, inverse, reach[miss])
+            new = pg.follow(group, prefix_of(lead), {j: v[lead] for j, v in z0.items()}, scale[lead], need)
+            made(lead, new, need)
+            if len(lead) < len(miss):
+                parts[-1] = (miss, new.subset(inverse))
         whole = len(parts) == 1 and len(parts[0][0]) == n and np.array_equal(parts[0][0], np.arange(n))
         return (parts[0][1] if whole else pg.joined(parts, n)), borrowed
 
@@ -337,11 +366,11 @@ class DrawnPopulation(Population):
         good = np.zeros(n * s, dtype=bool)
         ratio = np.zeros(n * s)
         if rows.size:  # the rows the track reaches: Newton from it (groups.solve_group)
-            zr, ok, sign, ratio[rows] = group.newton(z[rows], known[rows], pg.subset(const, rows),
+            zr, ok, det, ratio[rows] = group.newton(z[rows], known[rows], pg.subset(const, rows),
                                                       pg.RESIDUAL_RTOL * scale[design[rows]], pg.ROW_ITERATIONS,
                                                       polish=True)
             turned = np.abs(zr - z[rows])[:, group.angle_cols]
-            good[rows] = ok & (sign == track.sign[design[rows]]) & np.all(turned < 0.5 * math.pi, axis=-1)
+            good[rows] = ok & (np.sign(det) == track.sign[design[rows]]) & np.all(turned < 0.5 * math.pi, axis=-1)
             z[rows] = np.where(good[rows, None], zr, z[rows])
         return z, good.reshape(n, s), ratio.reshape(n, s), past
 

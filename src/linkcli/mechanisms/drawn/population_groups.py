@@ -33,15 +33,18 @@ test_drawn_triads.py: 60 designs x 40 drive values of three triads, row for row)
 a population followed are kept (TrackCache, a ring of slots by the design's variables): the
 same design at other drive values takes its track, and a design within NEAR of a followed
 one in every variable (a difference probe) solves its rows from that one's track, when it
-reached its drive values without a dead point.
+reached its drive values without a dead point. A design within CARRY of such a one (a
+search's step) has that track carried over (`transport`: Newton at all its nodes at once,
+kept where every node solves on the drawn branch and no hub turns by pi / 4 between nodes;
+else followed): one batched solve instead of some forty sequential steps.
 
 Rows (N, S): Newton (ROW_ITERATIONS) batched over all rows from the track interpolated at their
 drive values (the parabola through the two track points about a value and a third beside);
 invalid where Newton does not converge, lands on the other sign of det J or
 turns a hub by pi / 2 from the guess (groups.solve_group), or where the drive value lies past
 the track's end (a dead point first, in the drive's direction of travel). A design whose
-forward lane turns the whole BOUND and comes back to its drawing is periodic: a drive value
-beyond a turn either way is taken modulo a turn on it. Invalid rows keep the track's place
+forward lane turns the whole BOUND and comes back to its drawing is periodic: its branch is
+closed, every drive value is taken modulo a turn on it, and its track serves any value. Invalid rows keep the track's place
 (interpolated, or held at its end): positions stay finite and continuous.
 
 Margin of the group's closures (length unit): where a row closes, s(J) = L |det J| /
@@ -76,6 +79,8 @@ TRACK_ITERATIONS = 4  # Newton steps per continuation step (groups._follow: 12; 
 TRACK_RTOL = 1e-8  # a track point converged (relative to the size): it only guides the rows, which
 # are solved to groups.RESIDUAL_RTOL
 ROW_ITERATIONS = NEWTON_ITERATIONS
+POLISH_ABOVE = 0.01  # of the rows' tolerance (RESIDUAL_RTOL: 1e-15 of the size, round-off in the
+# lengths' squares): a row converged below it is not polished (one more step would move it by round-off)
 PERIOD_RTOL = 1e-6  # a lane back at its drawing after a turn: within this of the size
 
 
@@ -195,6 +200,21 @@ class PopulationGroup:
         self.len_const = (len_const.real, len_const.imag)  # (l, m) each
         self.pin_varying = varying(self.pin_a, self.pin_b)
         self.len_varying = varying(self.len_a, self.len_b)
+        self.triad = self._triad_shape()
+
+    def _triad_shape(self):
+        """(the kept link's end of each length, the known end's column of `known`) where the group
+        is one kept link held by lengths to known joints alone (a six-bar's triad: `_triad`
+        computes it in real arithmetic); None for any other group."""
+        if len(self.kept) != 1 or self.free or self.pin_rows:
+            return None
+        kept, known = [], []
+        for a, b in zip(self.len_a, self.len_b):
+            if (self.kept_of[a] >= 0) == (self.kept_of[b] >= 0):
+                return None
+            kept.append(a if self.kept_of[a] >= 0 else b)
+            known.append(self.base[b] if self.kept_of[a] >= 0 else self.base[a])
+        return np.array(kept, dtype=int), np.array(known, dtype=int)
 
     # ------------------------------------------------------------ unknowns and points
     def constants(self, z0, lanes: np.ndarray) -> dict:
@@ -208,6 +228,9 @@ class PopulationGroup:
         lengths = np.zeros((len(lanes), len(self.lengths)))
         for i, (_, j1, j2) in enumerate(self.lengths):
             lengths[:, i] = np.abs(z0[j1][:, 0] - z0[j2][:, 0])[lanes]
+        if self.triad is not None:  # each length's arm on the kept link, in real arithmetic
+            arm = arms[:, self.triad[0]]
+            return {"arm_x": arm.real.copy(), "arm_y": arm.imag.copy(), "lengths": lengths}
         return {"arms": arms, "lengths": lengths}
 
     def stack_known(self, known: dict, lanes: int) -> np.ndarray:
@@ -236,10 +259,39 @@ class PopulationGroup:
         arm = const["arms"] * (turn[:, np.maximum(self.kept_of, 0)] if len(kc) else 0.0)
         return places[:, self.base] + arm, arm
 
+    def _pins(self, z, const):
+        """(p_x, p_y, u_x, u_y) (L, 3) of a triad: each length's pin on the kept link, p = a +
+        u, its drawn arm from the hub turned, u = u0 e^{i theta}."""
+        c, s = np.cos(z[:, 2:3]), np.sin(z[:, 2:3])
+        ax, ay = const["arm_x"], const["arm_y"]
+        ux, uy = ax * c - ay * s, ax * s + ay * c
+        return z[:, 0:1] + ux, z[:, 1:2] + uy, ux, uy
+
+    def _triad(self, z, known, const, jacobian: bool):
+        """`residual` of a triad (`_triad_shape`) over flat lanes, in real arithmetic and (L, 3)
+        arrays: with e = p - k from a length's known end k to its pin p (`_pins`),
+        g = (|e|^2 - r^2) / (2 r) and dg / d(a_x, a_y, theta) = (e_x, e_y, e x (i u)) / r. The
+        general path's values within round-off; its complex products may fuse their
+        multiply-adds on some CPUs, these real ones are rounded alike everywhere."""
+        px, py, ux, uy = self._pins(z, const)
+        k = known[:, self.triad[1]]
+        ex, ey = px - k.real, py - k.imag
+        r = const["lengths"]
+        f = ((ex * ex + ey * ey) - r * r) / (2.0 * r)
+        if not jacobian:
+            return f, None
+        jac = np.empty((len(z), 3, 3))
+        jac[:, :, 0], jac[:, :, 1] = ex / r, ey / r
+        jac[:, :, 2] = (ex * -uy + ey * ux) / r
+        return f, jac
+
     def residual(self, z, known, const, jacobian: bool = True):
         """(f (L, m) length unit, J (L, m, m) or None): the pins' rows (x, then y), then the
         lengths' (module docstring). J from `_tables`'s pattern: its constant part at once,
-        then the entries that turn with a kept link's angle one by one (no (L, E, m) array)."""
+        then the entries that turn with a kept link's angle one by one (no (L, E, m) array); a
+        triad's by `_triad`."""
+        if self.triad is not None:
+            return self._triad(z, known, const, jacobian)
         p, arm = self._ends(z, known, const)
         e = p[:, self.pin_a] - p[:, self.pin_b]
         d = p[:, self.len_a] - p[:, self.len_b]
@@ -271,68 +323,71 @@ class PopulationGroup:
             jac[:, 2 * npin + k, c] = (d.real[:, k] * (c_re[k, c] + re) + d.imag[:, k] * (c_im[k, c] + im)) / r[:, k]
         return f, jac
 
-    def newton(self, z, known, const, tol, iterations: int, stall: bool = False, ratio: bool = True,
+    def newton(self, z, known, const, tol, iterations: int, stall: int = 0, ratio: bool = True,
                polish: bool = False):
-        """(z, converged, sign of det J, Hadamard's ratio |det J| / prod |columns| or None) over
+        """(z, converged, det J, Hadamard's ratio |det J| / prod |columns| or None) over
         flat lanes (known: (L, K), stack_known); a lane stops moving once every residual is
         within `tol` (or one is not finite: groups.GroupSolver.newton), and only the lanes
-        still moving are computed. `stall`: a lane whose largest residual has not halved in an
-        iteration from the third on stops too (a continuation step that would not converge:
-        near a dead point Newton's rate falls to a halving an iteration, and a far guess
-        diverges; the step is then halved anyway). `polish`: one more Newton step on the lanes
-        that converged (quadratic convergence takes them to round-off: the rows' places then
-        do not depend on the guess, and a search's differences see the design, not the
-        tolerance)."""
+        still moving are computed. `stall` (> 0): a lane whose largest residual has not halved in
+        an iteration from iteration `stall` on stops too (a continuation step that would not
+        converge: near a dead point Newton's rate falls to a halving an iteration, and a far
+        guess diverges; the step is then halved anyway). `polish`: one more Newton step on the lanes
+        that converged with a residual above POLISH_ABOVE of `tol` (quadratic convergence takes
+        them to round-off: the rows' places then do not depend on the guess, and a search's
+        differences see the design, not the tolerance; below it they are there already)."""
         z = np.array(z, dtype=float)
         lanes = len(z)
-        idx = np.arange(lanes)
-        before = np.full(lanes, np.inf)
         done = np.zeros(lanes, dtype=bool)
-        jac_end = np.zeros((lanes, self.m, self.m))
-        f_end = np.zeros((lanes, self.m))
+        det = np.zeros(lanes)
+        hadamard = np.zeros(lanes) if ratio else None
+        polished = np.full((lanes, self.m), np.nan)  # a converged lane's polish step's end
+        idx, zk, kk, ck, tk = np.arange(lanes), z, known, const, tol  # the lanes still moving
+        before = np.full(lanes, np.inf)
         for it in range(iterations + 1):
-            f, jac = self.residual(z[idx], known[idx], subset(const, idx))
+            f, jac = self.residual(zk, kk, ck)
             worst = np.max(np.abs(f), axis=-1)
-            converged = worst <= tol[idx]
-            move = ~converged & np.all(np.isfinite(f), axis=-1)
-            if stall and it >= 2:
-                move &= worst < 0.5 * before[idx]
+            converged = worst <= tk
+            move = ~converged & np.isfinite(worst)
+            if stall and it >= stall:
+                move &= worst < 0.5 * before
             if it == iterations:
                 move[:] = False
-            before[idx] = worst
             stop = ~move
-            done[idx[stop]] = converged[stop]
-            jac_end[idx[stop]] = jac[stop]
-            f_end[idx[stop]] = f[stop]
+            if stop.any():  # the lanes that stop: their places, and det J where they stop (or polished)
+                at = idx[stop]
+                z[at], done[at] = zk[stop], converged[stop]
+                again = converged & (worst > POLISH_ABOVE * tk) if polish else np.zeros(len(stop), dtype=bool)
+                if again.any():
+                    polished[idx[again]] = zk[again] - solve_small(jac[again], f[again])[0]
+                here = stop & ~again
+                det[idx[here]], h = _measure(jac[here], ratio)
+                if ratio:
+                    hadamard[idx[here]] = h
             if not move.any():
                 break
-            keep = np.flatnonzero(move)
-            step, _ = solve_small(jac[keep], f[keep])
-            idx = idx[keep]
-            z[idx] -= step
-        if polish and done.any():
-            idx = np.flatnonzero(done)
-            step, _ = solve_small(jac_end[idx], f_end[idx])  # the residual that found them converged
-            moved = z[idx] - step
-            f2, jac2 = self.residual(moved, known[idx], subset(const, idx))
-            better = np.all(np.isfinite(moved), axis=1) & (np.max(np.abs(f2), axis=-1) <= tol[idx])
-            z[idx[better]] = moved[better]
-            jac_end[idx[better]] = jac2[better]
-        det = det_small(jac_end)
-        if not ratio:
-            return z, done, np.sign(det), None
-        norms = np.ones(lanes)
-        for k in range(self.m):
-            column = np.zeros(lanes)
-            for i in range(self.m):
-                column = column + jac_end[:, i, k] * jac_end[:, i, k]
-            norms = norms * np.sqrt(column)
-        with np.errstate(all="ignore"):
-            hadamard = np.where(norms > 0.0, np.abs(det) / norms, 0.0)
-        return z, done, np.sign(det), hadamard
+            if stop.any():
+                idx, zk, kk, ck, tk = idx[move], zk[move], kk[move], subset(ck, move), tk[move]
+                worst, jac, f = worst[move], jac[move], f[move]
+            zk = zk - solve_small(jac, f)[0]
+            before = worst
+        at = np.flatnonzero(~np.isnan(polished[:, 0]))
+        if len(at):  # one more Newton step where it keeps the residual within tol
+            moved = polished[at]
+            f2, jac2 = self.residual(moved, known[at], subset(const, at))
+            better = np.all(np.isfinite(moved), axis=1) & (np.max(np.abs(f2), axis=-1) <= tol[at])
+            z[at[better]] = moved[better]
+            if not better.all():  # det J where they stay
+                _, jac2[~better] = self.residual(z[at[~better]], known[at[~better]], subset(const, at[~better]))
+            det[at], h = _measure(jac2, ratio)
+            if ratio:
+                hadamard[at] = h
+        return z, done, det, hadamard
 
     def places(self, z, known, const) -> dict:
         """The group's pinned joints' places (L,) from its unknowns (the kept and free ones)."""
+        if self.triad is not None:
+            px, py, _, _ = self._pins(z, const)
+            return {self.ends[e][0]: px[:, i] + 1j * py[:, i] for i, e in enumerate(self.triad[0])}
         p, _ = self._ends(z, known, const)
         return {joint: p[:, e] for e, (joint, holder) in enumerate(self.ends)
                 if holder != GROUND and (holder == "free" or self.owner[joint] == holder)}
@@ -373,9 +428,9 @@ def follow(group: PopulationGroup, prefix, z0, scale, reach) -> Track:
     const = group.constants(z0, design)
     ones = np.arange(n)
     known0, _ = prefix(ones, np.zeros(n))
-    z, ok, sign, _ = group.newton(group.drawn(z0, ones), known0, group.constants(z0, ones),
-                                  RESIDUAL_RTOL * scale, ROW_ITERATIONS, ratio=False)
-    sign0 = np.where(ok, sign, 0.0)
+    z, ok, det, _ = group.newton(group.drawn(z0, ones), known0, group.constants(z0, ones),
+                                 RESIDUAL_RTOL * scale, ROW_ITERATIONS, ratio=False)
+    sign0 = np.where(ok, np.sign(det), 0.0)
     size = np.where(group.length_col[None, :], scale[design][:, None], 1.0)
     last_q, prev_q, older_q = np.zeros(2 * n), np.zeros(2 * n), np.zeros(2 * n)
     last_z, prev_z, older_z = z[design], z[design], z[design]
@@ -394,13 +449,13 @@ def follow(group: PopulationGroup, prefix, z0, scale, reach) -> Track:
         guess = _predict(step_q, lq, lz, prev_q[act], prev_z[act], older_q[act], older_z[act],
                          np.where(first, 0, behind[act]))
         known, valid = prefix(design[act], step_q)
-        znew, conv, s, _ = group.newton(guess, known, subset(const, act), tol[act], TRACK_ITERATIONS, stall=True,
-                                        ratio=False)
+        znew, conv, det, _ = group.newton(guess, known, subset(const, act), tol[act], TRACK_ITERATIONS, stall=2,
+                                          ratio=False)
         scaled = size[act]
         moved = np.max(np.abs(guess - lz) / scaled, axis=-1)
         corrected = np.max(np.abs(znew - guess) / scaled, axis=-1)
         calm = np.all(np.abs(znew - lz)[:, group.angle_cols] < math.pi / 4, axis=-1)
-        closes = valid & conv & (s == sign0[design[act]]) & calm
+        closes = valid & conv & (np.sign(det) == sign0[design[act]]) & calm
         good = closes & (first | (corrected <= CORRECTION * moved + 1e-9))
         fresh[act] = ~good & (first | closes)  # only the secant was wrong (a chord longer than the step): restart
         took = act[good]
@@ -427,13 +482,60 @@ def follow(group: PopulationGroup, prefix, z0, scale, reach) -> Track:
     q_track = np.repeat(last_q[:, None], width, axis=1)
     z_track = np.repeat(last_z[:, None, :], width, axis=1)
     q_track[lanes, slot], z_track[lanes, slot] = qs, zs
-    back = last_z[0::2] - z
-    back[:, group.angle_cols] = np.mod(back[:, group.angle_cols] + math.pi, 2 * math.pi) - math.pi
-    periodic = (np.isnan(end[0::2]) & (np.abs(last_q[0::2]) >= BOUND) & (sign0 != 0.0)
-                & np.all(np.abs(back) <= PERIOD_RTOL * size[0::2], axis=-1))
+    periodic = _periodic(group, last_q[0::2], last_z[0::2], z, end[0::2], sign0, size[0::2])
     m = group.m
     return Track(q_track.reshape(n, 2, width), z_track.reshape(n, 2, width, m), count.reshape(n, 2),
                  end.reshape(n, 2), sign0, periodic)
+
+
+def _periodic(group, last_q, last_z, z, end, sign0, size) -> np.ndarray:
+    """(N,) the forward lanes that turned the whole BOUND without a dead point and came back to
+    their drawings z (N, m) within PERIOD_RTOL of the size."""
+    back = last_z - z
+    back[:, group.angle_cols] = np.mod(back[:, group.angle_cols] + math.pi, 2 * math.pi) - math.pi
+    return (np.isnan(end) & (np.abs(last_q) >= BOUND) & (sign0 != 0.0)
+            & np.all(np.abs(back) <= PERIOD_RTOL * size, axis=-1))
+
+
+def transport(group: PopulationGroup, prefix, z0, scale, source: Track) -> tuple[Track, np.ndarray]:
+    """(track, carried (N,)): each design's continuation carried over from a neighbour's
+    (`source`: whole lanes, no dead point, reaching as far as the design needs) instead of
+    followed step by step: Newton at every node of the neighbour's lanes at once (its drive
+    values; its places there the guesses; TRACK_RTOL), the drawing itself at q = 0. A design's
+    track is `carried` only where every node solves with Newton's residual at least halving
+    from its first iteration (the neighbour's place lies in the basin of the design's own: a
+    far or ambiguous start does not contract at once), on the drawn sign of det J, with every
+    closure before the group closing and no hub turning by pi / 4 between nodes, and where it
+    comes back to its drawing after a turn as the neighbour's did (periodic); else it is
+    followed. A dead point between two nodes that the neighbour lacks shows as rows that do not
+    solve: the design is then followed (DrawnPopulation._group, as for a probe)."""
+    n, _, width = source.q.shape
+    ones = np.arange(n)
+    known0, _ = prefix(ones, np.zeros(n))
+    drawn, ok0, det0, _ = group.newton(group.drawn(z0, ones), known0, group.constants(z0, ones),
+                                       RESIDUAL_RTOL * scale, ROW_ITERATIONS, ratio=False)
+    sign0 = np.where(ok0, np.sign(det0), 0.0)
+    count = source.count
+    k = np.arange(width)
+    design, lane, node = np.nonzero((k >= 1) & (k < count[..., None]))
+    known, valid = prefix(design, source.q[design, lane, node])
+    z_node, conv, det, _ = group.newton(source.z[design, lane, node], known, group.constants(z0, design),
+                                         TRACK_RTOL * scale[design], ROW_ITERATIONS, stall=1, ratio=False)
+    z = np.empty_like(source.z)
+    z[:, :, 0] = drawn[:, None, :]
+    z[design, lane, node] = z_node
+    last = np.minimum(k, count[..., None] - 1)  # past a lane's count: its last node, as follow pads
+    z = np.take_along_axis(z, last[..., None], axis=2)
+    calm = np.all(np.abs(z_node - z[design, lane, node - 1])[:, group.angle_cols] < math.pi / 4, axis=-1)
+    size = np.where(group.length_col[None, :], scale[:, None], 1.0)
+    q = source.q
+    good = valid & conv & (np.sign(det) == sign0[design]) & calm
+    end = np.full((n, 2), np.nan)
+    last_fwd = count[:, 0] - 1
+    periodic = _periodic(group, q[ones, 0, last_fwd], z[ones, 0, last_fwd].copy(), drawn, end[:, 0], sign0, size)
+    carried = (sign0 != 0.0) & (sign0 == source.sign) & (periodic == source.periodic)
+    np.logical_and.at(carried, design, good)
+    return Track(q.copy(), z, count.copy(), end, sign0, periodic), carried
 
 
 def _predict(t, q2, z2, q1, z1, q0, z0, behind):
@@ -496,6 +598,8 @@ class TrackCache:
     again leaves its older slot empty), so a store costs its own designs, not the cache's."""
 
     CAP = 4096
+    RECENT = 256  # the neighbours `near` looks among: the designs last stored (a probe's own design, an
+    # iterate before the step)
 
     def __init__(self) -> None:
         self.x = np.zeros((0, 0))
@@ -504,6 +608,7 @@ class TrackCache:
         self.filled = np.zeros(0, dtype=bool)
         self.track: Track | None = None
         self.next = 0  # the ring's next slot
+        self.order: np.ndarray | None = None  # `find`'s filled slots by key (None: changed since)
 
     @staticmethod
     def row_keys(x: np.ndarray) -> np.ndarray:
@@ -518,32 +623,42 @@ class TrackCache:
     def _usable(self, x: np.ndarray) -> bool:
         return self.track is not None and self.x.shape[1] == x.shape[1] and bool(self.filled.any())
 
+    def _reaches(self, slot: np.ndarray, reach: np.ndarray) -> np.ndarray:
+        """Whether the tracks in `slot` serve drive values as far as `reach` (N, 2): their lanes
+        went as far, or the branch is closed (periodic: any value, modulo a turn)."""
+        assert self.track is not None
+        return np.all(self.reach[slot] >= reach, axis=-1) | self.track.periodic[slot]
+
     def find(self, x: np.ndarray, keys: np.ndarray, reach: np.ndarray) -> np.ndarray:
         """(N,) each design's slot in the cache, -1 where it has none reaching `reach`."""
         if not self._usable(x):
             return np.full(len(x), -1)
-        slots = np.flatnonzero(self.filled)
-        order = slots[np.argsort(self.keys[slots], kind="stable")]
+        if self.order is None:  # the filled slots by key, sorted again after a store
+            slots = np.flatnonzero(self.filled)
+            self.order = slots[np.argsort(self.keys[slots], kind="stable")]
+        order = self.order
         at = np.minimum(np.searchsorted(self.keys[order], keys), len(order) - 1)
         slot = order[at]
-        hit = ((self.keys[slot] == keys) & np.all(self.x[slot] == x, axis=1)
-               & np.all(self.reach[slot] >= reach, axis=1))
+        hit = ((self.keys[slot] == keys) & np.all(self.x[slot] == x, axis=1) & self._reaches(slot, reach))
         return np.where(hit, slot, -1)
 
-    def near(self, x: np.ndarray, reach: np.ndarray, spacing: np.ndarray) -> np.ndarray:
+    def near(self, x: np.ndarray, reach: np.ndarray, spacing: np.ndarray, closest: bool = False) -> np.ndarray:
         """(N,) for each design the slot of a cached design within `spacing` (per variable)
         of it in every variable whose lanes both reached as far as needed without a dead
-        point (-1: none; the first slot of several): a search's difference probes of one
-        design, whose tracks are the same branch to within the probe -- its rows are then
+        point (-1: none; the first slot of several, or with `closest` the nearest in the
+        largest of the distances over `spacing`, then the first): a search's difference probes
+        of one design, whose tracks are the same branch to within the probe -- its rows are then
         solved from the neighbour's track (Newton converges to the design's own places; a
         dead point the neighbour does not have shows as rows that do not converge or change
-        sign: invalid). The pairs are found along the first variable (sorted: a window of
+        sign: invalid) -- or a design to carry a track to (`transport`). Looked for among the
+        RECENT designs last stored (a search's probes and steps start from the design it has
+        just evaluated), their pairs found along the first variable (sorted: a window of
         +-spacing each), then checked in every variable: a call costs its pairs, not N x CAP."""
         if not self._usable(x) or not x.shape[1]:
             return np.full(len(x), -1)
         assert self.track is not None
-        whole = self.filled & np.isnan(self.track.end).all(axis=1) & (self.track.sign != 0.0)
-        slots = np.flatnonzero(whole)
+        slots = (self.next - 1 - np.arange(min(self.RECENT, self.CAP))) % self.CAP  # the latest stored first
+        slots = slots[self.filled[slots] & np.isnan(self.track.end[slots]).all(axis=1) & (self.track.sign[slots] != 0.0)]
         if not len(slots):
             return np.full(len(x), -1)
         order = slots[np.argsort(self.x[slots, 0], kind="stable")]
@@ -554,10 +669,18 @@ class TrackCache:
         query = np.repeat(np.arange(len(x)), counts)
         offset = np.arange(len(query)) - np.repeat(np.cumsum(counts) - counts, counts)
         slot = order[np.repeat(lo, counts) + offset]
+        with np.errstate(all="ignore"):
+            apart = np.max(np.where(spacing > 0.0, np.abs(x[query] - self.x[slot]) / spacing, 0.0), axis=-1)
         close = (np.all(np.abs(x[query] - self.x[slot]) <= spacing[None, :], axis=-1)
-                 & np.all(self.reach[slot] >= reach[query], axis=-1))
+                 & self._reaches(slot, reach[query]))
+        query, slot, apart = query[close], slot[close], apart[close]
+        if closest and len(query):  # per query: the least distance, then the least slot
+            pick = np.lexsort((slot, apart, query))  # slot: ties to the first of the ring's slots
+            query, slot = query[pick], slot[pick]
+            first_of = np.r_[True, query[1:] != query[:-1]]
+            query, slot = query[first_of], slot[first_of]
         out = np.full(len(x), len(self.keys))
-        np.minimum.at(out, query[close], slot[close])
+        np.minimum.at(out, query, slot)
         return np.where(out < len(self.keys), out, -1)
 
     def take(self, slots: np.ndarray) -> Track:
@@ -576,6 +699,7 @@ class TrackCache:
                 np.arange(n - self.CAP, n))
             n = self.CAP
         self.filled &= ~np.isin(self.keys, keys)
+        self.order = None
         width = max(self.track.q.shape[-1], track.q.shape[-1])
         if width > self.track.q.shape[-1]:
             self.track = padded(self.track, width)
@@ -599,7 +723,7 @@ def at_rows(track: Track, q):
     """(inside (N, S), past (N, S) how far past its lane's end, z guess (N, S, m)) at drive
     values q (N, S): the lane of each value's sign (forward for q >= 0), interpolated."""
     n, s = q.shape
-    q = np.where(track.periodic[:, None] & (np.abs(q) > BOUND), np.mod(q, BOUND), q)
+    q = np.where(track.periodic[:, None], np.mod(q, BOUND), q)  # a closed branch: any value, modulo a turn
     lane = np.where(q >= 0.0, 0, 1)
     t = np.abs(q)
     tq = np.abs(track.q)  # (N, 2, T), |q| increasing along each lane
@@ -724,3 +848,16 @@ def _first_row(a: np.ndarray):
     a20, a21, a22 = a[:, 2, 0], a[:, 2, 1], a[:, 2, 2]
     c00, c01, c02 = a11 * a22 - a12 * a21, a12 * a20 - a10 * a22, a10 * a21 - a11 * a20
     return a00 * c00 + a01 * c01 + a02 * c02, c00, c01, c02
+
+
+def _measure(jac: np.ndarray, ratio: bool):
+    """(det J, Hadamard's ratio |det J| / prod_j |J_:,j| in [0, 1] or None) of stacks J."""
+    det = det_small(jac)
+    if not ratio:
+        return det, None
+    norms = np.ones(len(jac))
+    for k in range(jac.shape[-1]):
+        column = jac[:, :, k]
+        norms = norms * np.sqrt(np.sum(column * column, axis=-1))
+    with np.errstate(all="ignore"):
+        return det, np.where(norms > 0.0, np.abs(det) / norms, 0.0)
