@@ -200,8 +200,8 @@ KEYS = {
         'worst_row.failure_probability_ci95', 'worst_row.row',
     ),
     'topologies': (
-        'budget_per_run', 'reach', 'rows.[].choice', 'rows.[].max_error', 'rows.[].note',
-        'rows.[].objective', 'rows.[].status', 'rows.[].topology', 'topology',
+        'reach', 'rows.[].budget', 'rows.[].choice', 'rows.[].max_error', 'rows.[].objective',
+        'rows.[].status', 'rows.[].topology', 'topology',
     ),
     'tradeoff': (
         '[].coupler', '[].coupler2', '[].ground', '[].ground_angle', '[].ground_pivot',

@@ -10,15 +10,14 @@ catalogue's order. The `topologies` section lists the best of every choice and t
 
 A choice whose drive reaches the rest through a triad (an Assur group of four links: every
 Stephenson II, some Stephenson III) is followed over the population by continuation from each
-drawing on its drawn branch (drawn.population_groups), at some 40 times a dyad's cost an
-evaluation over a population and some 100 times for one design (benchmarks/drawn_population.py:
-1,000 designs x 72 drive values in 0.38 s against 9 to 10 ms). A sweep searches it when its
-topology offers no other choice (stephenson-ii); beside choices of dyads it is listed `not
-searched` (it would take most of the sweep's time, and a time-fair share of the budget is
-below a search's floor: docs/six_bars.md), with a note: draw it in [joints] to design it.
+drawing on its drawn branch (drawn.population_groups), at some TRIAD_COST times a dyad's cost
+an evaluation in a search (docs/six_bars.md: 0.54 ms against 0.03 to 0.05 ms on the example):
+every choice is searched, and a triad choice's runs are given TRIAD_COST times fewer
+evaluations than a choice of dyads, so that each choice has about the same time.
 
-The budget ([solver] budget, or the shared search's default) is shared evenly by the runs; the
-seed is the file's for every run, so the sweep is deterministic.
+The budget ([solver] budget, or the shared search's default) is shared by the runs in those
+weights (a triad's 1 / TRIAD_COST, a dyad's 1), each run at least MIN_RUN_BUDGET; the seed is the
+file's for every run, so the sweep is deterministic.
 """
 
 from __future__ import annotations
@@ -32,6 +31,7 @@ DRAWINGS = 2  # starting drawings searched per choice
 FUNCTION_BOX = (0.0, 0.0, 100.0, 100.0)  # a function's drawings (its error does not depend on the scale)
 MIN_RUN_BUDGET = 2_000
 TRIAD = "triad"
+TRIAD_COST = 10  # a triad choice's evaluation over a dyad choice's in a search (module docstring)
 
 
 def target_box(problem) -> tuple[float, float, float, float]:
@@ -53,16 +53,16 @@ def boxes_of(drawing, half: float, kind: str = "path") -> dict:
             if not (kind == "function" and j.ground)}
 
 
-def runs(problem):
-    """(choice, searched) of the topology's choices and the four-bar's, in catalogue order
-    (the baseline last); `searched` False for a triad beside choices without one (module
-    docstring)."""
+def runs(problem, total: int) -> list[tuple]:
+    """(choice, budget of each of its runs) of the topology's choices and the four-bar's, in
+    catalogue order (the baseline last): `total` shared in the weights of the module docstring."""
     from linkcli.mechanisms.drawn import catalogue
     timing = "any" if problem.kind != "function" and problem.timing == "free" else "prescribed"
-    six = catalogue.choices(problem.topology, problem.kind, timing)
-    four = catalogue.choices(catalogue.BASELINE, problem.kind, "prescribed")
-    triads_only = all(c.plan == TRIAD for c in six)
-    return [(c, triads_only or c.plan != TRIAD) for c in six + four]
+    todo = catalogue.choices(problem.topology, problem.kind, timing) + catalogue.choices(catalogue.BASELINE,
+                                                                                         problem.kind, "prescribed")
+    weight = [1.0 / TRIAD_COST if c.plan == TRIAD else 1.0 for c in todo]
+    unit = total / (DRAWINGS * sum(weight))
+    return [(c, max(MIN_RUN_BUDGET, int(unit * w))) for c, w in zip(todo, weight)]
 
 
 def sweep(problem) -> Solution:
@@ -71,27 +71,22 @@ def sweep(problem) -> Solution:
     from linkcli.mechanisms.drawn import catalogue
     from linkcli.synthesis import search as shared
     from linkcli.synthesis.design import design_drawing
-    todo = runs(problem)
-    searched = [c for c, ok in todo if ok]
-    if not any(c.topology != catalogue.BASELINE for c in searched):
+    opts = problem.meta.solver
+    todo = runs(problem, opts.budget or shared.DEFAULT_BUDGET)
+    if not any(c.topology != catalogue.BASELINE for c, _ in todo):
         why = catalogue.empty_reason(problem.topology, problem.kind, "any" if problem.timing == "free"
                                      and problem.kind != "function" else "prescribed")
         raise SolveInputError("a topology with a choice the design can search",
                               why or f"{problem.topology} offers no choice for this design",
                               path=problem.meta.path, key="linkage.topology")
-    opts = problem.meta.solver
-    total = opts.budget or shared.DEFAULT_BUDGET
-    per_run = max(MIN_RUN_BUDGET, total // (len(searched) * DRAWINGS))
-    run_problem = replace(problem, meta=replace(problem.meta, solver=replace(opts, budget=per_run)))
     box = target_box(problem)
     half = problem.reach * math.hypot(box[2] - box[0], box[3] - box[1])
     if problem.kind == "function":
         half = problem.reach * math.hypot(FUNCTION_BOX[2], FUNCTION_BOX[3])
     best_of: dict = {}
     used = 0
-    for index, (choice, ok) in enumerate(todo):
-        if not ok:
-            continue
+    for index, (choice, budget) in enumerate(todo):
+        run_problem = replace(problem, meta=replace(problem.meta, solver=replace(opts, budget=budget)))
         for drawing in catalogue.starting_drawings(choice, box, seed=opts.seed or 0, count=DRAWINGS):
             joint = "P" if problem.kind == "path" else None
             link = choice.target if problem.kind != "path" else None
@@ -100,14 +95,13 @@ def sweep(problem) -> Solution:
             used += sol.solver.evaluations if sol.solver else 0
             if choice.label not in best_of or _rank(sol, index) < _rank(best_of[choice.label][0], index):
                 best_of[choice.label] = (sol, index)
-    six = [best_of[c.label] for c in searched if c.topology != catalogue.BASELINE]
+    six = [best_of[c.label] for c, _ in todo if c.topology != catalogue.BASELINE]
     best, _ = min(six, key=lambda item: _rank(*item))
-    rows = [_row(c, best_of.get(c.label), problem) for c, _ in todo]
+    rows = [_row(c, budget, best_of[c.label][0], problem) for c, budget in todo]
     converged = best.solver.converged if best.solver else False
     solver = SolverRecord(best.solver.method if best.solver else "multistart-lm+kkt", opts.seed, used, converged)
     sections = dict(best.sections)
-    sections["topologies"] = {"topology": problem.topology, "reach": problem.reach, "budget_per_run": per_run,
-                              "rows": rows}
+    sections["topologies"] = {"topology": problem.topology, "reach": problem.reach, "rows": rows}
     chosen = next(r for r in rows if r["choice"] in best_of and best_of[r["choice"]][0] is best)
     notes = list(best.notes) + [_baseline_note(rows, chosen)]
     return replace(best, solver=solver, sections=sections, notes=[n for n in notes if n],
@@ -122,16 +116,10 @@ def _rank(sol: Solution, index: int) -> tuple:
     return order, objective, index
 
 
-def _row(choice, found, problem) -> dict:
-    """One row of the topologies table: the choice and its best design's status and error
-    (`found` None: not searched, a triad beside choices of dyads)."""
-    if found is None:
-        return {"choice": choice.label, "topology": choice.topology, "status": "not searched",
-                "objective": None, "max_error": None,
-                "note": "a triad beside choices of dyads (40 to 100 times their cost an evaluation): "
-                        "draw it in [joints] to design it"}
-    sol = found[0]
-    row = {"choice": choice.label, "topology": choice.topology, "status": sol.status.value,
+def _row(choice, budget: int, sol: Solution, problem) -> dict:
+    """One row of the topologies table: the choice, the budget of each of its runs, its best
+    design's status and error."""
+    row = {"choice": choice.label, "topology": choice.topology, "budget": budget, "status": sol.status.value,
            "objective": sol.objective, "max_error": None}
     if sol.positions is not None and len(sol.positions.error):
         worst = max(abs(float(e)) for e in sol.positions.error)
