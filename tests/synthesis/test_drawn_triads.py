@@ -213,16 +213,14 @@ def test_the_stephenson_ii_topology_is_searched_and_analyze_takes_its_result(tmp
     np.testing.assert_allclose(places, achieved, atol=1e-6 * 40)
 
 
-def test_a_probe_with_a_dead_point_its_neighbour_lacks_follows_its_own_track():
-    """A difference probe borrows the track of a design within NEAR of it (TrackCache.near).
-    Two designs either side of the move of E where the Stephenson II's crank stops turning:
-    the first turns fully, the second locks over a short stretch. Evaluated after the first, the
-    second's rows in its locked stretch do not solve on the borrowed track; it then follows its
-    own, and its margins -- negative past its dead point, nowhere undefined -- are those of the
-    second design evaluated alone (the analysis's reach giving the dead point's place)."""
+def _either_side_of_the_lock(apart: float):
+    """Two Stephenson II designs `apart` (of E's box, in each coordinate) either side of the
+    move of E where its crank stops turning (the analysis's reach, bisected): (turning,
+    locking, the locking one's solved form, the population of E free in a box of +-10, x of a
+    design)."""
     from dataclasses import replace
 
-    from linkcli.mechanisms.drawn.population import NEAR, DrawnPopulation
+    from linkcli.mechanisms.drawn.population import DrawnPopulation
     from linkcli.mechanisms.drawn.solved import solved
     drawing = _catalogue_drawing("stephenson-ii, ternary crank (triad), tracer P on link")
     e0 = drawing.joint("E").at
@@ -237,18 +235,31 @@ def test_a_probe_with_a_dead_point_its_neighbour_lacks_follows_its_own_track():
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if solved(moved(mid)).reach.full_turn else (lo, mid)
     half = 10.0
-    shift = 0.25 * NEAR * 2 * half  # within NEAR of each other in both of E's coordinates
+    shift = 0.5 * apart * 2 * half
     turning, locking = moved(lo - shift), moved(lo + shift)
     sv = solved(locking)
     assert solved(turning).reach.full_turn and not sv.reach.full_turn
     box = {"E": ((e0[0] - half, e0[0] + half), (e0[1] - half, e0[1] + half))}
-    q = np.linspace(0.0, 2 * math.pi, 4001)[None, :]
+
+    def population():
+        return DrawnPopulation(drawing, sv.structure, ("E",), box, traced=("P",))
 
     def design_x(d):
         return np.array([[d.joint("E").at[0], d.joint("E").at[1]]])
 
-    def population():
-        return DrawnPopulation(drawing, sv.structure, ("E",), box, traced=("P",))
+    return turning, locking, sv, population, design_x
+
+
+def test_a_probe_with_a_dead_point_its_neighbour_lacks_follows_its_own_track():
+    """A difference probe borrows the track of a design within NEAR of it (TrackCache.near).
+    Two designs either side of the move of E where the Stephenson II's crank stops turning:
+    the first turns fully, the second locks over a short stretch. Evaluated after the first, the
+    second's rows in its locked stretch do not solve on the borrowed track; it then follows its
+    own, and its margins -- negative past its dead point, nowhere undefined -- are those of the
+    second design evaluated alone (the analysis's reach giving the dead point's place)."""
+    from linkcli.mechanisms.drawn.population import NEAR
+    turning, locking, sv, population, design_x = _either_side_of_the_lock(0.5 * NEAR)  # within NEAR
+    q = np.linspace(0.0, 2 * math.pi, 4001)[None, :]
 
     alone = population().kinematics(design_x(locking), q)
     pop = population()
@@ -372,34 +383,9 @@ def test_a_design_with_a_dead_point_its_neighbour_lacks_is_followed_not_carried(
     carried from the first's (the nodes past its dead point do not solve on its drawn branch):
     it is followed, and its margins -- negative past the dead point -- are those of the design
     evaluated alone."""
-    from dataclasses import replace
-
-    from linkcli.mechanisms.drawn.population import CARRY, NEAR, DrawnPopulation
-    from linkcli.mechanisms.drawn.solved import solved
-    drawing = _catalogue_drawing("stephenson-ii, ternary crank (triad), tracer P on link")
-    e0 = drawing.joint("E").at
-
-    def moved(s):
-        return replace(drawing, joints=tuple(replace(j, at=(e0[0] - s, e0[1] + s)) if j.name == "E" else j
-                                             for j in drawing.joints))
-
-    lo, hi = 0.8, 1.0
-    for _ in range(40):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if solved(moved(mid)).reach.full_turn else (lo, mid)
-    half = 10.0
-    shift = 0.5 * (NEAR + CARRY) * 2 * half / 2  # apart by about (NEAR + CARRY) / 2 of the box
-    turning, locking = moved(lo - shift), moved(lo + shift)
-    sv = solved(locking)
-    assert solved(turning).reach.full_turn and not sv.reach.full_turn
-    box = {"E": ((e0[0] - half, e0[0] + half), (e0[1] - half, e0[1] + half))}
+    from linkcli.mechanisms.drawn.population import CARRY, NEAR
+    turning, locking, sv, population, design_x = _either_side_of_the_lock(0.5 * (NEAR + CARRY))
     q = np.linspace(0.0, 2 * math.pi, 721)[None, :]
-
-    def design_x(d):
-        return np.array([[d.joint("E").at[0], d.joint("E").at[1]]])
-
-    def population():
-        return DrawnPopulation(drawing, sv.structure, ("E",), box, traced=("P",))
 
     alone = population().kinematics(design_x(locking), q)
     followed = _counting(monkeypatch, "follow")
