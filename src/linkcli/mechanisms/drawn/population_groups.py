@@ -426,11 +426,7 @@ def follow(group: PopulationGroup, prefix, z0, scale, reach) -> Track:
     full = BOUND / TRACK_STEPS
     tol = TRACK_RTOL * scale[design]
     const = group.constants(z0, design)
-    ones = np.arange(n)
-    known0, _ = prefix(ones, np.zeros(n))
-    z, ok, det, _ = group.newton(group.drawn(z0, ones), known0, group.constants(z0, ones),
-                                 RESIDUAL_RTOL * scale, ROW_ITERATIONS, ratio=False)
-    sign0 = np.where(ok, np.sign(det), 0.0)
+    z, sign0 = _drawings(group, prefix, z0, scale)
     size = np.where(group.length_col[None, :], scale[design][:, None], 1.0)
     last_q, prev_q, older_q = np.zeros(2 * n), np.zeros(2 * n), np.zeros(2 * n)
     last_z, prev_z, older_z = z[design], z[design], z[design]
@@ -488,6 +484,16 @@ def follow(group: PopulationGroup, prefix, z0, scale, reach) -> Track:
                  end.reshape(n, 2), sign0, periodic)
 
 
+def _drawings(group, prefix, z0, scale):
+    """(z (N, m), sign0 (N,)): each design's drawing solved at q = 0 (it is a solution: Newton
+    checks it to RESIDUAL_RTOL) and the sign of det J there, its branch (0: it does not solve)."""
+    ones = np.arange(len(scale))
+    known0, _ = prefix(ones, np.zeros(len(scale)))
+    z, ok, det, _ = group.newton(group.drawn(z0, ones), known0, group.constants(z0, ones),
+                                 RESIDUAL_RTOL * scale, ROW_ITERATIONS, ratio=False)
+    return z, np.where(ok, np.sign(det), 0.0)
+
+
 def _periodic(group, last_q, last_z, z, end, sign0, size) -> np.ndarray:
     """(N,) the forward lanes that turned the whole BOUND without a dead point and came back to
     their drawings z (N, m) within PERIOD_RTOL of the size."""
@@ -511,10 +517,7 @@ def transport(group: PopulationGroup, prefix, z0, scale, source: Track) -> tuple
     solve: the design is then followed (DrawnPopulation._group, as for a probe)."""
     n, _, width = source.q.shape
     ones = np.arange(n)
-    known0, _ = prefix(ones, np.zeros(n))
-    drawn, ok0, det0, _ = group.newton(group.drawn(z0, ones), known0, group.constants(z0, ones),
-                                       RESIDUAL_RTOL * scale, ROW_ITERATIONS, ratio=False)
-    sign0 = np.where(ok0, np.sign(det0), 0.0)
+    drawn, sign0 = _drawings(group, prefix, z0, scale)
     count = source.count
     k = np.arange(width)
     design, lane, node = np.nonzero((k >= 1) & (k < count[..., None]))
@@ -532,7 +535,7 @@ def transport(group: PopulationGroup, prefix, z0, scale, source: Track) -> tuple
     good = valid & conv & (np.sign(det) == sign0[design]) & calm
     end = np.full((n, 2), np.nan)
     last_fwd = count[:, 0] - 1
-    periodic = _periodic(group, q[ones, 0, last_fwd], z[ones, 0, last_fwd].copy(), drawn, end[:, 0], sign0, size)
+    periodic = _periodic(group, q[ones, 0, last_fwd], z[ones, 0, last_fwd], drawn, end[:, 0], sign0, size)
     carried = (sign0 != 0.0) & (sign0 == source.sign) & (periodic == source.periodic)
     np.logical_and.at(carried, design, good)
     return Track(q.copy(), z, count.copy(), end, sign0, periodic), carried
