@@ -13,7 +13,9 @@ Stephenson II, some Stephenson III) is followed over the population by continuat
 drawing on its drawn branch (drawn.population_groups), at some TRIAD_COST times a dyad's cost
 an evaluation in a search (docs/six_bars.md: 0.54 ms against 0.03 to 0.05 ms on the example):
 every choice is searched, and a triad choice's runs are given TRIAD_COST times fewer
-evaluations than a choice of dyads, so that each choice has about the same time.
+evaluations than a choice of dyads, so that its time comes near theirs (a search's starts and
+settle spend some 7,000 evaluations whatever its budget: the example's triad choice takes some
+10 s of CPU for its two runs, the dyad choice some 4 s).
 
 The budget ([solver] budget, or the shared search's default) is shared by the runs in those
 weights (a triad's 1 / TRIAD_COST, a dyad's 1), each run at least MIN_RUN_BUDGET; the seed is the
@@ -102,7 +104,7 @@ def sweep(problem) -> Solution:
     solver = SolverRecord(best.solver.method if best.solver else "multistart-lm+kkt", opts.seed, used, converged)
     sections = dict(best.sections)
     sections["topologies"] = {"topology": problem.topology, "reach": problem.reach, "rows": rows}
-    chosen = next(r for r in rows if r["choice"] in best_of and best_of[r["choice"]][0] is best)
+    chosen = next(r for r in rows if best_of[r["choice"]][0] is best)
     notes = list(best.notes) + [_baseline_note(rows, chosen)]
     return replace(best, solver=solver, sections=sections, notes=[n for n in notes if n],
                    message=f"{chosen['choice']}: {best.message}")
