@@ -358,23 +358,41 @@ def _counting(monkeypatch, name):
 def test_tracks_carried_from_near_designs_give_the_followed_rows(label, monkeypatch):
     """A design within CARRY of one the population has followed has its track carried over
     (population_groups.transport: Newton at the neighbour's nodes) instead of followed: its
-    rows -- validity, places, margins -- are those of the same designs evaluated afresh."""
+    rows -- validity, places, margins -- are those of the same designs evaluated afresh, and
+    validity and places the analysis's solver's (drawn.solver with drawn.groups: twelve
+    unknowns, its own continuation), row for row."""
+    from linkcli.mechanisms.drawn import population_groups as pg
     from linkcli.mechanisms.drawn.population import CARRY
+    from linkcli.mechanisms.drawn.solver import Kinematics
+    from linkcli.mechanisms.drawn.structure import analyse
     make, size = _triad_population(label)
-    carried = _counting(monkeypatch, "transport")
+    carried = []
+    real = pg.transport
+
+    def counted(*args):
+        track, ok = real(*args)
+        carried.append(int(ok.sum()))
+        return track, ok
+    monkeypatch.setattr(pg, "transport", counted)
     pop = make()
     rng = np.random.default_rng(3)
     base = pop.drawn[None, :] + rng.uniform(-0.5, 0.5, (12, len(pop.drawn))) * (pop.hi - pop.lo) * 0.2
     q = np.repeat(np.linspace(0.0, 2 * math.pi, 48, endpoint=False)[None, :], len(base), axis=0)
-    pop.kinematics(base, q)
+    first = pop.kinematics(base, q)
     moved = base + rng.uniform(-0.5, 0.5, base.shape) * CARRY * (pop.hi - pop.lo)
     again = pop.kinematics(moved, q)
-    assert sum(carried) == len(base)
+    assert first.valid.all() and sum(carried) >= len(base) - 2, carried  # all 12 on this machine
     fresh = make().kinematics(moved, q)
     assert np.array_equal(again.valid, fresh.valid) and fresh.valid.mean() > 0.5
     ok = fresh.valid
     np.testing.assert_allclose(again.points[ok], fresh.points[ok], rtol=0, atol=1e-9 * size)
     np.testing.assert_allclose(again.margins[ok], fresh.margins[ok], rtol=0, atol=1e-9 * size)
+    for i in range(len(moved)):
+        design = pop.linkage(moved[i])
+        st = Kinematics(design, analyse(design)).run(q[i], rates=False)
+        assert np.array_equal(again.valid[i], st.valid), i
+        for p, name in enumerate(pop.traced):
+            np.testing.assert_allclose(again.points[i, st.valid, p], st.pos[name][st.valid], atol=1e-8 * size, rtol=0)
 
 
 def test_a_design_with_a_dead_point_its_neighbour_lacks_is_followed_not_carried(monkeypatch):
