@@ -13,6 +13,7 @@ import sys
 import numpy as np
 import pytest
 from conftest import ROOT
+from test_path_settle import EDGE_SLSQP
 
 CLOSED18 = ROOT / "problems" / "bench" / "closed18_free.toml"
 
@@ -96,8 +97,7 @@ def test_closed18_free_is_found_twice_at_its_edge_optimum(seed):
     assert run.returncode == 0, run.stderr
     out = json.loads(run.stdout)
     assert out["status"] == "ok"
-    slsqp = 0.0025323288
-    assert slsqp * (1 - 2e-5) <= out["error"]["objective"] <= slsqp
+    assert EDGE_SLSQP * (1 - 2e-5) <= out["error"]["objective"] <= EDGE_SLSQP
     assert math.isclose(out["linkage"]["output"], 50.0, rel_tol=1e-9)
     assert out["grashof"]["class"] == "crank-rocker"
 

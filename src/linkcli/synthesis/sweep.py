@@ -55,12 +55,17 @@ def boxes_of(drawing, half: float, kind: str = "path") -> dict:
             if not (kind == "function" and j.ground)}
 
 
+def _timing(problem) -> str:
+    """The catalogue's timing for the problem: "any" for a free-timing path or motion (only the
+    choices whose curves or motions go beyond a four-bar's), else "prescribed"."""
+    return "any" if problem.kind != "function" and problem.timing == "free" else "prescribed"
+
+
 def runs(problem, total: int) -> list[tuple]:
     """(choice, budget of each of its runs) of the topology's choices and the four-bar's, in
     catalogue order (the baseline last): `total` shared in the weights of the module docstring."""
     from linkcli.mechanisms.drawn import catalogue
-    timing = "any" if problem.kind != "function" and problem.timing == "free" else "prescribed"
-    todo = catalogue.choices(problem.topology, problem.kind, timing) + catalogue.choices(catalogue.BASELINE,
+    todo = catalogue.choices(problem.topology, problem.kind, _timing(problem)) + catalogue.choices(catalogue.BASELINE,
                                                                                          problem.kind, "prescribed")
     weight = [1.0 / TRIAD_COST if c.plan == TRIAD else 1.0 for c in todo]
     unit = total / (DRAWINGS * sum(weight))
@@ -76,8 +81,7 @@ def sweep(problem) -> Solution:
     opts = problem.meta.solver
     todo = runs(problem, opts.budget or shared.DEFAULT_BUDGET)
     if not any(c.topology != catalogue.BASELINE for c, _ in todo):
-        why = catalogue.empty_reason(problem.topology, problem.kind, "any" if problem.timing == "free"
-                                     and problem.kind != "function" else "prescribed")
+        why = catalogue.empty_reason(problem.topology, problem.kind, _timing(problem))
         raise SolveInputError("a topology with a choice the design can search",
                               why or f"{problem.topology} offers no choice for this design",
                               path=problem.meta.path, key="linkage.topology")

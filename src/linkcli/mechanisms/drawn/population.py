@@ -282,11 +282,6 @@ class DrawnPopulation(Population):
                 return group.stack_known(known, len(lanes)), np.broadcast_to(placed.valid, (len(lanes), 1))[:, 0]
             return prefix
 
-        def made(miss, new, need=None):
-            parts.append((miss, new))
-            if cache is not None:
-                cache.store(x[miss], keys[miss], reach[miss] if need is None else need, new)
-
         miss = np.flatnonzero(slots < 0)
         if cache is not None and borrow and len(miss):  # a track carried from a near design
             source = cache.near(x[miss], reach[miss], CARRY * (self.hi - self.lo), closest=True)
@@ -295,9 +290,11 @@ class DrawnPopulation(Population):
                 new, carried = pg.transport(group, prefix_of(near), {j: v[near] for j, v in z0.items()}, scale[near],
                                             cache.take(source[source >= 0]))
                 if carried.any():
-                    made(near[carried], new.subset(np.flatnonzero(carried)))
-                    borrowed[near[carried]] = True
-                    miss = np.setdiff1d(miss, near[carried])
+                    rows, new = near[carried], new.subset(np.flatnonzero(carried))
+                    parts.append((rows, new))
+                    cache.store(x[rows], keys[rows], reach[rows], new)
+                    borrowed[rows] = True
+                    miss = np.setdiff1d(miss, rows)
         if len(miss):  # followed, once a design (a call may hold one several times: its constraints)
             first, inverse = np.arange(len(miss)), np.arange(len(miss))
             if x is not None:
@@ -307,9 +304,9 @@ class DrawnPopulation(Population):
             need = np.zeros((len(lead), 2))
             np.maximum.at(need, inverse, reach[miss])
             new = pg.follow(group, prefix_of(lead), {j: v[lead] for j, v in z0.items()}, scale[lead], need)
-            made(lead, new, need)
-            if len(lead) < len(miss):
-                parts[-1] = (miss, new.subset(inverse))
+            parts.append((lead, new) if len(lead) == len(miss) else (miss, new.subset(inverse)))
+            if cache is not None:
+                cache.store(x[lead], keys[lead], need, new)
         whole = len(parts) == 1 and len(parts[0][0]) == n and np.array_equal(parts[0][0], np.arange(n))
         return (parts[0][1] if whole else pg.joined(parts, n)), borrowed
 
