@@ -79,6 +79,8 @@ TRACK_ITERATIONS = 4  # Newton steps per continuation step (groups._follow: 12; 
 TRACK_RTOL = 1e-8  # a track point converged (relative to the size): it only guides the rows, which
 # are solved to groups.RESIDUAL_RTOL
 ROW_ITERATIONS = NEWTON_ITERATIONS
+COMPACT = 0.5  # Newton drops its stopped lanes when fewer than this share of those it computes still move
+# (each drop copies every lane's data: a few rows stopping early are cheaper computed on)
 POLISH_ABOVE = 0.01  # of the rows' tolerance (RESIDUAL_RTOL: 1e-15 of the size, round-off in the
 # lengths' squares): a row converged below it is not polished (one more step would move it by round-off)
 PERIOD_RTOL = 1e-6  # a lane back at its drawing after a turn: within this of the size
@@ -250,82 +252,105 @@ class PopulationGroup:
             out[:, self.col[j]], out[:, self.col[j] + 1] = f.real, f.imag
         return out
 
-    def _ends(self, z, known, const):
-        """(P (L, E) every endpoint's place, R (L, E) its arm turned)."""
+    # ------------------------------------------------------------ equations, lanes last
+    # Newton works on arrays whose last axis is the lanes -- z (m, L), f (m, L), J (m, m, L) --
+    # so that each unknown, equation and Jacobian entry is one contiguous (L,) row: the
+    # elementwise products and the largest residual are then plain array operations, not
+    # gathers of a column or reductions along a short last axis (the rows' Newton, 51,000
+    # lanes, in two thirds of the time). The arithmetic is the same, operation for operation.
+    def _data(self, known, const) -> dict:
+        """What the equations read, lanes last, from `known` (L, K) (stack_known) and
+        `constants` (lanes first)."""
+        if self.triad is not None:
+            k = known[:, self.triad[1]]
+            return {"ax": np.ascontiguousarray(const["arm_x"].T), "ay": np.ascontiguousarray(const["arm_y"].T),
+                    "r": np.ascontiguousarray(const["lengths"].T), "kx": np.ascontiguousarray(k.real.T),
+                    "ky": np.ascontiguousarray(k.imag.T)}
+        return {"known": np.ascontiguousarray(known.T), "arms": np.ascontiguousarray(const["arms"].T),
+                "lengths": np.ascontiguousarray(const["lengths"].T)}
+
+    def _ends(self, z, data):
+        """(P (E, L) every endpoint's place, R (E, L) its arm turned), z (m, L)."""
         kc, fc = self.kept_cols, self.free_cols
-        hub = z[:, kc] + 1j * z[:, kc + 1]
-        turn = np.cos(z[:, kc + 2]) + 1j * np.sin(z[:, kc + 2])
-        places = np.concatenate([known, hub, z[:, fc] + 1j * z[:, fc + 1]], axis=1)
-        arm = const["arms"] * (turn[:, np.maximum(self.kept_of, 0)] if len(kc) else 0.0)
-        return places[:, self.base] + arm, arm
+        hub = z[kc] + 1j * z[kc + 1]
+        turn = np.cos(z[kc + 2]) + 1j * np.sin(z[kc + 2])
+        places = np.concatenate([data["known"], hub, z[fc] + 1j * z[fc + 1]], axis=0)
+        arm = data["arms"] * (turn[np.maximum(self.kept_of, 0)] if len(kc) else 0.0)
+        return places[self.base] + arm, arm
 
-    def _pins(self, z, const):
-        """(p_x, p_y, u_x, u_y) (L, 3) of a triad: each length's pin on the kept link, p = a +
-        u, its drawn arm from the hub turned, u = u0 e^{i theta}."""
-        c, s = np.cos(z[:, 2:3]), np.sin(z[:, 2:3])
-        ax, ay = const["arm_x"], const["arm_y"]
+    @staticmethod
+    def _pins(z, data):
+        """(p_x, p_y, u_x, u_y) (3, L) of a triad (z (3, L)): each length's pin on the kept
+        link, p = a + u, its drawn arm from the hub turned, u = u0 e^{i theta}."""
+        c, s = np.cos(z[2]), np.sin(z[2])
+        ax, ay = data["ax"], data["ay"]
         ux, uy = ax * c - ay * s, ax * s + ay * c
-        return z[:, 0:1] + ux, z[:, 1:2] + uy, ux, uy
+        return z[0] + ux, z[1] + uy, ux, uy
 
-    def _triad(self, z, known, const, jacobian: bool):
-        """`residual` of a triad (`_triad_shape`) over flat lanes, in real arithmetic and (L, 3)
-        arrays: with e = p - k from a length's known end k to its pin p (`_pins`),
-        g = (|e|^2 - r^2) / (2 r) and dg / d(a_x, a_y, theta) = (e_x, e_y, e x (i u)) / r. The
-        general path's values within round-off; its complex products may fuse their
-        multiply-adds on some CPUs, these real ones are rounded alike everywhere."""
-        px, py, ux, uy = self._pins(z, const)
-        k = known[:, self.triad[1]]
-        ex, ey = px - k.real, py - k.imag
-        r = const["lengths"]
+    def _triad(self, z, data, jacobian: bool):
+        """`_equations` of a triad (`_triad_shape`), in real arithmetic: with e = p - k from a
+        length's known end k to its pin p (`_pins`), g = (|e|^2 - r^2) / (2 r) and
+        dg / d(a_x, a_y, theta) = (e_x, e_y, e x (i u)) / r. The general path's values within
+        round-off; its complex products may fuse their multiply-adds on some CPUs, these real
+        ones are rounded alike everywhere."""
+        px, py, ux, uy = self._pins(z, data)
+        ex, ey = px - data["kx"], py - data["ky"]
+        r = data["r"]
         f = ((ex * ex + ey * ey) - r * r) / (2.0 * r)
         if not jacobian:
             return f, None
-        jac = np.empty((len(z), 3, 3))
-        jac[:, :, 0], jac[:, :, 1] = ex / r, ey / r
-        jac[:, :, 2] = (ex * -uy + ey * ux) / r
+        jac = np.empty((3, 3, z.shape[1]))
+        jac[:, 0], jac[:, 1] = ex / r, ey / r
+        jac[:, 2] = (ex * -uy + ey * ux) / r
         return f, jac
 
-    def residual(self, z, known, const, jacobian: bool = True):
-        """(f (L, m) length unit, J (L, m, m) or None): the pins' rows (x, then y), then the
-        lengths' (module docstring). J from `_tables`'s pattern: its constant part at once,
-        then the entries that turn with a kept link's angle one by one (no (L, E, m) array); a
-        triad's by `_triad`."""
+    def _equations(self, z, data, jacobian: bool = True):
+        """(f (m, L) length unit, J (m, m, L) or None) over lanes last (z (m, L), `_data`):
+        the pins' rows (x, then y), then the lengths' (module docstring). J from `_tables`'s
+        pattern: its constant part at once, then the entries that turn with a kept link's angle
+        one by one (no (E, m, L) array); a triad's by `_triad`."""
         if self.triad is not None:
-            return self._triad(z, known, const, jacobian)
-        p, arm = self._ends(z, known, const)
-        e = p[:, self.pin_a] - p[:, self.pin_b]
-        d = p[:, self.len_a] - p[:, self.len_b]
-        r = const["lengths"]
+            return self._triad(z, data, jacobian)
+        p, arm = self._ends(z, data)
+        e = p[self.pin_a] - p[self.pin_b]
+        d = p[self.len_a] - p[self.len_b]
+        r = data["lengths"]
         g = ((d.real * d.real + d.imag * d.imag) - r * r) / (2.0 * r)
-        f = np.concatenate([e.real, e.imag, g], axis=1)
+        f = np.concatenate([e.real, e.imag, g], axis=0)
         if not jacobian:
             return f, None
-        lanes, npin = len(z), len(self.pin_a)
-        jac = np.empty((lanes, self.m, self.m))
-        jac[:, :2 * npin] = self.pin_const
+        npin = len(self.pin_a)
+        jac = np.empty((self.m, self.m, z.shape[1]))
+        jac[:2 * npin] = self.pin_const[..., None]
         c_re, c_im = self.len_const
-        jac[:, 2 * npin:] = (d.real[..., None] * c_re + d.imag[..., None] * c_im) / r[..., None]
+        jac[2 * npin:] = (d.real[:, None, :] * c_re[..., None] + d.imag[:, None, :] * c_im[..., None]) / r[:, None, :]
         w_re, w_im = -arm.imag, arm.real  # 1j arm: a place's turn with its link's angle
 
         def turning(a, b, turns_a, turns_b):  # the varying part of d (place(a) - place(b)) / d z_c
-            re = w_re[:, a] if turns_a else 0.0
-            im = w_im[:, a] if turns_a else 0.0
+            re = w_re[a] if turns_a else 0.0
+            im = w_im[a] if turns_a else 0.0
             if turns_b:
-                re, im = re - w_re[:, b], im - w_im[:, b]
+                re, im = re - w_re[b], im - w_im[b]
             return re, im
 
         for i, c, turns_a, turns_b in self.pin_varying:
             re, im = turning(self.pin_a[i], self.pin_b[i], turns_a, turns_b)
-            jac[:, i, c] = self.pin_const[i, c] + re
-            jac[:, npin + i, c] = self.pin_const[npin + i, c] + im
+            jac[i, c] = self.pin_const[i, c] + re
+            jac[npin + i, c] = self.pin_const[npin + i, c] + im
         for k, c, turns_a, turns_b in self.len_varying:
             re, im = turning(self.len_a[k], self.len_b[k], turns_a, turns_b)
-            jac[:, 2 * npin + k, c] = (d.real[:, k] * (c_re[k, c] + re) + d.imag[:, k] * (c_im[k, c] + im)) / r[:, k]
+            jac[2 * npin + k, c] = (d.real[k] * (c_re[k, c] + re) + d.imag[k] * (c_im[k, c] + im)) / r[k]
         return f, jac
+
+    def residual(self, z, known, const, jacobian: bool = True):
+        """`_equations` lanes first: (f (L, m), J (L, m, m) or None) at z (L, m)."""
+        f, jac = self._equations(np.ascontiguousarray(np.asarray(z, dtype=float).T), self._data(known, const),
+                                 jacobian)
+        return f.T, None if jac is None else jac.transpose(2, 0, 1)
 
     def newton(self, z, known, const, tol, iterations: int, stall: int = 0, ratio: bool = True,
                polish: bool = False):
-        """(z, converged, det J, Hadamard's ratio |det J| / prod |columns| or None) over
+        """(z (L, m), converged, det J, Hadamard's ratio |det J| / prod |columns| or None) over
         flat lanes (known: (L, K), stack_known); a lane stops moving once every residual is
         within `tol` (or one is not finite: groups.GroupSolver.newton), and only the lanes
         still moving are computed. `stall` (> 0): a lane whose largest residual has not halved in
@@ -335,67 +360,81 @@ class PopulationGroup:
         that converged with a residual above POLISH_ABOVE of `tol` (quadratic convergence takes
         them to round-off: the rows' places then do not depend on the guess, and a search's
         differences see the design, not the tolerance; below it they are there already)."""
-        z = np.array(z, dtype=float)
-        lanes = len(z)
+        z = np.array(np.asarray(z, dtype=float).T)  # (m, L): lanes last (`_data`)
+        data = self._data(known, const)
+        lanes = z.shape[1]
         done = np.zeros(lanes, dtype=bool)
         det = np.zeros(lanes)
         hadamard = np.zeros(lanes) if ratio else None
-        polished = np.full((lanes, self.m), np.nan)  # a converged lane's polish step's end
-        idx, zk, kk, ck, tk = np.arange(lanes), z, known, const, tol  # the lanes still moving
+        polished = np.full((self.m, lanes), np.nan)  # a converged lane's polish step's end
+        idx, zk, dk, tk = np.arange(lanes), z, data, tol  # the lanes computed
+        live = np.ones(lanes, dtype=bool)  # those of them still moving (the others dropped in COMPACT steps)
         before = np.full(lanes, np.inf)
         for it in range(iterations + 1):
-            f, jac = self.residual(zk, kk, ck)
-            worst = np.max(np.abs(f), axis=-1)
+            f, jac = self._equations(zk, dk)
+            worst = np.max(np.abs(f), axis=0)
             converged = worst <= tk
             move = ~converged & np.isfinite(worst)
             if stall and it >= stall:
                 move &= worst < 0.5 * before
             if it == iterations:
                 move[:] = False
-            stop = ~move
+            stop = live & ~move
+            move &= live
             if stop.any():  # the lanes that stop: their places, and det J where they stop (or polished)
                 at = idx[stop]
-                z[at], done[at] = zk[stop], converged[stop]
-                again = converged & (worst > POLISH_ABOVE * tk) if polish else np.zeros(len(stop), dtype=bool)
+                z[:, at], done[at] = zk[:, stop], converged[stop]
+                again = stop & converged & (worst > POLISH_ABOVE * tk) if polish else np.zeros(len(stop), dtype=bool)
                 if again.any():
-                    polished[idx[again]] = zk[again] - solve_small(jac[again], f[again])[0]
+                    polished[:, idx[again]] = zk[:, again] - solve_small(jac[..., again], f[:, again])[0]
                 here = stop & ~again
-                det[idx[here]], h = _measure(jac[here], ratio)
+                det[idx[here]], h = _measure(jac[..., here], ratio)
                 if ratio:
                     hadamard[idx[here]] = h
             if not move.any():
                 break
-            if stop.any():
-                idx, zk, kk, ck, tk = idx[move], zk[move], kk[move], subset(ck, move), tk[move]
-                worst, jac, f = worst[move], jac[move], f[move]
-            zk = zk - solve_small(jac, f)[0]
+            live = move
+            if np.count_nonzero(live) < COMPACT * len(live):  # drop the stopped lanes
+                idx, zk, dk, tk = idx[live], zk[:, live], _take(dk, live), tk[live]
+                worst, jac, f, live = worst[live], jac[..., live], f[:, live], live[live]
+            step = solve_small(jac, f)[0]
+            if not live.all():
+                step[:, ~live] = 0.0  # a stopped lane stays where it stopped
+            zk = zk - step
             before = worst
-        at = np.flatnonzero(~np.isnan(polished[:, 0]))
+        at = np.flatnonzero(~np.isnan(polished[0]))
         if len(at):  # one more Newton step where it keeps the residual within tol
-            moved = polished[at]
-            f2, jac2 = self.residual(moved, known[at], subset(const, at))
-            better = np.all(np.isfinite(moved), axis=1) & (np.max(np.abs(f2), axis=-1) <= tol[at])
-            z[at[better]] = moved[better]
+            moved = polished[:, at]
+            f2, jac2 = self._equations(moved, _take(data, at))
+            better = np.all(np.isfinite(moved), axis=0) & (np.max(np.abs(f2), axis=0) <= tol[at])
+            z[:, at[better]] = moved[:, better]
             if not better.all():  # det J where they stay
-                _, jac2[~better] = self.residual(z[at[~better]], known[at[~better]], subset(const, at[~better]))
+                _, jac2[..., ~better] = self._equations(z[:, at[~better]], _take(data, at[~better]))
             det[at], h = _measure(jac2, ratio)
             if ratio:
                 hadamard[at] = h
-        return z, done, det, hadamard
+        return np.ascontiguousarray(z.T), done, det, hadamard
 
     def places(self, z, known, const) -> dict:
-        """The group's pinned joints' places (L,) from its unknowns (the kept and free ones)."""
+        """The group's pinned joints' places (L,) from its unknowns z (L, m) (the kept and free ones)."""
+        zt, data = np.ascontiguousarray(np.asarray(z, dtype=float).T), self._data(known, const)
         if self.triad is not None:
-            px, py, _, _ = self._pins(z, const)
-            return {self.ends[e][0]: px[:, i] + 1j * py[:, i] for i, e in enumerate(self.triad[0])}
-        p, _ = self._ends(z, known, const)
-        return {joint: p[:, e] for e, (joint, holder) in enumerate(self.ends)
+            px, py, _, _ = self._pins(zt, data)
+            return {self.ends[e][0]: px[i] + 1j * py[i] for i, e in enumerate(self.triad[0])}
+        p, _ = self._ends(zt, data)
+        return {joint: p[e] for e, (joint, holder) in enumerate(self.ends)
                 if holder != GROUND and (holder == "free" or self.owner[joint] == holder)}
+
 
 
 def subset(const: dict, idx) -> dict:
     """`constants` of some lanes."""
     return {key: value[idx] for key, value in const.items()}
+
+
+def _take(data: dict, idx) -> dict:
+    """`_data` of some lanes (the last axis)."""
+    return {key: value[..., idx] for key, value in data.items()}
 
 
 # ---------------------------------------------------------------- the track and the rows
@@ -763,38 +802,38 @@ def at_rows(track: Track, q):
 # ---------------------------------------------------------------- small systems
 
 def solve_small(a: np.ndarray, b: np.ndarray):
-    """(x, det a) for stacks a (L, m, m), b (L, m): up to m = 3 by cofactors (`_cramer`), beyond
-    by Gaussian elimination with partial pivoting
+    """(x (m, L), det a (L,)) for stacks a (m, m, L), b (m, L), lanes last: up to m = 3 by
+    cofactors (`_cramer`), beyond by Gaussian elimination with partial pivoting
     (a row below swaps up where its entry is larger than the pivot's: the largest comes up,
-    the first of equal ones) and back substitution, elementwise (exactly rounded on every
+    the first of equal candidates) and back substitution, elementwise (exactly rounded on every
     CPU: no BLAS, no LAPACK, no sums in another order); NaN x and det 0 where a pivot is 0 or
     not finite."""
-    m = a.shape[-1]
+    m = a.shape[0]
     if m <= 3:
         return _cramer(a, b)
-    w = np.concatenate([a, b[..., None]], axis=-1)
-    det = np.ones(len(w))
+    w = np.concatenate([a, b[:, None, :]], axis=1)  # (m, m + 1, L)
+    det = np.ones(w.shape[-1])
     with np.errstate(all="ignore"):
         for k in range(m):
             for i in range(k + 1, m):
-                up = np.abs(w[:, i, k]) > np.abs(w[:, k, k])
+                up = np.abs(w[i, k]) > np.abs(w[k, k])
                 if up.any():
-                    low, top = w[:, i].copy(), w[:, k].copy()
-                    w[:, k] = np.where(up[:, None], low, top)
-                    w[:, i] = np.where(up[:, None], top, low)
+                    low, top = w[i].copy(), w[k].copy()
+                    w[k] = np.where(up, low, top)
+                    w[i] = np.where(up, top, low)
                     det = np.where(up, -det, det)
-            pivot = w[:, k, k]
+            pivot = w[k, k]
             det = det * pivot
             if k + 1 < m:
-                w[:, k + 1:, k:] = w[:, k + 1:, k:] - (w[:, k + 1:, k] / pivot[:, None])[:, :, None] * w[:, None, k, k:]
-        x = np.empty((len(w), m))
+                w[k + 1:, k:] = w[k + 1:, k:] - (w[k + 1:, k] / pivot)[:, None, :] * w[None, k, k:]
+        x = np.empty((m, w.shape[-1]))
         for k in range(m - 1, -1, -1):
-            acc = w[:, k, m]
+            acc = w[k, m]
             for j in range(k + 1, m):
-                acc = acc - w[:, k, j] * x[:, j]
-            x[:, k] = acc / w[:, k, k]
+                acc = acc - w[k, j] * x[j]
+            x[k] = acc / w[k, k]
     good = np.isfinite(det) & (det != 0.0)
-    return np.where(good[:, None], x, np.nan), np.where(good, det, 0.0)
+    return np.where(good, x, np.nan), np.where(good, det, 0.0)
 
 
 def _cramer(a: np.ndarray, b: np.ndarray):
@@ -804,63 +843,66 @@ def _cramer(a: np.ndarray, b: np.ndarray):
     to within its condition number of round-off, as elimination does (Higham, Accuracy and
     Stability of Numerical Algorithms, 2nd ed., sec. 1.10.1): enough for Newton's steps, whose
     fixed point is set by the residual, not by the solve."""
-    m = a.shape[-1]
+    m = a.shape[0]
     with np.errstate(all="ignore"):
         if m == 1:
-            det = a[:, 0, 0]
-            x = (b[:, 0] / det)[:, None]
+            det = a[0, 0]
+            x = (b[0] / det)[None, :]
         elif m == 2:
-            a00, a01, a10, a11 = a[:, 0, 0], a[:, 0, 1], a[:, 1, 0], a[:, 1, 1]
+            a00, a01, a10, a11 = a[0, 0], a[0, 1], a[1, 0], a[1, 1]
             det = a00 * a11 - a01 * a10
-            x = np.stack([(a11 * b[:, 0] - a01 * b[:, 1]) / det, (a00 * b[:, 1] - a10 * b[:, 0]) / det], axis=-1)
+            x = np.stack([(a11 * b[0] - a01 * b[1]) / det, (a00 * b[1] - a10 * b[0]) / det])
         else:
-            a00, a01, a02 = a[:, 0, 0], a[:, 0, 1], a[:, 0, 2]
-            a10, a11, a12 = a[:, 1, 0], a[:, 1, 1], a[:, 1, 2]
-            a20, a21, a22 = a[:, 2, 0], a[:, 2, 1], a[:, 2, 2]
+            a00, a01, a02 = a[0, 0], a[0, 1], a[0, 2]
+            a10, a11, a12 = a[1, 0], a[1, 1], a[1, 2]
+            a20, a21, a22 = a[2, 0], a[2, 1], a[2, 2]
             det, c00, c01, c02 = _first_row(a)
             c10, c11, c12 = a02 * a21 - a01 * a22, a00 * a22 - a02 * a20, a01 * a20 - a00 * a21
             c20, c21, c22 = a01 * a12 - a02 * a11, a02 * a10 - a00 * a12, a00 * a11 - a01 * a10
-            b0, b1, b2 = b[:, 0], b[:, 1], b[:, 2]
+            b0, b1, b2 = b[0], b[1], b[2]
             x = np.stack([(c00 * b0 + c10 * b1 + c20 * b2) / det, (c01 * b0 + c11 * b1 + c21 * b2) / det,
-                          (c02 * b0 + c12 * b1 + c22 * b2) / det], axis=-1)
+                          (c02 * b0 + c12 * b1 + c22 * b2) / det])
     good = np.isfinite(det) & (det != 0.0)
-    return np.where(good[:, None], x, np.nan), np.where(good, det, 0.0)
+    return np.where(good, x, np.nan), np.where(good, det, 0.0)
 
 
 def det_small(a: np.ndarray) -> np.ndarray:
-    """(L,) det a of stacks a (L, m, m), 0 where not finite: up to m = 3 by the first row's
+    """(L,) det a of stacks a (m, m, L), 0 where not finite: up to m = 3 by the first row's
     cofactors (the determinant `_cramer` divides by), beyond by solve_small's elimination."""
-    m = a.shape[-1]
+    m = a.shape[0]
     if m > 3:
-        return solve_small(a, np.zeros(a.shape[:2]))[1]
+        return solve_small(a, np.zeros(a.shape[1:]))[1]
     with np.errstate(all="ignore"):
         if m == 1:
-            det = a[:, 0, 0].copy()
+            det = a[0, 0].copy()
         elif m == 2:
-            det = a[:, 0, 0] * a[:, 1, 1] - a[:, 0, 1] * a[:, 1, 0]
+            det = a[0, 0] * a[1, 1] - a[0, 1] * a[1, 0]
         else:
             det = _first_row(a)[0]
     return np.where(np.isfinite(det), det, 0.0)  # 0: not finite (solve_small's rule)
 
 
 def _first_row(a: np.ndarray):
-    """(det a, c00, c01, c02) of stacks a (L, 3, 3): the first row's cofactors and the
+    """(det a, c00, c01, c02) of stacks a (3, 3, L): the first row's cofactors and the
     determinant by them, one order of products for `_cramer` and `det_small` (the same bits)."""
-    a00, a01, a02 = a[:, 0, 0], a[:, 0, 1], a[:, 0, 2]
-    a10, a11, a12 = a[:, 1, 0], a[:, 1, 1], a[:, 1, 2]
-    a20, a21, a22 = a[:, 2, 0], a[:, 2, 1], a[:, 2, 2]
+    a00, a01, a02 = a[0, 0], a[0, 1], a[0, 2]
+    a10, a11, a12 = a[1, 0], a[1, 1], a[1, 2]
+    a20, a21, a22 = a[2, 0], a[2, 1], a[2, 2]
     c00, c01, c02 = a11 * a22 - a12 * a21, a12 * a20 - a10 * a22, a10 * a21 - a11 * a20
     return a00 * c00 + a01 * c01 + a02 * c02, c00, c01, c02
 
 
 def _measure(jac: np.ndarray, ratio: bool):
-    """(det J, Hadamard's ratio |det J| / prod_j |J_:,j| in [0, 1] or None) of stacks J."""
+    """(det J, Hadamard's ratio |det J| / prod_j |J_:,j| in [0, 1] or None) of stacks J (m, m, L)."""
     det = det_small(jac)
     if not ratio:
         return det, None
-    norms = np.ones(len(jac))
-    for k in range(jac.shape[-1]):
-        column = jac[:, :, k]
-        norms = norms * np.sqrt(np.sum(column * column, axis=-1))
+    norms = np.ones(jac.shape[-1])
+    for k in range(jac.shape[1]):
+        column = jac[:, k]
+        square = column[0] * column[0]
+        for i in range(1, len(column)):  # summed in order (numpy's sum over a short row: the same bits)
+            square = square + column[i] * column[i]
+        norms = norms * np.sqrt(square)
     with np.errstate(all="ignore"):
         return det, np.where(norms > 0.0, np.abs(det) / norms, 0.0)
