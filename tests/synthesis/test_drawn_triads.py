@@ -275,6 +275,34 @@ def test_a_probe_with_a_dead_point_its_neighbour_lacks_follows_its_own_track():
     np.testing.assert_allclose(probed.margins[0, stuck, 0], -size * past, rtol=0, atol=1e-6 * size)
 
 
+@pytest.mark.parametrize("m", [1, 2, 3, 4, 6])
+def test_the_populations_small_solves_are_lapacks(m):
+    """population_groups.solve_small (lanes last: a (m, m, L), b (m, L)) -- Cramer's rule up to
+    three unknowns, elimination with partial pivoting beyond -- against LAPACK's solve and
+    determinant on 300 random systems, and Hadamard's ratio (_measure) against |det| over the
+    product of the column norms; a singular system's determinant is 0 (to round-off beyond three
+    unknowns)."""
+    from linkcli.mechanisms.drawn.population_groups import _measure, det_small, solve_small
+    rng = np.random.default_rng(m)
+    a = rng.normal(size=(m, m, 300))
+    b = rng.normal(size=(m, 300))
+    stacked = a.transpose(2, 0, 1)
+    x, det = solve_small(a, b)
+    reference = np.linalg.solve(stacked, b.T[..., None])[..., 0].T
+    cond = np.linalg.cond(stacked)
+    assert np.all(np.abs(x - reference) <= 1e-13 * cond * (1.0 + np.abs(reference)))
+    np.testing.assert_allclose(det, np.linalg.det(stacked), rtol=1e-11)
+    assert np.array_equal(det_small(a), det)
+    _, ratio = _measure(a, True)
+    np.testing.assert_allclose(ratio, np.abs(det) / np.prod(np.linalg.norm(stacked, axis=1), axis=-1), rtol=1e-12)
+    a[:, 0, :7] = a[:, 1, :7] if m > 1 else 0.0  # two equal columns (or a zero): singular
+    x, det = solve_small(a, b)
+    if m <= 3:  # the cofactors cancel exactly: no solution, determinant 0
+        assert np.all(np.isnan(x[:, :7])) and np.all(det[:7] == 0.0)
+    else:  # elimination leaves round-off in the last pivot
+        assert np.all(np.abs(det[:7]) < 1e-12)
+
+
 @pytest.mark.parametrize("label", ["stephenson-ii, ternary crank (triad), tracer P on link",
                                    "stephenson-iii, binary crank (triad), tracer P on link"])
 def test_the_triads_real_residual_is_the_general_groups_and_its_jacobian_the_differences(label):
