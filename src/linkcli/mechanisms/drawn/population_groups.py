@@ -426,7 +426,6 @@ class PopulationGroup:
                 if holder != GROUND and (holder == "free" or self.owner[joint] == holder)}
 
 
-
 def subset(const: dict, idx) -> dict:
     """`constants` of some lanes."""
     return {key: value[idx] for key, value in const.items()}
