@@ -463,3 +463,39 @@ def test_a_closed_branch_serves_any_drive_value_and_a_design_is_followed_once_a_
         assert other.valid.all()
         np.testing.assert_allclose(other.points[0], one.points[0], rtol=0, atol=1e-9 * size)
     np.testing.assert_array_equal(one.points[1], one.points[0])
+
+
+def test_rows_at_a_triads_dead_point_have_a_margin_where_they_do_not_solve():
+    """Designs around a triad drawing that locks within the turn, rows within 1e-6 rad either
+    side of each one's dead point as the analysis places it (drawn.solved: to 1e-12 of a step):
+    every row has a finite margin (a row there that does not solve is at the dead point within
+    the track's accuracy: 0, not NaN, which the search would read as far infeasible), within
+    1e-2 of the size of 0, and past the dead point by more than the band, minus the travel."""
+    from dataclasses import replace
+
+    from linkcli.mechanisms.drawn.population import DrawnPopulation
+    from linkcli.mechanisms.drawn.solved import solved
+    drawing = _catalogue_drawing("stephenson-ii, ternary crank (triad), tracer P on link")
+    names = tuple(j.name for j in drawing.joints if not j.ground)
+    rng = np.random.default_rng(5)
+    his, xs = [], []
+    for _ in range(40):
+        moved = tuple(replace(j, at=(j.at[0] + rng.uniform(-4, 4), j.at[1] + rng.uniform(-4, 4)))
+                      if not j.ground else j for j in drawing.joints)
+        sv = solved(replace(drawing, joints=moved))
+        if sv.reach.full_turn:  # a crank: no dead point
+            continue
+        his.append(sv.reach.hi)
+        xs.append([c for j in moved if not j.ground for c in j.at])
+    assert len(his) >= 20  # 27 of the 40 draws rock
+    boxes = {j.name: ((j.at[0] - 10, j.at[0] + 10), (j.at[1] - 10, j.at[1] + 10)) for j in drawing.joints
+             if not j.ground}
+    pop = DrawnPopulation(drawing, solved(drawing).structure, names, boxes, traced=("P",))
+    x, hi = np.array(xs), np.array(his)
+    offsets = np.array([-1e-6, -3e-7, -1e-7, -3e-8, -1e-8, 0.0, 1e-8, 1e-7, 1e-6, 1e-3])
+    motion = pop.kinematics(x, hi[:, None] + offsets[None, :])
+    size = pop.size(x)[:, None, None]
+    m = motion.margins
+    assert np.all(np.isfinite(m))
+    assert np.all(np.abs(m[:, :-1]) < 1e-2 * size)
+    np.testing.assert_allclose(m[:, -1], -size[:, 0] * 1e-3 * np.ones(m.shape[::2]), rtol=1e-2)

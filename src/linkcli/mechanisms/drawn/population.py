@@ -328,18 +328,18 @@ class DrawnPopulation(Population):
         known = group.stack_known({j: np.broadcast_to(pos[j], (n, s)).reshape(-1) for j in group.known}, n * s)
         const = group.constants(z0, design)
         open_rows = np.broadcast_to(valid, (n, s))
-        z, good, ratio, past = self._rows(group, tracks[index], q, known, const, scale, open_rows)
+        z, good, ratio, past, edge = self._rows(group, tracks[index], q, known, const, scale, open_rows)
         again = np.flatnonzero(borrowed & np.any(~good & (past == 0.0) & open_rows, axis=1))
         if len(again):  # a probe with a row its neighbour's track does not solve: its own track
             own, _ = self._track(index, group, x[again], q[again], {j: v[again] for j, v in z0.items()},
                                  scale[again], {k: t.subset(again) for k, t in tracks.items()}, borrow=False)
             rows = (again[:, None] * s + np.arange(s)[None, :]).reshape(-1)
-            z2, good2, ratio2, past2 = self._rows(group, own, q[again], known[rows], pg.subset(const, rows), scale[again],
-                                                  open_rows[again])
-            z[rows], good[again], ratio[again], past[again] = z2, good2, ratio2, past2
+            z2, good2, ratio2, past2, edge2 = self._rows(group, own, q[again], known[rows], pg.subset(const, rows),
+                                                         scale[again], open_rows[again])
+            z[rows], good[again], ratio[again], past[again], edge[again] = z2, good2, ratio2, past2, edge2
             tracks[index] = _replaced(tracks[index], again, own)
         size = self.size_of(z0)[:, None]
-        margin = np.where(good, size * ratio, np.where(past > 0.0, -size * past, np.nan))
+        margin = np.where(good, size * ratio, np.where((past > 0.0) | edge, -size * past, np.nan))
         for c in self.closure_list:
             if c.links[0] in group.op.links and c.links[1] in group.op.links:
                 margins[c.joint] = margin
@@ -351,12 +351,13 @@ class DrawnPopulation(Population):
 
     @staticmethod
     def _rows(group, track, q, known, const, scale, open_rows):
-        """(z (N S, m), good (N, S), Hadamard's ratio (N, S), past (N, S)) of the group's rows at
-        drive values q (N, S) from `track`: Newton from it (groups.solve_group) on the rows it
-        reaches among `open_rows` (every closure before the group closes)."""
+        """(z (N S, m), good (N, S), Hadamard's ratio (N, S), past (N, S), edge (N, S)) of the
+        group's rows at drive values q (N, S) from `track`: Newton from it (groups.solve_group)
+        on the rows it reaches among `open_rows` (every closure before the group closes); `edge`
+        (pg.at_rows): at a lane's dead point within the accuracy of its place."""
         from linkcli.mechanisms.drawn import population_groups as pg
         n, s = q.shape
-        inside, past, guess = pg.at_rows(track, q)
+        inside, past, guess, edge = pg.at_rows(track, q)
         design = np.repeat(np.arange(n), s)
         z = guess.reshape(n * s, -1)
         rows = np.flatnonzero(inside.reshape(-1) & open_rows.reshape(-1))
@@ -369,7 +370,7 @@ class DrawnPopulation(Population):
             turned = np.abs(zr - z[rows])[:, group.angle_cols]
             good[rows] = ok & (np.sign(det) == track.sign[design[rows]]) & np.all(turned < 0.5 * math.pi, axis=-1)
             z[rows] = np.where(good[rows, None], zr, z[rows])
-        return z, good.reshape(n, s), ratio.reshape(n, s), past
+        return z, good.reshape(n, s), ratio.reshape(n, s), past, edge
 
     def kinematics(self, x, q) -> Motion:
         """Traced points, followed links' frames, each closure's margin and transmission angle

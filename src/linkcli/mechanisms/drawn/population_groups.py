@@ -53,7 +53,9 @@ product of the column norms (Hadamard's ratio, in [0, 1]: 1 for orthogonal colum
 exactly where the group locks) -- independent of the units of the columns (lengths and
 turns), as the dyads' margins are in length; past the track's end
 -L |q - q_end| (how far the drive would still have to go, as an arc at the design's size:
-it leads a search to push the dead point out of the travel). Transmission angles: as for the
+it leads a search to push the dead point out of the travel); a row within END_BAND of a grid
+step before a lane's dead point that does not solve is at it within the end's accuracy: margin
+0, not unknown. Transmission angles: as for the
 dyads (population.kinematics), at each closure of the group.
 
 Linear systems: `solve_small`, written with elementwise numpy and returning the determinant's
@@ -84,6 +86,10 @@ COMPACT = 0.5  # Newton drops its stopped lanes when fewer than this share of th
 POLISH_ABOVE = 0.01  # of the rows' tolerance (RESIDUAL_RTOL: 1e-15 of the size, round-off in the
 # lengths' squares): a row converged below it is not polished (one more step would move it by round-off)
 PERIOD_RTOL = 1e-6  # a lane back at its drawing after a turn: within this of the size
+END_BAND = 1e-4  # of the grid step: a row this close before a lane's dead point that does not solve is
+# at the dead point (the end is placed by steps refused below MIN_STEP from points converged to
+# TRACK_RTOL, and near a fold the two branches are sqrt(distance) apart: rows within some 1e-6 rad
+# of it may not solve; measured on benchmarks/drawn_population.py's 489 dead points: 1e-6 rad at most)
 
 
 def unsupported(structure: Structure, op: Group) -> str | None:
@@ -761,8 +767,9 @@ class TrackCache:
 
 
 def at_rows(track: Track, q):
-    """(inside (N, S), past (N, S) how far past its lane's end, z guess (N, S, m)) at drive
-    values q (N, S): the lane of each value's sign (forward for q >= 0), interpolated."""
+    """(inside (N, S), past (N, S) how far past its lane's end, z guess (N, S, m), edge (N, S))
+    at drive values q (N, S): the lane of each value's sign (forward for q >= 0), interpolated;
+    `edge`: inside, within END_BAND of the grid step before the lane's dead point."""
     n, s = q.shape
     q = np.where(track.periodic[:, None], np.mod(q, BOUND), q)  # a closed branch: any value, modulo a turn
     lane = np.where(q >= 0.0, 0, 1)
@@ -795,7 +802,8 @@ def at_rows(track: Track, q):
     top = flat_q[which, count - 1]  # the lane's last |q|
     inside = (t <= top) & (track.sign[:, None] != 0.0)
     past = np.maximum(t - top, 0.0)
-    return inside, past, guess
+    edge = inside & np.isfinite(track.end.reshape(-1)[which]) & (top - t <= END_BAND * BOUND / TRACK_STEPS)
+    return inside, past, guess, edge
 
 
 # ---------------------------------------------------------------- small systems
