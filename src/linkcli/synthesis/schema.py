@@ -96,6 +96,8 @@ def read(root: Table, meta, type_name: str):
         reach = _reach(bnd, kind)
     elif drawing is not None:
         boxes = _boxes(bnd, drawing, kind)
+    elif bnd is not None:  # the drawing has an error of its own: its joints' boxes are not checked against it
+        bnd.allow(*bnd.keys())
     drive, window = _constraints(root, u)
     robust = read_objective(root, meta)
     front_ok, front = _front(root, meta, kind, topology)  # [objective] minimize = [...]: a Pareto front
