@@ -134,6 +134,7 @@ class Population(ABC):
     traced: tuple[str, ...] = ()
     followed: tuple[str, ...] = ()
     closures: tuple[str, ...] = ()
+    held: tuple[str, ...] = ()  # what was given a box but moves nothing measured: held where drawn
 
     @abstractmethod
     def geometry(self, x):
@@ -175,6 +176,13 @@ class Population(ABC):
     @abstractmethod
     def size(self, x):
         """(N,) each design's length scale."""
+
+    def round_off_scales(self, x):
+        """(N, nx) the scale of each variable of N designs, below NOISE_FLOOR of which it is
+        round-off (noise.snap): every variable a length or a coordinate, `size`."""
+        import numpy as np
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        return np.repeat(np.asarray(self.size(x), dtype=float)[:, None], x.shape[1], axis=1)
 
     @abstractmethod
     def linkage(self, x):

@@ -66,7 +66,8 @@ def design(problem, population) -> Solution:
             x, s = shared.starts.draws(model, rng, 1)
             found = [shared.Candidate(x[0], float(s[0]), False)]
         best = found[0]
-        best.x = model.canonical(best.x)  # a function's similarity held: the copy nearest the drawing
+        best.x = model.snapped(model.canonical(best.x))  # a function's similarity held: the copy nearest
+        # the drawing; round-off printed as 0
         if problem.objective == "failure-probability":
             from linkcli.synthesis.robust import robust
             return robust(problem, model, best, budget, confirmed)

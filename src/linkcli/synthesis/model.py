@@ -169,6 +169,18 @@ class Model:
         out[0:k:2], out[1:k:2] = moved.real, moved.imag
         return out
 
+    def snapped(self, x: np.ndarray) -> np.ndarray:
+        """x (nx,) with its round-off as 0 (noise.snap, docs/determinism.md): a free home
+        variable within NOISE_FLOOR of the home's scale for it (Population.round_off_scales: a
+        drawing's coordinates, its longest link), a free timing angle within NOISE_FLOOR of
+        1 rad; kept in its box. A free pivot whose exact place has a coordinate 0 then prints
+        0 on every machine, not the 1e-11 a search leaves there; the fixed ones are the file's."""
+        from linkcli.noise import snap
+        k = self.k_home
+        scales = np.ones(len(x))
+        scales[:k] = self.pop.round_off_scales(x[None, :k])[0]
+        return np.where(self.free, np.clip(snap(x, scales), self.lo, self.hi), x)
+
     # ------------------------------------------------------------ timing
     def directions(self) -> tuple[float, ...]:
         if self.timing != "free":

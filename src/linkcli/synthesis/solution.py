@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 
+from linkcli.noise import snap
 from linkcli.solution import Positions, Solution, SolverRecord, Status
 from linkcli.synthesis import search as shared
 from linkcli.synthesis.model import TWO_PI, Model
@@ -60,7 +61,7 @@ def solution(problem, model: Model, best, bad, budget, confirmed: bool) -> Solut
     start = drive_start(linkage, None, linkage.drives[0])
     timing = {"timing": model.timing if model.kind != "function" else "prescribed",
               "direction": ("ccw" if span[1] >= 0 else "cw") if monotone else "reverses",
-              "first_input": float(u.from_rad(first)), "input_sweep": float(u.from_rad(abs(span[1]))),
+              "first_input": float(u.from_rad(snap(first, 1.0))), "input_sweep": float(u.from_rad(abs(span[1]))),
               "drawn_drive_angle": float(u.from_rad(start))}
     k = model.k_home
     if model.timing == "prescribed" and model.free[k]:
@@ -89,6 +90,11 @@ def solution(problem, model: Model, best, bad, budget, confirmed: bool) -> Solut
             message += ("; the search's rounds ended at different optima and none was found again: "
                         "another seed or a larger budget may end lower")
     notes += _reach_note(problem, model, x, positions)
+    if model.pop.held:
+        held = model.pop.held
+        notes.append(f"joint{'s' if len(held) > 1 else ''} {', '.join(held)} held where drawn, though given a box: "
+                     f"on one link alone and not the target, {'their places change' if len(held) > 1 else 'its place changes'}"
+                     " no target and no constraint")
     return Solution(status=status, linkage=linkage, message=message, positions=positions,
                     objective=objective, solver=solver, sections=sections, notes=notes,
                     working_span=span)

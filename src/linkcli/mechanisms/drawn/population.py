@@ -74,7 +74,8 @@ class DrawnPopulation(Population):
     def __init__(self, drawing: Drawn, structure: Structure, free: tuple[str, ...], boxes: dict,
                  traced: tuple[str, ...] = (), followed: tuple[str, ...] = ()):
         self.drawing, self.structure = drawing, structure
-        self.free = tuple(free)
+        self.held = idle_joints(structure, drawing, free, traced, followed)
+        self.free = tuple(j for j in free if j not in self.held)
         self.names = tuple(f"{j}.{c}" for j in self.free for c in ("x", "y"))
         self.lo = np.array([boxes[j][k][0] for j in self.free for k in (0, 1)], dtype=float)
         self.hi = np.array([boxes[j][k][1] for j in self.free for k in (0, 1)], dtype=float)
@@ -432,6 +433,16 @@ class DrawnPopulation(Population):
         moved = {name: (float(x[2 * k]), float(x[2 * k + 1])) for k, name in enumerate(self.free)}
         joints = tuple(replace(j, at=moved.get(j.name, j.at)) for j in self.drawing.joints)
         return replace(self.drawing, joints=joints, designed=True)
+
+
+def idle_joints(structure: Structure, drawing: Drawn, free, traced, followed) -> tuple[str, ...]:
+    """The `free` joints that move nothing a design measures: on one body alone (no closure,
+    no slider), not traced, not one of a followed link's first two joints (its frame). Every
+    objective and constraint is flat in their places -- a search would leave them wherever its
+    path ended, another place on every seed and CPU -- so they are held where drawn."""
+    frame = {j for k in followed for j in drawing.link(k).joints[:2]}
+    return tuple(j for j in free if len(structure.pins.get(j, ())) == 1 and drawing.joint(j).slider is None
+                 and j not in traced and j not in frame)
 
 
 def _replaced(track, rows, own):
