@@ -285,3 +285,61 @@ def test_an_error_raised_while_solving_names_the_file_and_prints_no_warning(tmp_
     assert outcome.errors == ("problems/drawn_stephenson.toml: links: expected links determined "
                               "by the drawing, found a singular group",)
     assert "Warning" not in capfd.readouterr().err
+
+
+def _lock_drawing(moved: float):
+    """problems/drawn_stephenson.toml's drawing with its plate joint C moved along x."""
+    from dataclasses import replace
+
+    from linkcli.reading.load import load
+    drawing = load(str(ROOT / "problems" / "drawn_stephenson.toml")).linkage
+    joints = tuple(replace(j, at=(j.at[0] + moved, j.at[1])) if j.name == "C" else j for j in drawing.joints)
+    return replace(drawing, joints=joints)
+
+
+def test_a_groups_lock_ratio_is_lapacks_and_vanishes_where_its_three_links_meet_in_a_point():
+    """group_lock.lock_ratio against numpy's determinant and column norms of the same Jacobian
+    built here (each link a pose (x, y, theta) about its first joint), on the Stephenson triad
+    and drawings of it moved off; and a triad whose three binary links' lines meet in one point
+    (the lock of a triad, Hunt, Kinematic Geometry of Mechanisms, 1978, sec. 10.4) is refused
+    as drawn at a dead point, while 1e-3 of the size off it is not."""
+    from dataclasses import replace
+
+    from linkcli.mechanisms.drawn.group_lock import lock_ratio
+    from linkcli.mechanisms.drawn.structure import Group, analyse
+    for moved in (0.0, 1.0, -3.0):
+        drawing = _lock_drawing(moved)
+        s = analyse(drawing)
+        op = next(op for op in s.plan if isinstance(op, Group))
+        col = {b: 3 * k for k, b in enumerate(op.links)}
+        rows = []
+        for j in drawing.joints:
+            bodies = list(s.pins[j.name])
+            for other in bodies[1:]:
+                if bodies[0] in col or other in col:
+                    r = np.zeros((2, 3 * len(op.links)))
+                    for body, sign in ((bodies[0], 1.0), (other, -1.0)):
+                        if body in col:
+                            o = np.array(drawing.joint(drawing.link(body).joints[0]).at)
+                            arm = np.array(j.at) - o
+                            r[:, col[body]:col[body] + 2] = sign * np.eye(2)
+                            r[:, col[body] + 2] = sign * np.array([-arm[1], arm[0]])
+                    rows.append(r)
+        jac = np.concatenate(rows)
+        expect = abs(np.linalg.det(jac)) / np.prod(np.linalg.norm(jac, axis=0))
+        assert lock_ratio(s, op.links) == pytest.approx(expect, rel=1e-9)
+        assert expect > 1e-4
+    # a lock: the rod's line A-C through the meet of the lines O1-B and O3-D (C redrawn on the
+    # ray from A to that point, at the rod's drawn length; B and D kept)
+    drawing = _lock_drawing(0.0)
+    at = {j.name: np.array(j.at, dtype=float) for j in drawing.joints}
+    d1, d2 = at["B"] - at["O1"], at["D"] - at["O3"]
+    t = np.linalg.solve(np.column_stack([d1, -d2]), at["O3"] - at["O1"])
+    meet = at["O1"] + t[0] * d1
+    for off, locked in ((0.0, True), (1e-3, False)):
+        u = (meet - at["A"]) / np.linalg.norm(meet - at["A"])
+        c = at["A"] + u * np.linalg.norm(at["C"] - at["A"]) + off * 100.0 * np.array([-u[1], u[0]])
+        joints = tuple(replace(j, at=(float(c[0]), float(c[1]))) if j.name == "C" else j for j in drawing.joints)
+        s = analyse(replace(drawing, joints=joints))
+        dead = [p for p in s.problems if "drawn locked" in p.found]
+        assert bool(dead) == locked, (off, [p.found for p in s.problems])

@@ -458,8 +458,9 @@ def _side_on_guide(s: Structure, at: str, joint: str) -> int:
 
 
 def _check_sides(s: Structure) -> None:
-    """A closure drawn at its dead point (the two links in line; the rod normal to the guide)
-    has no side to keep: refused, naming the joint."""
+    """A closure drawn at its dead point (the two links in line; the rod normal to the guide; a
+    group's equations singular: group_lock) has no side to keep: refused, naming the joint (the
+    group's first link)."""
     for op in s.plan:
         if isinstance(op, Dyad):
             (ax, ay), (bx, by), (jx, jy) = _at(s, op.first_at), _at(s, op.second_at), _at(s, op.joint)
@@ -470,6 +471,14 @@ def _check_sides(s: Structure) -> None:
                                           f"{op.first_at} and {op.second_at} (the closure of {op.first} and "
                                           f"{op.second} keeps the side it is drawn on)",
                                           f"{op.joint} drawn in line with them (a dead point: no side)"))
+        elif isinstance(op, Group):
+            from linkcli.mechanisms.drawn.group_lock import lock_ratio
+            ratio = lock_ratio(s, op.links)
+            if ratio is not None and ratio <= DEAD_RTOL:
+                s.problems.append(Problem(("links", op.links[0]), f"links {', '.join(op.links)} drawn off a dead "
+                                          "point of theirs (the group keeps the branch it is drawn on)",
+                                          f"them drawn locked (|det J| / prod |columns| below {DEAD_RTOL:g} at "
+                                          "the drawing: a dead point, no branch)"))
         elif isinstance(op, (OnGuide, GuideThrough)):
             (ax, ay), (jx, jy) = _at(s, op.at), _at(s, op.joint)
             angle = s.drawing.joint(op.joint).slider
