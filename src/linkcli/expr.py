@@ -37,7 +37,9 @@ FUNCTIONS = ("sin", "cos", "tan", "asin", "acos", "atan", "sqrt", "exp", "log", 
 CONSTANTS = {"pi": math.pi, "e": math.e}
 MAX_LENGTH = 500  # characters of expression text
 MAX_EXPONENT = 100  # |constant exponent| allowed in a ** b
-MAX_DEPTH = 200  # operations nested in one another (a 500-character sum is at most ~170)
+MAX_DEPTH = 250  # operations nested in one another: a flat sum of MAX_LENGTH characters ("x+1+1+...", two
+# characters an operation) nests 249 deep and is taken; deeper takes stacked signs ("----x"); the
+# evaluation recurses this deep (Python's parser refuses parentheses nested past 200 itself)
 _BINOPS = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/", ast.Pow: "**"}
 _DESCRIBE = {  # node types refused, as the user would name them
     ast.Attribute: "attribute access", ast.Subscript: "a subscript", ast.Lambda: "a lambda",

@@ -668,7 +668,7 @@ HOSTILE = [
     ("1/0 + phi", '"1/0" = inf'),
     ("10.0**400", "exponent 400"),
     ("phi +", "a syntax error"),
-    ("-" * 400 + "phi", "nested more than 200 operations deep"),  # was a RecursionError
+    ("-" * 400 + "phi", "nested more than 250 operations deep"),  # was a RecursionError
     ("not phi", 'the operator "not"'),
     ("~phi", 'the operator "~"'),
 ]
@@ -857,3 +857,18 @@ def test_auto_claims_a_best_only_after_claim_rounds(monkeypatch):
     sol = solve(load(path, read_problem_bytes(path)))
     assert sol.status.value == "ok"
     assert len(calls) >= fg_auto.CLAIM_ROUNDS >= 2
+
+
+def test_a_flat_sum_as_long_as_an_expression_may_be_is_taken():
+    """The longest expression text (500 characters) written as a flat sum nests 249 operations
+    (two characters each): it is taken and evaluates to its sum; stacked signs deeper than
+    MAX_DEPTH are refused as nested, not as too long."""
+    from linkcli.expr import MAX_DEPTH, MAX_LENGTH
+    text = "phi" + "+phi" * ((MAX_LENGTH - 3) // 4) + "-1" * ((MAX_LENGTH - 3) % 4 // 2)
+    assert len(text) <= MAX_LENGTH
+    law = compile_expression("phi" + "-1" * ((MAX_LENGTH - 3) // 2), ("phi",))
+    assert law.scalar(phi=3.0) == 3.0 - (MAX_LENGTH - 3) // 2
+    law = compile_expression(text, ("phi",))
+    assert law.scalar(phi=2.0) == 2.0 * (1 + (MAX_LENGTH - 3) // 4) - (MAX_LENGTH - 3) % 4 // 2
+    with pytest.raises(ExpressionError, match="nested more than"):
+        compile_expression("-" * (MAX_DEPTH + 1) + "phi", ("phi",))

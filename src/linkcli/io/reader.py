@@ -238,6 +238,9 @@ def _kind(positive: bool, nonnegative: bool, integer: bool) -> str:
     return "an integer" if integer else "a number"
 
 
+_STATES_RANGE = re.compile(r"\bin [\[(]|\d to [-+]?\d|magnitude")  # a `what` that words its own range
+
+
 class NumberRule(NamedTuple):
     """What a number in the file must be: finite (never a bool), and optionally positive,
     non-negative, an integer, within [lo, hi]; `what` words it instead of the default."""
@@ -253,7 +256,9 @@ class NumberRule(NamedTuple):
     def expected(self) -> str:
         """The `expected` of the error: its words, and the range when there is one."""
         kind = self.what or _kind(self.positive, self.nonnegative, self.integer)
-        if self.lo is not None or self.hi is not None:
+        states_range = self.what is not None and _STATES_RANGE.search(self.what) is not None  # its words give
+        # the bounds ("a fraction ... in (0, 2]", "of magnitude 1e-09 to 1e+09"): not said twice
+        if (self.lo is not None or self.hi is not None) and not states_range:
             hi = "inf" if self.hi is None else _fmt(self.hi)
             if self.positive and (self.lo is None or self.lo <= 0):  # a positive number's range opens at 0
                 kind += f" in (0, {hi}]"
@@ -399,8 +404,15 @@ class Reader:
             unknown.extend((path, key, allowed) for key in data if key not in allowed)
         if not self.errors and not unknown:
             return
-        # by line; on one line, the checks' errors before the unknown keys
-        entries = [(e.line or 0, i, e) for i, e in enumerate(self.errors)]
+        # by line; on one line, the checks' errors before the unknown keys; one line per key (a
+        # value two checks judge, a result's nan: "a finite number", then "a number": the first)
+        once, seen = [], set()
+        for e in self.errors:
+            at = (e.line, getattr(e, "key", None))
+            if at[1] is None or at not in seen:
+                once.append(e)
+                seen.add(at)
+        entries = [(e.line or 0, i, e) for i, e in enumerate(once)]
         entries += [(self.line_of(path + (key,)) or 0, len(entries) + j, (path, key, allowed))
                     for j, (path, key, allowed) in enumerate(unknown)]
         listed = heapq.nsmallest(MAX_LISTED, entries)

@@ -33,6 +33,7 @@ from __future__ import annotations
 import difflib
 from dataclasses import replace
 
+from linkcli.io.bounds import MAX_LENGTH
 from linkcli.io.reader import Table, describe
 
 DRIVES = ("any", "crank")
@@ -108,6 +109,11 @@ def read(root: Table, meta, type_name: str):
             tgt, bnd, drawing, u)
     if topology is not None and fields is not None and topology:
         fields = _topology_timing(kind, fields)
+        from linkcli.mechanisms.drawn import catalogue
+        why = catalogue.empty_reason(topology, kind, catalogue.timing_of(kind, fields.get("timing", "prescribed")))
+        if why:  # no catalogued drawing to search (the sweep would find none): said where the topology is
+            link_t.error("topology", "a topology with a choice the design can search", raw_got=why)
+            topology = False
     if (None in (boxes, drive, fields, robust, steps, reach) or window is False or topology is False or not front_ok
             or (drawing is None and topology is None)):
         return None
@@ -220,7 +226,11 @@ def _boxes(bnd: Table | None, drawing, kind: str):
         at = drawing.joint(key).at
         sub = bnd.table(key)
         for c, (lo, hi), v in zip("xy", box, at):
-            if not lo <= v <= hi:
+            if max(abs(lo), abs(hi)) > MAX_LENGTH:
+                sub.error(c, f"a range of coordinates of magnitude at most {MAX_LENGTH:g} (length unit)",
+                          raw_got=f"[{lo:g}, {hi:g}]" if lo < hi else f"{lo:g}")
+                ok = False
+            elif not lo <= v <= hi:
                 sub.error(c, f"a range holding {key}'s drawn {c} = {v:g} (the box of a free joint holds its "
                           "drawn place: the starting design)", raw_got=f"[{lo:g}, {hi:g}]" if lo < hi else f"{lo:g}")
                 ok = False
@@ -340,7 +350,7 @@ def _motion_target(tgt: Table, bnd, drawing, u):
             _named_by_topology(tgt, "link", None, "the guided body is the link each choice names"))
     poses = _poses(tgt, u)
     timing = _timing(tgt, bnd, len(poses) if poses is not None else None, u, "pose")
-    weight = tgt.number("angle_weight", None, positive=True, what="a positive length") \
+    weight = tgt.number("angle_weight", None, positive=True, hi=MAX_LENGTH, what="a positive length") \
         if "angle_weight" in tgt else None
     if link is None or poses is None or timing is None or ("angle_weight" in tgt and weight is None):
         return None
@@ -354,6 +364,10 @@ def _function_target(tgt: Table, bnd, drawing, u):
     from linkcli.types.function_generation import schema as fg
     link = (_moving_link(tgt, drawing) if drawing is not None else
             _named_by_topology(tgt, "link", OUTPUT, f"the output link is {OUTPUT}"))
+    if link and drawing is not None and any(d.name == link for d in drawing.drives):
+        tgt.error("link", "a link the drive turns through the linkage, not the driving link (its angle is "
+                  "the drive's: no design changes it)", raw_got=f'"{link}", the driving link')
+        link = None
     form_law = fg.read_law(tgt)
     sweep = fg.read_sweep(tgt, "input_sweep", u)
     points = tgt.number("points", fg.DEFAULT_POINTS, integer=True, lo=2, hi=fg.MAX_POINTS)
@@ -408,7 +422,7 @@ def _starts(tgt: Table, bnd: Table | None, u, free: tuple[str, ...] = ()):
             else:
                 bounds[key] = r
         elif in_tgt:
-            value = tgt.number(key, what=f"an angle ({u.angle}) from the drawn position")
+            value = tgt.number(key, lo=-MAX_LENGTH, hi=MAX_LENGTH, what=f"an angle ({u.angle}) from the drawn position")
             if value is None:
                 ok = False
             else:

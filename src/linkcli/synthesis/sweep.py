@@ -56,9 +56,9 @@ def boxes_of(drawing, half: float, kind: str = "path") -> dict:
 
 
 def _timing(problem) -> str:
-    """The catalogue's timing for the problem: "any" for a free-timing path or motion (only the
-    choices whose curves or motions go beyond a four-bar's), else "prescribed"."""
-    return "any" if problem.kind != "function" and problem.timing == "free" else "prescribed"
+    """The catalogue's timing for the problem (catalogue.timing_of)."""
+    from linkcli.mechanisms.drawn import catalogue
+    return catalogue.timing_of(problem.kind, problem.timing)
 
 
 def runs(problem, total: int) -> list[tuple]:

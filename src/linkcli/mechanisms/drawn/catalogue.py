@@ -95,6 +95,13 @@ def choices(topology: str, task: str, timing: str = TIMED) -> tuple[Choice, ...]
     return tuple(out)
 
 
+def timing_of(task: str, timing: str) -> str:
+    """The catalogue's timing for a task and a problem's timing: FREE ("any") for a
+    free-timing path or motion (only the choices whose curves or motions go beyond a
+    four-bar's), else TIMED."""
+    return FREE if task != "function" and timing == "free" else TIMED
+
+
 def empty_reason(topology: str, task: str, timing: str = TIMED) -> str | None:
     """Why `topology` offers no choice for this task and timing (a sentence for an error
     line), or None when it offers some."""

@@ -28,6 +28,7 @@ from linkcli.io.bounds import MAX_LENGTH, MAX_RATIO, MIN_LENGTH, over_ratio
 from linkcli.io.reader import Table
 from linkcli.mechanisms.four_bar.model import LINKS
 from linkcli.model import FunctionGenerationProblem, Meta
+from linkcli.noise import NOISE_FLOOR
 from linkcli.reading.pareto_keys import read_front
 from linkcli.reading.robust_keys import read_objective
 
@@ -214,12 +215,13 @@ def read_law(tgt: Table):
 def read_sweep(tgt: Table, key: str, u):
     """A non-zero signed angle of at most one turn, in radians."""
     full = u.from_rad(2 * math.pi)
+    least = u.from_rad(NOISE_FLOOR)  # below it the points' drive angles are round-off of one another
     value = tgt.number(key, what=f"a non-zero angle within one turn ({u.angle})")
     if value is None:
         return None
-    if value == 0 or abs(value) > full:
-        tgt.error(key, f"a non-zero angle of at most one turn ({_fmt(full)} {u.angle} in magnitude)",
-                  tgt.raw(key))
+    if abs(value) < least or abs(value) > full:
+        tgt.error(key, f"a non-zero angle of at most one turn ({_fmt(full)} {u.angle} in magnitude) and at "
+                  f"least {least:g} {u.angle} (1e-9 rad)", tgt.raw(key))
         return None
     return u.to_rad(value)
 
@@ -245,7 +247,7 @@ def read_starts(tgt: Table, bnd: Table | None, u, needs_psi0: bool = True):
             continue
         if start == "extended":
             continue
-        value = tgt.number(k, what=f"an angle ({u.angle})") if in_tgt else None
+        value = tgt.number(k, lo=-MAX_LENGTH, hi=MAX_LENGTH, what=f"an angle ({u.angle})") if in_tgt else None
         rng = bnd.range(k) if in_bnd else None
         if in_tgt and in_bnd:
             bnd.error(k, "a start angle either given in [target] or bounded in [bounds], not both",
