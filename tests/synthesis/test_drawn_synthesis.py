@@ -279,6 +279,33 @@ def test_the_result_keeps_its_drawing_and_analyze_reads_it(tmp_path):
     assert "forces" in again and "C" in again["forces"]["pins"]
 
 
+@pytest.mark.parametrize("edit,line", [
+    (('"crank O2-A" = ', "50.0"), 'linkage.crank O2-A: expected the distance its joints give'),
+    (('"crank O2-A" = ', '"x"'), "linkage.crank O2-A: expected a number"),
+    (('"crank O2-A" = ', "nan"), "linkage.crank O2-A: expected a finite number"),
+    (("status = ", '"weird"'), "status: expected one of"),
+])
+def test_an_edited_result_is_one_located_line(tmp_path, edit, line):
+    """analyze of a drawn design's result file (synth --format toml of problems/drawn_dwell.toml)
+    with one value edited: exit 2 and exactly one line, naming it (the distances are checked
+    against the joints to the digits written, not ignored; no key the edit leaves unread is
+    called unknown); the precisions 3, 6 and 17 as written are read back."""
+    for digits in ("3", "6", "17"):
+        code, out, err = run_cli("synth", "problems/drawn_dwell.toml", "--format", "toml", "--precision", digits)
+        assert code == 0, err
+        ok = tmp_path / f"ok{digits}.toml"
+        ok.write_text(out)
+        assert run_cli("analyze", str(ok))[0] == 0
+    key, value = edit
+    start = out.index(key) if key.startswith('"') else out.index("\n" + key) + 1
+    end = out.index("\n", start)
+    bad = tmp_path / "bad.toml"
+    bad.write_text(out[:start] + key + value + out[end:])
+    code, _, err = run_cli("analyze", str(bad))
+    assert code == 2
+    assert len(err.splitlines()) == 1 and line in err, err
+
+
 # ---------------------------------------------------------------- the examples in problems/
 
 def _example(name: str):

@@ -91,6 +91,9 @@ def parse(reader: Reader) -> LinkageProblem | None:
             fourbar = replace(fourbar, coupler_angle=units.to_rad(angle))  # a motion-generation result
     loads = read_loads(root, "linkage")  # [loads] / [masses]: echoed by synth, or added by hand
     if reader.errors or fourbar is None:
+        motion = root.table("motion")
+        if motion is not None:  # its keys are judged against the linkage, which is in error: not unknown
+            motion.allow(*motion.keys())
         reader.finish()  # raises them, with the unknown keys
         return None
     sections = problem_type("linkage").default_sections + (("forces",) if loads is not None else ())

@@ -21,7 +21,8 @@ def read_kept(t: Table, units, schema):
     from linkcli.io.joints import read_joints
     from linkcli.mechanisms.drawn.model import Drawn
     from linkcli.mechanisms.drawn.structure import analyse
-    t.allow(*(k for k in t.keys() if k not in KEPT))  # the distances: the report's own echo
+    t.allow(*t.keys())  # the distances (the report's own echo: checked below, against the joints);
+    # the kept tables when the joints are in error (not read then: not unknown)
     errors = len(t.reader.errors)
     specs = read_joints(t, schema, units)
     joint_table = t.table("joints")
@@ -38,7 +39,7 @@ def read_kept(t: Table, units, schema):
     structure = analyse(drawing)
     for problem in structure.problems:
         t.reader.error(("linkage",) + problem.where, problem.expected, raw_got=problem.found)
-    if structure.problems:
+    if structure.problems or not _echo_agrees(t, drawing):
         return None
     motion = t.reader.root().table("motion")
     points = ()
@@ -46,3 +47,46 @@ def read_kept(t: Table, units, schema):
         names = {j.name for j in joints}
         points = tuple(p for p in motion.raw("points") if isinstance(p, str) and p in names)
     return replace(drawing, points=points)
+
+
+def _echo_agrees(t: Table, drawing) -> bool:
+    """Whether every other key of the result's [linkage] is a distance the drawing reports
+    ("link A-B": two joints of one link, or of the ground) of the joints' value, to the digits
+    they are written with: an edited distance would otherwise be ignored, the joints analysed as
+    they stand (errors recorded). Written with d significant digits (the most of any of them:
+    one precision wrote them all), a value agrees within 10^(1 - d) of itself plus the drawing's
+    extent (its joints are written with as many digits)."""
+    import math
+    at = {j.name: j.at for j in drawing.joints}
+    ground = [j.name for j in drawing.joints if j.ground]
+    reported = {}
+    for name, joints in [("ground", ground)] + [(k.name, k.joints) for k in drawing.links]:
+        for i, a in enumerate(joints):
+            for b in joints[i + 1:]:
+                reported[f"{name} {a}-{b}"] = math.dist(at[a], at[b])
+    extent = max(max(abs(c) for c in p) for p in at.values())
+    numbers = [v for k, v in t.data.items() if k not in KEPT and isinstance(v, (int, float)) and not isinstance(v, bool)
+               and math.isfinite(v)]
+    digits = max((_digits(v) for v in numbers), default=1)  # the precision they were written with
+    ok = True
+    for key in (k for k in t.keys() if k not in KEPT):
+        value = t.raw(key)
+        if key not in reported:
+            t.error(key, "a distance the drawing reports (link A-B: two joints of one link or of the ground) "
+                    "or one of: " + ", ".join(KEPT), raw_got=f'"{key}"')
+            ok = False
+        elif isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            t.error(key, "a number: the distance its joints give (length unit)", value)
+            ok = False
+        else:
+            if abs(value - reported[key]) > 10.0 ** (1 - digits) * (abs(value) + extent):
+                t.error(key, f"the distance its joints give, {reported[key]:.6g} (edit the joints: the "
+                        "distances are the report's echo)", value)
+                ok = False
+    return ok
+
+
+def _digits(value: float) -> int:
+    """The significant digits of a number as written (its shortest repr: 9.81113 -> 6)."""
+    mantissa = repr(abs(float(value))).split("e")[0].replace(".", "").lstrip("0").rstrip("0")
+    return max(len(mantissa), 1)
