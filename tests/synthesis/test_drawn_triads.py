@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import run_cli
+from conftest import ROOT, run_cli
 from test_drawn_synthesis import perturbed_problem
 from test_topology_sweep import PATH as SWEEP_PATH
 
@@ -499,3 +499,29 @@ def test_rows_at_a_triads_dead_point_have_a_margin_where_they_do_not_solve():
     assert np.all(np.isfinite(m))
     assert np.all(np.abs(m[:, :-1]) < 1e-2 * size)
     np.testing.assert_allclose(m[:, -1], -size[:, 0] * 1e-3 * np.ones(m.shape[::2]), rtol=1e-2)
+
+
+def test_a_drawing_with_a_triad_has_a_tenth_of_the_default_budget(monkeypatch):
+    """Without [solver] budget, a design whose plan has a group followed by continuation (a
+    triad: an evaluation some ten times a dyad's) gets DEFAULT_BUDGET / GROUP_COST evaluations,
+    a plan of dyads DEFAULT_BUDGET; a budget given is the budget (the search itself stubbed:
+    only the budget it is handed is looked at)."""
+    from linkcli.mechanisms.drawn.population import GROUP_COST
+    from linkcli.pipeline import solve
+    from linkcli.reading.load import load
+    from linkcli.synthesis import search as shared
+    handed = []
+
+    def search(model, budget, rng):
+        handed.append(budget.total)
+        return [], False
+
+    monkeypatch.setattr(shared, "search", search)
+    text, _ = _known_problem(0, ("B", "C"))
+    triad = text.replace("[solver]\nbudget = 20000\n", "")
+    dyads = (ROOT / "problems" / "drawn_dwell.toml").read_text()  # Stephenson III: crank, then two dyads
+    assert "[solver]" not in dyads
+    for body, total in ((triad, shared.DEFAULT_BUDGET // GROUP_COST), (text, 20000), (dyads, shared.DEFAULT_BUDGET)):
+        solve(load("t.toml", body))
+        assert handed[-1] == total
+    assert GROUP_COST == 10

@@ -135,6 +135,7 @@ class Population(ABC):
     followed: tuple[str, ...] = ()
     closures: tuple[str, ...] = ()
     held: tuple[str, ...] = ()  # what was given a box but moves nothing measured: held where drawn
+    evaluation_cost: float = 1.0  # an evaluation's cost over a closed-form plan's: the default budget's divisor
 
     @abstractmethod
     def geometry(self, x):

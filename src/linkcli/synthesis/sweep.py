@@ -27,13 +27,14 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+from linkcli.mechanisms.drawn.population import GROUP_COST
 from linkcli.solution import Solution, SolverRecord, Status
 
 DRAWINGS = 2  # starting drawings searched per choice
 FUNCTION_BOX = (0.0, 0.0, 100.0, 100.0)  # a function's drawings (its error does not depend on the scale)
 MIN_RUN_BUDGET = 2_000
 TRIAD = "triad"
-TRIAD_COST = 10  # a triad choice's evaluation over a dyad choice's in a search (module docstring)
+TRIAD_COST = GROUP_COST  # a triad choice's evaluation over a dyad choice's in a search (module docstring)
 
 
 def target_box(problem) -> tuple[float, float, float, float]:

@@ -49,11 +49,14 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from linkcli.mechanisms.drawn.model import Drawn
-from linkcli.mechanisms.drawn.structure import GROUND, Dyad, GuideThrough, OnGuide, Structure, Turn, placed_by
+from linkcli.mechanisms.drawn.structure import GROUND, Dyad, Group, GuideThrough, OnGuide, Structure, Turn, placed_by
 from linkcli.mechanisms.synthesis import Motion, Population
 
 NEAR = 2e-4  # of each box's width: a design this near a followed one borrows its track (a difference probe)
 CARRY = 0.05  # of each box's width: a design this near a followed one has its track carried over (transport)
+GROUP_COST = 10  # an evaluation of a plan with a group (a triad, followed by continuation) over a plan of
+# dyads' in a search (docs/six_bars.md: 0.54 ms against 0.03 to 0.05 ms a design): the default budget's
+# divisor (Population.evaluation_cost), and a topology sweep's weight of such a choice
 
 
 @dataclass
@@ -75,6 +78,7 @@ class DrawnPopulation(Population):
                  traced: tuple[str, ...] = (), followed: tuple[str, ...] = ()):
         self.drawing, self.structure = drawing, structure
         self.held = idle_joints(structure, drawing, free, traced, followed)
+        self.evaluation_cost = GROUP_COST if any(isinstance(op, Group) for op in structure.plan) else 1.0
         self.free = tuple(j for j in free if j not in self.held)
         self.names = tuple(f"{j}.{c}" for j in self.free for c in ("x", "y"))
         self.lo = np.array([boxes[j][k][0] for j in self.free for k in (0, 1)], dtype=float)
