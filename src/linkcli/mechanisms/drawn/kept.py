@@ -57,14 +57,8 @@ def _echo_agrees(t: Table, drawing) -> bool:
     one precision wrote them all), a value agrees within 10^(1 - d) of itself plus the drawing's
     extent (its joints are written with as many digits)."""
     import math
-    at = {j.name: j.at for j in drawing.joints}
-    ground = [j.name for j in drawing.joints if j.ground]
-    reported = {}
-    for name, joints in [("ground", ground)] + [(k.name, k.joints) for k in drawing.links]:
-        for i, a in enumerate(joints):
-            for b in joints[i + 1:]:
-                reported[f"{name} {a}-{b}"] = math.dist(at[a], at[b])
-    extent = max(max(abs(c) for c in p) for p in at.values())
+    reported = drawing.distances()
+    extent = max(max(abs(c) for c in j.at) for j in drawing.joints)
     numbers = [v for k, v in t.data.items() if k not in KEPT and isinstance(v, (int, float)) and not isinstance(v, bool)
                and math.isfinite(v)]
     digits = max((_digits(v) for v in numbers), default=1)  # the precision they were written with

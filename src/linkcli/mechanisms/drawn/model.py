@@ -71,3 +71,16 @@ class Drawn:
 
     def link(self, name: str) -> DrawnLink:
         return next(k for k in self.links if k.name == name)
+
+    def distances(self) -> dict[str, float]:
+        """"link A-B" -> |A B| for every two joints of each link (and of the ground, "ground
+        A-B"), as drawn: what a report lists beside the drawing."""
+        import math
+        at = {j.name: j.at for j in self.joints}
+        out = {}
+        ground = [j.name for j in self.joints if j.ground]
+        for name, joints in [("ground", ground)] + [(k.name, k.joints) for k in self.links]:
+            for i, a in enumerate(joints):
+                for b in joints[i + 1:]:
+                    out[f"{name} {a}-{b}"] = math.dist(at[a], at[b])
+        return out

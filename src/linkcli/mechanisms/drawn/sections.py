@@ -26,15 +26,9 @@ CLASS_NAMES = {4: "four-bar", 5: "five-bar", 6: "six-bar", 7: "seven-bar", 8: "e
 
 
 def distances(drawing) -> dict[str, float]:
-    """"link A-B" -> |A B| for every two joints of each link (and of the ground), as drawn."""
-    at = {j.name: j.at for j in drawing.joints}
-    out = {}
-    ground = [j.name for j in drawing.joints if j.ground]
-    for name, joints in [("ground", ground)] + [(k.name, k.joints) for k in drawing.links]:
-        for i, a in enumerate(joints):
-            for b in joints[i + 1:]:
-                out[f"{name} {a}-{b}"] = math.dist(at[a], at[b])
-    return out
+    """"link A-B" -> |A B| for every two joints of each link (and of the ground), as drawn
+    (Drawn.distances)."""
+    return drawing.distances()
 
 
 def size(drawing) -> float:
