@@ -504,8 +504,9 @@ def test_rows_at_a_triads_dead_point_have_a_margin_where_they_do_not_solve():
 def test_a_drawing_with_a_triad_has_a_tenth_of_the_default_budget(monkeypatch):
     """Without [solver] budget, a design whose plan has a group followed by continuation (a
     triad: an evaluation some ten times a dyad's) gets DEFAULT_BUDGET / GROUP_COST evaluations,
-    a plan of dyads DEFAULT_BUDGET; a budget given is the budget (the search itself stubbed:
-    only the budget it is handed is looked at)."""
+    a plan of dyads DEFAULT_BUDGET, free timing through 40 points half of it (20 / 40: each
+    point a timing variable); a budget given is the budget (the search itself stubbed: only the
+    budget it is handed is looked at)."""
     from linkcli.mechanisms.drawn.population import GROUP_COST
     from linkcli.pipeline import solve
     from linkcli.reading.load import load
@@ -521,7 +522,13 @@ def test_a_drawing_with_a_triad_has_a_tenth_of_the_default_budget(monkeypatch):
     triad = text.replace("[solver]\nbudget = 20000\n", "")
     dyads = (ROOT / "problems" / "drawn_dwell.toml").read_text()  # Stephenson III: crank, then two dyads
     assert "[solver]" not in dyads
-    for body, total in ((triad, shared.DEFAULT_BUDGET // GROUP_COST), (text, 20000), (dyads, shared.DEFAULT_BUDGET)):
+    stride = (ROOT / "problems" / "drawn_jansen_stride.toml").read_text()  # free timing, 14 points
+    start, end = stride.index("points = ["), stride.index('timing = "free"')
+    ring = [[round(30 * math.cos(t), 6), round(-72.5 + 12.5 * math.sin(t), 6)]
+            for t in np.arange(40) * 2 * math.pi / 40]
+    many = stride[:start] + f"points = {ring}\n" + stride[end:]  # 40 points: 20 / 40 of the budget
+    for body, total in ((triad, shared.DEFAULT_BUDGET // GROUP_COST), (text, 20000), (dyads, shared.DEFAULT_BUDGET),
+                        (stride, shared.DEFAULT_BUDGET), (many, shared.DEFAULT_BUDGET // 2)):
         solve(load("t.toml", body))
         assert handed[-1] == total
-    assert GROUP_COST == 10
+    assert GROUP_COST == 10 and shared.FREE_TARGETS == 20

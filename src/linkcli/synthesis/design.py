@@ -57,8 +57,7 @@ def design(problem, population) -> Solution:
     the population of a drawing)."""
     model = Model(problem, population)
     opts = problem.meta.solver
-    budget = Budget(opts.budget or max(1, int(shared.DEFAULT_BUDGET / population.evaluation_cost)))  # the
-    # default: about one time whatever an evaluation costs (a triad's ten times a dyad's: a tenth of them)
+    budget = Budget(opts.budget or shared.default_budget(model))
     model.budget = budget
     rng = np.random.default_rng(opts.seed)
     with np.errstate(all="ignore"):
