@@ -72,11 +72,10 @@ def _echo_agrees(t: Table, drawing) -> bool:
         elif isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
             t.error(key, "a number: the distance its joints give (length unit)", value)
             ok = False
-        else:
-            if abs(value - reported[key]) > 10.0 ** (1 - digits) * (abs(value) + extent):
-                t.error(key, f"the distance its joints give, {reported[key]:.6g} (edit the joints: the "
-                        "distances are the report's echo)", value)
-                ok = False
+        elif abs(value - reported[key]) > 10.0 ** (1 - digits) * (abs(value) + extent):
+            t.error(key, f"the distance its joints give, {reported[key]:.6g} (edit the joints: the "
+                    "distances are the report's echo)", value)
+            ok = False
     return ok
 
 

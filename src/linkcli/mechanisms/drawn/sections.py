@@ -25,22 +25,16 @@ from linkcli.textnum import num
 CLASS_NAMES = {4: "four-bar", 5: "five-bar", 6: "six-bar", 7: "seven-bar", 8: "eight-bar", 10: "ten-bar"}
 
 
-def distances(drawing) -> dict[str, float]:
-    """"link A-B" -> |A B| for every two joints of each link (and of the ground), as drawn
-    (Drawn.distances)."""
-    return drawing.distances()
-
-
 def size(drawing) -> float:
     """The drawing's scale: its longest distance between two joints of one link (or of the
     ground); round-off below NOISE_FLOOR times it is 0."""
-    return max(distances(drawing).values(), default=1.0) or 1.0
+    return max(drawing.distances().values(), default=1.0) or 1.0
 
 
 def linkage_section(drawing, u) -> dict:
     """mechanism, (a designed drawing: its `drawing_section`), then every distance."""
     kept = drawing_section(drawing, u) if drawing.designed else {}
-    return {"mechanism": "drawn", **kept, **distances(drawing)}
+    return {"mechanism": "drawn", **kept, **drawing.distances()}
 
 
 def drawing_section(drawing, u) -> dict:
