@@ -203,6 +203,7 @@ def _one_turning_drive(root: Table, drawing):
 def _boxes(bnd: Table | None, drawing, kind: str):
     """((joint, ((x lo, x hi), (y lo, y hi))), ...) in file order: each box holds the
     joint's drawn place; None after an error."""
+    from linkcli.types.path_generation.schema import point_range
     if bnd is None:
         return ()
     names = [j.name for j in drawing.joints]
@@ -219,18 +220,14 @@ def _boxes(bnd: Table | None, drawing, kind: str):
                       f"{', '.join(timing)}{extra}", raw_got=f'"{key}", which the drawing does not have')
             ok = False
             continue
-        box = bnd.point_range(key)
+        box = point_range(bnd, key, None)  # each end a coordinate of at most MAX_MAGNITUDE (1e9)
         if box is None:
             ok = False
             continue
         at = drawing.joint(key).at
         sub = bnd.table(key)
         for c, (lo, hi), v in zip("xy", box, at):
-            if max(abs(lo), abs(hi)) > MAX_LENGTH:
-                sub.error(c, f"a range of coordinates of magnitude at most {MAX_LENGTH:g} (length unit)",
-                          raw_got=f"[{lo:g}, {hi:g}]" if lo < hi else f"{lo:g}")
-                ok = False
-            elif not lo <= v <= hi:
+            if not lo <= v <= hi:
                 sub.error(c, f"a range holding {key}'s drawn {c} = {v:g} (the box of a free joint holds its "
                           "drawn place: the starting design)", raw_got=f"[{lo:g}, {hi:g}]" if lo < hi else f"{lo:g}")
                 ok = False
