@@ -545,3 +545,41 @@ def test_a_joint_that_moves_nothing_measured_is_held_where_drawn():
         assert report["linkage"]["joints"]["P"]["at"] == drawn
         assert any(n.startswith("joint P held where drawn") for n in report["notes"])
         assert report["error"]["max_position_error"] < 1e-6 * 100.0
+
+
+@pytest.mark.parametrize("name", ["drawn_six_bar_path", "drawn_dwell", "triad"])
+def test_target_residuals_in_chunks_are_those_of_one_call(monkeypatch, name):
+    """Model.targets_at holds at most CHUNK design-drive rows in one kinematics call (a Jacobian
+    of free timing through 200 targets was 4 million rows, 1.2 GB): the residuals of designs
+    evaluated a few at a time are those of one call, bit for bit, and no call exceeds the bound
+    (dyads, a function's law, a Stephenson II's triad followed by continuation)."""
+    from linkcli.mechanisms import synthesis
+    from linkcli.reading.load import load
+    from linkcli.synthesis import model as model_module
+    from linkcli.synthesis.model import Model
+
+    if name == "triad":
+        from test_drawn_triads import _known_problem
+        text = _known_problem(0, ("B", "C", "D", "E", "P"))[0]
+    else:
+        text = (ROOT / "problems" / f"{name}.toml").read_text()
+    problem = load(f"{name}.toml", text)
+    model = Model(problem, synthesis.face(problem.mechanism).population(problem))
+    x = model.pop.starts(np.random.default_rng(3), 40)
+    if x.shape[1] < len(model.lo):  # the timing's variables: 0, the drawn timing
+        x = np.concatenate([x, np.zeros((len(x), len(model.lo) - x.shape[1]))], axis=1)
+    s = np.ones(len(x))
+    whole = model.targets_at(x, s)
+    rows = []
+    kinematics = model.pop.kinematics
+
+    def counted(xs, q):
+        rows.append(q.size)
+        return kinematics(xs, q)
+
+    monkeypatch.setattr(model.pop, "kinematics", counted)
+    monkeypatch.setattr(model_module, "CHUNK", 7 * model.n)
+    model.pop.__dict__.pop("_tracks", None)  # a triad's tracks followed again, not taken from the first call
+    parts = model.targets_at(x, s)
+    assert len(rows) == math.ceil(len(x) / 7) and max(rows) <= 7 * model.n
+    assert np.isfinite(whole).all() and np.array_equal(parts, whole)

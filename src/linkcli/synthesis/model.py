@@ -62,6 +62,8 @@ REFINE = 4  # parabolic refinements of a grid extreme
 NEAR = 5e-3  # a worst value above -NEAR (dimensionless) is refined: between two grid values 5 deg
 # apart a margin or an angle rises by about g'' (2.5 deg)^2 / 2, some 1e-3 for g'' ~ 1 (per rad^2)
 HUGE = 1e100  # a residual that overflowed or is undefined
+CHUNK = 1 << 18  # design-drive rows of one kinematics call in targets_at (a Jacobian's k + 1 designs
+# each at every target: with free timing through 200 targets, 4 million rows and 1.2 GB in one call)
 FINE = 0.25  # deg: the final check's grid (as the analysis's reach)
 
 
@@ -373,9 +375,14 @@ class Model:
     def targets_at(self, x, s) -> np.ndarray:
         """(N, m_t) the target residuals alone."""
         q = self.inputs(x, s)
-        with np.errstate(all="ignore"):
-            motion = self.pop.kinematics(x, q)
-            r, _ = self.target_residuals(x, motion, q)
+        per = max(1, CHUNK // max(1, q.shape[1]))  # designs a call: memory bounded, whatever the targets
+        parts = []
+        for lo in range(0, len(x), per):
+            rows = slice(lo, lo + per)
+            with np.errstate(all="ignore"):
+                motion = self.pop.kinematics(x[rows], q[rows])
+                parts.append(self.target_residuals(x[rows], motion, q[rows])[0])
+        r = np.concatenate(parts, axis=0) if len(parts) != 1 else parts[0]
         return np.nan_to_num(r, nan=HUGE, posinf=HUGE, neginf=-HUGE)
 
     # ------------------------------------------------------------ the final check
