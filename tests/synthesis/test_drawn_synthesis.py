@@ -583,3 +583,36 @@ def test_target_residuals_in_chunks_are_those_of_one_call(monkeypatch, name):
     parts = model.targets_at(x, s)
     assert len(rows) == math.ceil(len(x) / 7) and max(rows) <= 7 * model.n
     assert np.isfinite(whole).all() and np.array_equal(parts, whole)
+
+
+def test_a_free_timings_first_input_is_its_first_positions_angle(monkeypatch):
+    """Free timing's first drive value lies in [-2 pi, 2 pi] (model.py): a start past 180 deg and
+    the same less a turn are one design (a plan of dyads: the same places). Its report prints
+    the first input in (-180, 180], as the positions table prints that row: the design found
+    either way reads the same (a search that ended on the other copy printed 195.561 where the
+    positions said -164.439)."""
+    from linkcli.synthesis import search as shared
+
+    search = shared.search
+    turned = []
+
+    def other_copy(model, budget, rng):  # the search's best, its first drive value a turn on
+        found, confirmed = search(model, budget, rng)
+        k = model.k_home
+        best = found[0]
+        x = np.array(best.x, dtype=float)
+        x[k] += -2 * math.pi if x[k] > 0 else 2 * math.pi
+        turned.append(x[k])
+        return [shared.Candidate(x, best.s, best.converged, best.round)] + found[1:], confirmed
+
+    text = (ROOT / "problems" / "drawn_jansen_stride.toml").read_text() + "\n[solver]\nbudget = 20000\n"
+    _, _, report = _solve(text)
+    monkeypatch.setattr(shared, "search", other_copy)
+    _, _, again = _solve(text)
+    assert turned and not -math.pi < turned[0] <= math.pi  # the copy outside (-180, 180]
+    first = report["timing"]["first_input"]
+    assert -180.0 < first <= 180.0
+    assert again["timing"]["first_input"] == pytest.approx(first, abs=1e-9)
+    assert again["positions"][0]["input"] == pytest.approx(first, abs=1e-9)
+    np.testing.assert_allclose([p["achieved"] for p in again["positions"]],
+                               [p["achieved"] for p in report["positions"]], atol=1e-9)
