@@ -11,8 +11,7 @@ import math
 
 import numpy as np
 
-from linkcli.angles import wrap
-from linkcli.noise import snap
+from linkcli.mechanisms.columns import angle_out
 from linkcli.solution import Positions, Solution, SolverRecord, Status
 from linkcli.synthesis import search as shared
 from linkcli.synthesis.model import TWO_PI, Model
@@ -62,7 +61,7 @@ def solution(problem, model: Model, best, bad, budget, confirmed: bool) -> Solut
     start = drive_start(linkage, None, linkage.drives[0])
     timing = {"timing": model.timing if model.kind != "function" else "prescribed",
               "direction": ("ccw" if span[1] >= 0 else "cw") if monotone else "reverses",
-              "first_input": float(u.from_rad(snap(float(wrap(first)), 1.0))), "input_sweep": float(u.from_rad(abs(span[1]))),
+              "first_input": angle_out(u, first), "input_sweep": float(u.from_rad(abs(span[1]))),
               "drawn_drive_angle": float(u.from_rad(start))}
     k = model.k_home
     if model.timing == "prescribed" and model.free[k]:
