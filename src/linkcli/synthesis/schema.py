@@ -51,6 +51,7 @@ FUNCTION_REACH = 0.5  # a function's moving joints (its ground pivots held where
 # a function's error is in turns, so its shapes, not its size, need the room (the dwell of
 # problems/six_bar_dwell_sweep.toml: the four-bar's best within 0.2 is 0.030 rad^2, within 0.5 0.0078)
 MAX_REACH = 2.0
+MIN_REACH = 1e-6  # below, a box is narrower than the search's steps resolve: no joint would move
 TRACER = "P"  # a topology's path tracer (drawn.catalogue)
 OUTPUT = "output"  # a topology's function output link (drawn.catalogue)
 
@@ -157,11 +158,8 @@ def _reach(bnd: Table | None, kind: str):
                   f"within reach x the target's diagonal of their drawn place: reach = {default:g} unless "
                   f"given) or one of: reach, {', '.join(TIMING_BOUNDS[kind])}", raw_got=f'"{key}"')
         ok = False
-    reach = bnd.number("reach", default, lo=0.0, hi=MAX_REACH, what=f"a fraction of the target's diagonal "
-                       f"in (0, {MAX_REACH:g}]") if "reach" in bnd else default
-    if reach is not None and reach <= 0.0:
-        bnd.error("reach", f"a fraction of the target's diagonal in (0, {MAX_REACH:g}]", raw_got=f"{reach:g}")
-        reach = None
+    what = f"a fraction of the target's diagonal in [{MIN_REACH:g}, {MAX_REACH:g}]"
+    reach = bnd.number("reach", default, lo=MIN_REACH, hi=MAX_REACH, what=what) if "reach" in bnd else default
     return reach if ok else None
 
 
