@@ -110,3 +110,35 @@ def test_every_choice_is_searched_a_triads_in_a_tenth_of_a_dyads_evaluations(tmp
         assert 300_000 - DRAWINGS * len(todo) <= DRAWINGS * sum(b for _, b in todo) <= 300_000
     path.write_text(PATH.format(topology="stephenson-ii", target="", bounds=""))
     assert all(b == MIN_RUN_BUDGET for c, b in runs(load(str(path)), 1000) if c.plan == "triad")
+
+
+def test_a_sweeps_default_budget_with_free_timing_through_many_points_is_its_share(monkeypatch, tmp_path):
+    """Without [solver] budget a sweep shares the shared search's default, and with free timing
+    through more than 20 points 20 / n of it, as one drawing's search gets (search.free_share:
+    each point is a timing variable of every run's Levenberg-Marquardt); prescribed timing and
+    20 free points keep the whole; a budget given is the budget. The runs themselves stubbed:
+    only the totals handed to them are looked at."""
+    from linkcli.reading.load import load
+    from linkcli.synthesis import search as shared
+    from linkcli.synthesis import sweep as sweep_module
+    totals = []
+
+    def runs(problem, total):
+        totals.append(total)
+        return []  # no choice: the sweep stops there (its error), the total seen
+
+    monkeypatch.setattr(sweep_module, "runs", runs)
+    ring = [[round(30 * math.cos(t), 6), round(12 * math.sin(t), 6)] for t in np.arange(40) * 2 * math.pi / 40]
+    angles = [9 * k for k in range(40)]
+    cases = ((f"points = {ring}\n" + 'timing = "free"', "", shared.DEFAULT_BUDGET // 2),
+             (f"points = {ring[:20]}\n" + 'timing = "free"', "", shared.DEFAULT_BUDGET),
+             (f"points = {ring}\ninput_angles = {angles}", "", shared.DEFAULT_BUDGET),
+             (f"points = {ring}\n" + 'timing = "free"', "[solver]\nbudget = 3000", 3000))
+    for index, (target, budget, total) in enumerate(cases):
+        path = tmp_path / f"s{index}.toml"
+        path.write_text(PATH.replace("points = [[0, 0], [10, 4], [20, 5], [30, 4], [40, 0], [30, -3], [20, -6], [10, -3]]\n",
+                                     "").format(topology="stephenson-iii", target=target, bounds=budget))
+        with pytest.raises(Exception) as caught:
+            sweep_module.sweep(load(str(path)))
+        assert totals[-1] == total, caught.value
+    assert len(totals) == 4 and shared.FREE_TARGETS == 20

@@ -80,10 +80,13 @@ def default_budget(model) -> int:
     a round's batched Levenberg-Marquardt grows faster than its evaluations; path generation's
     four-bar lowers its own budget alike). A drawn six-bar's 200 free-timing points took 332 s
     on the full budget, 31 s on this one."""
-    budget = DEFAULT_BUDGET / model.pop.evaluation_cost
-    if model.timing == "free" and model.n > FREE_TARGETS:
-        budget *= FREE_TARGETS / model.n
-    return max(1, int(budget))
+    return max(1, int(DEFAULT_BUDGET / model.pop.evaluation_cost * free_share(model.timing, model.n)))
+
+
+def free_share(timing: str, n: int) -> float:
+    """The default budget's share with `timing` through n targets: FREE_TARGETS / n with free
+    timing beyond FREE_TARGETS targets (default_budget; a topology sweep's total alike), else 1."""
+    return FREE_TARGETS / n if timing == "free" and n > FREE_TARGETS else 1.0
 
 
 @dataclass

@@ -17,7 +17,7 @@ evaluations than a choice of dyads, so that its time comes near theirs (a search
 settle spend some 7,000 evaluations whatever its budget: the example's triad choice takes some
 10 s of CPU for its two runs, the dyad choice some 4 s).
 
-The budget ([solver] budget, or the shared search's default) is shared by the runs in those
+The budget ([solver] budget, or the shared search's default: `default_total`) is shared by the runs in those
 weights (a triad's 1 / TRIAD_COST, a dyad's 1), each run at least MIN_RUN_BUDGET; the seed is the
 file's for every run, so the sweep is deterministic.
 """
@@ -73,14 +73,25 @@ def runs(problem, total: int) -> list[tuple]:
     return [(c, max(MIN_RUN_BUDGET, int(unit * w))) for c, w in zip(todo, weight)]
 
 
+def default_total(problem) -> int:
+    """The sweep's budget without [solver] budget: the shared search's default, and with free
+    timing through more than search.FREE_TARGETS targets its share of it (search.free_share: a
+    run's batched Levenberg-Marquardt grows with the timing's variables faster than its
+    evaluations), as a single drawing's search has."""
+    from linkcli.synthesis import search as shared
+    if problem.kind == "function":
+        return shared.DEFAULT_BUDGET
+    n = len(problem.points) if problem.kind == "path" else len(problem.poses)
+    return max(1, int(shared.DEFAULT_BUDGET * shared.free_share(problem.timing, n)))
+
+
 def sweep(problem) -> Solution:
     """The best six-bar of `problem`'s topology, with the `topologies` table (module docstring)."""
     from linkcli.errors import SolveInputError
     from linkcli.mechanisms.drawn import catalogue
-    from linkcli.synthesis import search as shared
     from linkcli.synthesis.design import design_drawing
     opts = problem.meta.solver
-    todo = runs(problem, opts.budget or shared.DEFAULT_BUDGET)
+    todo = runs(problem, opts.budget or default_total(problem))
     if not any(c.topology != catalogue.BASELINE for c, _ in todo):
         why = catalogue.empty_reason(problem.topology, problem.kind, _timing(problem))
         raise SolveInputError("a topology with a choice the design can search",
