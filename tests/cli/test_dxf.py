@@ -225,3 +225,34 @@ def test_sections_of_the_file_give_the_outlines(tmp_path):
         offsets.append(round(math.hypot(x2 - x1, y2 - y1), 6))
     # two sized links, two straight edges each, as long as the links
     assert sorted(offsets) == sorted([57.2363, 57.2363, 41.1104, 41.1104])
+
+
+def test_a_drawn_design_is_drawn_where_it_reaches_its_first_target():
+    """A drawn design's positions count the drive from its drawn position (timing's
+    drawn_drive_angle): the DXF's and the animation's reference is the designed linkage at the
+    first target -- the path's tracer on the first achieved point, the dwell's drawing itself
+    (its first target at 0) -- and a function's ghosts at its targets show the output at the
+    achieved angles. (They were drawn at the offsets read as the drive's own angles: 14 to 50
+    mm off.)"""
+    from linkcli.animate.scene import evenly, scene_of
+
+    path = solved("problems/drawn_six_bar_path.toml")
+    first = path.report["positions"][0]
+    scene = scene_of(path)
+    np.testing.assert_allclose(scene.reference.joints["P"][0], first["achieved"], atol=1e-9)
+
+    dwell = solved("problems/drawn_dwell.toml")
+    rows = dwell.report["positions"]
+    assert rows[0]["input"] == 0.0
+    scene = scene_of(dwell)
+    for joint in dwell.solution.linkage.joints:
+        np.testing.assert_allclose(scene.reference.joints[joint.name][0], joint.at, atol=1e-9)
+    o6, d = (dwell.solution.linkage.joint(j).at for j in ("O6", "D"))
+    drawn = math.atan2(d[1] - o6[1], d[0] - o6[0])
+    shown = evenly([r["input"] for r in rows])
+    assert len(shown) == len(scene.ghosts.joints["D"]) > 2
+    for k, value in enumerate(shown):
+        row = next(r for r in rows if r["input"] == value)
+        at_o6, at_d = scene.ghosts.joints["O6"][k], scene.ghosts.joints["D"][k]
+        turned = math.degrees(math.atan2(at_d[1] - at_o6[1], at_d[0] - at_o6[0]) - drawn)
+        assert abs((turned - row["achieved"] + 180.0) % 360.0 - 180.0) < 1e-6

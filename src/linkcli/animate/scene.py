@@ -43,7 +43,8 @@ class Drive:
     """What moves: `skeleton(values)` at drive values (rad) over `study`'s range; `name`
     (how the frame's value is labelled); `steps` (the kinematics steps); `ghosts`: drive
     values drawn ghosted; `reference`: the drive value a CAD drawing shows (None: the
-    first target's input, else the start of a full turn or the middle of a rocking arc)."""
+    first target's input, else the start of a full turn or the middle of a rocking arc);
+    `origin`: the drive value the report's positions' inputs count from."""
 
     skeleton: Callable[[np.ndarray], Skeleton]
     study: Study
@@ -51,6 +52,7 @@ class Drive:
     steps: int = 360
     ghosts: tuple[float, ...] = ()
     reference: float | None = None
+    origin: float = 0.0  # the drive value the report's positions inputs count from (the home's input_origin)
 
 
 @dataclass(frozen=True)
@@ -130,7 +132,7 @@ def linkage_drive(result) -> Drive:
     if study is None:
         raise NothingToDraw(mech.NO_ASSEMBLY)
     _, steps = motion_study(result.problem, result.problem.meta.units)
-    return Drive(mech.skeleton, study, INPUT, int(steps))
+    return Drive(mech.skeleton, study, INPUT, int(steps), origin=mech.input_origin())
 
 
 def type_drive(result) -> Drive:
@@ -158,11 +160,12 @@ def scene_of(result, cap: int = MAX_FRAMES) -> Scene:
         if not bool(np.any(frames.valid)):
             raise NothingToDraw("the linkage does not assemble over its motion")
         paths = drive.skeleton(drive.study.rows(PATH_ROWS)[0])
-        ghost_values = list(drive.ghosts) + evenly(ghosts)
+        ghost_values = list(drive.ghosts) + [drive.origin + g for g in evenly(ghosts)]
         ghost_sk = drive.skeleton(np.array(ghost_values)) if ghost_values else None
         reference = drive.reference
         if reference is None:
-            reference = inputs[0] if inputs else (values[0] if drive.study.full_turn else 0.5 * sum(drive.study.arc))
+            reference = (drive.origin + inputs[0] if inputs
+                         else values[0] if drive.study.full_turn else 0.5 * sum(drive.study.arc))
         ref = drive.skeleton(np.array([float(reference)]))
     if not bool(ref.valid[0]):  # a target the linkage misses: the first frame instead
         ref = drive.skeleton(values[:1])

@@ -352,6 +352,12 @@ class Mechanism(ABC):
         return PointCoefficients(origin, angle, float(coef.lock[0]),
                                  {name: float(v[0]) for name, v in coef.watched.items()}, True)
 
+    def input_origin(self) -> float:
+        """The drive value a design's `positions` inputs count from (rad or length): 0 (this
+        default: they are the drive's own values, as `skeleton` takes them); a home whose
+        targets' inputs are offsets from its drawn position: that position's drive value."""
+        return 0.0
+
     def study_speed(self, speed: float) -> float:
         """The drive's speed (rad/s) of the motion study whose [motion] input speed is `speed`
         (this default: that speed; a home whose drives carry their own speeds: its drive's)."""

@@ -160,6 +160,11 @@ class DrawnMechanism(Mechanism):
         from linkcli.mechanisms.drawn.tolerance import model
         return model(self, problem, solution)
 
+    def input_origin(self) -> float:
+        """A design's positions count the drive from the drawn position (synthesis.model):
+        the leading drive's drawn value."""
+        return float(self.solved.start)
+
     def skeleton(self, phi) -> Skeleton:
         """Every joint and link at leading-drive values phi; ground joints as pivots, slider
         joints as blocks on their guides (ground guides drawn), the asked points traced."""
