@@ -343,3 +343,28 @@ def test_a_groups_lock_ratio_is_lapacks_and_vanishes_where_its_three_links_meet_
         s = analyse(replace(drawing, joints=joints))
         dead = [p for p in s.problems if "drawn locked" in p.found]
         assert bool(dead) == locked, (off, [p.found for p in s.problems])
+
+
+def test_an_iso_2768_class_gives_each_distance_its_own_tolerance():
+    """`lengths = "ISO 2768-m"` on a drawing: each distance (ground's too) is toleranced by the
+    class's deviation at its own drawn size (ISO 2768-1 table 1, medium: +-0.1 mm up to 6,
+    0.2 to 30, 0.3 to 120, 0.5 to 400, 0.8 to 1000). It was ignored: the study ran on exact
+    parts (the class keyed by link, the columns by distance)."""
+    from linkcli.analysis.made_parts import parts
+    from linkcli.mechanisms import of
+    from linkcli.reading.load import load
+
+    medium = ((6.0, 0.1), (30.0, 0.2), (120.0, 0.3), (400.0, 0.5), (1000.0, 0.8))
+    text = (ROOT / "problems" / "drawn_watt.toml").read_text(encoding="utf-8")
+    assert "lengths = 0.05" in text
+    problem = load("iso.toml", text.replace("lengths = 0.05", 'lengths = "ISO 2768-m"'))
+    from linkcli.pipeline import solve
+    solution = solve(problem)
+    model = of(solution.linkage).tolerance_model(problem, solution)
+    scale = parts(model, problem).scale
+    at = {j.name: np.array(j.at, dtype=float) for j in problem.linkage.joints}
+    assert len(model.columns) >= 8
+    for column, got in zip(model.columns, scale):
+        a, b = column.split()[-1].split("-")
+        size = float(np.linalg.norm(at[a] - at[b]))
+        assert got == next(t for top, t in medium if size <= top), (column, size)

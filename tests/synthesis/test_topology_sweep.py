@@ -142,3 +142,31 @@ def test_a_sweeps_default_budget_with_free_timing_through_many_points_is_its_sha
             sweep_module.sweep(load(str(path)))
         assert totals[-1] == total, caught.value
     assert len(totals) == 4 and shared.FREE_TARGETS == 20
+
+
+def test_a_topologys_tolerance_applies_to_the_links_of_its_design(tmp_path):
+    """`[tolerance] lengths` of a topology problem (no [links]: each choice names its own):
+    one number applies to every link of the design found, ground included (it was silently
+    dropped: the study ran on exact lengths whatever was written): exact parts all miss the
+    targets by the design's own error, made ones by more at worst; a table per link is one
+    located line, exit 2."""
+    body = PATH.format(topology="watt-i", target="input_angles = [0, 45, 90, 135, 180, 225, 270, 315]",
+                       bounds="[solver]\nbudget = 4000\n")
+    for t in (0.0, 0.05):
+        path = tmp_path / f"t{t}.toml"
+        path.write_text(body + f"[tolerance]\nlengths = {t}\nsamples = 400\n")
+        code, out, err = run_cli("synth", str(path), "--format", "json")
+        assert code in (0, 1), err
+        report = json.loads(out)
+        tol = report["tolerance"]
+        names = {"ground"} | {name for name in report["linkage"]["links"]}
+        assert set(tol["lengths"]) == names and set(tol["lengths"].values()) == {t}
+        if t == 0.0:
+            assert tol["error_mean"] == tol["error_max"] == tol["nominal_error"]
+        else:
+            assert tol["error_max"] > tol["nominal_error"]
+    path = tmp_path / "table.toml"
+    path.write_text(body + "[tolerance]\nlengths = { crank = 0.05 }\n")
+    code, out, err = run_cli("synth", str(path))
+    assert code == 2 and out == "" and len(err.splitlines()) == 1
+    assert "tolerance.lengths: expected one tolerance or an ISO 2768 class with [linkage] topology" in err

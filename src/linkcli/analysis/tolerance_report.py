@@ -22,6 +22,7 @@ def analyse(problem, solution) -> dict:
     from linkcli.mechanisms import of
     from linkcli.reading.tolerance_lengths import check_lengths
     model = of(solution.linkage).tolerance_model(problem, solution)
+    problem = with_links(problem, model.known)
     check_lengths(problem.meta, model.known, complete=True)
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         return _analyse(problem, model)
@@ -113,6 +114,18 @@ def study(model: Model, err: np.ndarray, ok: np.ndarray, n: int, allowed: float 
         "failure_probability_se": math.sqrt(p * (1.0 - p) / n),
         "failure_probability_ci95": [lo, hi],
     }
+
+
+def with_links(problem, known: dict):
+    """`problem` with its [tolerance] written for every link (model.tolerance.for_links) on the
+    links of `known` (a design's, with "ground"); `problem` itself otherwise."""
+    from dataclasses import replace
+
+    from linkcli.model.tolerance import for_links
+    tol = problem.meta.tolerance
+    if tol is None or tol.every is None:
+        return problem
+    return replace(problem, meta=replace(problem.meta, tolerance=for_links(tol, tuple(known))))
 
 
 def resolved_general(model: Model, parts: Parts, general: dict) -> dict:

@@ -90,6 +90,11 @@ class Schema:
         """The `[tolerance] lengths` keys of a table of tolerances per link."""
         return self.toleranced
 
+    def links_designed(self, root: Table) -> bool:
+        """Whether the file names no links because its design draws them (a drawn topology):
+        `[tolerance] lengths` then applies to whichever links the design has (this default: no)."""
+        return False
+
     def known_lengths(self, linkage) -> dict[str, float]:
         """Link -> the length a tolerance on it must stay below."""
         return {k: getattr(linkage, k) for k in self.toleranced}

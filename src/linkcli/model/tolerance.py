@@ -59,6 +59,20 @@ class Tolerance:
     clearance_fits: bool = False  # clearance = "fits": each pin's play from its [joints] fit
     cost: CostSpec | None = None  # [tolerance.cost]: least-cost allocation
     schemes: tuple = ()  # [[tolerance.schemes]]: Scheme records to compare
+    every: float | str | None = None  # a file that names no links ([linkage] topology: each design's are
+    # its own): `lengths` as written, a tolerance or an ISO 2768 class for every link (`for_links`)
+
+
+def for_links(tol, names):
+    """`tol` with its `every` tolerance (or class) on each of `names` (a design's links, and
+    "ground"), as `lengths` written as one number gives every link of a file that names them;
+    `tol` itself when it has none."""
+    from dataclasses import replace
+    if tol is None or tol.every is None:
+        return tol
+    if isinstance(tol.every, str):
+        return replace(tol, lengths={k: 0.0 for k in names}, general={k: tol.every for k in names}, every=None)
+    return replace(tol, lengths={k: float(tol.every) for k in names}, every=None)
 
 
 @dataclass(frozen=True)

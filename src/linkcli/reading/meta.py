@@ -249,7 +249,18 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     links = own.toleranced_names(root)
     per_link = links + (("coupler_point",) if path_type and "coupler_point" in own.keys else ())
     raw = t.raw("lengths", None)
-    got = read_lengths(t, "lengths", links, per_link)
+    every = None
+    if own.links_designed(root) and isinstance(raw, dict):  # no link of the design has a name yet
+        t.error("lengths", "one tolerance or an ISO 2768 class with [linkage] topology (every link of the "
+                "design gets it: each choice names its links anew)", raw_got="a table")
+        got = None
+    elif own.links_designed(root) and raw is not None:
+        got = read_lengths(t, "lengths", ("every",), ("every",))
+        if got is not None and got[0] is not None:
+            every = got[1].get("every", got[0]["every"])
+        got = None
+    else:
+        got = read_lengths(t, "lengths", links, per_link)
     lengths, general = got if got is not None and got[0] is not None else ({k: 0.0 for k in links}, {})
     distribution = t.string("distribution", "uniform", choices=("uniform", "normal"))
     clearance, clearance_fits = read_clearance(t)
@@ -299,7 +310,7 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     base = dict(lengths=lengths, distribution=distribution or "uniform", clearance=clearance or 0.0,
                 clearance_slider=clearance_slider or 0.0, lock_play=units.to_rad(lock_play or 0.0),
                 samples=samples or 20000, allowed_error=allowed, lines=lines, general=general or {},
-                clearance_fits=clearance_fits, cost=cost, schemes=schemes)
+                clearance_fits=clearance_fits, cost=cost, schemes=schemes, every=every)
     if level is not None:
         return InverseTolerance(max_failure_probability=level, lengths_given=raw is not None, **base)
     return Tolerance(**base)

@@ -87,8 +87,10 @@ def default_total(problem) -> int:
 
 def sweep(problem) -> Solution:
     """The best six-bar of `problem`'s topology, with the `topologies` table (module docstring)."""
+    from linkcli.analysis.tolerance_report import with_links
     from linkcli.errors import SolveInputError
     from linkcli.mechanisms.drawn import catalogue
+    from linkcli.mechanisms.drawn.schema import known_lengths
     from linkcli.synthesis.design import design_drawing
     opts = problem.meta.solver
     todo = runs(problem, opts.budget or default_total(problem))
@@ -108,8 +110,8 @@ def sweep(problem) -> Solution:
         for drawing in catalogue.starting_drawings(choice, box, seed=opts.seed or 0, count=DRAWINGS):
             joint = "P" if problem.kind == "path" else None
             link = choice.target if problem.kind != "path" else None
-            sol = design_drawing(run_problem, drawing, boxes_of(drawing, half, problem.kind), joint=joint,
-                                 link=link)
+            sol = design_drawing(with_links(run_problem, known_lengths(drawing)), drawing,
+                                 boxes_of(drawing, half, problem.kind), joint=joint, link=link)
             used += sol.solver.evaluations if sol.solver else 0
             if choice.label not in best_of or _rank(sol, index) < _rank(best_of[choice.label][0], index):
                 best_of[choice.label] = (sol, index)

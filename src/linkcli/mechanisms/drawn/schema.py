@@ -51,6 +51,11 @@ class DrawnSchema(Schema):
     def toleranced_names(self, root: Table) -> tuple[str, ...]:
         return toleranced(root)
 
+    def links_designed(self, root: Table) -> bool:
+        """A topology without a drawing: each choice's links are the catalogue's (synthesis.sweep)."""
+        linkage = root.data.get("linkage")
+        return "links" not in root.data and isinstance(linkage, dict) and "topology" in linkage
+
     def known_lengths(self, linkage) -> dict[str, float]:
         return known_lengths(linkage)
 

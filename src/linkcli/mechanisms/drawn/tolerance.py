@@ -77,7 +77,7 @@ class Model:
         d = home.linkage
         sv = home.solved
         self.home, self.drawing, self.structure = home, d, sv.structure
-        self.nominal = sv.kin
+        self.kin = sv.kin
         self.tri = triangulation(d, sv.structure)
         self.columns = tuple(name for name, _, _, _ in self.tri)
         self.inverse = self.columns
@@ -88,6 +88,8 @@ class Model:
             first, second = self._anchors(body)
             base = first if which in (None, "first") else second
             self.lengths[name] = float(np.linalg.norm(at[joint] - base))
+        self.nominal = dict(self.lengths)  # column -> its drawn size (an ISO 2768 class's deviation: made_parts)
+        self.keys = dict(self.link_of)  # column -> its [tolerance] lengths key: the link (made_parts.column_key)
         bodies = pin_bodies(d)
         self.bearings = []  # (body, joint) whose point carries a clearance offset
         for joint, bs in bodies.items():
@@ -121,7 +123,7 @@ class Model:
             x, _ = study.rows(GRID)
             self.q = sv.q_of(x, study.full_turn)
             self.inputs = np.asarray(x, dtype=float)
-        nominal = self.nominal.run(self.q, rates=False)
+        nominal = self.kin.run(self.q, rates=False)
         self.places = np.stack([nominal.pos[p] for p in self.traced], axis=1)  # (M, P, 2)
         self.angles = nominal.theta[self.link] if self.link is not None else None
         if kind is not None and solution is not None:  # a design misses its targets, not its nominal
@@ -184,7 +186,7 @@ class Model:
         dl = np.asarray(dl, dtype=float)
         n, m = dl.shape[0], len(self.q)
         rows = n * m
-        geo = self.nominal.geometry
+        geo = self.kin.geometry
         local = dict(geo.local)
         made = np.ones(n, dtype=bool)
         lengths = {name: self.lengths[name] + dl[:, k] for k, name in enumerate(self.columns)}
@@ -205,7 +207,7 @@ class Model:
                 normal = np.array([-math.sin(beta), math.cos(beta)])
                 guides[joint] = (body, g + plays[:, :, k].reshape(rows, 1) * normal, beta)
         made_geo = replace(geo, local=local, guides=guides)
-        kin = Kinematics(self.drawing, self.structure, made_geo, tracks=self.nominal.tracks)
+        kin = Kinematics(self.drawing, self.structure, made_geo, tracks=self.kin.tracks)
         with np.errstate(all="ignore"):
             st = kin.run(np.tile(self.q, n), rates=False)
         places = np.stack([st.pos[p] for p in self.traced], axis=1).reshape(n, m, len(self.traced), 2)
@@ -221,7 +223,7 @@ class Model:
         entries = [(name, joint, which) for name, b, joint, which in self.tri if b == body]
         if not entries:
             return {}
-        geo = self.nominal.geometry
+        geo = self.kin.geometry
         joints = rigid_points(self.drawing, self.structure, body)
         p1, p2 = joints[0], joints[1]
         l1 = np.asarray(geo.local[(body, p1)], dtype=float)
