@@ -616,3 +616,26 @@ def test_a_free_timings_first_input_is_its_first_positions_angle(monkeypatch):
     assert again["positions"][0]["input"] == pytest.approx(first, abs=1e-9)
     np.testing.assert_allclose([p["achieved"] for p in again["positions"]],
                                [p["achieved"] for p in report["positions"]], atol=1e-9)
+
+
+def test_a_moved_joint_says_how_to_keep_its_echoed_distances(tmp_path):
+    """A joint moved in a drawn design's result: each distance echoed from it disagrees, one line
+    each, saying to update or delete the echo (it said "edit the joints", which the user had
+    done); with those distances deleted the moved drawing is analysed."""
+    import tomli_w
+
+    code, out, err = run_cli("synth", "problems/drawn_dwell.toml", "--format", "toml")
+    assert code == 0, err
+    result = tomllib.loads(out)
+    result["linkage"]["joints"]["O2"]["at"] = [0.5, 0.0]
+    moved = tmp_path / "moved.toml"
+    moved.write_text(tomli_w.dumps(result))
+    code, _, err = run_cli("analyze", str(moved))
+    echoed = [k for k in result["linkage"] if "O2" in k.split()[-1].split("-")]
+    assert code == 2 and len(err.splitlines()) == len(echoed) >= 2, err
+    assert all("expected the distance its joints give" in line
+               and "edit the joints, then update or delete the distances" in line for line in err.splitlines())
+    for key in echoed:
+        del result["linkage"][key]
+    moved.write_text(tomli_w.dumps(result))
+    assert run_cli("analyze", str(moved))[0] == 0

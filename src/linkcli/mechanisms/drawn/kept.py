@@ -73,8 +73,8 @@ def _echo_agrees(t: Table, drawing) -> bool:
             t.error(key, "a number: the distance its joints give (length unit)", value)
             ok = False
         elif abs(value - reported[key]) > 10.0 ** (1 - digits) * (abs(value) + extent):
-            t.error(key, f"the distance its joints give, {reported[key]:.6g} (edit the joints: the "
-                    "distances are the report's echo)", value)
+            t.error(key, f"the distance its joints give, {reported[key]:.6g} (the distances echo the "
+                    "joints: edit the joints, then update or delete the distances)", value)
             ok = False
     return ok
 
