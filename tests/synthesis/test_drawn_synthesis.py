@@ -639,3 +639,37 @@ def test_a_moved_joint_says_how_to_keep_its_echoed_distances(tmp_path):
         del result["linkage"][key]
     moved.write_text(tomli_w.dumps(result))
     assert run_cli("analyze", str(moved))[0] == 0
+
+
+def test_a_results_motion_study_is_the_designs(tmp_path):
+    """The drawing's [motion] study (span, traced points, output link) stays with a design's
+    result, so that analyze of the result reports what the design's report did: the same
+    transmission over the same span, the same kinematics rows with the traced point's columns
+    (the result kept only `steps`: analyze studied a full turn, 113.96 deg where the report said
+    105.87, and traced nothing)."""
+    text = (ROOT / "problems" / "drawn_dwell.toml").read_text()
+    assert "[motion]" not in text
+    text += '\n[motion]\nsteps = 10\nspan = [0, 180]\npoints = ["C"]\noutput = "output"\n'
+    text += '\n[report]\nsections = ["lengths", "transmission", "motion", "kinematics", "positions", "error", "solver"]\n'
+    problem = tmp_path / "span.toml"
+    problem.write_text(text)
+    code, out, err = run_cli("synth", str(problem), "--format", "json")
+    assert code == 0, err
+    code, written, err = run_cli("synth", str(problem), "--format", "toml", "--precision", "17")
+    assert code == 0, err
+    result = tmp_path / "result.toml"
+    result.write_text(written)
+    code, again, err = run_cli("analyze", str(result), "--format", "json")
+    assert code == 0, err
+    designed, analysed = json.loads(out), json.loads(again)
+    assert analysed["motion"]["span"] == [0.0, 180.0] and analysed["motion"]["points"] == ["C"]
+    assert analysed["motion"]["input_full_turn"] is False
+    for key in ("min", "max", "input_at_min", "input_at_max"):
+        assert analysed["transmission"][key] == pytest.approx(designed["transmission"][key], abs=1e-9)
+    rows, rows_again = designed["kinematics"], analysed["kinematics"]
+    assert len(rows) == len(rows_again) == 10
+    for a, b in zip(rows, rows_again):
+        assert a["input"] == pytest.approx(b["input"], abs=1e-9)
+        assert "C" in b["points"]
+        for key in ("x", "y", "vx", "vy"):
+            assert b["points"]["C"][key] == pytest.approx(a["points"]["C"][key], abs=1e-9)

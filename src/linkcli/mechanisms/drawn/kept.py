@@ -20,6 +20,7 @@ def read_kept(t: Table, units, schema):
 
     from linkcli.io.joints import read_joints
     from linkcli.mechanisms.drawn.model import Drawn
+    from linkcli.mechanisms.drawn.schema import _motion
     from linkcli.mechanisms.drawn.structure import analyse
     t.allow(*t.keys())  # the distances (the report's own echo: checked below, against the joints);
     # the kept tables when the joints are in error (not read then: not unknown)
@@ -41,12 +42,11 @@ def read_kept(t: Table, units, schema):
         t.reader.error(("linkage",) + problem.where, problem.expected, raw_got=problem.found)
     if structure.problems or not _echo_agrees(t, drawing):
         return None
-    motion = t.reader.root().table("motion")
-    points = ()
-    if motion is not None and isinstance(motion.data.get("points"), list):
-        names = {j.name for j in joints}
-        points = tuple(p for p in motion.raw("points") if isinstance(p, str) and p in names)
-    return replace(drawing, points=points)
+    study = _motion(t.reader.root(), joints, links, drives, units)  # span, points, output as the problem set them
+    if study is None:
+        return None
+    span, points, output = study
+    return replace(drawing, span=span, points=points, output=output)
 
 
 def _echo_agrees(t: Table, drawing) -> bool:

@@ -315,6 +315,12 @@ def motion_section(home, study, u) -> dict:
             out["sliders"][j] = entry
     out["drives"] = {dr.name: {"kind": dr.kind, "speed": _dang(u, dr.speed) if dr.kind == "turn" else dr.speed}
                      for dr in d.drives}
+    if d.span is not None:  # the study as the file set it: a design's result keeps it (drawn.kept)
+        out["span"] = [float(u.from_rad(v)) if sv.turning else float(v) for v in d.span]
+    if d.points:
+        out["points"] = list(d.points)
+    if d.output is not None:
+        out["output"] = d.output
     return out
 
 
