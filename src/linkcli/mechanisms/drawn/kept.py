@@ -20,7 +20,7 @@ def read_kept(t: Table, units, schema):
 
     from linkcli.io.joints import read_joints
     from linkcli.mechanisms.drawn.model import Drawn
-    from linkcli.mechanisms.drawn.schema import _motion
+    from linkcli.mechanisms.drawn.schema import drawn_motion
     from linkcli.mechanisms.drawn.structure import analyse
     t.allow(*t.keys())  # the distances (the report's own echo: checked below, against the joints);
     # the kept tables when the joints are in error (not read then: not unknown)
@@ -42,10 +42,10 @@ def read_kept(t: Table, units, schema):
         t.reader.error(("linkage",) + problem.where, problem.expected, raw_got=problem.found)
     if structure.problems or not _echo_agrees(t, drawing):
         return None
-    study = _motion(t.reader.root(), joints, links, drives, units)  # span, points, output as the problem set them
-    if study is None:
+    errors = len(t.reader.errors)
+    span, points, output = drawn_motion(t.reader.root(), joints, links, drives, units)  # as the problem set them
+    if len(t.reader.errors) > errors:
         return None
-    span, points, output = study
     return replace(drawing, span=span, points=points, output=output)
 
 

@@ -174,7 +174,7 @@ def read(t: Table, units) -> Drawn | None:
         return None
     links = drawn_links(root, joints)
     drives = drawn_drives(root, joints, links, units)
-    motion = _motion(root, joints, links or (), drives, units)
+    motion = drawn_motion(root, joints, links or (), drives, units)
     if len(root.reader.errors) > errors or links is None or drives is None or motion is None:
         return None
     span, points, output = motion
@@ -196,9 +196,10 @@ def _skip(root: Table) -> None:
         root.reader.allow(("motion",), ("span", "points", "output", "input_speed"))
 
 
-def _motion(root: Table, joints, links, drives, units):
-    """[motion] of a drawn linkage: span, points, output (steps is read with every linkage);
-    (span, points, output), or None when in error."""
+def drawn_motion(root: Table, joints, links, drives, units):
+    """[motion] of a drawn linkage (a drawing's, or a design's result: drawn.kept): span,
+    points, output (steps is read with every linkage); (span, points, output), the errors
+    recorded on the reader."""
     from linkcli.mechanisms.drawn.model import TURN
     t = root.table("motion")
     if t is None:
