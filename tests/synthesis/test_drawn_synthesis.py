@@ -673,3 +673,51 @@ def test_a_results_motion_study_is_the_designs(tmp_path):
         assert "C" in b["points"]
         for key in ("x", "y", "vx", "vy"):
             assert b["points"]["C"][key] == pytest.approx(a["points"]["C"][key], abs=1e-9)
+
+
+def test_a_tolerance_study_added_to_a_result_is_run_as_on_its_drawing(tmp_path):
+    """[tolerance] added by hand to a design's result file is studied (it passed as the
+    report's own output keys and nothing ran, without a word): analyze gives the study the same
+    drawing gets as a linkage file (joints, links and drive copied out of the result), and a
+    four-bar's result takes one too. A result whose tolerance section is the report's (it names
+    its measure) is read as output, not run again."""
+    import tomli_w
+
+    study = {"lengths": 0.05, "clearance": 0.02, "samples": 500, "allowed_error": 0.5}
+    code, out, err = run_cli("synth", "problems/drawn_dwell.toml", "--format", "toml", "--precision", "17")
+    assert code == 0, err
+    result = tomllib.loads(out)
+    result["tolerance"] = dict(study)
+    added = tmp_path / "added.toml"
+    added.write_text(tomli_w.dumps(result))
+    kept = result["linkage"]
+    drawing = {"type": "linkage", "linkage": {"mechanism": "drawn"}, "joints": kept["joints"],
+               "links": kept["links"], "drive": kept["drive"], "tolerance": dict(study)}
+    linkage = tmp_path / "linkage.toml"
+    linkage.write_text(tomli_w.dumps(drawing))
+    code, a, err = run_cli("analyze", str(added), "--format", "json")
+    assert code in (0, 1), err
+    code, b, err = run_cli("analyze", str(linkage), "--format", "json")
+    assert code in (0, 1), err
+    got, expected = json.loads(a)["tolerance"], json.loads(b)["tolerance"]
+    assert got["lengths"] == expected["lengths"] and set(got["lengths"].values()) == {0.05}
+    for key in ("error_mean", "error_p95", "error_max", "failure_probability"):
+        assert got[key] == expected[key] and got[key] is not None
+    assert got["error_max"] > 0.0
+    code, out, err = run_cli("synth", "problems/firedoor.toml", "--format", "toml")
+    assert code == 0, err
+    four = tomllib.loads(out)
+    assert "tolerance" not in four
+    four["tolerance"] = dict(study, allowed_error=0.25)
+    path = tmp_path / "four.toml"
+    path.write_text(tomli_w.dumps(four))
+    code, c, err = run_cli("analyze", str(path), "--format", "json")
+    assert code in (0, 1), err
+    again = json.loads(c)["tolerance"]
+    assert set(again["lengths"].values()) == {0.05} and again["error_max"] > 0.0
+    written = tmp_path / "written.toml"
+    code, out, err = run_cli("analyze", str(path), "--format", "toml")
+    written.write_text(out)
+    assert "measure" in tomllib.loads(out)["tolerance"]
+    code, d, err = run_cli("analyze", str(written), "--format", "json")
+    assert code in (0, 1) and "tolerance" not in json.loads(d), err

@@ -228,22 +228,24 @@ def read_level(t: Table) -> float | None:
     return level
 
 
-def read_tolerance(root: Table, units: Units) -> Tolerance | None:
+def read_tolerance(root: Table, units: Units, kind: str | None = None) -> Tolerance | None:
     """[tolerance]: `lengths` (one +- tolerance for every link, an ISO 2768 class, or a table
     per link of either; a path generator's table may add `coupler_point`, +- on each
     coordinate of P), `distribution`, `clearance` (a number or "fits"), `samples`,
     `allowed_error` (angle unit, or length unit for a path), the inverse mode's
     `max_failure_probability` (which then wants a single tolerance or none, unless
     [tolerance.cost] allocates them), [tolerance.cost] and [[tolerance.schemes]]
-    (reading.tolerance_keys)."""
+    (reading.tolerance_keys). `kind`: the problem type the study is of (default: the file's
+    `type`; a design's result is analysed as a linkage)."""
     t = root.table("tolerance")
+    kind = kind or root.raw("type")
     if t is None:
         return None
     from linkcli.mechanisms import NAMES, schema_of
     from linkcli.mechanisms.schema import mechanism_of
     from linkcli.model import InverseTolerance, Tolerance
     from linkcli.reading.tolerance_keys import check_cost_bounds, read_clearance, read_cost, read_lengths, read_schemes
-    path_type = root.raw("type") == "path-generation"
+    path_type = kind == "path-generation"
     mechanism = mechanism_of(root)
     own = schema_of(mechanism)
     links = own.toleranced_names(root)
@@ -283,7 +285,7 @@ def read_tolerance(root: Table, units: Units) -> Tolerance | None:
     samples = t.number("samples", 20000, integer=True, lo=1, hi=MAX_SAMPLES)
     allowed = t.number("allowed_error", None, positive=True)
     if allowed is not None:
-        angle = root.raw("type") == "function-generation" or not (path_type or own.output == "length")
+        angle = kind == "function-generation" or not (path_type or own.output == "length")
         allowed = units.to_rad(allowed) if angle else allowed  # a function's output is an angle
     level = read_level(t)
     if level is not None and allowed is None and "allowed_error" not in t:

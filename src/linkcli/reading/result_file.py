@@ -56,7 +56,7 @@ def parse(reader: Reader) -> LinkageProblem | None:
     from linkcli.model import LinkageProblem, Meta
     from linkcli.reading.linkage import read_linkage
     from linkcli.reading.loads import read_loads
-    from linkcli.reading.meta import read_units
+    from linkcli.reading.meta import read_tolerance, read_units
     from linkcli.reading.result_check import check_header, check_sections, check_values
     from linkcli.reading.result_motion import motion_study
     from linkcli.registry import problem_type
@@ -96,9 +96,17 @@ def parse(reader: Reader) -> LinkageProblem | None:
             motion.allow(*motion.keys())
         reader.finish()  # raises them, with the unknown keys
         return None
-    sections = problem_type("linkage").default_sections + (("forces",) if loads is not None else ())
+    tolerance = None
+    asked = root.data.get("tolerance")
+    if isinstance(asked, dict) and "measure" not in asked:  # a study added by hand (the report's own names its measure)
+        tolerance = read_tolerance(root, units, kind="linkage")
+        if tolerance is None or reader.errors:
+            reader.finish()
+            return None
+    sections = problem_type("linkage").default_sections + (("forces",) if loads is not None else ()) \
+        + (("tolerance",) if tolerance is not None else ())
     meta = Meta(path=reader.path, type="linkage", title=title,  # a string or None: check_header judged it
-                units=units, sections=sections, loads=loads)
+                units=units, sections=sections, loads=loads, tolerance=tolerance)
     problem = motion_study(root, LinkageProblem(meta=meta, linkage=fourbar, input_speed=units.to_rad(1.0), steps=360))
     reader.finish()  # unknown keys of the tables read (and of the top level): errors
     return problem

@@ -136,8 +136,9 @@ def known_lengths(linkage) -> dict[str, float]:
 def toleranced(root: Table) -> tuple[str, ...]:
     """The [tolerance] lengths keys of this file: "ground" (with two ground joints or more)
     and its links, from the raw tables (unchecked names are checked where they are read)."""
-    joints = root.data.get("joints")
-    links = root.data.get("links")
+    drawing = root.data.get("linkage") if "status" in root.data else root.data  # a design's result: its [linkage]
+    joints = drawing.get("joints") if isinstance(drawing, dict) else None
+    links = drawing.get("links") if isinstance(drawing, dict) else None
     grounded = sum(1 for v in joints.values() if isinstance(v, dict) and v.get("ground") is True) \
         if isinstance(joints, dict) else 0
     names = [k for k in links if k] if isinstance(links, dict) else []
