@@ -15,12 +15,12 @@ KEPT = ("mechanism", "joints", "links", "drive")
 
 def read_kept(t: Table, units, schema):
     """The Drawn of a result's [linkage] (`t`), None when in error (errors recorded); `schema`:
-    the drawn home's (drawn.schema.SCHEMA), whose joint keys io.joints reads."""
+    the drawn home's (drawn.schema.SCHEMA), whose joint keys io.joints reads and whose
+    `drawing_study` reads the kept [motion] study."""
     from dataclasses import replace
 
     from linkcli.io.joints import read_joints
     from linkcli.mechanisms.drawn.model import Drawn
-    from linkcli.mechanisms.drawn.schema import drawn_motion
     from linkcli.mechanisms.drawn.structure import analyse
     t.allow(*t.keys())  # the distances (the report's own echo: checked below, against the joints);
     # the kept tables when the joints are in error (not read then: not unknown)
@@ -43,7 +43,7 @@ def read_kept(t: Table, units, schema):
     if structure.problems or not _echo_agrees(t, drawing):
         return None
     errors = len(t.reader.errors)
-    span, points, output = drawn_motion(t.reader.root(), joints, links, drives, units)  # as the problem set them
+    span, points, output = schema.drawing_study(t.reader.root(), joints, links, drives, units)  # as the problem set them
     if len(t.reader.errors) > errors:
         return None
     return replace(drawing, span=span, points=points, output=output)

@@ -51,6 +51,11 @@ class DrawnSchema(Schema):
     def toleranced_names(self, root: Table) -> tuple[str, ...]:
         return toleranced(root)
 
+    def drawing_study(self, root: Table, joints, links, drives, units):
+        """[motion]'s span, points and output of a drawing (`drawn_motion`; drawn.kept reads a
+        result's through it)."""
+        return drawn_motion(root, joints, links, drives, units)
+
     def links_designed(self, root: Table) -> bool:
         """A topology without a drawing: each choice's links are the catalogue's (synthesis.sweep)."""
         linkage = root.data.get("linkage")
