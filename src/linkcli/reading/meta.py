@@ -251,12 +251,12 @@ def read_tolerance(root: Table, units: Units, kind: str | None = None) -> Tolera
     links = own.toleranced_names(root)
     per_link = links + (("coupler_point",) if path_type and "coupler_point" in own.keys else ())
     raw = t.raw("lengths", None)
-    every = None
-    if own.links_designed(root) and isinstance(raw, dict):  # no link of the design has a name yet
+    every, designed = None, own.links_designed(root)
+    if designed and isinstance(raw, dict):  # no link of the design has a name yet
         t.error("lengths", "one tolerance or an ISO 2768 class with [linkage] topology (every link of the "
                 "design gets it: each choice names its links anew)", raw_got="a table")
         got = None
-    elif own.links_designed(root) and raw is not None:
+    elif designed and raw is not None:
         got = read_lengths(t, "lengths", ("every",), ("every",))
         if got is not None and got[0] is not None:
             every = got[1].get("every", got[0]["every"])

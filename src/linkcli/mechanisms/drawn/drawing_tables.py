@@ -7,9 +7,11 @@ a slider moved along its guide, with its speed). Pure Python (`check` reads them
 from __future__ import annotations
 
 import difflib
+import math
 from typing import TYPE_CHECKING
 
-from linkcli.io.reader import Table
+from linkcli.io.bounds import MAX_LENGTH
+from linkcli.io.reader import MISSING, Table, describe
 
 if TYPE_CHECKING:  # names of annotations only (imported where they are used)
     from linkcli.mechanisms.drawn.model import DrawnJoint, DrawnLink, Drive
@@ -17,6 +19,7 @@ if TYPE_CHECKING:  # names of annotations only (imported where they are used)
 MAX_LINKS = 100  # a drawing's links: its analysis takes about 10 ms of CPU per link (1 s at the cap)
 MAX_DISTANCES = 2000  # distances between two joints of one link (and of the ground), each one reported
 MAX_SPEED = 1e9
+MAX_SPAN_TURNS = 2.0  # a turning drive's span: at most two turns either way
 MIN_SPEED = 1e-9  # a drive's |speed|: below, the speed ratios over- or underflow (a denormal is 0)
 
 
@@ -256,3 +259,58 @@ def drawn_drives(root: Table, joints, links, units) -> tuple[Drive, ...] | None:
         else:
             out.append(Drive(name, SLIDE, speed))
     return tuple(out) if ok else None
+
+
+def drawn_motion(root: Table, joints, links, drives, units):
+    """[motion] of a drawn linkage (a drawing's, or a design's result: drawn.kept): span,
+    points, output (steps is read with every linkage); (span, points, output), the errors
+    recorded on the reader."""
+    from linkcli.mechanisms.drawn.model import TURN
+    t = root.table("motion")
+    if t is None:
+        return None, (), None
+    if "input_speed" in t:
+        t.raw("input_speed")
+        t.error("input_speed", "the drives' speeds in [drive] (a drawn linkage: link = { speed = ... })",
+                raw_got=f"input_speed = {describe(t.data['input_speed'])} in [motion]")
+    names = {j.name for j in joints or ()}
+    span = None
+    if "span" in t:
+        lead = drives[0] if drives else None
+        turning = lead is not None and lead.kind == TURN
+        limit = units.from_rad(MAX_SPAN_TURNS * 2 * math.pi) if turning else MAX_LENGTH
+        unit = "angle unit" if turning else "length unit"
+        value = t.number_list("span", length=2, what=f"numbers [lo, hi] ({unit}, from the drawn position)")
+        if value is not None:
+            lo, hi = value
+            if not lo < hi:
+                t.error("span", "[lo, hi] with lo < hi", raw_got=str(value))
+            elif max(abs(lo), abs(hi)) > limit:
+                t.error("span", f"offsets of at most {limit:g} {unit} from the drawing", raw_got=str(value))
+            elif lead is not None:
+                span = (units.to_rad(lo), units.to_rad(hi)) if turning else (float(lo), float(hi))
+    points = ()
+    raw = t.raw("points", MISSING)
+    if raw is not MISSING:
+        if not isinstance(raw, list) or not all(isinstance(v, str) for v in raw) or len(raw) > len(names) + 1:
+            t.error("points", "an array of joint names (the joints whose paths are reported)", raw)
+        else:
+            bad = [v for v in raw if v not in names]
+            if bad and joints is not None:
+                hint = difflib.get_close_matches(bad[0], sorted(names), n=1, cutoff=0.5)
+                extra = f' (did you mean "{hint[0]}"?)' if hint else ""
+                t.error("points", f"joints of [joints]{extra}", raw_got=f'"{bad[0]}", which [joints] does not have')
+            else:
+                points = tuple(dict.fromkeys(raw))
+    output = None
+    value = t.raw("output", MISSING)
+    if value is not MISSING:
+        choices = [k.name for k in links] + [j.name for j in joints or () if j.slider is not None]
+        if not isinstance(value, str) or value not in choices:
+            hint = difflib.get_close_matches(value, choices, n=1, cutoff=0.5) if isinstance(value, str) else []
+            extra = f' (did you mean "{hint[0]}"?)' if hint else ""
+            t.error("output", f"a link or a slider joint (whose motion the mechanical advantage is "
+                    f"measured on){extra}", value)
+        else:
+            output = value
+    return span, points, output

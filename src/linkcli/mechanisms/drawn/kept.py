@@ -8,15 +8,14 @@ own output: not read back). `analyze` reads the drawing from there, checked as a
 from __future__ import annotations
 
 from linkcli.io.reader import Table
-from linkcli.mechanisms.drawn.drawing_tables import drawn_drives, drawn_joints, drawn_links
+from linkcli.mechanisms.drawn.drawing_tables import drawn_drives, drawn_joints, drawn_links, drawn_motion
 
 KEPT = ("mechanism", "joints", "links", "drive")
 
 
 def read_kept(t: Table, units, schema):
     """The Drawn of a result's [linkage] (`t`), None when in error (errors recorded); `schema`:
-    the drawn home's (drawn.schema.SCHEMA), whose joint keys io.joints reads and whose
-    `drawing_study` reads the kept [motion] study."""
+    the drawn home's (drawn.schema.SCHEMA), whose joint keys io.joints reads."""
     from dataclasses import replace
 
     from linkcli.io.joints import read_joints
@@ -43,7 +42,7 @@ def read_kept(t: Table, units, schema):
     if structure.problems or not _echo_agrees(t, drawing):
         return None
     errors = len(t.reader.errors)
-    span, points, output = schema.drawing_study(t.reader.root(), joints, links, drives, units)  # as the problem set them
+    span, points, output = drawn_motion(t.reader.root(), joints, links, drives, units)  # as the problem set them
     if len(t.reader.errors) > errors:
         return None
     return replace(drawing, span=span, points=points, output=output)
