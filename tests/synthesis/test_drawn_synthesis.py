@@ -721,3 +721,56 @@ def test_a_tolerance_study_added_to_a_result_is_run_as_on_its_drawing(tmp_path):
     assert "measure" in tomllib.loads(out)["tolerance"]
     code, d, err = run_cli("analyze", str(written), "--format", "json")
     assert code in (0, 1) and "tolerance" not in json.loads(d), err
+
+
+def test_a_strength_study_added_to_a_result_is_run_as_on_its_drawing(tmp_path):
+    """[material], [sections] and [strength] added by hand to a design's result (with its
+    [loads]) give the strength section the drawing gets as a linkage file, pins sized in the
+    kept [linkage.joints] (they were exit 2: "sections: expected a known key"); a four-bar's
+    result takes them with a [joints] table of pin sizes, and gives the strength the linkage
+    file problems/firedoor_strength.toml gives (its own [strength] section kept beside them:
+    its required factor and criterion are read, the rest is output)."""
+    import tomli_w
+
+    code, out, err = run_cli("synth", "problems/drawn_dwell.toml", "--format", "toml", "--precision", "17")
+    assert code == 0, err
+    result = tomllib.loads(out)
+    kept = result["linkage"]
+    for name, joint in kept["joints"].items():
+        joint.update(diameter=6.0, width=8.0, shear="double" if joint.get("ground") else "single")
+    tables = {"masses": {link: {"mass": 0.05 + 0.01 * i} for i, link in enumerate(kept["links"])},
+              "loads": {"gravity": [0.0, -9.81], "torques": {"output": -1.5}},
+              "sections": {link: {"width": 10.0, "thickness": 4.0} for link in kept["links"]},
+              "material": {"name": "AISI 1045 CD"}, "strength": {"required": 2.0, "criterion": "gerber"}}
+    result.update(tables)
+    added = tmp_path / "added.toml"
+    added.write_text(tomli_w.dumps(result))
+    drawing = {"type": "linkage", "linkage": {"mechanism": "drawn"}, "joints": kept["joints"],
+               "links": kept["links"], "drive": kept["drive"], **tables}
+    linkage = tmp_path / "linkage.toml"
+    linkage.write_text(tomli_w.dumps(drawing))
+    code, a, err = run_cli("analyze", str(added), "--format", "json")
+    assert code in (0, 1), err
+    code, b, err = run_cli("analyze", str(linkage), "--format", "json")
+    assert code in (0, 1), err
+    got, expected = json.loads(a)["strength"], json.loads(b)["strength"]
+    assert got == expected
+    assert got["required"] == 2.0 and got["criterion"] == "gerber" and got["pins"] and got["links"]
+
+    code, out, err = run_cli("synth", "problems/firedoor_strength.toml", "--format", "toml")
+    assert code == 0, err
+    four = tomllib.loads(out)
+    problem = tomllib.loads((ROOT / "problems/firedoor_strength.toml").read_text())
+    for key in ("joints", "sections", "material"):
+        four[key] = problem[key]
+    path = tmp_path / "four.toml"
+    path.write_text(tomli_w.dumps(four))
+    code, c, err = run_cli("analyze", str(path), "--format", "json")
+    assert code in (0, 1), err
+    code, d, err = run_cli("analyze", "problems/firedoor_strength.toml", "--format", "json")
+    assert code in (0, 1), err
+    assert json.loads(c)["strength"] == json.loads(d)["strength"]
+    del four["masses"], four["loads"]
+    path.write_text(tomli_w.dumps(four))
+    code, _, err = run_cli("analyze", str(path))
+    assert code == 2 and "material: expected a [loads] or [masses] table" in err

@@ -1,6 +1,8 @@
 """Result files written by `linkcli synth --format toml`, read back as a linkage to analyse.
 
-Only `title`, `[units]`, `[linkage]`, `[motion]`'s study and `[loads]`/`[masses]` are read; the rest of a result file is linkcli's
+Only `title`, `[units]`, `[linkage]`, `[motion]`'s study, `[loads]`/`[masses]` and the studies
+added by hand (a `[tolerance]` without the report's `measure`; `[material]` with `[sections]`,
+`[strength]` and a four-bar's `[joints]`) are read; the rest of a result file is linkcli's
 own output (status, tables): it is checked, not read (reading.result_check: known top-level
 keys, `type` and `status` of their vocabularies, finite numbers, bounded arrays, the keys
 the report writer writes in each output section), and unknown keys of the tables read are
@@ -103,10 +105,45 @@ def parse(reader: Reader) -> LinkageProblem | None:
         if tolerance is None or reader.errors:
             reader.finish()
             return None
+    joints, link_sections, strength = strength_study(root, link, units, loads is not None)
+    if reader.errors:
+        reader.finish()
+        return None
     sections = problem_type("linkage").default_sections + (("forces",) if loads is not None else ()) \
-        + (("tolerance",) if tolerance is not None else ())
+        + (("tolerance",) if tolerance is not None else ()) + (("strength",) if strength is not None else ())
     meta = Meta(path=reader.path, type="linkage", title=title,  # a string or None: check_header judged it
-                units=units, sections=sections, loads=loads, tolerance=tolerance)
+                units=units, sections=sections, loads=loads, tolerance=tolerance, joints=joints,
+                link_sections=link_sections, strength=strength)
     problem = motion_study(root, LinkageProblem(meta=meta, linkage=fourbar, input_speed=units.to_rad(1.0), steps=360))
     reader.finish()  # unknown keys of the tables read (and of the top level): errors
     return problem
+
+
+def strength_study(root, link, units, has_loads: bool):
+    """(pin sizes, link sections, strength spec or None) of a strength study added to a result
+    by hand: [material] (with [sections] and [strength]), as a linkage file reads them
+    (reading.strength.read_parts); the report never writes [material] or [sections] (its own
+    [strength] section echoes `required` and `criterion`, read as the study's then). The pins'
+    sizes: a drawing's in its kept [linkage.joints] (`diameter`, `width`, `shear`), a
+    four-bar's in a [joints] table added beside the [material] one. ((), {}, None) when the
+    file has neither table."""
+    if "material" not in root.data and "sections" not in root.data:
+        return (), {}, None
+    from linkcli.mechanisms import schema_of
+    from linkcli.mechanisms.schema import mechanism_of
+    from linkcli.reading.meta import read_joint_table
+    from linkcli.reading.strength import read_parts
+    from linkcli.registry import problem_type
+    spec = problem_type("linkage")
+    mechanism = mechanism_of(root)
+    if schema_of(mechanism).draws:
+        from linkcli.io.joints import read_joints
+        joints = read_joints(link, schema_of(mechanism), units)  # the kept drawing's (read with it)
+    else:
+        joints = read_joint_table(root, "linkage", spec, units)
+    own = root.table("strength")
+    if own is not None and set(own.keys()) - {"required", "criterion"}:
+        own.allow(*own.keys())  # the report's own section: output (result_check), its echo of the two read
+    asked = spec.default_sections + ("strength",)
+    link_sections, strength = read_parts(root, "linkage", spec.sections, asked, has_loads, mechanism, joints)
+    return joints or (), link_sections, strength
