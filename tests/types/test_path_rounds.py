@@ -360,3 +360,36 @@ def test_a_batch_that_holds_an_exact_fit_settles_none_of_its_picks(monkeypatch, 
                            *lk["ground_pivot"], math.radians(lk["ground_angle"]),
                            sign=-1.0 if lk["branch"] == "open" else 1.0)
         assert abs(p - complex(*row["target"])) <= 1e-8 * size
+
+
+def test_fewer_than_nine_free_timing_targets_search_without_the_atlas(monkeypatch):
+    """Below nine targets free timing leaves a continuum of exact fits (2n residuals, 9 + n
+    unknowns), which the draws reach in their first field round: the atlas is not asked
+    (its starts led problems/straight_line.toml's search into slow valleys, 3 to 9 s against
+    0.3 s); from nine on it is, unless `[solver] atlas = false`. The five points are still met
+    exactly, by the closure written here."""
+    import json
+    import subprocess
+    import sys
+
+    from linkcli.reading.load import load
+    from linkcli.types.path_generation import solve as path_solve
+
+    asked = []
+    monkeypatch.setattr(path_solve, "atlas_starts", lambda design, budget: asked.append(design.n_targets))
+    line = load(str(ROOT / "problems" / "straight_line.toml"))
+    assert len(line.points) == 5 and not path_solve.uses_atlas(line)
+    path_solve.solve(line)
+    assert asked == []
+    nine = load(str(ROOT / "problems" / "bench" / "lin10_closed.toml"))
+    assert len(nine.points) >= path_solve.ATLAS_POINTS and path_solve.uses_atlas(nine)
+    out = subprocess.run([sys.executable, "-m", "linkcli", "synth", str(ROOT / "problems" / "straight_line.toml"),
+                          "-f", "json", "--precision", "12"], capture_output=True, text=True)
+    report = json.loads(out.stdout)
+    assert report["status"] == "ok"
+    lk = report["linkage"]
+    for row, target in zip(report["positions"], line.points):
+        p = _coupler_point(lk["ground"], lk["input"], lk["coupler"], lk["output"], *lk["coupler_point"],
+                           math.radians(row["input"]), *lk["ground_pivot"], math.radians(lk["ground_angle"]),
+                           sign=1.0 if lk["branch"] == "crossed" else -1.0)
+        assert abs(p - complex(*target)) <= 1e-8

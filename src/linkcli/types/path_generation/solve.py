@@ -76,6 +76,13 @@ ATLAS_STARTS = 96  # placed starts asked of the coupler-curve atlas (free timing
 ATLAS_ROUNDS = 6  # dealt to this many first rounds (CLAIM_ROUNDS["free"]: a best is claimed no sooner),
 ATLAS_DRAWS = 0.25  # which draw this share of their usual draws beside them
 ATLAS_BUDGET = 20_000  # a smaller budget leaves the atlas out (its placing costs about 1,500)
+ATLAS_POINTS = 9  # fewer targets leave the atlas out: 2n residuals against 9 + n unknowns leave a
+# continuum of exact fits below nine points (nine: the nine-point problem's finitely many, Wampler,
+# Morgan & Sommese 1992), which the draws reach in their first field round; the atlas's starts,
+# ranked first on their cost, led it into slow valleys instead (problems/straight_line.toml, five
+# points, seeds 0-2: 3.0-9.3 s with the atlas, 0.32-0.41 s without; cabrera6_line 0.44-0.70 against
+# 0.32-0.58 s; both exact either way; tests/data/path_free_grashof_variant.toml, eight points and
+# no exact fit: the same objective, 3.5-4.7 s against 4.1-4.7 s)
 SCAN_SHARE = 0.6  # share of a round's budget for the draws
 ROUND_BUDGET = 500_000  # evaluations of a round of the multistart, at most
 FIRST_ROUND = 100_000  # the first round's; each next one twice the last, up to ROUND_BUDGET
@@ -149,7 +156,7 @@ def solve_four_bar(problem) -> Solution:
             budget.add(len(cands))
         elif method == "multistart":
             cands, confirmed = multistart(design, budget, rng, atlas=design.timing == "free"
-                                          and opts.atlas is not False)
+                                          and opts.atlas is not False and design.n_targets >= ATLAS_POINTS)
         elif method == "least-squares":
             cands = plain_multistart(design, budget, rng)
         else:
@@ -176,10 +183,11 @@ def default_budget(method: str, points: int) -> int:
 
 def uses_atlas(problem) -> bool:
     """Whether this problem's search uses the coupler-curve atlas (a bench runs it with and
-    without): a four-bar design with free timing whose `[solver] atlas` is not false, solved
-    by the multistart."""
+    without): a four-bar design with free timing through ATLAS_POINTS targets or more whose
+    `[solver] atlas` is not false, solved by the multistart."""
     solver = problem.meta.solver
     return (getattr(problem, "timing", None) == "free" and problem.mechanism == "four-bar"
+            and len(problem.points) >= ATLAS_POINTS
             and solver.method in ("auto", "multistart") and solver.atlas is not False)
 
 
