@@ -774,3 +774,26 @@ def test_a_strength_study_added_to_a_result_is_run_as_on_its_drawing(tmp_path):
     path.write_text(tomli_w.dumps(four))
     code, _, err = run_cli("analyze", str(path))
     assert code == 2 and "material: expected a [loads] or [masses] table" in err
+
+
+def test_a_designs_motion_steps_are_kept_in_its_result(tmp_path):
+    """A drawn design's [motion] steps are echoed in its motion section and kept by its result,
+    so that analyze of the result studies as many rows as the problem asked (they were dropped:
+    the result's analysis took 360). Default steps are not echoed."""
+    import tomli_w
+
+    problem = tomllib.loads((ROOT / "problems/drawn_dwell.toml").read_text())
+    problem.setdefault("motion", {})["steps"] = 10
+    path = tmp_path / "dwell10.toml"
+    path.write_text(tomli_w.dumps(problem))
+    code, out, err = run_cli("synth", str(path), "--format", "toml")
+    assert code == 0, err
+    result = tomllib.loads(out)
+    assert result["motion"]["steps"] == 10
+    kept = tmp_path / "result.toml"
+    kept.write_text(out)
+    code, out, err = run_cli("analyze", str(kept), "--format", "json")
+    assert code in (0, 1), err
+    assert len(json.loads(out)["kinematics"]) == 10
+    code, out, err = run_cli("synth", "problems/drawn_dwell.toml", "--format", "json")
+    assert code == 0 and "steps" not in json.loads(out)["motion"], err

@@ -103,6 +103,8 @@ def _linkage_sections(rep, problem, solution, mech, want, notes) -> None:
     if study is not None and "motion" in want:
         rep["motion"] = mech.motion_section(study, u)
     speed, steps = motion_study(problem, u)
+    if "motion" in rep and (speed, steps) != motion_study(None, u):  # a study the file set: a result keeps it
+        rep["motion"].update(mech.study_keys(speed, steps, u))
     if study is not None and "kinematics" in want:
         rep["kinematics"] = mech.kinematics_rows(study, speed, steps, u)
         rep.setdefault("motion", {}).update(mech.study_keys(speed, steps, u))  # to reproduce it

@@ -292,7 +292,7 @@ def _timing(tgt: Table, bnd: Table | None, n: int | None, u, item: str):
     elif "direction" in tgt:
         tgt.error("direction", 'no direction with timing = "prescribed" (the input angles set it)',
                   raw_got=describe(tgt.raw("direction")))
-        return None
+        direction = None  # the angles and the offset still read: a key left unread would be blamed as unknown
     angles = read_input_angles(tgt, timing, n, u, item=item) if n is not None else None
     offset = None
     if bnd is not None and "input_offset" in bnd:
