@@ -10,6 +10,7 @@ light. `--debug` lets a traceback through.
 from __future__ import annotations
 
 import contextlib
+import os
 import sys
 from enum import Enum
 from pathlib import Path
@@ -259,6 +260,9 @@ def _solve_command(files: list[str], request, fmt: Format, out: Path | None, pre
         return 2
     if out is not None and not _prepare_out(out):
         return 2
+    if (out is not None and fmt is not Format.csv
+            and _overwrites_input([out / f"{stem}.{EXT[fmt.value]}" for stem in _stems(names)], names)):
+        return 2
     if front_dir is not None and not _prepare_out(front_dir, "--front-dir"):
         return 2
     if plot is not None and _plot_problem(plot, names):
@@ -331,7 +335,7 @@ def _solve_command(files: list[str], request, fmt: Format, out: Path | None, pre
             budget.watch = progress.watch = None
             prog.stop()
     if out is not None:
-        worst = max(worst, _write_out([r for r in reports if "type" in r], out, fmt, precision, table))
+        worst = max(worst, _write_out([r for r in reports if "type" in r], out, fmt, precision, table, names))
     elif fmt is Format.json:  # a bad file has its slot object, alone or in a batch
         from linkcli.io.export import write_json
         write_json(reports if len(names) > 1 else reports[0], precision, sys.stdout)
@@ -452,11 +456,40 @@ def _print_csv(report: dict, table: str | None, precision: int) -> int:
     return 0
 
 
-def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int, table: str | None = None) -> int:
+def _stems(names: list[str]) -> list[str]:
+    from linkcli.io.export import result_stems
+    return result_stems(names)
+
+
+def _overwrites_input(targets: list[Path], names: list[str]) -> bool:
+    """Whether a result file would replace one of the input files (--out DIR the inputs' own
+    folder with --format toml: a problem file overwritten by its result, the drawing lost):
+    one line, nothing written."""
+    def key(path) -> str:
+        try:
+            return os.path.realpath(path)
+        except (OSError, ValueError):
+            return str(path)
+    inputs = {key(n): n for n in names}
+    for target in targets:
+        if key(target) in inputs:
+            _err(f"{target}: expected a result file name that is not one of the input files, found the "
+                 f"problem file {inputs[key(target)]} (--out names its folder: write the results to another "
+                 "folder, or use another --format)")
+            return True
+    return False
+
+
+def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int, table: str | None = None,
+               names: list[str] | None = None) -> int:
     from linkcli.io.export import result_stems, to_toml, write_json
     from linkcli.io.whole_file import whole_text_file
     from linkcli.report import render_text
-    for rep, stem in zip(reports, result_stems([rep["file"] for rep in reports])):
+    stems = result_stems([rep["file"] for rep in reports])
+    if fmt is not Format.csv and _overwrites_input([out / f"{stem}.{EXT[fmt.value]}" for stem in stems],
+                                                   names or [rep["file"] for rep in reports]):
+        return 2
+    for rep, stem in zip(reports, stems):
         if fmt is Format.csv:  # one file per row table: <stem>.<table>.csv
             from linkcli.io.csv_tables import write_csv
             tables, problem = _csv_tables(rep, table)
