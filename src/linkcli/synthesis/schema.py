@@ -89,6 +89,8 @@ def read(root: Table, meta, type_name: str):
         drawing = read_drawing(link_t, u)
     _, steps = read_steps(root)
     drawing = drawing if drawing is None else _one_turning_drive(root, drawing)
+    if topology is not None:
+        _refuse_unnamed_tables(root)
     tgt = root.table("target", required=True)
     if tgt is not None:
         tgt.allow(*TARGET_KEYS[kind])
@@ -122,6 +124,22 @@ def read(root: Table, meta, type_name: str):
     return DrawnDesignProblem(meta=meta, kind=kind, drawing=drawing, boxes=boxes, drive=drive,
                               transmission=window, steps=steps, lines=lines, objective=robust[0],
                               defect_free=robust[1], topology=topology, reach=reach, **fields)
+
+
+NAMED_TABLES = ("loads", "masses", "sections", "material", "strength")  # keyed by the drawing's links and joints
+
+
+def _refuse_unnamed_tables(root: Table) -> None:
+    """[loads], [masses], [sections], [material], [strength] with [linkage] topology: one line each.
+    They name the drawing's links and joints, which a topology's file has not (each choice is
+    drawn by the search): they were read against nothing and dropped without a word. The
+    design found is a result file that takes them (docs/format.md, result files)."""
+    for name in NAMED_TABLES:
+        if name in root:
+            value = root.raw(name)
+            root.error(name, f"no [{name}] with [linkage] topology (its links and joints are the design "
+                       f"found: add [{name}] to the design's result file and analyze it)",
+                       raw_got=f"a [{name}] table" if isinstance(value, dict) else describe(value))
 
 
 def _front(root: Table, meta, kind: str, topology):
