@@ -10,7 +10,7 @@ import difflib
 import math
 from typing import TYPE_CHECKING
 
-from linkcli.io.bounds import MAX_LENGTH
+from linkcli.io.bounds import MAX_LENGTH, MAX_RATIO, MIN_LENGTH, over_ratio
 from linkcli.io.reader import MISSING, Table, describe
 
 if TYPE_CHECKING:  # names of annotations only (imported where they are used)
@@ -141,9 +141,49 @@ def drawn_links(root: Table, joints) -> tuple[DrawnLink, ...] | None:
         out.append(DrawnLink(name, tuple(value)))
     if not ok or joints is None:
         return None
-    if _too_many_distances(root, t, joints, out):
+    if _too_many_distances(root, t, joints, out) or _distances_out_of_bounds(t, joints, out):
         return None
     return _carried(root, t, joints, tuple(out))
+
+
+def _distances_out_of_bounds(t: Table, joints, links) -> bool:
+    """A located error (and True) where a distance between two joints of one link or of the
+    ground -- the drawing's link lengths -- lies outside [MIN_LENGTH, MAX_LENGTH], or the
+    longest is over MAX_RATIO times the shortest: the limits a four-bar's lengths have
+    (io.bounds; links of 2e-10 mm, or 1e12 times apart, were analysed as given)."""
+    places = {j.name: j.at for j in joints}
+    ground = [j.name for j in joints if j.ground]
+    distances: dict[str, float] = {}
+    owner: dict[str, str] = {}
+    pair: dict[str, tuple[str, str]] = {}
+    for name, carried in [("ground", ground)] + [(k.name, k.joints) for k in links]:
+        for i, a in enumerate(carried):
+            for b in carried[i + 1:]:
+                key = f"{name} {a}-{b}"
+                distances[key] = math.dist(places[a], places[b])
+                owner[key], pair[key] = name, (a, b)
+    bad = False
+    for key, value in distances.items():
+        if not MIN_LENGTH <= value <= MAX_LENGTH:
+            where = owner[key]
+            path = (*t.path[:-1], "joints", pair[key][1]) if where == "ground" else (*t.path, where)
+            t.reader.error(path, f"a distance within [{MIN_LENGTH:g}, {MAX_LENGTH:g}] "
+                    f"between two joints of {'the ground' if where == 'ground' else 'link ' + where} (as a "
+                    "four-bar's lengths: beyond, squares of lengths lose their precision)",
+                    raw_got=f"{'-'.join(pair[key])} = {value:g}")
+            bad = True
+    if bad or not distances:
+        return bad
+    extremes = over_ratio(distances)
+    if extremes:
+        longest, shortest = extremes
+        where = owner[longest]
+        path = (*t.path[:-1], "joints", pair[longest][1]) if where == "ground" else (*t.path, where)
+        t.reader.error(path, f"a linkage whose longest distance between two joints of one link is at most {MAX_RATIO:g} "
+                "times its shortest (beyond, double precision cannot resolve its angles)",
+                raw_got=f"{longest} = {distances[longest]:g} and {shortest} = {distances[shortest]:g}")
+        return True
+    return False
 
 
 def _too_many_distances(root: Table, t: Table, joints, links) -> bool:
