@@ -368,3 +368,37 @@ def test_an_iso_2768_class_gives_each_distance_its_own_tolerance():
         a, b = column.split()[-1].split("-")
         size = float(np.linalg.norm(at[a] - at[b]))
         assert got == next(t for top, t in medium if size <= top), (column, size)
+
+
+@pytest.mark.parametrize("angle", ["26.565051177", "26.56505117707799"])
+def test_a_cylinders_stroke_reaches_both_dead_points(tmp_path, angle):
+    """A cylinder: the block S slides (the drive) on the guide of link cyl, pinned at G1; the arm
+    G2-S is rigid. S stays on the circle of radius r = |G2 S| about G2 and on a line through G1,
+    so its distance from G1 spans [d - r, d + r], d = |G1 G2| (written here: 55.2786..144.721,
+    the stroke 2 r = 89.4427), and at the far end the arm lies along the guide: transmission 0.
+    A guide angle written to 11 digits left the far end not assembling by round-off, and the
+    stroke ended at the last grid row before it (89.1649, transmission 5.31 deg)."""
+    text = f'''type = "linkage"
+[linkage]
+mechanism = "drawn"
+[joints]
+G1 = {{ at = [0, 0], ground = true }}
+G2 = {{ at = [100, 0], ground = true }}
+S  = {{ at = [80, 40], slider = {angle}, guide = "cyl" }}
+[links]
+cyl = ["G1", "S"]
+arm = ["G2", "S"]
+[drive]
+S = {{ speed = 10 }}
+'''
+    path = tmp_path / "cylinder.toml"
+    path.write_text(text)
+    code, out, err = run_cli("analyze", str(path), "--format", "json", "--precision", "12")
+    assert code in (0, 1), err
+    rep = json.loads(out)
+    r, d = math.hypot(20.0, 40.0), 100.0
+    slider = rep["motion"]["sliders"]["S"]
+    assert slider["range"] == pytest.approx([d - r, d + r], abs=1e-6)
+    assert slider["stroke"] == pytest.approx(2 * r, abs=1e-6)
+    assert rep["transmission"]["min"] == pytest.approx(0.0, abs=1e-3)
+    assert rep["transmission"]["input_at_min"] == pytest.approx(d + r, abs=1e-6)

@@ -170,11 +170,44 @@ def grid_values(evaluate, lo, hi, step, periodic=False):
     cells = max(8, int(math.ceil((hi - lo) / step)))
     q = np.linspace(lo, hi, cells + 1)
     value, _, _ = evaluate(q)
+    q, value = _ends_inside(evaluate, q, value, hi - lo)
     if periodic:
         value = value.copy()
         for k in range(value.shape[1]):
             finite = np.isfinite(value[:, k])
             value[finite, k] = np.unwrap(value[finite, k])
+    return q, value
+
+
+END_NUDGES = (1e-14, 1e-12, 1e-10, 1e-8)  # of the span: an end node moved inward until it assembles
+
+
+def _ends_inside(evaluate, q, value, span: float):
+    """The grid with an end node that does not assemble where its neighbour does moved inward
+    by the least of END_NUDGES (of the span) that assembles: a rocking drive's range ends at
+    a dead point, where the closure only just assembles and round-off in the place of the end
+    can leave it not assembling (a cylinder's guide angle written to 11 digits lost the far
+    end of its stroke: 89.1649 where the drive's range gave 89.4427, the last grid row before
+    the end taken for it). The extremes and crossings then start from the end itself."""
+    if len(q) < 3 or not span > 0.0:
+        return q, value
+    moves = []
+    for end, inner, sense in ((0, 1, 1.0), (len(q) - 1, len(q) - 2, -1.0)):
+        short = np.isfinite(value[inner]) & ~np.isfinite(value[end])
+        if short.any():
+            moves.append((end, inner, sense))
+    if not moves:
+        return q, value
+    tries = np.array([q[end] + sense * f * span for end, _, sense in moves for f in END_NUDGES])
+    tried, _, _ = evaluate(tries)
+    q, value = q.copy(), value.copy()
+    for m, (end, inner, _) in enumerate(moves):
+        wanted = np.isfinite(value[inner])
+        for t in range(len(END_NUDGES)):
+            row = tried[m * len(END_NUDGES) + t]
+            if np.all(np.isfinite(row[wanted])):
+                q[end], value[end] = tries[m * len(END_NUDGES) + t], row
+                break
     return q, value
 
 
