@@ -16,6 +16,7 @@ frozen dataclasses).
 from __future__ import annotations
 
 import contextlib
+import sys
 import time
 from collections.abc import Iterator
 from dataclasses import replace
@@ -125,8 +126,9 @@ def run(path: str, request: Request, source: bytes | InputError | None = None) -
         return Outcome(path, report_exit_code(report), Result(problem, solution, report, drawing))
     except LinkcliError as exc:
         located(exc, path)
-        if request.debug:
-            raise
+        if request.debug:  # where it was raised, then its lines and exit code as without --debug (bad input: 2)
+            import traceback
+            traceback.print_exc(file=sys.stderr)
         return Outcome(path, exc.exit_code, errors=tuple(exc.lines()))
     except Exception as exc:  # a bug: one line, not a traceback (--debug shows it)
         if request.debug:

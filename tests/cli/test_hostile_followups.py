@@ -113,3 +113,19 @@ def test_a_jobs_supervisor_killed_outright_leaves_no_worker_behind(tmp_path, sig
         for worker in psutil.Process().children(recursive=True):
             worker.kill()
     assert alive == []
+
+
+def test_debug_keeps_bad_inputs_exit_code_and_lines(tmp_path):
+    """--debug on bad input shows where the error was raised, then the same located lines and
+    exit 2 as without it (it re-raised: a traceback and exit 1, the code of an internal error)."""
+    import subprocess
+    import sys
+    bad = tmp_path / "bad.toml"
+    bad.write_text('type = "linkage"\n[linkage]\nground = nan\ninput = 1\ncoupler = 3\noutput = 3\n')
+    plain = subprocess.run([sys.executable, "-m", "linkcli", "check", str(bad)], capture_output=True, text=True)
+    assert plain.returncode == 2 and plain.stderr
+    for command in ("check", "synth", "analyze"):
+        res = subprocess.run([sys.executable, "-m", "linkcli", command, "--debug", str(bad)], capture_output=True,
+                             text=True)
+        assert res.returncode == 2, (command, res.stderr)
+        assert res.stderr.endswith(plain.stderr) and "Traceback" in res.stderr
