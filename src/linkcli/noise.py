@@ -14,12 +14,12 @@ digit or a decision:
   documented order (sweep order for peaks, generation order for candidates) wins:
   `same(a, b)`, `first_max(values)`, `first_min(values)`.
 
-Both constants are relative and stated in docs/determinism.md (a test reads them there).
+Both constants are relative and stated in docs/determinism.md (a test reads them there). numpy
+is imported by the functions that use it: a problem file's reader takes the constants, and
+`check` imports no numpy.
 """
 
 from __future__ import annotations
-
-import numpy as np
 
 NOISE_FLOOR = 1e-9  # relative to the quantity's scale: below it a value is round-off
 TIE = 1e-9  # relative: two values this close are equal, the first in order wins
@@ -28,6 +28,7 @@ TIE = 1e-9  # relative: two values this close are equal, the first in order wins
 def snap(value, scale):
     """`value` with every entry of magnitude <= NOISE_FLOOR * |scale| replaced by 0.0 (and
     -0.0 by 0.0); floats stay floats, arrays stay arrays, NaN and inf pass through."""
+    import numpy as np  # here: `check` reads the constants above without numpy
     v = np.asarray(value, dtype=float)
     s = np.abs(np.asarray(scale, dtype=float))
     with np.errstate(invalid="ignore"):
@@ -40,6 +41,7 @@ def snap(value, scale):
 def snap_series(values, natural_scale: float = 0.0):
     """A series (a column of a table) snapped against the larger of its own largest finite
     magnitude and `natural_scale`: entries that are round-off of the series become 0."""
+    import numpy as np  # here: `check` reads the constants above without numpy
     v = np.asarray(values, dtype=float)
     finite = np.abs(v[np.isfinite(v)])
     top = float(finite.max()) if finite.size else 0.0
@@ -50,6 +52,7 @@ def quantize(value: float, step: float = NOISE_FLOOR) -> float:
     """`value` rounded to a whole number of `step` (default: the noise floor), for numbers
     whose absolute digits below the step are round-off, like a relative gap to a best known
     objective: a gap of 1.08268e-08 and one of 1.08266e-08 both become 1.1e-08."""
+    import numpy as np  # here: `check` reads the constants above without numpy
     if not np.isfinite(value):
         return float(value)
     return float(round(value / step) * step) + 0.0
@@ -66,6 +69,7 @@ def same(a: float, b: float) -> bool:
 def first_max(values, axis: int = -1):
     """Index of the largest value along `axis`, where values within a relative TIE of the
     largest count as equal and the first of them (lowest index) wins. NaN never wins."""
+    import numpy as np  # here: `check` reads the constants above without numpy
     v = np.asarray(values, dtype=float)
     v = np.where(np.isnan(v), -np.inf, v)
     top = np.max(v, axis=axis, keepdims=True)
@@ -76,5 +80,6 @@ def first_max(values, axis: int = -1):
 
 def first_min(values, axis: int = -1):
     """Index of the smallest value along `axis` under the same rule as `first_max`."""
+    import numpy as np  # here: `check` reads the constants above without numpy
     v = np.asarray(values, dtype=float)
     return first_max(np.where(np.isnan(v), np.nan, -v), axis=axis)

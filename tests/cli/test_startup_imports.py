@@ -54,3 +54,27 @@ def test_synth_of_the_fire_door_loads_none_of_them():
     loaded = set(res.stderr.rsplit("LOADED ", 1)[1].split())
     assert "numpy" in loaded and "rich.table" in loaded  # it did solve and print a table
     assert sorted(m for m in MUST_NOT_LOAD if m in loaded) == []
+
+
+CHECK_PROGRAM = """\
+import glob, sys
+sys.argv = ["linkcli", "check"] + sorted(glob.glob("problems/*.toml"))
+from linkcli.cli import main
+try:
+    main()
+finally:
+    sys.stderr.write("\\nLOADED " + " ".join(sorted(sys.modules)) + "\\n")
+"""
+
+
+def test_check_of_every_example_imports_neither_numpy_nor_scipy():
+    """`check` is pure Python (docs/format.md): every example, drawings, drawn designs and
+    topologies included (a drawn design's file imported numpy through the population's
+    groups, a function-generation file through the noise floor's module)."""
+    from conftest import ROOT
+    res = subprocess.run([sys.executable, "-c", CHECK_PROGRAM], capture_output=True, text=True, cwd=ROOT)
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.count(": ok\n") >= 40
+    loaded = set(res.stderr.rsplit("LOADED ", 1)[1].split())
+    assert "linkcli.mechanisms.drawn.structure" in loaded  # it did read the drawings
+    assert sorted(m for m in ("numpy", "scipy") if m in loaded) == []

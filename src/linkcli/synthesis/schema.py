@@ -452,7 +452,6 @@ def closed_form_problem(structure) -> tuple[str, ...] | None:
     a group carrying a slider's guide or block), or None: dyads, RRP, RPR and pinned groups
     (a class-III triad and the like, by continuation from the drawing) all run over a
     population."""
-    from linkcli.mechanisms.drawn.population_groups import unsupported
-    from linkcli.mechanisms.drawn.structure import Group
+    from linkcli.mechanisms.drawn.structure import Group, unsupported
     groups = [op for op in structure.plan if isinstance(op, Group) and unsupported(structure, op)]
     return groups[0].links if groups else None

@@ -92,18 +92,6 @@ END_BAND = 1e-4  # of the grid step: a row this close before a lane's dead point
 # of it may not solve; measured on benchmarks/drawn_population.py's 489 dead points: 1e-6 rad at most)
 
 
-def unsupported(structure: Structure, op: Group) -> str | None:
-    """Why the population cannot solve `op` (a slider in it), or None."""
-    inside = set(op.links)
-    for joint, guide in structure.slides.items():
-        if guide in inside or any(b in inside for b in structure.pins[joint]):
-            return f"the slider {joint}"
-    for joint in structure.drawing.joints:
-        if joint.slider is not None and (joint.guide in inside or any(b in inside for b in structure.pins[joint.name])):
-            return f"the slider {joint.name}"
-    return None
-
-
 class PopulationGroup:
     """One group of the plan over arrays of lanes (module docstring)."""
 

@@ -494,3 +494,16 @@ def _check_sides(s: Structure) -> None:
 
 def _drives(n: int) -> str:
     return f"{n} drive" if n == 1 else f"{n} drives"
+
+
+def unsupported(structure: Structure, op: Group) -> str | None:
+    """Why the population (drawn.population_groups) cannot solve `op` (a slider in it), or None.
+    Pure Python: `check` asks it of a design file (synthesis.schema.closed_form_problem)."""
+    inside = set(op.links)
+    for joint, guide in structure.slides.items():
+        if guide in inside or any(b in inside for b in structure.pins[joint]):
+            return f"the slider {joint}"
+    for joint in structure.drawing.joints:
+        if joint.slider is not None and (joint.guide in inside or any(b in inside for b in structure.pins[joint.name])):
+            return f"the slider {joint.name}"
+    return None
