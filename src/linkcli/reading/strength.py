@@ -123,15 +123,21 @@ def read_material(t: Table) -> StrengthSpec | None:
 
 def read_link_sections(root: Table, mechanism: str) -> dict[str, LinkSection]:
     """[sections]: one cross-section per link the mechanism has (`links` of its schema; a
-    drawing names its own links, checked when analysed)."""
+    drawing's own [links], or a design's result's kept [linkage.links]: `check` names a link
+    the drawing has not, as `analyze` does)."""
     t = root.table("sections")
     if t is None:
         return {}
     from linkcli.io.joints import named_tables
     from linkcli.mechanisms import schema_of
     schema = schema_of(mechanism)
-    entries = named_tables(t, None if schema.draws else schema.links, "link", mechanism,
-                           "{ width = 12, thickness = 4 } or { diameter = 10 }")
+    names, label = (None, mechanism) if schema.draws else (schema.links, mechanism)
+    if schema.draws:
+        kept = root.data.get("linkage") if "status" in root.data else None
+        raw = kept.get("links") if isinstance(kept, dict) else root.data.get("links")
+        if isinstance(raw, dict) and raw and all(isinstance(k, str) and k for k in raw):
+            names, label = list(raw), "drawing"  # a drawing in error names nothing: its own lines say why
+    entries = named_tables(t, names, "link", label, "{ width = 12, thickness = 4 } or { diameter = 10 }")
     out = {}
     for link, section in entries or ():
         shape = _section(section, root.reader.line_of(("sections", link)))
