@@ -198,6 +198,8 @@ def render(report: dict, digits: int = 6) -> Group:
     """One problem's block."""
     r = terminal_safe(rounded(elided(report), digits))
     lu, au = r["units"]["length"], r["units"]["angle"]
+    iu = _input_unit(r, lu, au)  # the leading drive's values: an angle, or a length for a sliding drive
+    at_input = "at input" if iu == au else f"at input ({iu})"
     parts: list = []
     name = Text()
     name.append(r.get("title") or r["file"], style="bold")
@@ -223,7 +225,7 @@ def render(report: dict, digits: int = 6) -> Group:
     elif "transmission" in r and r["transmission"]:
         tr = r["transmission"]
         t = Table(title=f"Transmission angle ({au})", title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, show_edge=False)
-        for c in ("over", "min", "at input", "max", "at input"):
+        for c in ("over", "min", at_input, "max", at_input):
             t.add_column(c, justify="right" if c != "over" else "left")
         t.add_row("input's range of motion", fmt(tr["min"], digits), fmt(tr["input_at_min"], digits),
                   fmt(tr["max"], digits), fmt(tr["input_at_max"], digits))
@@ -237,6 +239,8 @@ def render(report: dict, digits: int = 6) -> Group:
         parts.append(t)
     if "motion" in r:
         units = _motion_units(lu, au)
+        if iu != au:
+            units["input_range"] = iu
         motion = r["motion"]
         flat = {k: v for k, v in motion.items() if not isinstance(v, (dict, list)) or k in units}
         parts.append(_kv("Motion", [(k.replace("_", " ") + (f" ({units[k]})" if k in units else ""), v)
@@ -253,6 +257,8 @@ def render(report: dict, digits: int = 6) -> Group:
         parts.append(_kv("Error", [(k.replace("_", " "), v) for k, v in r["error"].items()], digits))
     if "kinematics" in r:
         heads = _kinematics_heads(r["kinematics"], lu, au)
+        if iu != au:
+            heads["input"] = f"input ({iu})"
         parts.append(_rows("Kinematics", r["kinematics"], digits, heads))
     if "loads" in r:
         units = {"coupler_force": "N", "output_torque": "N m", "output_force": "N", "gravity": "m/s2",
@@ -279,6 +285,14 @@ def render(report: dict, digits: int = 6) -> Group:
     for note in r.get("notes", []):
         parts.append(Text(f"warning: {note}", style="yellow"))
     return Group(*parts)
+
+
+def _input_unit(r: dict, lu: str, au: str) -> str:
+    """The unit of the leading drive's values (`input` columns, `input_range`): the length unit
+    when a drawn linkage's first drive slides (motion.drives' `kind`), else the angle unit."""
+    drives = r.get("motion", {}).get("drives") if isinstance(r.get("motion"), dict) else None
+    first = next(iter(drives.values()), None) if isinstance(drives, dict) and drives else None
+    return lu if isinstance(first, dict) and first.get("kind") == "slide" else au
 
 
 def _kinematics_heads(rows: list[dict], lu: str, au: str) -> dict[str, str]:

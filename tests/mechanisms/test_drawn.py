@@ -402,3 +402,37 @@ S = {{ speed = 10 }}
     assert slider["stroke"] == pytest.approx(2 * r, abs=1e-6)
     assert rep["transmission"]["min"] == pytest.approx(0.0, abs=1e-3)
     assert rep["transmission"]["input_at_min"] == pytest.approx(d + r, abs=1e-6)
+
+
+def test_a_sliding_drives_values_are_labelled_in_the_length_unit(tmp_path):
+    """A drawn linkage driven by a slider: the drive's values (the kinematics' input, the motion's
+    input range, the transmission's "at input") are positions along the guide, labelled in the
+    length unit (they were labelled deg); a turning drive's stay in the angle unit."""
+    text = '''type = "linkage"
+[linkage]
+mechanism = "drawn"
+[joints]
+O2 = { at = [0, 0], ground = true }
+A  = { at = [10, 17.3] }
+B  = { at = [40, 0], slider = 0 }
+[links]
+crank = ["O2", "A"]
+rod = ["A", "B"]
+[drive]
+B = { speed = 5 }
+[motion]
+steps = 20
+[report]
+sections = ["transmission", "motion", "kinematics"]
+'''
+    path = tmp_path / "slide.toml"
+    path.write_text(text)
+    code, out, err = run_cli("analyze", str(path))
+    assert code in (0, 1), err
+    assert "input range (mm)" in out and "at input (mm)" in out and "(deg)" in out
+    assert "input range (deg)" not in out
+    head = next(line for line in out.splitlines() if line.strip().startswith("input") and "crank" in line)
+    units = out.splitlines()[out.splitlines().index(head) + 1].split()
+    assert units[0] == "(mm)" and units[1] == "(deg)"
+    code, out, err = run_cli("analyze", "problems/drawn_watt.toml")
+    assert code in (0, 1) and "input range (mm)" not in out and "at input (mm)" not in out, err
