@@ -129,3 +129,33 @@ def test_debug_keeps_bad_inputs_exit_code_and_lines(tmp_path):
                              text=True)
         assert res.returncode == 2, (command, res.stderr)
         assert res.stderr.endswith(plain.stderr) and "Traceback" in res.stderr
+
+
+def test_messages_that_sent_the_user_round_in_circles(tmp_path):
+    """Three lines a hostile-input probe found pointing the wrong way: a topology in a
+    `type = "linkage"` file (it added "joints: expected a table" and called topology unknown);
+    synth of a drawn linkage's analysis result (it said "analyse it with linkcli analyze", which
+    refuses it); analyze of a JSON result (a bare TOML syntax error)."""
+    from conftest import ROOT, run_cli
+    topo = tmp_path / "topo.toml"
+    topo.write_text('type = "linkage"\n[linkage]\nmechanism = "drawn"\ntopology = "watt-i"\n')
+    code, _, err = run_cli("check", str(topo))
+    assert code == 2 and err.splitlines() == [
+        f'{topo}:4: linkage.topology: expected a drawing ([joints], [links], [drive]) in a type = "linkage" file '
+        '(a topology is designed: type = "path-generation", "motion-generation" or "function-generation"), '
+        'found "watt-i" (string)']
+    code, out, err = run_cli("analyze", str(ROOT / "problems" / "drawn_watt.toml"), "--format", "toml")
+    assert code == 0, err
+    result = tmp_path / "watt_result.toml"
+    result.write_text(out)
+    for command in ("synth", "check"):
+        code, _, err = run_cli(command, str(result))
+        assert code == 2 and "a drawn linkage's analysis (its problem file holds the drawing" in err
+        assert "analyse it with linkcli analyze" not in err
+    code, out, err = run_cli("synth", str(ROOT / "problems" / "firedoor.toml"), "--format", "json")
+    assert code == 0, err
+    as_json = tmp_path / "firedoor.json"
+    as_json.write_text(out)
+    code, _, err = run_cli("analyze", str(as_json))
+    assert code == 2 and err.rstrip().endswith("(a JSON file? linkcli reads TOML: a result to analyse is written "
+                                               "with --format toml)")

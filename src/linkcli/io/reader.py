@@ -313,6 +313,8 @@ class Reader:
             if m:
                 msg += f" (column {m.group(2)})"
             msg = "a syntax error: " + msg[:1].lower() + msg[1:]
+            if text.lstrip().startswith(("{", "[{")) or str(path).lower().endswith(".json"):
+                msg += " (a JSON file? linkcli reads TOML: a result to analyse is written with --format toml)"
             raise TomlSyntaxError("valid TOML", msg, path=path, line=line) from None
         except ValueError:  # not a TOMLDecodeError: an integer beyond Python's digit limit
             error = too_many_digits(path, text)

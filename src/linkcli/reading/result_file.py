@@ -29,8 +29,13 @@ if TYPE_CHECKING:  # names of annotations only (imported where they are used)
 def refuse_result_file(reader) -> None:
     """synth/check of a result file of `synth --format toml`: one line, not one per key."""
     if is_result(reader.data):
-        raise SchemaError("a problem file", "a result file of linkcli synth (analyse it with "
-                          "linkcli analyze)", path=reader.path, line=reader.line_of(("status",)))
+        data = reader.data
+        linkage = data.get("linkage")
+        drawn = isinstance(linkage, dict) and linkage.get("mechanism") == "drawn" and "joints" not in linkage
+        found = ("a result file of a drawn linkage's analysis (its problem file holds the drawing: synth, "
+                 "check and analyze read that)" if drawn else
+                 "a result file of linkcli synth (analyse it with linkcli analyze)")
+        raise SchemaError("a problem file", found, path=reader.path, line=reader.line_of(("status",)))
 
 
 def is_result(data: dict) -> bool:

@@ -11,7 +11,7 @@ import difflib
 import math
 from typing import TYPE_CHECKING
 
-from linkcli.io.reader import Table
+from linkcli.io.reader import Table, describe
 from linkcli.mechanisms.drawn.drawing_tables import drawn_drives, drawn_joints, drawn_links, drawn_motion
 from linkcli.mechanisms.schema import ForceParts, Schema
 
@@ -158,6 +158,13 @@ def read(t: Table, units) -> Drawn | None:
                 "file (with [joints], [links] and [drive]), not from a result file",
                 raw_got='a result file of a drawn linkage')
         t.allow(*t.keys())  # its echo of the links: that one line says it all
+        _skip(root)
+        return None
+    if "topology" in t.data and "joints" not in root.data:  # a topology in a file that analyses: one line
+        t.raw("topology")
+        t.error("topology", 'a drawing ([joints], [links], [drive]) in a type = "linkage" file (a topology is '
+                'designed: type = "path-generation", "motion-generation" or "function-generation")',
+                raw_got=describe(t.data["topology"]))
         _skip(root)
         return None
     specs = read_joints(root, SCHEMA, units)  # records a `joints` that is not a table
