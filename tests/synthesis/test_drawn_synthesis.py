@@ -797,3 +797,29 @@ def test_a_designs_motion_steps_are_kept_in_its_result(tmp_path):
     assert len(json.loads(out)["kinematics"]) == 10
     code, out, err = run_cli("synth", "problems/drawn_dwell.toml", "--format", "json")
     assert code == 0 and "steps" not in json.loads(out)["motion"], err
+
+
+@pytest.mark.parametrize("box", [True, False])
+def test_a_point_that_measures_nothing_leaves_the_design_as_it_was(tmp_path, box):
+    """A point X added on the rocker of problems/drawn_six_bar_path.toml (with a box, held where
+    drawn with a note, or without one) measures nothing: the design is the original's -- the
+    same status, error and timing (it was not-converged with four times the evaluations: a held
+    moving joint left the drawing's phase free, a flat direction of every objective)."""
+    import tomli_w
+
+    problem = tomllib.loads((ROOT / "problems/drawn_six_bar_path.toml").read_text())
+    code, out, err = run_cli("synth", "problems/drawn_six_bar_path.toml", "--format", "json")
+    assert code == 0, err
+    plain = json.loads(out)
+    problem["joints"]["X"] = {"at": [120, -20]}
+    problem["links"]["rocker"] = problem["links"]["rocker"] + ["X"]
+    if box:
+        problem["bounds"]["X"] = {"x": [110, 130], "y": [-30, -10]}
+    path = tmp_path / "held.toml"
+    path.write_text(tomli_w.dumps(problem))
+    code, out, err = run_cli("synth", str(path), "--format", "json")
+    assert code == 0, err
+    held = json.loads(out)
+    assert held["status"] == plain["status"] == "ok"
+    assert held["error"] == plain["error"] and held["timing"] == plain["timing"]
+    assert held["positions"] == plain["positions"]

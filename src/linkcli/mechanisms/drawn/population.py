@@ -98,8 +98,14 @@ class DrawnPopulation(Population):
         flat direction of every objective. The variable that breaks it: the coordinate of the
         driving link's pin that its turn moves the more (x where the pin's tangent runs nearer
         to x), held at its drawn place (the pin still moves along the other); None when some
-        moving joint is held."""
-        moving = [j.name for j in self.drawing.joints if not j.ground]
+        moving joint is held. A joint that moves nothing measured (`idle_joints`: on one body
+        alone, held where drawn whether given a box or not) does not count: every objective is
+        as flat in the phase with it held (a point X added to a rocker of
+        problems/drawn_six_bar_path.toml left the phase free: not-converged, four times the
+        evaluations)."""
+        names = tuple(j.name for j in self.drawing.joints)
+        idle = set(idle_joints(self.structure, self.drawing, names, self.traced, self.followed))
+        moving = [j.name for j in self.drawing.joints if not j.ground and j.name not in idle]
         free = {name: k for k, name in enumerate(self.free)
                 if self.hi[2 * k] > self.lo[2 * k] and self.hi[2 * k + 1] > self.lo[2 * k + 1]}
         if not all(name in free for name in moving):
