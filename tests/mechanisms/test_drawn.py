@@ -368,6 +368,16 @@ def test_an_iso_2768_class_gives_each_distance_its_own_tolerance():
         a, b = column.split()[-1].split("-")
         size = float(np.linalg.norm(at[a] - at[b]))
         assert got == next(t for top, t in medium if size <= top), (column, size)
+    # the report says what each distance got: the link's one value where its distances share it,
+    # else each distance by name (one value per link was its last distance's: rocker 0.3 where
+    # its 25 mm distance got 0.2)
+    from linkcli.pipeline import analyse
+    lengths = analyse(problem, solution)["tolerance"]["lengths"]
+    for column, got in zip(model.columns, scale):
+        link = column.split()[0]
+        assert lengths.get(column, lengths.get(link)) == got, (column, lengths)
+        assert not (column in lengths and link in lengths)
+    assert any(" " in key for key in lengths)  # the rocker's 25 and 60 mm distances: 0.2 and 0.3
 
 
 @pytest.mark.parametrize("angle", ["26.565051177", "26.56505117707799"])

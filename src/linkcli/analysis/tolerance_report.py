@@ -38,7 +38,10 @@ def _analyse(problem, model: Model) -> dict:
     level = tol.max_failure_probability if isinstance(tol, InverseTolerance) else None
     parts = made_parts(model, problem)
     lengths = {k: float(v) for k, v in tol.lengths.items()}
-    lengths.update(resolved_general(model, parts, tol.general))
+    general = resolved_general(model, parts, tol.general)
+    for key in set(tol.general) - set(general):  # given per distance (resolved_general)
+        lengths.pop(key, None)
+    lengths.update(general)
     out: dict = {"measure": model.measure, "samples": tol.samples, "distribution": tol.distribution,
                  "lengths": dict(lengths), "clearance": "fits" if tol.clearance_fits else float(tol.clearance),
                  **model.given(tol)}
@@ -129,10 +132,23 @@ def with_links(problem, known: dict):
 
 
 def resolved_general(model: Model, parts: Parts, general: dict) -> dict:
-    """key -> the +- tolerance its ISO 2768 class gave (length unit)."""
+    """key -> the +- tolerance its ISO 2768 class gave (length unit); where the class gives a
+    key's columns different ones (a drawn link's distances, each at its own size), each
+    column by its own name ("rocker O4-C", as `sensitivity`): one value for the link was the
+    last distance's (rocker 0.3 where its 25 mm distance got 0.2)."""
     from linkcli.analysis.made_parts import column_key
-    return {column_key(model, c): float(v) for c, v in zip(model.columns, parts.scale)
-            if column_key(model, c) in general}
+    by_key: dict = {}
+    for c, v in zip(model.columns, parts.scale):
+        key = column_key(model, c)
+        if key in general:
+            by_key.setdefault(key, []).append((c, float(v)))
+    out = {}
+    for key, values in by_key.items():
+        if len({v for _, v in values}) == 1:
+            out[key] = values[0][1]
+        else:
+            out.update(values)
+    return out
 
 
 def fit_rows(problem, parts: Parts) -> list[dict]:
