@@ -106,8 +106,9 @@ def _linkage_sections(rep, problem, solution, mech, want, notes) -> None:
     if "motion" in rep and (speed, steps) != motion_study(None, u):  # a study the file set: a result keeps it
         rep["motion"].update(mech.study_keys(speed, steps, u))
     if study is not None and "kinematics" in want:
+        rep.setdefault("motion", {}).update(mech.study_keys(speed, steps, u))  # to reproduce it (before
+        # kinematics, in the report's order, when motion itself was not asked for)
         rep["kinematics"] = mech.kinematics_rows(study, speed, steps, u)
-        rep.setdefault("motion", {}).update(mech.study_keys(speed, steps, u))  # to reproduce it
     if "forces" in want and problem.meta.loads is not None:
         from linkcli.analysis import forces
         if study is None and not want & {"transmission", "motion", "kinematics"}:
