@@ -39,6 +39,10 @@ def read_objective(root: Table, meta) -> tuple[str, float] | None:
             return None
     if minimize is None or defect_free is None:
         return None
+    if minimize == "failure-probability" and meta.type == "motion-generation":
+        t.error("minimize", '"error" for a motion design (it takes no [tolerance]: no made linkage\'s '
+                "failure to count)", raw_got='"failure-probability"')
+        return None
     if minimize == "failure-probability":
         tol = meta.tolerance
         raw = root.data.get("tolerance")
