@@ -823,3 +823,21 @@ def test_a_point_that_measures_nothing_leaves_the_design_as_it_was(tmp_path, box
     assert held["status"] == plain["status"] == "ok"
     assert held["error"] == plain["error"] and held["timing"] == plain["timing"]
     assert held["positions"] == plain["positions"]
+
+
+def test_an_offset_free_over_many_turns_prints_in_one_turn(tmp_path):
+    """bounds.input_offset over many turns: the offset found prints in (-180, 180] deg, the same
+    design's (it printed -541667 for an offset of 133.333 deg plus turns, a third of a degree
+    lost to the six digits); the first target's drive angle is the offset (its input angle 0)."""
+    import tomli_w
+
+    problem = tomllib.loads((ROOT / "problems/drawn_six_bar_path.toml").read_text())
+    assert problem["target"]["input_angles"][0] == 0
+    problem["bounds"]["input_offset"] = [-1e6, 1e6]
+    path = tmp_path / "offset.toml"
+    path.write_text(tomli_w.dumps(problem))
+    code, out, err = run_cli("synth", str(path), "--format", "json")
+    assert code in (0, 1), err
+    timing = json.loads(out)["timing"]
+    assert -180.0 < timing["input_offset"] <= 180.0
+    assert timing["input_offset"] == pytest.approx(timing["first_input"], abs=1e-3)
