@@ -446,3 +446,24 @@ sections = ["transmission", "motion", "kinematics"]
     assert units[0] == "(mm)" and units[1] == "(deg)"
     code, out, err = run_cli("analyze", "problems/drawn_watt.toml")
     assert code in (0, 1) and "input range (mm)" not in out and "at input (mm)" not in out, err
+
+
+def test_a_span_that_runs_into_dead_points_lists_them(tmp_path):
+    """problems/drawn_watt.toml driven at its rocker (a rocking drive between two dead points):
+    with a [motion] span wider than its reach, the motion section lists the dead points the span
+    runs into -- the same as without a span (they were left out; only the message named them)."""
+    text = (ROOT / "problems" / "drawn_watt.toml").read_text(encoding="utf-8")
+    assert "crank = { speed = 60 }" in text
+    rocking = text.replace("crank = { speed = 60 }", "rocker = { speed = 10 }")
+    plain, spanned = tmp_path / "rock.toml", tmp_path / "span.toml"
+    plain.write_text(rocking)
+    spanned.write_text(rocking.replace("[motion]\n", "[motion]\nspan = [-100, 100]\n"))
+    code, out, err = run_cli("analyze", str(plain), "--format", "json")
+    assert code in (0, 1), err
+    expected = json.loads(out)["motion"]["dead_points"]
+    assert len(expected) == 2 and all(p["joint"] for p in expected)
+    code, out, err = run_cli("analyze", str(spanned), "--format", "json")
+    assert code == 1, err
+    rep = json.loads(out)
+    assert "cannot move over the asked span" in rep["message"]
+    assert rep["motion"]["dead_points"] == expected

@@ -296,8 +296,18 @@ def motion_section(home, study, u) -> dict:
     if not study.full_turn:
         lo, hi = study.arc
         out["input_range"] = [_shown(home, lo - sv.start, u), _shown(home, hi - sv.start, u)]
-    if d.span is None and not sv.reach.full_turn:
-        out["dead_points"] = _dead_points(home, u)
+    if not sv.reach.full_turn:
+        dead = _dead_points(home, u)
+        if d.span is None:
+            out["dead_points"] = dead
+        else:  # the dead points the asked span runs into (where its study stops)
+            lo, hi = d.span
+            slack = 1e-9 * max(1.0, abs(lo), abs(hi))
+            ends = (sv.reach.lo, sv.reach.hi)
+            inside = [p for p, q, lock in zip(dead, ends, sv.reach.locks)
+                      if lock is not None and lo - slack <= q <= hi + slack]
+            if inside:
+                out["dead_points"] = inside
     links = [k.name for k in d.links if k.name not in {dr.name for dr in d.drives}]
     out["links"] = _link_ranges(home, study, links, u)
     sliders = [j.name for j in d.joints if j.slider is not None]
