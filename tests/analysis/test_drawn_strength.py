@@ -443,10 +443,12 @@ name = "AISI 1020 HR"
 def test_a_section_naming_no_link_of_the_drawing_is_refused(tmp_path):
     text = watt_with_pins() + WATT_STRENGTH.format(torque=1.0, thickness=2).replace(
         "rocker = {", "rockr = {")
-    code, out, err = run_cli("analyze", write(tmp_path, text))
-    assert code == 2 and out == ""
-    assert 'sections.rockr: expected a link of the linkage: one of crank, coupler, rocker, link, ' \
-           'output (did you mean "rocker"?), found link "rockr"' in err
+    path = write(tmp_path, text)
+    for command in ("analyze", "check"):  # check names it too (it passed check, exit 0)
+        code, out, err = run_cli(command, path)
+        assert code == 2 and out == ""
+        assert 'sections.rockr: expected a link of the drawing: one of crank, coupler, rocker, link, ' \
+               'output (did you mean "rocker"?), found link "rockr"' in err
 
 
 def test_jansens_pins_of_three_bodies_and_a_point_are_told_apart(tmp_path):
