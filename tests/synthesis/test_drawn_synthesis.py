@@ -675,6 +675,24 @@ def test_a_results_motion_study_is_the_designs(tmp_path):
             assert b["points"]["C"][key] == pytest.approx(a["points"]["C"][key], abs=1e-9)
 
 
+def _on_result_and_drawing(tmp_path, result: dict, tables: dict, section: str):
+    """(the section analyze gives the design's result with `tables` added by hand, the one it
+    gives the result's drawing copied into a linkage file with the same tables)."""
+    import tomli_w
+
+    added, linkage = tmp_path / "added.toml", tmp_path / "linkage.toml"
+    added.write_text(tomli_w.dumps({**result, **tables}))
+    kept = result["linkage"]
+    linkage.write_text(tomli_w.dumps({"type": "linkage", "linkage": {"mechanism": "drawn"}, "joints": kept["joints"],
+                                      "links": kept["links"], "drive": kept["drive"], **tables}))
+    reports = []
+    for path in (added, linkage):
+        code, out, err = run_cli("analyze", str(path), "--format", "json")
+        assert code in (0, 1), err
+        reports.append(json.loads(out)[section])
+    return tuple(reports)
+
+
 def test_a_tolerance_study_added_to_a_result_is_run_as_on_its_drawing(tmp_path):
     """[tolerance] added by hand to a design's result file is studied (it passed as the
     report's own output keys and nothing ran, without a word): analyze gives the study the same
@@ -687,19 +705,7 @@ def test_a_tolerance_study_added_to_a_result_is_run_as_on_its_drawing(tmp_path):
     code, out, err = run_cli("synth", "problems/drawn_dwell.toml", "--format", "toml", "--precision", "17")
     assert code == 0, err
     result = tomllib.loads(out)
-    result["tolerance"] = dict(study)
-    added = tmp_path / "added.toml"
-    added.write_text(tomli_w.dumps(result))
-    kept = result["linkage"]
-    drawing = {"type": "linkage", "linkage": {"mechanism": "drawn"}, "joints": kept["joints"],
-               "links": kept["links"], "drive": kept["drive"], "tolerance": dict(study)}
-    linkage = tmp_path / "linkage.toml"
-    linkage.write_text(tomli_w.dumps(drawing))
-    code, a, err = run_cli("analyze", str(added), "--format", "json")
-    assert code in (0, 1), err
-    code, b, err = run_cli("analyze", str(linkage), "--format", "json")
-    assert code in (0, 1), err
-    got, expected = json.loads(a)["tolerance"], json.loads(b)["tolerance"]
+    got, expected = _on_result_and_drawing(tmp_path, result, {"tolerance": dict(study)}, "tolerance")
     assert got["lengths"] == expected["lengths"] and set(got["lengths"].values()) == {0.05}
     for key in ("error_mean", "error_p95", "error_max", "failure_probability"):
         assert got[key] == expected[key] and got[key] is not None
@@ -742,18 +748,7 @@ def test_a_strength_study_added_to_a_result_is_run_as_on_its_drawing(tmp_path):
               "loads": {"gravity": [0.0, -9.81], "torques": {"output": -1.5}},
               "sections": {link: {"width": 10.0, "thickness": 4.0} for link in kept["links"]},
               "material": {"name": "AISI 1045 CD"}, "strength": {"required": 2.0, "criterion": "gerber"}}
-    result.update(tables)
-    added = tmp_path / "added.toml"
-    added.write_text(tomli_w.dumps(result))
-    drawing = {"type": "linkage", "linkage": {"mechanism": "drawn"}, "joints": kept["joints"],
-               "links": kept["links"], "drive": kept["drive"], **tables}
-    linkage = tmp_path / "linkage.toml"
-    linkage.write_text(tomli_w.dumps(drawing))
-    code, a, err = run_cli("analyze", str(added), "--format", "json")
-    assert code in (0, 1), err
-    code, b, err = run_cli("analyze", str(linkage), "--format", "json")
-    assert code in (0, 1), err
-    got, expected = json.loads(a)["strength"], json.loads(b)["strength"]
+    got, expected = _on_result_and_drawing(tmp_path, result, tables, "strength")
     assert got == expected
     assert got["required"] == 2.0 and got["criterion"] == "gerber" and got["pins"] and got["links"]
 
