@@ -65,8 +65,8 @@ def solution(problem, model: Model, best, bad, budget, confirmed: bool) -> Solut
               "drawn_drive_angle": float(u.from_rad(start))}
     k = model.k_home
     if model.timing == "prescribed" and model.free[k]:
-        offset = float(x[k])  # free over a turn or more: the one in (-180, 180] deg (within 1e6 deg it
-        # printed -541667 for -67.0..., a third of a degree lost to the 6 digits)
+        offset = float(x[k])  # free over a turn or more: the one in (-180, 180] deg (bounds of +-1e6 deg
+        # printed -541667 for 133.333 deg plus turns, a third of a degree lost to the 6 digits)
         full = model.hi[k] - model.lo[k] >= 2.0 * math.pi * (1.0 - 1e-12)
         timing["input_offset"] = angle_out(u, offset) if full else float(u.from_rad(offset))
     if model.kind == "function":

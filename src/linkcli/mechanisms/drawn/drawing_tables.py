@@ -366,8 +366,9 @@ def _steps_within_cells(t: Table, joints, links, points) -> None:
     columns counted as 3 per link and slider (angle or place and their rates), 6 per traced
     point, 1 per joint (closures' transmission angles and the drives): a located line naming
     the most steps this drawing takes."""
-    steps = t.data.get("steps")
-    if not isinstance(steps, int) or isinstance(steps, bool) or not 2 <= steps <= 100_000 or not joints or not links:
+    from linkcli.mechanisms.schema import MAX_STEPS
+    steps = t.data.get("steps")  # its own range is read_drive_motion's line
+    if not isinstance(steps, int) or isinstance(steps, bool) or not 2 <= steps <= MAX_STEPS or not joints or not links:
         return
     sliders = sum(1 for j in joints if j.slider is not None)
     columns = 3 * (len(links) + sliders) + 6 * len(points) + len(joints)
