@@ -272,6 +272,7 @@ def _solve_command(files: list[str], request, fmt: Format, out: Path | None, pre
     worst = 0
     counts: dict = {0: 0, 1: 0, 2: 0}
     reports: list[dict] = []
+    indices: list[int] = []  # each report's file's index in `names`
     results = []
     printed = 0  # reports shown so far
     prog = _progress(len(names))
@@ -289,7 +290,7 @@ def _solve_command(files: list[str], request, fmt: Format, out: Path | None, pre
             progress.watch = counter.work
     try:
         with contextlib.closing(execute(names, request)) as outcomes:  # Ctrl-C: closed at once
-            for name, outcome in zip(names, outcomes):
+            for index, (name, outcome) in enumerate(zip(names, outcomes)):
                 _stop_if_interrupted()
                 code, errors = outcome.exit_code, outcome.errors
                 report = outcome.result.report if outcome.result is not None else None
@@ -308,10 +309,12 @@ def _solve_command(files: list[str], request, fmt: Format, out: Path | None, pre
                     # keep one object per file, in argument order, for scripts
                     reports.append({"file": name, "status": "bad-input" if code == 2 else "error",
                                     "message": "; ".join(errors)})
+                    indices.append(index)
                 elif report is not None:
                     printed += 1
                     if fmt in (Format.json, Format.toml) or out is not None:
                         reports.append(report)  # written at the end
+                        indices.append(index)  # its file's place among the arguments (its --out name)
                     if fmt is Format.csv and out is None:
                         worst = max(worst, _print_csv(report, table, precision))
                     if fmt is Format.table and out is None:
@@ -335,7 +338,8 @@ def _solve_command(files: list[str], request, fmt: Format, out: Path | None, pre
             budget.watch = progress.watch = None
             prog.stop()
     if out is not None:
-        worst = max(worst, _write_out([r for r in reports if "type" in r], out, fmt, precision, table, names))
+        worst = max(worst, _write_out([(i, r) for i, r in zip(indices, reports) if "type" in r], out, fmt, precision,
+                                      table, names))
     elif fmt is Format.json:  # a bad file has its slot object, alone or in a batch
         from linkcli.io.export import write_json
         write_json(reports if len(names) > 1 else reports[0], precision, sys.stdout)
@@ -480,23 +484,34 @@ def _overwrites_input(targets: list[Path], names: list[str]) -> bool:
     return False
 
 
-def _write_out(reports: list[dict], out: Path, fmt: Format, precision: int, table: str | None = None,
-               names: list[str] | None = None) -> int:
-    from linkcli.io.export import result_stems, to_toml, write_json
+def _write_out(reports: list[tuple[int, dict]], out: Path, fmt: Format, precision: int, table: str | None,
+               names: list[str]) -> int:
+    """Each report (its file's index in `names`, the report) as DIR/<stem>.<ext>, the stems of
+    every input in argument order (result_stems: a bad file keeps its stem, so the others' names
+    do not depend on it), one CSV file per row table; nothing written when a target would
+    replace an input file."""
+    from linkcli.io.export import to_toml, write_json
     from linkcli.io.whole_file import whole_text_file
     from linkcli.report import render_text
-    stems = result_stems([rep["file"] for rep in reports])
-    if fmt is not Format.csv and _overwrites_input([out / f"{stem}.{EXT[fmt.value]}" for stem in stems],
-                                                   names or [rep["file"] for rep in reports]):
-        return 2
-    for rep, stem in zip(reports, stems):
-        if fmt is Format.csv:  # one file per row table: <stem>.<table>.csv
-            from linkcli.io.csv_tables import write_csv
+    every = _stems(names)
+    stems = [every[i] for i, _ in reports]
+    csv: list[dict] = []
+    if fmt is Format.csv:  # one file per row table: <stem>.<table>.csv
+        for (_, rep), stem in zip(reports, stems):
             tables, problem = _csv_tables(rep, table)
             if problem:
                 _err(problem)
                 return 2
-            for name, rows in tables.items():
+            csv.append(tables)
+        targets = [out / f"{stem}.{name}.csv" for stem, tables in zip(stems, csv) for name in tables]
+    else:
+        targets = [out / f"{stem}.{EXT[fmt.value]}" for stem in stems]
+    if _overwrites_input(targets, names):
+        return 2
+    for k, ((_, rep), stem) in enumerate(zip(reports, stems)):
+        if fmt is Format.csv:
+            from linkcli.io.csv_tables import write_csv
+            for name, rows in csv[k].items():
                 target = out / f"{stem}.{name}.csv"
                 try:
                     with whole_text_file(target, newline="") as handle:
