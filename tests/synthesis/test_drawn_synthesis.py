@@ -836,3 +836,33 @@ def test_an_offset_free_over_many_turns_prints_in_one_turn(tmp_path):
     timing = json.loads(out)["timing"]
     assert -180.0 < timing["input_offset"] <= 180.0
     assert timing["input_offset"] == pytest.approx(timing["first_input"], abs=1e-3)
+
+
+def test_a_bad_study_added_to_a_result_is_one_line(tmp_path):
+    """Each mistake in a study added by hand to a result is its own one line, and nothing of
+    the report's own is blamed with it (a bad criterion gave three more lines calling the
+    result's motion keys unknown; pins in a top-level [joints] of a drawn result read the whole
+    result as a problem file, 16 lines; [strength] alone was taken as the report's own output
+    and nothing ran)."""
+    import tomli_w
+
+    code, out, err = run_cli("synth", "problems/drawn_dwell.toml", "--format", "toml")
+    assert code == 0, err
+    result = tomllib.loads(out)
+    links = list(result["linkage"]["links"])
+    study = {"masses": {link: {"mass": 0.05} for link in links},
+             "sections": {link: {"width": 10.0, "thickness": 4.0} for link in links},
+             "material": {"name": "AISI 1045 CD"}, "strength": {"criterion": "nope"}}
+    code, out, err = run_cli("synth", "problems/firedoor.toml", "--format", "toml")
+    assert code == 0, err
+    four = tomllib.loads(out)
+    cases = {"criterion": ({**result, **study}, "strength.criterion: expected one of: goodman"),
+             "top-level joints": ({**result, **study, "strength": {}, "joints": {"A": {"diameter": 5.0, "width": 6.0}}},
+                                  "joints: expected a drawing's pin sizes in its [linkage.joints.<J>]"),
+             "strength alone": ({**four, "strength": {"required": 2.0}},
+                                "strength: expected a [material] table with [strength]")}
+    for name, (data, line) in cases.items():
+        path = tmp_path / f"{name.replace(' ', '_')}.toml"
+        path.write_text(tomli_w.dumps(data))
+        code, _, err = run_cli("analyze", str(path))
+        assert code == 2 and len(err.splitlines()) == 1 and line in err, (name, err)

@@ -97,23 +97,18 @@ def parse(reader: Reader) -> LinkageProblem | None:
                 and hasattr(fourbar, "coupler_angle")):
             fourbar = replace(fourbar, coupler_angle=units.to_rad(angle))  # a motion-generation result
     loads = read_loads(root, "linkage")  # [loads] / [masses]: echoed by synth, or added by hand
+    drawn_pins_apart(root)
     if reader.errors or fourbar is None:
-        motion = root.table("motion")
-        if motion is not None:  # its keys are judged against the linkage, which is in error: not unknown
-            motion.allow(*motion.keys())
-        reader.finish()  # raises them, with the unknown keys
-        return None
+        return _given_up(root)
     tolerance = None
     asked = root.data.get("tolerance")
     if isinstance(asked, dict) and "measure" not in asked:  # a study added by hand (the report's own names its measure)
         tolerance = read_tolerance(root, units, kind="linkage")
         if tolerance is None or reader.errors:
-            reader.finish()
-            return None
+            return _given_up(root)
     joints, link_sections, strength = strength_study(root, link, units, loads is not None)
     if reader.errors:
-        reader.finish()
-        return None
+        return _given_up(root)
     sections = problem_type("linkage").default_sections + (("forces",) if loads is not None else ()) \
         + (("tolerance",) if tolerance is not None else ()) + (("strength",) if strength is not None else ())
     meta = Meta(path=reader.path, type="linkage", title=title,  # a string or None: check_header judged it
@@ -124,16 +119,45 @@ def parse(reader: Reader) -> LinkageProblem | None:
     return problem
 
 
+STUDIES = ("tolerance", "material", "sections", "strength", "joints")  # tables a study added by hand may hold
+
+
+def _given_up(root) -> None:
+    """The errors found, without more: the result's [motion] keys (the report's own, judged
+    against a linkage in error, or not reached) and the studies added by hand not read yet are
+    not blamed as unknown keys (a bad criterion gave three lines calling the report's motion
+    keys unknown)."""
+    motion = root.data.get("motion")
+    if isinstance(motion, dict):
+        root.table("motion").allow(*motion.keys())
+    root.allow(*(name for name in STUDIES if name in root.data))
+    root.reader.finish()  # raises them
+    return None
+
+
+def drawn_pins_apart(root) -> None:
+    """A top-level [joints] in a drawn design's result: one line (its pins are sized in the kept
+    [linkage.joints]; the result was read as a problem file, 16 lines)."""
+    from linkcli.mechanisms import schema_of
+    from linkcli.mechanisms.schema import mechanism_of
+    if "joints" in root.data and schema_of(mechanism_of(root)).draws:
+        root.raw("joints")
+        root.error("joints", "a drawing's pin sizes in its [linkage.joints.<J>] (diameter, width, shear), not in a "
+                   "top-level [joints] (a design's result keeps its drawing in [linkage])", raw_got="a [joints] table")
+
+
 def strength_study(root, link, units, has_loads: bool):
     """(pin sizes, link sections, strength spec or None) of a strength study added to a result
     by hand: [material] (with [sections] and [strength]), as a linkage file reads them
     (reading.strength.read_parts); the report never writes [material] or [sections] (its own
     [strength] section echoes `required` and `criterion`, read as the study's then). The pins'
     sizes: a drawing's in its kept [linkage.joints] (`diameter`, `width`, `shear`), a
-    four-bar's in a [joints] table added beside the [material] one. ((), {}, None) when the
-    file has neither table."""
-    if "material" not in root.data and "sections" not in root.data:
-        return (), {}, None
+    four-bar's in a [joints] table added beside the [material] one; a [strength] of the study's
+    own keys alone asks for [material]. ((), {}, None) when the file adds none of them."""
+    given = root.data.get("strength")
+    report_own = isinstance(given, dict) and bool(set(given) - {"required", "criterion"})
+    if "material" not in root.data and "sections" not in root.data and (given is None or report_own):
+        return (), {}, None  # no study added (the report's own [strength] is output: result_check)
     from linkcli.mechanisms import schema_of
     from linkcli.mechanisms.schema import mechanism_of
     from linkcli.reading.meta import read_joint_table
@@ -147,8 +171,9 @@ def strength_study(root, link, units, has_loads: bool):
     else:
         joints = read_joint_table(root, "linkage", spec, units)
     own = root.table("strength")
-    if own is not None and set(own.keys()) - {"required", "criterion"}:
-        own.allow(*own.keys())  # the report's own section: output (result_check), its echo of the two read
-    asked = spec.default_sections + ("strength",)
+    if own is not None and (report_own or "material" not in root.data):
+        own.allow(*own.keys())  # the report's own section (output: result_check; its echo of the two read),
+        # or one without [material], which is then the one line
+    asked = spec.default_sections + (("strength",) if "material" in root.data else ())
     link_sections, strength = read_parts(root, "linkage", spec.sections, asked, has_loads, mechanism, joints)
     return joints or (), link_sections, strength

@@ -212,7 +212,9 @@ def _check_sizes(root: Table, joints, sections: dict) -> None:
             root.reader.error(("joints", joint.name, need), what,
                               raw_got=f"{'diameter' if need == 'width' else 'width'} only")
     if not sized and not sections and "joints" not in root and "sections" not in root:
-        root.reader.error(("material",), "part sizes with [material]: [joints] pin diameters and "
+        kept = root.data.get("linkage") if "status" in root.data else None  # a design's result: its drawing
+        pins = "[linkage.joints]" if isinstance(kept, dict) and isinstance(kept.get("joints"), dict) else "[joints]"
+        root.reader.error(("material",), f"part sizes with [material]: {pins} pin diameters and "
                           "widths, or [sections] link cross-sections", raw_got="neither")
 
 

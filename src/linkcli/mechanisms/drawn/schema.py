@@ -150,7 +150,7 @@ def read(t: Table, units) -> Drawn | None:
     from linkcli.mechanisms.drawn.model import Drawn
     root = t.reader.root()
     errors = len(root.reader.errors)
-    if "status" in root.data and "joints" not in root.data and isinstance(t.data.get("joints"), dict):
+    if "status" in root.data and isinstance(t.data.get("joints"), dict):
         from linkcli.mechanisms.drawn.kept import read_kept
         return read_kept(t, units, SCHEMA)  # a design's result keeps its drawing in [linkage]
     if "status" in root.data and "joints" not in root.data:  # a result file that keeps no drawing
