@@ -159,3 +159,28 @@ def test_messages_that_sent_the_user_round_in_circles(tmp_path):
     code, _, err = run_cli("analyze", str(as_json))
     assert code == 2 and err.rstrip().endswith("(a JSON file? linkcli reads TOML: a result to analyse is written "
                                                "with --format toml)")
+
+
+def test_topology_lines_say_what_to_do(tmp_path):
+    """A topology without mechanism = "drawn" is one line saying so (read as the four-bar's it
+    gave seven lines, none saying so); [material] or [strength] alone beside a topology is the
+    topology's refusal (it asked for [loads], which the topology refuses too); a topology in a
+    linkage file that has a drawing is the one line of a topology in a linkage file."""
+    from conftest import ROOT, run_cli
+    sweep = (ROOT / "problems" / "six_bar_dwell_sweep.toml").read_text(encoding="utf-8")
+    assert 'mechanism = "drawn"\n' in sweep
+    cases = {
+        "nomech": (sweep.replace('mechanism = "drawn"\n', ""),
+                   'linkage.topology: expected mechanism = "drawn" with a topology'),
+        "material": (sweep + '\n[material]\nname = "AISI 1045 CD"\n', "material: expected no [material] with [linkage] "
+                     "topology"),
+        "strength": (sweep + "\n[strength]\nrequired = 2\n", "strength: expected no [strength] with [linkage] topology"),
+        "linkage": ((ROOT / "problems" / "drawn_watt.toml").read_text(encoding="utf-8").replace(
+            'mechanism = "drawn"', 'mechanism = "drawn"\ntopology = "watt-i"'),
+            'linkage.topology: expected a drawing ([joints], [links], [drive]) in a type = "linkage" file'),
+    }
+    for name, (text, line) in cases.items():
+        path = tmp_path / f"{name}.toml"
+        path.write_text(text)
+        code, _, err = run_cli("check", str(path))
+        assert code == 2 and len(err.splitlines()) == 1 and line in err, (name, err)

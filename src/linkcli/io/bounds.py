@@ -27,7 +27,8 @@ def refuse_ratio(t, lengths: dict) -> bool:
     longest, shortest = extremes
     t.error(longest, f"a linkage whose longest link is at most {MAX_RATIO:g} times its shortest "
             "(beyond, double precision cannot resolve its angles)",
-            raw_got=f"{longest} = {lengths[longest]:g} and {shortest} = {lengths[shortest]:g}")
+            raw_got=f"{longest} = {lengths[longest]:g} and {shortest} = {lengths[shortest]:g}, "
+            f"{lengths[longest] / lengths[shortest]:.7g} times")
     return True
 
 

@@ -52,12 +52,19 @@ def refuse_unknown_mechanism(reader: Reader, root) -> None:
     """A [linkage] `mechanism` that no mechanism is named: that one located line (with its
     did-you-mean), and nothing more. Every other table is read by the mechanism's vocabulary
     (joints, links, drives, [motion]): judged as another mechanism's, a misspelled "drawn"
-    gave eleven more lines, each blaming a correct key."""
+    gave eleven more lines, each blaming a correct key. So is a topology without
+    mechanism = "drawn": one line saying so."""
     from linkcli.mechanisms import NAMES as MECHANISMS
     from linkcli.reading.linkage import read_mechanism
     link = root.data.get("linkage")
     if isinstance(link, dict) and "mechanism" in link and link["mechanism"] not in MECHANISMS:
         read_mechanism(root.table("linkage"))  # records the line
+        raise InputErrors(reader.errors)
+    if isinstance(link, dict) and "topology" in link and link.get("mechanism", "four-bar") != "drawn":
+        # a topology is a drawn linkage's: read as the four-bar's, it gave seven lines, none saying so
+        found = f'mechanism = "{link["mechanism"]}"' if "mechanism" in link else 'no mechanism (the four-bar)'
+        root.table("linkage").error("topology", 'mechanism = "drawn" with a topology (a topology is a drawn '
+                                    "linkage's: docs/six_bars.md)", raw_got=found)
         raise InputErrors(reader.errors)
 
 

@@ -181,7 +181,8 @@ def _distances_out_of_bounds(t: Table, joints, links) -> bool:
         path = (*t.path[:-1], "joints", pair[longest][1]) if where == "ground" else (*t.path, where)
         t.reader.error(path, f"a linkage whose longest distance between two joints of one link is at most {MAX_RATIO:g} "
                 "times its shortest (beyond, double precision cannot resolve its angles)",
-                raw_got=f"{longest} = {distances[longest]:g} and {shortest} = {distances[shortest]:g}")
+                raw_got=f"{longest} = {distances[longest]:g} and {shortest} = {distances[shortest]:g}, "
+                f"{distances[longest] / distances[shortest]:.7g} times")
         return True
     return False
 

@@ -160,13 +160,14 @@ def read(t: Table, units) -> Drawn | None:
         t.allow(*t.keys())  # its echo of the links: that one line says it all
         _skip(root)
         return None
-    if "topology" in t.data and "joints" not in root.data:  # a topology in a file that analyses: one line
+    if "topology" in t.data:  # a topology in a file that analyses: that line (and no drawing, nothing more)
         t.raw("topology")
         t.error("topology", 'a drawing ([joints], [links], [drive]) in a type = "linkage" file (a topology is '
                 'designed: type = "path-generation", "motion-generation" or "function-generation")',
                 raw_got=describe(t.data["topology"]))
-        _skip(root)
-        return None
+        if "joints" not in root.data:
+            _skip(root)
+            return None
     specs = read_joints(root, SCHEMA, units)  # records a `joints` that is not a table
     joint_table = root.table("joints", required=True) if isinstance(root.data.get("joints", {}), dict) else None
     if specs is None or joint_table is None:
