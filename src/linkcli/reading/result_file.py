@@ -99,16 +99,19 @@ def parse(reader: Reader) -> LinkageProblem | None:
     loads = read_loads(root, "linkage")  # [loads] / [masses]: echoed by synth, or added by hand
     drawn_pins_apart(root)
     if reader.errors or fourbar is None:
-        return _given_up(root)
+        _given_up(root)
+        return None
     tolerance = None
     asked = root.data.get("tolerance")
     if isinstance(asked, dict) and "measure" not in asked:  # a study added by hand (the report's own names its measure)
         tolerance = read_tolerance(root, units, kind="linkage")
         if tolerance is None or reader.errors:
-            return _given_up(root)
+            _given_up(root)
+            return None
     joints, link_sections, strength = strength_study(root, link, units, loads is not None)
     if reader.errors:
-        return _given_up(root)
+        _given_up(root)
+        return None
     sections = problem_type("linkage").default_sections + (("forces",) if loads is not None else ()) \
         + (("tolerance",) if tolerance is not None else ()) + (("strength",) if strength is not None else ())
     meta = Meta(path=reader.path, type="linkage", title=title,  # a string or None: check_header judged it
@@ -132,7 +135,6 @@ def _given_up(root) -> None:
         root.table("motion").allow(*motion.keys())
     root.allow(*(name for name in STUDIES if name in root.data))
     root.reader.finish()  # raises them
-    return None
 
 
 def drawn_pins_apart(root) -> None:
