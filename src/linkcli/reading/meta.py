@@ -153,10 +153,11 @@ def read_strength_tables(root: Table, kind: str, spec: ProblemType, sections: tu
     from linkcli.mechanisms import schema_of
     from linkcli.mechanisms.schema import mechanism_of
     from linkcli.reading.strength import read_parts
-    if schema_of(mechanism_of(root)).links_designed(root):  # a topology: its design type refuses them, one
+    mechanism = mechanism_of(root)
+    if schema_of(mechanism).links_designed(root):  # a topology: its design type refuses them, one
         return {}, None  # line each (synthesis.schema); judged here they asked for loads the type refuses
     has_loads = loads is not None or "loads" in root or "masses" in root
-    return read_parts(root, kind, spec.sections, sections, has_loads, mechanism_of(root), joints)
+    return read_parts(root, kind, spec.sections, sections, has_loads, mechanism, joints)
 
 
 def read_units(root: Table) -> Units:

@@ -151,17 +151,13 @@ def _distances_out_of_bounds(t: Table, joints, links) -> bool:
     ground -- the drawing's link lengths -- lies outside [MIN_LENGTH, MAX_LENGTH], or the
     longest is over MAX_RATIO times the shortest: the limits a four-bar's lengths have
     (io.bounds; links of 2e-10 mm, or 1e12 times apart, were analysed as given)."""
-    places = {j.name: j.at for j in joints}
-    ground = [j.name for j in joints if j.ground]
+    from linkcli.mechanisms.drawn.model import pair_distances
     distances: dict[str, float] = {}
     owner: dict[str, str] = {}
     pair: dict[str, tuple[str, str]] = {}
-    for name, carried in [("ground", ground)] + [(k.name, k.joints) for k in links]:
-        for i, a in enumerate(carried):
-            for b in carried[i + 1:]:
-                key = f"{name} {a}-{b}"
-                distances[key] = math.dist(places[a], places[b])
-                owner[key], pair[key] = name, (a, b)
+    for body, a, b, d in pair_distances(joints, links):
+        key = f"{body} {a}-{b}"
+        distances[key], owner[key], pair[key] = d, body, (a, b)
     bad = False
     for key, value in distances.items():
         if not MIN_LENGTH <= value <= MAX_LENGTH:

@@ -75,12 +75,16 @@ class Drawn:
     def distances(self) -> dict[str, float]:
         """"link A-B" -> |A B| for every two joints of each link (and of the ground, "ground
         A-B"), as drawn: what a report lists beside the drawing."""
-        import math
-        at = {j.name: j.at for j in self.joints}
-        out = {}
-        ground = [j.name for j in self.joints if j.ground]
-        for name, joints in [("ground", ground)] + [(k.name, k.joints) for k in self.links]:
-            for i, a in enumerate(joints):
-                for b in joints[i + 1:]:
-                    out[f"{name} {a}-{b}"] = math.dist(at[a], at[b])
-        return out
+        return {f"{body} {a}-{b}": d for body, a, b, d in pair_distances(self.joints, self.links)}
+
+
+def pair_distances(joints, links) -> list[tuple[str, str, str, float]]:
+    """(body, A, B, |A B|) for every two joints of each link, the ground's first ("ground": its
+    ground joints), in the order drawn: a drawing's link lengths (Drawn.distances, the tolerance
+    checks' shortest per link, the reader's bounds on them)."""
+    import math
+    at = {j.name: j.at for j in joints}
+    ground = [j.name for j in joints if j.ground]
+    return [(body, a, b, math.dist(at[a], at[b]))
+            for body, carried in [("ground", ground)] + [(k.name, k.joints) for k in links]
+            for i, a in enumerate(carried) for b in carried[i + 1:]]

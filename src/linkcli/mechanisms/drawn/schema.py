@@ -8,7 +8,6 @@ the drawing in `[joints]` (read by io.joints: `at`, `ground`, `slider`, `guide`)
 from __future__ import annotations
 
 import difflib
-import math
 from typing import TYPE_CHECKING
 
 from linkcli.io.reader import Table, describe
@@ -121,13 +120,10 @@ class DrawnSchema(Schema):
 def known_lengths(linkage) -> dict[str, float]:
     """Link (and "ground") -> its shortest distance between two joints, for the tolerance
     checks (a tolerance must stay below it)."""
-    at = {j.name: j.at for j in linkage.joints}
-    out = {}
-    ground = [j.name for j in linkage.joints if j.ground]
-    for name, joints in [("ground", ground)] + [(k.name, k.joints) for k in linkage.links]:
-        pairs = [math.dist(at[a], at[b]) for i, a in enumerate(joints) for b in joints[i + 1:]]
-        if pairs:
-            out[name] = min(pairs)
+    from linkcli.mechanisms.drawn.model import pair_distances
+    out: dict[str, float] = {}
+    for body, _, _, d in pair_distances(linkage.joints, linkage.links):
+        out[body] = min(out.get(body, d), d)
     return out
 
 
