@@ -60,8 +60,10 @@ def refuse_unknown_mechanism(reader: Reader, root) -> None:
     if isinstance(link, dict) and "mechanism" in link and link["mechanism"] not in MECHANISMS:
         read_mechanism(root.table("linkage"))  # records the line
         raise InputErrors(reader.errors)
-    if isinstance(link, dict) and "topology" in link and link.get("mechanism", "four-bar") != "drawn":
-        # a topology is a drawn linkage's: read as the four-bar's, it gave seven lines, none saying so
+    from linkcli.mechanisms import schema_of
+    from linkcli.mechanisms.schema import mechanism_of
+    if isinstance(link, dict) and "topology" in link and not schema_of(mechanism_of(root)).draws:
+        # a topology is a drawing's: read as the four-bar's, it gave seven lines, none saying so
         found = f'mechanism = "{link["mechanism"]}"' if "mechanism" in link else 'no mechanism (the four-bar)'
         root.table("linkage").error("topology", 'mechanism = "drawn" with a topology (a topology is a drawn '
                                     "linkage's: docs/six_bars.md)", raw_got=found)

@@ -39,8 +39,10 @@ def read_objective(root: Table, meta) -> tuple[str, float] | None:
             return None
     if minimize is None or defect_free is None:
         return None
-    if minimize == "failure-probability" and meta.type == "motion-generation":
-        t.error("minimize", '"error" for a motion design (it takes no [tolerance]: no made linkage\'s '
+    from linkcli.registry import problem_type
+    if minimize == "failure-probability" and not problem_type(meta.type).tolerance:  # a motion design
+        design = meta.type.removesuffix("-generation")
+        t.error("minimize", f'"error" for a {design} design (it takes no [tolerance]: no made linkage\'s '
                 "failure to count)", raw_got='"failure-probability"')
         return None
     if minimize == "failure-probability":
